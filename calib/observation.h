@@ -1,0 +1,68 @@
+#pragma once
+// What calib/ hands to solvers/: the surveyed walls and, per scan, the wall line the scanner saw
+// together with the vehicle pose at that instant. All in the session's local ground frame:
+//   p_local = (p_utm - origin_utm) / k0
+// i.e. UTM grid axes (x = grid east, y = grid north) with grid distances turned back into ground
+// metres by the point scale k0 at the origin, so that scanner, total station and local
+// distances share one unit.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace wallcal::calib {
+
+struct LocalFrame {
+  int zone = 0;             // UTM zone, 1..60
+  bool north = true;        // hemisphere
+  double origin_e_m = 0.0;  // UTM easting of the local origin (grid metres)
+  double origin_n_m = 0.0;  // UTM northing of the local origin (grid metres)
+  double scale_k0 = 1.0;    // UTM point scale at the origin (grid m per ground m)
+  double convergence_rad = 0.0;  // meridian convergence γ at the origin (true north -> grid north)
+};
+
+// A surveyed wall as the line {q : normal_local · q = offset_m} in the local ground frame.
+struct WallGeometry {
+  std::string id;
+  Eigen::Vector2d normal_local = Eigen::Vector2d::UnitX();  // unit
+  double offset_m = 0.0;
+  Eigen::Vector2d end_a_local = Eigen::Vector2d::Zero();  // extent of the surveyed points
+  Eigen::Vector2d end_b_local = Eigen::Vector2d::Zero();
+  // Uncertainty of the line from the survey and its tie to UTM (1σ): offset along the normal
+  // at the wall's centre, and direction. Used as priors on the wall nuisance parameters.
+  double sigma_offset_m = 0.0;
+  double sigma_angle_rad = 0.0;
+  int num_points = 0;
+  double rms_m = 0.0;  // total-least-squares residual RMS of the surveyed points
+};
+
+// The vehicle at one instant, interpolated from GNSS and heading.
+struct VehiclePose {
+  double stamp_s = 0.0;
+  Eigen::Vector2d antenna_local_m = Eigen::Vector2d::Zero();
+  double yaw_rad = 0.0;  // ccw from grid east (ψ = 90° − grid heading)
+  double gnss_sigma_m = 0.0;     // per-axis 1σ of the GNSS position (GST or default), 0 if unknown
+  bool stationary = false;
+  int segment = -1;  // index of the dwell/segment sharing correlated GNSS error; -1 none
+};
+
+// The wall line one scan saw: {p_scanner : cos(theta)·px + sin(theta)·py = rho}, rho > 0,
+// theta the direction of the normal pointing from the scanner to the wall (rad, ccw from the
+// scanner's x axis, in (−π, π]).
+struct WallObservation {
+  int scan_index = 0;  // 0-based scan number in the log
+  int wall_index = 0;  // into the WallGeometry vector
+  double rho_m = 0.0;
+  double theta_rad = 0.0;
+  double sigma_rho_m = 0.0;      // from the line fit (point noise only)
+  double sigma_theta_rad = 0.0;  // from the line fit
+  double cov_rho_theta = 0.0;    // covariance between the two (m·rad)
+  int num_inliers = 0;
+  double range_min_m = 0.0;   // range span of the inliers
+  double range_max_m = 0.0;
+  double residual_rms_m = 0.0;  // RMS of the inliers about the fitted line
+  VehiclePose pose;             // the vehicle at the scan's time
+};
+
+}  // namespace wallcal::calib

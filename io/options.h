@@ -1,0 +1,136 @@
+#pragma once
+// Option structs for calibrate and simulate. Defaults live at the declaration; configs/ ships
+// the same defaults as YAML. Validate() throws io::InputError naming the first bad field.
+// Angles are radians here; the YAML files give them in degrees (keys ending in _deg).
+
+#include <string>
+#include <vector>
+
+#include "io/types.h"
+
+namespace wallcal::io {
+
+// Wall detection in one scan (calib/wall_detector).
+struct DetectorOptions {
+  double hough_rho_step_m = 0.02;         // accumulator cell size in distance
+  double hough_theta_step_rad = 0.00436;  // 0.25 deg
+  int min_inliers = 15;                   // fewer points on the line: no detection
+  double inlier_band_m = 0.08;            // Hough band kept for the least-squares refinement
+  double refine_sigma_factor = 3.0;       // final inliers: |residual| < factor * preset σ + res.
+  double mixed_pixel_jump_m = 0.15;       // a range jump this big marks both neighbours suspect
+  double min_range_m = 0.5;               // closer points are ignored (vehicle body, mud)
+  // Gates around the line predicted from the surveyed wall and the pose:
+  double wide_angle_gate_rad = 0.35;   // first pass (mount known only roughly), 20 deg
+  double wide_offset_gate_m = 6.0;     // first pass distance gate
+  double tight_angle_gate_rad = 0.035; // second pass (mount from the first solve), 2 deg
+  double tight_offset_gate_m = 0.25;   // second pass distance gate
+  double wall_extent_margin_m = 0.5;   // inliers must project onto the surveyed wall ± this
+  void Validate() const;
+};
+
+// Pose interpolation at scan times (calib/time_alignment).
+struct AlignmentOptions {
+  double max_gap_periods = 3.0;  // a gap longer than this many median sample periods: no pose
+  double stationary_speed_mps = 0.05;      // slower than this (over the window) is a dwell
+  double stationary_yaw_rate_rps = 0.005;  // and turning slower than this
+  double stationary_window_s = 1.0;        // window for speed / yaw rate
+  double min_dwell_s = 2.0;                // shorter dwells are not stations
+  bool use_moving_scans = false;           // scans taken while moving are skipped by default
+  double segment_max_s = 30.0;             // GNSS-error segment length for moving data
+  void Validate() const;
+};
+
+// The mount solve (solvers/).
+struct SolverOptions {
+  // Noise model. σ values are 1-σ.
+  double gnss_white_sigma_m = 0.005;      // per-epoch scatter of RTK positions
+  double gnss_bias_sigma_m = 0.015;       // time-correlated RTK error, one per segment/station
+  bool use_gst_sigma = true;              // take the bias σ from GST when the log has it
+  double heading_sigma_rad = 0.0017;      // heading white noise, 0.1 deg
+  double control_sigma_m = 0.015;         // RTK error of each control point
+  double total_station_sigma_m = 0.003;   // total station point error (seed 002: ±3 mm fine)
+  double huber_scale = 2.0;               // robust loss threshold, in units of σ
+  int max_iterations = 100;
+  double min_heading_spread_rad = 0.35;   // 20 deg: narrower and the mount is not determined
+  int min_observations = 30;
+  int min_stations = 3;
+  void Validate() const;
+};
+
+struct CalibrateOptions {
+  DetectorOptions detector;
+  AlignmentOptions alignment;
+  SolverOptions solver;
+  int first_pass_max_scans = 3000;  // scans sampled evenly for the first (wide-gate) pass
+  void Validate() const;
+};
+
+// ---- Simulation -----------------------------------------------------------------------------
+
+// A straight wall in the simulated site's local ground frame (east, north, metres).
+struct SimWall {
+  std::string id;
+  std::string code;        // survey code; empty: not surveyed (a distractor wall)
+  double x0_m = 0.0, y0_m = 0.0;  // one end, local east/north
+  double x1_m = 0.0, y1_m = 0.0;  // other end
+  double height_m = 3.0;
+  double survey_spacing_m = 1.0;  // total-station point spacing along the wall
+};
+
+// A round obstacle (tree trunk, person) in the local ground frame.
+struct SimObstacle {
+  double x_m = 0.0, y_m = 0.0;
+  double radius_m = 0.2;
+};
+
+struct SimulationConfig {
+  // Site
+  double site_lat_deg = 43.07;
+  double site_lon_deg = 141.34;
+  double site_height_m = 70.0;
+  std::string name = "simulated";
+  // Scanner
+  std::string scanner_model = "sick_lms291";
+  double log_every_n = 1;  // log every n-th scan (>= 1)
+  double scanner_time_offset_s = 0.0;  // true offset: logged scan time = true time - this
+  // True mount (vehicle frame: x forward, y left)
+  double mount_x_m = 2.57;
+  double mount_y_m = 0.056;
+  double mount_yaw_rad = 0.048869;  // 2.8 deg
+  // Walls and clutter (local east/north metres relative to the site origin)
+  std::vector<SimWall> walls;
+  std::vector<SimObstacle> obstacles;
+  // Trajectory: stations in front of the first wall
+  int num_stations = 10;
+  double station_distance_m = 8.0;     // antenna distance from the wall at stations
+  double heading_spread_rad = 1.22;    // headings spread over ±(spread/2) around facing the wall
+  double dwell_s = 4.0;                // time stopped at each station
+  double drive_speed_mps = 1.0;
+  double lateral_spread_m = 6.0;       // station positions spread along the wall
+  // GNSS
+  double gnss_rate_hz = 10.0;
+  double gnss_bias_sigma_m = 0.015;    // time-correlated (Gauss-Markov) RTK error
+  double gnss_bias_tau_s = 60.0;
+  double gnss_white_sigma_m = 0.003;
+  double float_fraction = 0.0;         // share of time in RTK float (quality 5, σ ×10)
+  bool write_gst = true;
+  // Heading
+  double heading_rate_hz = 20.0;
+  double heading_white_sigma_rad = 0.0009;  // 0.05 deg
+  double heading_drift_rad_per_s = 2.42e-6;  // 0.5 deg/h (seed 002 FOG)
+  double heading_bias_rad = 0.0;             // constant heading-sensor zero offset
+  // Survey
+  double total_station_sigma_m = 0.003;
+  double control_sigma_m = 0.015;
+  double survey_rotation_rad = 0.4;      // total station frame rotation vs local east
+  double survey_origin_x_m = -3.0;       // total station frame origin in local east/north
+  double survey_origin_y_m = 20.0;
+  // Scanner effects
+  double lost_scan_fraction = 0.0008;    // seed 001: ≤ 0.08 %
+  double mixed_pixel_probability = 0.5;  // chance a beam at a depth jump returns a mixed range
+  // Logging clock: UNIX seconds at the start of the run
+  double start_time_s = 1747031522.0;
+  void Validate() const;
+};
+
+}  // namespace wallcal::io

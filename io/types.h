@@ -1,0 +1,195 @@
+#pragma once
+// Plain records read from (or written to) a logged session. No behaviour here: io/ fills these
+// structs from files, calib/ turns them into observations. Units are in every name; angles are
+// radians, except geodetic latitude/longitude, which stay in degrees as GeographicLib takes them.
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace wallcal::io {
+
+// The one exception type for bad user input. what() reads "file:line: what is wrong and what
+// was expected" (line omitted when the problem is not tied to a line).
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Builds the "file:line: message" text of an InputError. line <= 0 omits the line.
+std::string Where(const std::string& file, int line, const std::string& message);
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// One scan as logged (CARMEN RAWLASER1 / ROBOTLASER1 / FLASER). Ranges are raw: no range
+// correction applied, error codes and no-returns still in place.
+struct ScanRecord {
+  double stamp_s = 0.0;           // logger_timestamp, s on the session's logging clock
+  double start_angle_rad = 0.0;   // bearing of the first beam in the scanner frame (ccw +)
+  double angular_step_rad = 0.0;  // bearing increment between beams (ccw +)
+  double max_range_m = 0.0;       // the log's maximum_range (FLASER: 0 = unknown)
+  std::vector<float> ranges_m;    // raw ranges, one per beam
+  int line = 0;                   // 1-based line number in the log
+};
+
+// One GGA position (with the matching GST σ when the log has one).
+struct GnssFix {
+  double stamp_s = 0.0;  // logging clock (prefix), or UTC from the sentence for plain captures
+  double lat_deg = 0.0;  // WGS84 geodetic latitude, north +
+  double lon_deg = 0.0;  // WGS84 longitude, east +
+  double height_m = 0.0;        // ellipsoidal height = GGA altitude + geoid separation
+  int quality = 0;              // GGA fix quality (1 GPS, 2 DGPS, 4 RTK fixed, 5 RTK float, ...)
+  int satellites = 0;
+  double hdop = kNaN;
+  double sigma_lat_m = kNaN;  // from GST; NaN when the log has no GST for this epoch
+  double sigma_lon_m = kNaN;
+  int line = 0;
+};
+
+// One HDT/THS heading.
+struct HeadingSample {
+  double stamp_s = 0.0;
+  double heading_rad = 0.0;  // clockwise from north (true or grid: see SessionSpec), [0, 2π)
+  int line = 0;
+};
+
+// What a reader passed over, by reason, so nothing is silently dropped.
+struct SkipCounts {
+  std::map<std::string, int64_t> by_reason;  // e.g. "bad checksum" -> 3
+  int64_t Total() const {
+    int64_t n = 0;
+    for (const auto& kv : by_reason) n += kv.second;
+    return n;
+  }
+  void Add(const std::string& reason, int64_t n = 1) { by_reason[reason] += n; }
+};
+
+struct NmeaLog {
+  std::vector<GnssFix> fixes;            // sorted by stamp_s as read; all qualities
+  std::vector<HeadingSample> headings;   // sorted by stamp_s as read
+  std::map<int, int64_t> fixes_by_quality;
+  SkipCounts skipped;
+  int64_t lines_read = 0;
+};
+
+// One total-station point, in the survey's local right-handed frame (ground metres).
+struct SurveyPoint {
+  std::string id;
+  std::string code;
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double z_m = 0.0;
+  int line = 0;
+};
+
+// A survey point whose WGS84 position RTK-GNSS also measured.
+struct ControlPoint {
+  std::string id;
+  double lat_deg = 0.0;
+  double lon_deg = 0.0;
+  double h_m = 0.0;  // ellipsoidal height
+  int line = 0;      // line in session.yaml
+};
+
+struct WallSpec {
+  std::string id;
+  std::string code;  // survey points with this code lie on the wall
+};
+
+struct UtmZone {
+  int zone = 0;  // 1..60
+  bool north = true;
+};
+
+enum class HeadingReference { kTrueNorth, kGridNorth };
+
+// A rough mount (tape measure) to centre the wall detector's gates. Optional in the session.
+struct MountGuess {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double yaw_rad = 0.0;
+};
+
+// Antenna position in the vehicle's base_link frame, when the session gives it.
+struct AntennaInBase {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double z_m = 0.0;
+};
+
+// session.yaml, with every path resolved against the session folder.
+struct SessionSpec {
+  std::string file;  // path of session.yaml
+  std::string dir;   // its folder
+  std::string name;
+  std::optional<UtmZone> utm_zone;
+
+  std::string scanner_model;
+  std::string scanner_log;       // resolved path
+  double scanner_time_offset_s = 0.0;  // added to every scan time
+  std::optional<MountGuess> mount_guess;
+
+  std::string gnss_log;
+  int min_fix_quality = 4;  // 4 = RTK fixed only; 5 also accepts float
+
+  std::string heading_log;
+  HeadingReference heading_reference = HeadingReference::kTrueNorth;
+
+  std::string survey_points;  // resolved path
+  std::vector<ControlPoint> control;
+  std::optional<double> survey_rotation_rad;  // seed 002 Eq. 4-5 rotation, single control point
+
+  std::vector<WallSpec> walls;
+  std::optional<AntennaInBase> antenna_in_base;
+};
+
+// A scanner preset from configs/scanners/NAME.yaml.
+struct ScannerPreset {
+  std::string name;
+  int num_beams = 0;
+  double start_angle_rad = 0.0;   // bearing of beam 0
+  double angular_step_rad = 0.0;  // ccw step between beams
+  double rate_hz = 0.0;           // scans per second
+  double min_range_m = 0.0;       // below: no valid reading
+  double max_range_m = 0.0;       // at or above: no return
+  double error_codes_below_m = 0.0;  // readings below this are error codes (URG: 0.020 m)
+  bool max_range_is_no_return = true;  // SICK reports no-return as its maximum
+  double range_resolution_m = 0.001;   // quantisation of the logged range
+  // Range correction applied by the tool: corrected = k * raw + b (seeds 000/001).
+  double range_scale_k = 1.0;
+  double range_offset_b_m = 0.0;
+  // Simulation model z = Int(n * true + c + xi), xi ~ N(0, sigma) (seeds 000/001).
+  double sim_scale_n = 1.0;
+  double sim_offset_c_m = 0.0;
+  double range_sigma_m = 0.005;
+  double max_incidence_rad = 1.3;  // beyond this incidence the simulator drops returns
+  std::string source;              // citation for the numbers
+};
+
+// The output document: offsets.yaml. Filled by the application from the solver's result.
+struct OffsetsDocument {
+  std::string parent_frame = "gnss_antenna";
+  std::string child_frame = "laser";
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double yaw_rad = 0.0;
+  double covariance[9] = {0};  // row-major, order x, y, yaw (m, m, rad)
+  std::string method;          // "ceres" or "barawid"
+  // quality: ordered key/value lines, numbers already formatted by the writer's caller.
+  int64_t scans_total = 0;
+  int64_t scans_used = 0;
+  double heading_min_deg = 0.0;  // grid headings at which the wall was used
+  double heading_max_deg = 0.0;
+  double residual_rms_m = 0.0;
+  std::vector<std::pair<std::string, std::string>> quality_extra;  // more quality keys
+  std::vector<std::string> warnings;
+  std::string session;
+  std::string tool_version;
+};
+
+}  // namespace wallcal::io
