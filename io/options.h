@@ -49,6 +49,7 @@ struct SolverOptions {
   double heading_sigma_rad = 0.0017;      // heading white noise, 0.1 deg
   double control_sigma_m = 0.015;         // RTK error of each control point
   double total_station_sigma_m = 0.003;   // total station point error (seed 002: ±3 mm fine)
+  double rotation_sigma_rad = 0.0035;     // σ of survey.rotation_deg (one control point), 0.2 deg
   double huber_scale = 2.0;               // robust loss threshold, in units of σ
   int max_iterations = 100;
   double min_heading_spread_rad = 0.35;   // 20 deg: narrower and the mount is not determined

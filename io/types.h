@@ -61,12 +61,16 @@ struct HeadingSample {
 // What a reader passed over, by reason, so nothing is silently dropped.
 struct SkipCounts {
   std::map<std::string, int64_t> by_reason;  // e.g. "bad checksum" -> 3
+  std::map<std::string, int> first_line;     // first line skipped for each reason (0: none)
   int64_t Total() const {
     int64_t n = 0;
     for (const auto& kv : by_reason) n += kv.second;
     return n;
   }
-  void Add(const std::string& reason, int64_t n = 1) { by_reason[reason] += n; }
+  void Add(const std::string& reason, int line = 0, int64_t n = 1) {
+    by_reason[reason] += n;
+    if (line > 0 && first_line.find(reason) == first_line.end()) first_line[reason] = line;
+  }
 };
 
 struct NmeaLog {
