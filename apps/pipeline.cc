@@ -1,1 +1,691 @@
-// (being written)
+#include "apps/pipeline.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <set>
+#include <sstream>
+
+#include "calib/geodesy.h"
+#include "calib/range_model.h"
+#include "calib/simulator.h"
+#include "calib/survey_tie.h"
+#include "calib/time_alignment.h"
+#include "calib/wall_detector.h"
+#include "io/carmen_reader.h"
+#include "io/nmea_reader.h"
+#include "io/session_reader.h"
+#include "io/survey_reader.h"
+#include "io/version.h"
+#include "io/writers.h"
+
+#ifndef WALLCAL_SOURCE_CONFIG_DIR
+#define WALLCAL_SOURCE_CONFIG_DIR ""
+#endif
+
+namespace wallcal::app {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadToDeg = 180.0 / kPi;
+
+std::string Fmt(const char* format, double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), format, value);
+  return buffer;
+}
+
+std::string ExecutableDir() {
+  std::error_code error;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", error);
+  return error ? std::string() : exe.parent_path().string();
+}
+
+// GGA fix qualities ranked from best to worst: RTK fixed (4), RTK float (5), DGPS/SBAS (2, 9),
+// PPS (3), autonomous (1). min_fix_quality q accepts every quality ranked at least as high as q.
+// 0 (invalid), 6 (dead reckoning), 7 (manual) and 8 (simulator) are never accepted.
+int QualityRank(int quality) {
+  switch (quality) {
+    case 4: return 6;
+    case 5: return 5;
+    case 2: case 9: return 4;
+    case 3: return 3;
+    case 1: return 2;
+    default: return 0;
+  }
+}
+
+bool QualityAccepted(int quality, int min_fix_quality) {
+  const int rank = QualityRank(quality);
+  return rank > 0 && rank >= QualityRank(min_fix_quality);
+}
+
+std::string DescribeSkips(const std::string& file, const io::SkipCounts& skips) {
+  std::ostringstream out;
+  out << fs::path(file).filename().string() << ": " << skips.Total() << " lines skipped (";
+  bool first = true;
+  for (const auto& [reason, count] : skips.by_reason) {
+    if (!first) out << "; ";
+    first = false;
+    out << reason << ": " << count;
+    const auto line = skips.first_line.find(reason);
+    if (line != skips.first_line.end() && line->second > 0) out << ", first at line " << line->second;
+  }
+  out << ")";
+  return out.str();
+}
+
+// Everything the two detection passes share.
+struct PassContext {
+  const io::SessionSpec* session = nullptr;
+  const io::ScannerPreset* preset = nullptr;
+  const io::CalibrateOptions* options = nullptr;
+  const std::vector<calib::WallGeometry>* walls = nullptr;
+  const calib::PoseInterpolator* poses = nullptr;
+};
+
+struct PassOutcome {
+  std::vector<calib::WallObservation> observations;
+  std::map<std::string, int64_t> skipped;  // per scan, why it gave no observation
+  int64_t scans_read = 0;
+  int64_t scans_examined = 0;
+  io::SkipCounts line_skips;
+  calib::RangeCounts range_counts;
+  int64_t beam_count_mismatch = 0;
+  int first_mismatch_beams = 0;
+};
+
+struct Gates {
+  double angle_rad;
+  double offset_m;
+  bool use_segment;
+};
+
+// Streams the scan log once. With min_interval_s > 0 only scans at least that far apart in time
+// are examined (the first, wide-gate pass samples the session evenly).
+PassOutcome DetectionPass(const PassContext& context, const solvers::Mount& mount,
+                          const Gates& gates, double min_interval_s) {
+  PassOutcome outcome;
+  io::CarmenReader reader(context.session->scanner_log);
+  io::ScanRecord scan;
+  double last_examined_s = -1e300;
+  int scan_index = -1;
+  const io::DetectorOptions& detector = context.options->detector;
+  const bool use_moving = context.options->alignment.use_moving_scans;
+  while (reader.Next(&scan)) {
+    ++scan_index;
+    const double stamp_s = scan.stamp_s + context.session->scanner_time_offset_s;
+    if (min_interval_s > 0.0) {
+      if (stamp_s - last_examined_s < min_interval_s) continue;
+      last_examined_s = stamp_s;
+    }
+    ++outcome.scans_examined;
+    if (static_cast<int>(scan.ranges_m.size()) != context.preset->num_beams) {
+      if (outcome.beam_count_mismatch++ == 0) {
+        outcome.first_mismatch_beams = static_cast<int>(scan.ranges_m.size());
+      }
+    }
+    calib::VehiclePose pose;
+    const calib::PoseStatus status = context.poses->At(stamp_s, &pose);
+    if (status != calib::PoseStatus::kOk) {
+      ++outcome.skipped[std::string("no pose: ") + calib::PoseStatusName(status)];
+      continue;
+    }
+    if (!pose.stationary && !use_moving) {
+      ++outcome.skipped["vehicle moving"];
+      continue;
+    }
+    const calib::ScanPoints points =
+        calib::ToScanPoints(scan, *context.preset, detector.min_range_m,
+                            detector.mixed_pixel_jump_m, &outcome.range_counts);
+    bool any = false;
+    std::string why_not = "wall not detected";
+    for (size_t w = 0; w < context.walls->size(); ++w) {
+      const calib::WallGeometry& wall = (*context.walls)[w];
+      calib::WallObservation observation;
+      observation.scan_index = scan_index;
+      observation.wall_index = static_cast<int>(w);
+      observation.pose = pose;
+      const double rho_pred_m = solvers::PredictRho(observation, wall, mount);
+      const double theta_pred_rad = solvers::PredictTheta(observation, wall, mount);
+      if (rho_pred_m + gates.offset_m <= detector.min_range_m) {
+        why_not = "scanner at or behind the wall";
+        continue;
+      }
+      calib::LineGate gate;
+      gate.theta_rad = theta_pred_rad;
+      gate.theta_halfwidth_rad = gates.angle_rad;
+      gate.rho_m = rho_pred_m;
+      gate.rho_halfwidth_m = gates.offset_m;
+      if (gates.use_segment) {
+        // The surveyed wall's ends seen from the scanner (current mount estimate).
+        const double scanner_yaw = pose.yaw_rad + mount.yaw_rad;
+        const Eigen::Rotation2Dd vehicle_R(pose.yaw_rad);
+        const Eigen::Vector2d scanner_local =
+            pose.antenna_local_m + vehicle_R * Eigen::Vector2d(mount.x_m, mount.y_m);
+        const Eigen::Rotation2Dd scanner_R_local(-scanner_yaw);
+        gate.has_segment = true;
+        gate.segment_a_scanner = scanner_R_local * (wall.end_a_local - scanner_local);
+        gate.segment_b_scanner = scanner_R_local * (wall.end_b_local - scanner_local);
+      }
+      const calib::WallDetection detection =
+          calib::DetectWall(points, gate, detector, context.preset->range_sigma_m);
+      if (!detection.found) {
+        why_not = "wall not detected";
+        continue;
+      }
+      observation.rho_m = detection.rho_m;
+      observation.theta_rad = detection.theta_rad;
+      observation.sigma_rho_m = detection.sigma_rho_m;
+      observation.sigma_theta_rad = detection.sigma_theta_rad;
+      observation.cov_rho_theta = detection.cov_rho_theta;
+      observation.num_inliers = detection.num_inliers;
+      observation.range_min_m = detection.range_min_m;
+      observation.range_max_m = detection.range_max_m;
+      observation.residual_rms_m = detection.residual_rms_m;
+      outcome.observations.push_back(observation);
+      any = true;
+    }
+    if (!any) ++outcome.skipped[why_not];
+  }
+  outcome.scans_read = reader.scans_read();
+  outcome.line_skips = reader.skipped();
+  return outcome;
+}
+
+// Min and max of angles (rad) around their circular mean, returned in degrees in [0, 360)
+// for headings or (−180, 180] for relative angles.
+void AngleRange(const std::vector<double>& angles_rad, bool as_heading, double* min_deg,
+                double* max_deg) {
+  if (angles_rad.empty()) {
+    *min_deg = *max_deg = 0.0;
+    return;
+  }
+  double sx = 0.0, sy = 0.0;
+  for (double a : angles_rad) {
+    sx += std::cos(a);
+    sy += std::sin(a);
+  }
+  const double mean = std::atan2(sy, sx);
+  double lo = 0.0, hi = 0.0;
+  for (double a : angles_rad) {
+    const double d = calib::WrapAngle(a - mean);
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+  double a_min = (mean + lo) * kRadToDeg, a_max = (mean + hi) * kRadToDeg;
+  if (as_heading) {
+    a_min = std::fmod(a_min + 720.0, 360.0);
+    a_max = std::fmod(a_max + 720.0, 360.0);
+  } else {
+    a_min = calib::WrapAngle(mean + lo) * kRadToDeg;
+    a_max = calib::WrapAngle(mean + hi) * kRadToDeg;
+  }
+  *min_deg = a_min;
+  *max_deg = a_max;
+}
+
+}  // namespace
+
+std::vector<std::string> ConfigDirs() {
+  std::vector<std::string> dirs;
+  if (const char* env = std::getenv("WALLCAL_CONFIG_DIR"); env != nullptr && *env != '\0') {
+    dirs.push_back(env);
+  }
+  const std::string exe_dir = ExecutableDir();
+  if (!exe_dir.empty()) {
+    dirs.push_back((fs::path(exe_dir) / ".." / "configs").lexically_normal().string());
+    dirs.push_back((fs::path(exe_dir) / "configs").string());
+  }
+  if (std::string(WALLCAL_SOURCE_CONFIG_DIR).size() > 0) dirs.push_back(WALLCAL_SOURCE_CONFIG_DIR);
+  return dirs;
+}
+
+std::vector<std::string> PresetDirs() {
+  std::vector<std::string> dirs;
+  for (const std::string& dir : ConfigDirs()) dirs.push_back((fs::path(dir) / "scanners").string());
+  return dirs;
+}
+
+std::string DefaultOutputPath(const io::SessionSpec& session) {
+  return (fs::path(session.dir) / "offsets.yaml").string();
+}
+
+CalibrationResult RunCalibration(const CalibrateRequest& request, std::ostream* progress) {
+  const auto t_start = std::chrono::steady_clock::now();
+  auto say = [&](const std::string& line) {
+    if (progress != nullptr) *progress << line << std::endl;
+  };
+  if (request.method != "ceres" && request.method != "barawid") {
+    throw io::InputError("--method: unknown method '" + request.method +
+                         "'; expected ceres or barawid");
+  }
+  CalibrationResult result;
+  result.session = io::ReadSession(request.session_path);
+  const io::SessionSpec& session = result.session;
+  io::CalibrateOptions options;
+  if (!request.config_path.empty()) options = io::ReadCalibrateOptions(request.config_path);
+  options.Validate();
+  result.preset = io::LoadScannerPreset(session.scanner_model, PresetDirs());
+  const io::ScannerPreset& preset = result.preset;
+
+  // --- Survey and its tie to UTM ---------------------------------------------------------
+  say("reading survey " + session.survey_points);
+  const std::vector<io::SurveyPoint> survey = io::ReadSurvey(session.survey_points);
+  const io::ControlPoint& first_control = session.control.front();
+  result.frame =
+      calib::MakeLocalFrame(first_control.lat_deg, first_control.lon_deg, session.utm_zone);
+  const calib::SurveyTie tie =
+      calib::TieSurvey(survey, session.survey_points, session, result.frame, options.solver);
+  result.control_rms_m = tie.control_rms_m;
+  result.num_control = tie.num_control;
+  result.walls = calib::FitWalls(survey, session.survey_points, session, tie, options.solver);
+  if (tie.num_control >= 2 &&
+      tie.control_rms_m > 3.0 * std::hypot(options.solver.control_sigma_m,
+                                           options.solver.total_station_sigma_m)) {
+    result.warnings.push_back("control points fit the survey with RMS " +
+                              Fmt("%.3f", tie.control_rms_m) +
+                              " m, more than 3x the expected RTK + total-station error");
+  }
+
+  // --- GNSS and heading ---------------------------------------------------------------
+  say("reading GNSS " + session.gnss_log);
+  const io::NmeaLog gnss = io::ReadNmea(session.gnss_log);
+  const io::NmeaLog heading_log =
+      session.heading_log == session.gnss_log ? gnss : io::ReadNmea(session.heading_log);
+  if (session.heading_log != session.gnss_log) say("reading heading " + session.heading_log);
+  result.fixes_by_quality = gnss.fixes_by_quality;
+  result.gnss_skipped = gnss.skipped;
+  result.heading_skipped = heading_log.skipped;
+  if (gnss.skipped.Total() > 0) result.warnings.push_back(DescribeSkips(session.gnss_log, gnss.skipped));
+  if (session.heading_log != session.gnss_log && heading_log.skipped.Total() > 0) {
+    result.warnings.push_back(DescribeSkips(session.heading_log, heading_log.skipped));
+  }
+
+  std::vector<calib::PositionSample> positions;
+  std::vector<const io::GnssFix*> used_fixes;
+  for (const io::GnssFix& fix : gnss.fixes) {
+    if (!QualityAccepted(fix.quality, session.min_fix_quality)) continue;
+    if (!positions.empty() && fix.stamp_s <= positions.back().stamp_s) continue;
+    calib::PositionSample sample;
+    sample.stamp_s = fix.stamp_s;
+    sample.p_local_m = calib::ToLocal(result.frame, fix.lat_deg, fix.lon_deg);
+    const bool has_gst = std::isfinite(fix.sigma_lat_m) && std::isfinite(fix.sigma_lon_m);
+    sample.sigma_m = has_gst ? std::max(fix.sigma_lat_m, fix.sigma_lon_m) : 0.0;
+    positions.push_back(sample);
+    used_fixes.push_back(&fix);
+  }
+  result.fixes_used = static_cast<int64_t>(positions.size());
+  if (positions.size() < 2) {
+    std::ostringstream found;
+    for (const auto& [quality, count] : gnss.fixes_by_quality) {
+      found << " quality " << quality << ": " << count << ";";
+    }
+    throw io::InputError(io::Where(session.gnss_log, 0,
+                                   "fewer than 2 GGA fixes of accepted quality (gnss.min_fix_quality " +
+                                       std::to_string(session.min_fix_quality) + "); found" +
+                                       (found.str().empty() ? std::string(" none") : found.str())));
+  }
+  const int64_t rejected_fixes = static_cast<int64_t>(gnss.fixes.size()) - result.fixes_used;
+  if (rejected_fixes > 0) {
+    result.warnings.push_back(std::to_string(rejected_fixes) +
+                              " GGA fixes below gnss.min_fix_quality (or out of time order) not used");
+  }
+
+  std::vector<calib::YawSample> yaws;
+  for (const io::HeadingSample& heading : heading_log.headings) {
+    if (!yaws.empty() && heading.stamp_s <= yaws.back().stamp_s) continue;
+    calib::YawSample sample;
+    sample.stamp_s = heading.stamp_s;
+    if (session.heading_reference == io::HeadingReference::kGridNorth) {
+      sample.yaw_rad = calib::YawFromGridHeading(heading.heading_rad);
+    } else {
+      // Convergence at the vehicle: take the nearest used fix in time.
+      const auto it = std::lower_bound(
+          used_fixes.begin(), used_fixes.end(), heading.stamp_s,
+          [](const io::GnssFix* fix, double t) { return fix->stamp_s < t; });
+      const io::GnssFix* nearest = it == used_fixes.end() ? used_fixes.back() : *it;
+      if (it != used_fixes.begin() && it != used_fixes.end() &&
+          heading.stamp_s - (*(it - 1))->stamp_s < (*it)->stamp_s - heading.stamp_s) {
+        nearest = *(it - 1);
+      }
+      sample.yaw_rad = calib::YawFromTrueHeading(result.frame, heading.heading_rad,
+                                                 nearest->lat_deg, nearest->lon_deg);
+    }
+    yaws.push_back(sample);
+  }
+  result.headings_used = static_cast<int64_t>(yaws.size());
+  if (yaws.size() < 2) {
+    throw io::InputError(io::Where(session.heading_log, 0,
+                                   "fewer than 2 usable HDT/THS headings; expected a heading log"));
+  }
+  const calib::PoseInterpolator poses(positions, yaws, options.alignment);
+  if (!(poses.start_s() < poses.end_s())) {
+    throw io::InputError(session.gnss_log + " and " + session.heading_log +
+                         ": the GNSS and heading logs do not overlap in time");
+  }
+  result.num_dwells = static_cast<int>(poses.dwells().size());
+
+  PassContext context;
+  context.session = &session;
+  context.preset = &preset;
+  context.options = &options;
+  context.walls = &result.walls;
+  context.poses = &poses;
+
+  // --- First pass: wide gates around the rough mount, on an even subsample -------------
+  solvers::Mount guess;
+  if (session.mount_guess) {
+    guess.x_m = session.mount_guess->x_m;
+    guess.y_m = session.mount_guess->y_m;
+    guess.yaw_rad = session.mount_guess->yaw_rad;
+  }
+  const double span_s = poses.end_s() - poses.start_s();
+  const double min_interval_s = span_s / std::max(1, options.first_pass_max_scans);
+  say("first pass: wall detection on a subsample with wide gates");
+  const Gates wide{options.detector.wide_angle_gate_rad, options.detector.wide_offset_gate_m,
+                   false};
+  PassOutcome first = DetectionPass(context, guess, wide, min_interval_s);
+  if (first.scans_read == 0) {
+    std::string why = "no scan records";
+    if (first.line_skips.Total() > 0) why += "; " + DescribeSkips(session.scanner_log, first.line_skips);
+    throw io::InputError(io::Where(session.scanner_log, 0, why +
+                                   "; expected CARMEN RAWLASER1/ROBOTLASER1/FLASER lines"));
+  }
+  if (first.observations.empty()) {
+    std::ostringstream why;
+    why << "the wall was not detected in any of " << first.scans_examined << " sampled scans (";
+    bool first_reason = true;
+    for (const auto& [reason, count] : first.skipped) {
+      why << (first_reason ? "" : "; ") << reason << ": " << count;
+      first_reason = false;
+    }
+    why << "); check the walls' survey codes, the scanner model, the time overlap of the logs, "
+           "or give scanner.mount_guess";
+    result.first_pass.usable = false;
+    result.first_pass.message = why.str();
+    result.estimate = result.first_pass;
+    result.scans_total = first.scans_read + first.line_skips.Total();
+    return result;
+  }
+  solvers::MountEstimate start =
+      solvers::SolveMountBarawid(first.observations, result.walls, options.solver);
+  if (!start.usable) {
+    result.first_pass = start;
+    result.estimate = start;
+    result.scans_total = first.scans_read + first.line_skips.Total();
+    return result;
+  }
+  result.first_pass =
+      solvers::SolveMountCeres(first.observations, result.walls, options.solver, start.mount);
+  if (!result.first_pass.usable) {
+    result.estimate = result.first_pass;
+    result.scans_total = first.scans_read + first.line_skips.Total();
+    return result;
+  }
+  say("first pass: " + std::to_string(first.observations.size()) + " observations, mount x " +
+      Fmt("%.3f", result.first_pass.mount.x_m) + " m, y " +
+      Fmt("%.3f", result.first_pass.mount.y_m) + " m, yaw " +
+      Fmt("%.2f", result.first_pass.mount.yaw_rad * kRadToDeg) + " deg");
+
+  // --- Second pass: every scan, tight gates around the first estimate ------------------
+  const Eigen::Matrix3d& c1 = result.first_pass.covariance;
+  const Gates tight{
+      std::max(options.detector.tight_angle_gate_rad, 5.0 * std::sqrt(std::max(0.0, c1(2, 2)))),
+      std::max(options.detector.tight_offset_gate_m,
+               5.0 * std::sqrt(std::max(0.0, c1(0, 0) + c1(1, 1)))),
+      true};
+  say("second pass: wall detection in every scan with tight gates");
+  PassOutcome second = DetectionPass(context, result.first_pass.mount, tight, 0.0);
+  result.observations = std::move(second.observations);
+  result.scans_skipped = second.skipped;
+  result.scan_lines_skipped = second.line_skips;
+  result.scans_total = second.scans_read + second.line_skips.Total();
+  if (second.line_skips.Total() > 0) {
+    result.warnings.push_back(DescribeSkips(session.scanner_log, second.line_skips));
+    for (const auto& [reason, count] : second.line_skips.by_reason) {
+      result.scans_skipped["log line skipped: " + reason] += count;
+    }
+  }
+  if (second.beam_count_mismatch > 0) {
+    result.warnings.push_back(std::to_string(second.beam_count_mismatch) + " scans have " +
+                              std::to_string(second.first_mismatch_beams) + " beams, preset " +
+                              preset.name + " has " + std::to_string(preset.num_beams) +
+                              ": check scanner.model");
+  }
+
+  say("solving (" + request.method + ") on " + std::to_string(result.observations.size()) +
+      " observations");
+  if (request.method == "barawid") {
+    result.estimate = solvers::SolveMountBarawid(result.observations, result.walls, options.solver);
+  } else {
+    result.estimate = solvers::SolveMountCeres(result.observations, result.walls, options.solver,
+                                               result.first_pass.mount);
+  }
+
+  std::set<int> used_scans, used_segments;
+  std::vector<double> grid_headings, wall_angles;
+  for (const calib::WallObservation& o : result.observations) {
+    used_scans.insert(o.scan_index);
+    used_segments.insert(o.pose.segment);
+    grid_headings.push_back(kPi / 2.0 - o.pose.yaw_rad);
+    const calib::WallGeometry& wall = result.walls[o.wall_index];
+    // φ of seed 002 Eq. 8: the wall normal (towards the wall) in the vehicle frame.
+    const double side = (wall.offset_m - wall.normal_local.dot(o.pose.antenna_local_m)) >= 0 ? 1 : -1;
+    wall_angles.push_back(
+        calib::WrapAngle(std::atan2(side * wall.normal_local.y(), side * wall.normal_local.x()) -
+                         o.pose.yaw_rad));
+  }
+  result.scans_used = static_cast<int64_t>(used_scans.size());
+  result.num_segments_used = static_cast<int>(used_segments.size());
+  // Scans that had an observation in the first pass only are not "skipped"; everything not
+  // used is accounted for in scans_skipped.
+  AngleRange(grid_headings, true, &result.heading_min_deg, &result.heading_max_deg);
+  AngleRange(wall_angles, false, &result.wall_angle_min_deg, &result.wall_angle_max_deg);
+  result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  return result;
+}
+
+io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result) {
+  io::OffsetsDocument doc;
+  const solvers::MountEstimate& e = result.estimate;
+  doc.x_m = e.mount.x_m;
+  doc.y_m = e.mount.y_m;
+  doc.yaw_rad = e.mount.yaw_rad;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) doc.covariance[3 * r + c] = e.covariance(r, c);
+  }
+  doc.method = e.method;
+  doc.scans_total = result.scans_total;
+  doc.scans_used = result.scans_used;
+  doc.heading_min_deg = result.heading_min_deg;
+  doc.heading_max_deg = result.heading_max_deg;
+  doc.residual_rms_m = e.residual_rms_m;
+  auto add = [&doc](const std::string& key, const std::string& value) {
+    doc.quality_extra.emplace_back(key, value);
+  };
+  add("observations", std::to_string(e.observations_used));
+  add("outliers", std::to_string(e.observations_rejected));
+  add("stations", std::to_string(result.num_dwells));
+  add("gnss_segments", std::to_string(result.num_segments_used));
+  add("vehicle_to_wall_angle_deg", "{min: " + Fmt("%.2f", result.wall_angle_min_deg) +
+                                       ", max: " + Fmt("%.2f", result.wall_angle_max_deg) + "}");
+  std::string skipped = "{";
+  bool first = true;
+  for (const auto& [reason, count] : result.scans_skipped) {
+    skipped += (first ? "" : ", ") + std::string("\"") + reason + "\": " + std::to_string(count);
+    first = false;
+  }
+  add("scans_skipped", skipped + "}");
+  std::string quality = "{";
+  first = true;
+  for (const auto& [q, count] : result.fixes_by_quality) {
+    quality += (first ? "" : ", ") + std::to_string(q) + ": " + std::to_string(count);
+    first = false;
+  }
+  add("gnss_fixes_by_quality", quality + "}");
+  add("gnss_fixes_used", std::to_string(result.fixes_used));
+  add("headings_used", std::to_string(result.headings_used));
+  add("control_points", std::to_string(result.num_control));
+  add("control_rms_m", Fmt("%.4f", result.control_rms_m));
+  add("utm_zone", "\"" + std::to_string(result.frame.zone) + (result.frame.north ? "N" : "S") + "\"");
+  add("meridian_convergence_deg", Fmt("%.4f", result.frame.convergence_rad * kRadToDeg));
+  add("point_scale", Fmt("%.7f", result.frame.scale_k0));
+  std::string walls = "[";
+  for (size_t i = 0; i < result.walls.size(); ++i) {
+    const calib::WallGeometry& w = result.walls[i];
+    walls += (i ? ", " : "") + std::string("{id: \"") + w.id + "\", points: " +
+             std::to_string(w.num_points) + ", rms_m: " + Fmt("%.4f", w.rms_m) +
+             ", sigma_offset_m: " + Fmt("%.4f", w.sigma_offset_m) +
+             ", sigma_angle_deg: " + Fmt("%.4f", w.sigma_angle_rad * kRadToDeg) + "}";
+  }
+  add("walls", walls + "]");
+  add("yaw_reference",
+      "\"relative to the heading sensor's zero: a constant heading bias is indistinguishable "
+      "from mount yaw\"");
+  doc.warnings = result.warnings;
+  doc.session = result.session.file;
+  doc.tool_version = io::kToolVersion;
+  return doc;
+}
+
+std::string FormatSummary(const CalibrationResult& result) {
+  const solvers::MountEstimate& e = result.estimate;
+  std::ostringstream out;
+  char line[512];
+  out << "wallcal " << io::kToolVersion << ": session '" << result.session.name << "' ("
+      << result.preset.name << ")\n";
+  std::snprintf(line, sizeof(line), "  scans      %lld read, %lld used",
+                static_cast<long long>(result.scans_total), static_cast<long long>(result.scans_used));
+  out << line;
+  for (const auto& [reason, count] : result.scans_skipped) {
+    out << "; " << count << " " << reason;
+  }
+  out << "\n";
+  out << "  gnss       " << result.fixes_used << " fixes used (by quality:";
+  for (const auto& [q, count] : result.fixes_by_quality) out << " " << q << ":" << count;
+  out << "), " << result.headings_used << " headings\n";
+  std::snprintf(line, sizeof(line),
+                "  survey     %d control points (RMS %.4f m), %zu wall(s), UTM zone %d%s, "
+                "convergence %.3f deg, scale %.6f\n",
+                result.num_control, result.control_rms_m, result.walls.size(), result.frame.zone,
+                result.frame.north ? "N" : "S", result.frame.convergence_rad * kRadToDeg,
+                result.frame.scale_k0);
+  out << line;
+  std::snprintf(line, sizeof(line),
+                "  geometry   %d stations, %d GNSS segments, grid headings %.1f..%.1f deg, "
+                "vehicle-to-wall angles %.1f..%.1f deg\n",
+                result.num_dwells, result.num_segments_used, result.heading_min_deg,
+                result.heading_max_deg, result.wall_angle_min_deg, result.wall_angle_max_deg);
+  out << line;
+  if (e.usable) {
+    const double sx = std::sqrt(std::max(0.0, e.covariance(0, 0)));
+    const double sy = std::sqrt(std::max(0.0, e.covariance(1, 1)));
+    const double syaw = std::sqrt(std::max(0.0, e.covariance(2, 2)));
+    std::snprintf(line, sizeof(line),
+                  "  mount      x = %.4f ± %.4f m   y = %.4f ± %.4f m   yaw = %.3f ± %.3f deg  "
+                  "(%s)\n",
+                  e.mount.x_m, sx, e.mount.y_m, sy, e.mount.yaw_rad * kRadToDeg, syaw * kRadToDeg,
+                  e.method.c_str());
+    out << line;
+    std::snprintf(line, sizeof(line),
+                  "  seed 002   a = %.4f m   b = %.4f m   delta = %.3f deg\n", -e.mount.y_m,
+                  e.mount.x_m, e.mount.yaw_rad * kRadToDeg);
+    out << line;
+    std::snprintf(line, sizeof(line),
+                  "  residuals  RMS %.4f m over %d observations, %d outliers (> 3 sigma)\n",
+                  e.residual_rms_m, e.observations_used, e.observations_rejected);
+    out << line;
+  } else {
+    out << "  mount      NOT DETERMINED: " << e.message << "\n";
+  }
+  for (const std::string& w : result.warnings) out << "  warning    " << w << "\n";
+  std::snprintf(line, sizeof(line), "  time       %.2f s\n", result.seconds);
+  out << line;
+  return out.str();
+}
+
+SimulateSummary WriteSimulatedSession(const io::SimulationConfig& input_config, uint64_t seed,
+                                      const std::string& dir) {
+  const io::SimulationConfig config = calib::WithDefaultWalls(input_config);
+  config.Validate();
+  const io::ScannerPreset preset = io::LoadScannerPreset(config.scanner_model, PresetDirs());
+  std::error_code error;
+  fs::create_directories(dir, error);
+  if (error || !fs::is_directory(dir)) {
+    throw io::InputError(dir + ": cannot create the output folder (" + error.message() + ")");
+  }
+  const fs::path folder(dir);
+  const std::string scans_path = (folder / "scans.clf").string();
+  const std::string scans_tmp = scans_path + ".tmp-" + std::to_string(::getpid());
+  std::ofstream scans(scans_tmp, std::ios::binary | std::ios::trunc);
+  if (!scans) throw io::InputError(scans_tmp + ": cannot write");
+  scans << "# wallcal simulate: scanner " << preset.name << ", seed " << seed << "\n";
+  calib::SimulatedSession sim;
+  try {
+    sim = calib::Simulate(config, preset, seed, [&scans](const io::ScanRecord& scan) {
+      scans << io::FormatCarmenRawlaser(scan) << '\n';
+    });
+    scans.flush();
+    if (!scans) throw io::InputError(scans_tmp + ": write failed (disk full?)");
+    scans.close();
+  } catch (...) {
+    scans.close();
+    fs::remove(scans_tmp, error);
+    throw;
+  }
+
+  std::string gnss_text;
+  for (const io::GnssFix& fix : sim.fixes) {
+    gnss_text += io::FormatGgaLine(fix) + "\n";
+    if (config.write_gst) gnss_text += io::FormatGstLine(fix) + "\n";
+  }
+  std::string heading_text;
+  for (const io::HeadingSample& h : sim.headings) {
+    heading_text += io::FormatHdtLine(h.stamp_s, h.heading_rad) + "\n";
+  }
+  io::SessionSpec spec;
+  spec.dir = folder.string();
+  spec.file = (folder / "session.yaml").string();
+  spec.name = config.name;
+  spec.scanner_model = preset.name;
+  spec.scanner_log = scans_path;
+  spec.gnss_log = (folder / "gnss.nmea").string();
+  spec.heading_log = (folder / "heading.nmea").string();
+  spec.survey_points = (folder / "survey.csv").string();
+  spec.control = sim.control;
+  spec.walls = sim.walls;
+  try {
+    io::WriteFileAtomically(spec.gnss_log, gnss_text);
+    io::WriteFileAtomically(spec.heading_log, heading_text);
+    io::WriteFileAtomically(spec.survey_points, io::FormatSurveyCsv(sim.survey));
+    io::WriteFileAtomically((folder / "truth.yaml").string(), io::FormatTruthYaml(config, seed));
+    fs::rename(scans_tmp, scans_path);
+    // session.yaml last: a folder with a session.yaml is a complete session.
+    io::WriteFileAtomically(spec.file, io::FormatSessionYaml(spec));
+  } catch (...) {
+    fs::remove(scans_tmp, error);
+    throw;
+  }
+  SimulateSummary summary;
+  summary.scans_written = sim.scans_written;
+  summary.scans_lost = sim.scans_lost;
+  summary.fixes = static_cast<int64_t>(sim.fixes.size());
+  summary.headings = static_cast<int64_t>(sim.headings.size());
+  summary.survey_points = static_cast<int64_t>(sim.survey.size());
+  if (!sim.truth_poses.empty()) {
+    summary.duration_s = sim.truth_poses.back().stamp_s - sim.truth_poses.front().stamp_s;
+  }
+  return summary;
+}
+
+}  // namespace wallcal::app

@@ -1,1 +1,97 @@
-// (being written)
+#include "calib/range_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace wallcal::calib {
+namespace {
+
+enum class Fate { kValid, kNonFinite, kErrorCode, kNoReturn, kTooClose };
+
+Fate Classify(double raw_m, double corrected_m, const io::ScanRecord& scan,
+              const io::ScannerPreset& preset, double min_range_m) {
+  if (!std::isfinite(raw_m) || raw_m < 0.0) return Fate::kNonFinite;
+  // Error codes are sensor words, not distances: test the raw value before any correction.
+  if (raw_m < preset.error_codes_below_m) return Fate::kErrorCode;
+  if (preset.max_range_is_no_return && preset.max_range_m > 0.0 && raw_m >= preset.max_range_m) {
+    return Fate::kNoReturn;
+  }
+  if (scan.max_range_m > 0.0 && raw_m >= scan.max_range_m) return Fate::kNoReturn;
+  // The preset's floor is the sensor's (raw); the option's is physical (corrected).
+  if (raw_m < preset.min_range_m || corrected_m < min_range_m || corrected_m <= 0.0) {
+    return Fate::kTooClose;
+  }
+  return Fate::kValid;
+}
+
+}  // namespace
+
+ScanPoints ToScanPoints(const io::ScanRecord& scan, const io::ScannerPreset& preset,
+                        double min_range_m, double mixed_jump_m, RangeCounts* counts) {
+  const int n = static_cast<int>(scan.ranges_m.size());
+  std::vector<double> r(n, 0.0);
+  std::vector<uint8_t> valid(n, 0);
+  RangeCounts local;
+  for (int i = 0; i < n; ++i) {
+    const double raw = scan.ranges_m[i];
+    const double corrected = preset.range_scale_k * raw + preset.range_offset_b_m;
+    switch (Classify(raw, corrected, scan, preset, min_range_m)) {
+      case Fate::kValid:
+        valid[i] = 1;
+        r[i] = corrected;
+        ++local.valid;
+        break;
+      case Fate::kNonFinite: ++local.non_finite; break;
+      case Fate::kErrorCode: ++local.error_code; break;
+      case Fate::kNoReturn: ++local.no_return; break;
+      case Fate::kTooClose: ++local.too_close; break;
+    }
+  }
+  if (counts != nullptr) {
+    counts->valid += local.valid;
+    counts->error_code += local.error_code;
+    counts->no_return += local.no_return;
+    counts->too_close += local.too_close;
+    counts->non_finite += local.non_finite;
+  }
+
+  // step_ok(i): beams i and i+1 are both valid, so the step r[i+1] − r[i] is defined.
+  auto step_ok = [&](int i) { return i >= 0 && i + 1 < n && valid[i] && valid[i + 1]; };
+  auto step = [&](int i) { return r[i + 1] - r[i]; };
+  // A depth jump between beams i and i+1 (both valid): a large step that is not the
+  // continuation of its neighbouring steps. On a plane the step changes by the range's second
+  // difference (ρ(1 + sin²φ)/cos³φ · Δ², 3 cm at 8 m, 60°, 1° beams), far below a depth edge.
+  auto is_jump = [&](int i) {
+    const double d = step(i);
+    if (std::abs(d) <= mixed_jump_m) return false;
+    bool has_neighbour = false;
+    for (int j : {i - 1, i + 1}) {
+      if (!step_ok(j)) continue;
+      has_neighbour = true;
+      if (std::abs(step(j) - d) > mixed_jump_m) return true;
+    }
+    return !has_neighbour;
+  };
+
+  ScanPoints out;
+  out.p_scanner_m.reserve(local.valid);
+  out.range_m.reserve(local.valid);
+  out.bearing_rad.reserve(local.valid);
+  out.beam.reserve(local.valid);
+  out.mixed_suspect.reserve(local.valid);
+  for (int i = 0; i < n; ++i) {
+    if (!valid[i]) continue;
+    bool suspect = false;
+    if (i > 0) suspect = suspect || !valid[i - 1] || is_jump(i - 1);
+    if (i + 1 < n) suspect = suspect || !valid[i + 1] || is_jump(i);
+    const double bearing = scan.start_angle_rad + i * scan.angular_step_rad;
+    out.p_scanner_m.emplace_back(r[i] * std::cos(bearing), r[i] * std::sin(bearing));
+    out.range_m.push_back(static_cast<float>(r[i]));
+    out.bearing_rad.push_back(static_cast<float>(bearing));
+    out.beam.push_back(i);
+    out.mixed_suspect.push_back(suspect ? 1 : 0);
+  }
+  return out;
+}
+
+}  // namespace wallcal::calib

@@ -1,1 +1,246 @@
-// (being written)
+#include "calib/survey_tie.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+
+#include "calib/geodesy.h"
+
+namespace wallcal::calib {
+namespace {
+
+// Two control points closer than this cannot fix a rotation (and are almost surely the same
+// point entered twice).
+constexpr double kCoincidentM = 0.01;
+// RTK (2 cm) and a total station (mm) agree to centimetres; a metre means a wrong id, swapped
+// coordinates or a wrong datum, not noise.
+constexpr double kAbsurdResidualM = 1.0;
+constexpr double kMinWallSpanM = 0.5;
+
+std::string Metres(double value_m) {
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(3);
+  out << value_m;
+  return out.str();
+}
+
+Eigen::Matrix2d Rotation(double angle_rad) {
+  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
+  Eigen::Matrix2d r;
+  r << c, -s, s, c;
+  return r;
+}
+
+// The one survey point with this id; throws when it is missing or ambiguous.
+const io::SurveyPoint& FindControlInSurvey(const std::vector<io::SurveyPoint>& survey,
+                                           const std::string& survey_file,
+                                           const io::SessionSpec& spec,
+                                           const io::ControlPoint& control) {
+  const io::SurveyPoint* found = nullptr;
+  int count = 0;
+  for (const io::SurveyPoint& point : survey) {
+    if (point.id != control.id) continue;
+    if (found == nullptr) found = &point;
+    ++count;
+  }
+  if (found == nullptr) {
+    throw io::InputError(io::Where(spec.file, control.line,
+                                   "control point " + control.id + " is not in " + survey_file +
+                                       "; expected a survey point with id " + control.id));
+  }
+  if (count > 1) {
+    throw io::InputError(io::Where(
+        spec.file, control.line,
+        "control point " + control.id + " appears " + std::to_string(count) + " times in " +
+            survey_file + "; expected exactly one survey point with that id"));
+  }
+  return *found;
+}
+
+}  // namespace
+
+SurveyTie TieSurvey(const std::vector<io::SurveyPoint>& survey, const std::string& survey_file,
+                    const io::SessionSpec& spec, const LocalFrame& frame,
+                    const io::SolverOptions& options) {
+  const std::vector<io::ControlPoint>& control = spec.control;
+  if (control.empty()) {
+    throw io::InputError(io::Where(spec.file, 0,
+                                   "survey.control is empty; expected at least one control point "
+                                   "(a survey point also measured by RTK-GNSS)"));
+  }
+  const int n = static_cast<int>(control.size());
+  std::vector<Eigen::Vector2d> p_survey(n), p_local(n);
+  for (int i = 0; i < n; ++i) {
+    const io::SurveyPoint& point = FindControlInSurvey(survey, survey_file, spec, control[i]);
+    p_survey[i] = Eigen::Vector2d(point.x_m, point.y_m);
+    p_local[i] = ToLocal(frame, control[i].lat_deg, control[i].lon_deg);
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < i; ++j) {
+      const double survey_gap_m = (p_survey[i] - p_survey[j]).norm();
+      const double local_gap_m = (p_local[i] - p_local[j]).norm();
+      if (survey_gap_m < kCoincidentM || local_gap_m < kCoincidentM) {
+        throw io::InputError(io::Where(
+            spec.file, control[i].line,
+            "control points " + control[j].id + " and " + control[i].id + " coincide (" +
+                Metres(survey_gap_m) + " m apart in the survey, " + Metres(local_gap_m) +
+                " m by RTK); expected distinct points, ideally at the ends of the site"));
+      }
+    }
+  }
+
+  // Control point error per axis: RTK and total station, independent.
+  const double sigma_point_m =
+      std::hypot(options.control_sigma_m, options.total_station_sigma_m);
+
+  SurveyTie tie;
+  tie.num_control = n;
+  if (n == 1) {
+    if (!spec.survey_rotation_rad) {
+      throw io::InputError(io::Where(spec.file, control[0].line,
+                                     "one control point and no survey.rotation_deg; expected "
+                                     "the rotation or a second control point"));
+    }
+    // Seed 002, Eq. 4-5: rotate about the control point, then put it at its RTK position.
+    tie.local_R_survey = Rotation(*spec.survey_rotation_rad);
+    tie.local_t_survey = p_local[0] - tie.local_R_survey * p_survey[0];
+    tie.sigma_rotation_rad = options.rotation_sigma_rad;
+    tie.sigma_translation_m = sigma_point_m;
+    tie.control_centroid_local = p_local[0];
+    tie.control_residuals.push_back({control[0].id, Eigen::Vector2d::Zero()});
+    tie.control_rms_m = 0.0;
+    return tie;
+  }
+
+  // Least-squares rigid fit in 2-D (no scale: both sides are ground metres). With centred
+  // coordinates a_i (survey) and b_i (local), the rotation maximising Σ b_i · R a_i has
+  // tan θ = Σ (a_i × b_i) / Σ (a_i · b_i).
+  Eigen::Vector2d survey_mean = Eigen::Vector2d::Zero(), local_mean = Eigen::Vector2d::Zero();
+  for (int i = 0; i < n; ++i) {
+    survey_mean += p_survey[i];
+    local_mean += p_local[i];
+  }
+  survey_mean /= n;
+  local_mean /= n;
+  double sum_dot = 0.0, sum_cross = 0.0, spread2_m2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d a = p_survey[i] - survey_mean;
+    const Eigen::Vector2d b = p_local[i] - local_mean;
+    sum_dot += a.dot(b);
+    sum_cross += a.x() * b.y() - a.y() * b.x();
+    spread2_m2 += a.squaredNorm();
+  }
+  tie.local_R_survey = Rotation(std::atan2(sum_cross, sum_dot));
+  tie.local_t_survey = local_mean - tie.local_R_survey * survey_mean;
+  tie.control_centroid_local = local_mean;
+
+  double sum_sq_m2 = 0.0;
+  int worst = 0;
+  double worst_m = -1.0;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d residual =
+        tie.local_R_survey * p_survey[i] + tie.local_t_survey - p_local[i];
+    tie.control_residuals.push_back({control[i].id, residual});
+    sum_sq_m2 += residual.squaredNorm();
+    if (residual.norm() > worst_m) {
+      worst_m = residual.norm();
+      worst = i;
+    }
+  }
+  tie.control_rms_m = std::sqrt(sum_sq_m2 / n);
+  if (worst_m > kAbsurdResidualM) {
+    throw io::InputError(io::Where(
+        spec.file, control[worst].line,
+        "control points disagree with the survey by " + Metres(worst_m) + " m (worst: " +
+            control[worst].id + "): wrong id or wrong coordinates? expected agreement within " +
+            Metres(kAbsurdResidualM) + " m"));
+  }
+  // A point at distance r_i from the centroid, displaced by σ across, turns the fit by σ/r_i;
+  // least squares weights by r_i², hence σ_θ² = σ² / Σ r_i².
+  tie.sigma_rotation_rad = sigma_point_m / std::sqrt(spread2_m2);
+  tie.sigma_translation_m = sigma_point_m / std::sqrt(static_cast<double>(n));
+  return tie;
+}
+
+std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
+                                   const std::string& survey_file, const io::SessionSpec& spec,
+                                   const SurveyTie& tie, const io::SolverOptions& options) {
+  std::vector<WallGeometry> walls;
+  for (const io::WallSpec& wall_spec : spec.walls) {
+    std::vector<Eigen::Vector2d> points;
+    for (const io::SurveyPoint& point : survey) {
+      if (point.code != wall_spec.code) continue;
+      points.push_back(tie.local_R_survey * Eigen::Vector2d(point.x_m, point.y_m) +
+                       tie.local_t_survey);
+    }
+    const int n = static_cast<int>(points.size());
+    if (n < 2) {
+      const std::string found = n == 0 ? "no survey points" : "only 1 survey point";
+      throw io::InputError(io::Where(survey_file, 0,
+                                     "wall " + wall_spec.id + ": " + found + " with code " +
+                                         wall_spec.code + "; expected at least 2"));
+    }
+
+    // Total least squares: the line through the centroid along the scatter's major axis.
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector2d& p : points) centroid += p;
+    centroid /= n;
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    for (const Eigen::Vector2d& p : points) scatter += (p - centroid) * (p - centroid).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(scatter);
+    Eigen::Vector2d direction = eigen.eigenvectors().col(1);  // eigenvalues ascending
+    if (direction.dot(points.back() - points.front()) < 0.0) direction = -direction;
+    const Eigen::Vector2d normal(-direction.y(), direction.x());
+
+    double along_min_m = 0.0, along_max_m = 0.0, along_sq_m2 = 0.0, across_sq_m2 = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double along_m = direction.dot(points[i] - centroid);
+      const double across_m = normal.dot(points[i] - centroid);
+      along_min_m = i == 0 ? along_m : std::min(along_min_m, along_m);
+      along_max_m = i == 0 ? along_m : std::max(along_max_m, along_m);
+      along_sq_m2 += along_m * along_m;
+      across_sq_m2 += across_m * across_m;
+    }
+    const double span_m = along_max_m - along_min_m;
+    if (span_m < kMinWallSpanM) {
+      throw io::InputError(io::Where(
+          survey_file, 0,
+          "wall " + wall_spec.id + ": the survey points with code " + wall_spec.code +
+              " span only " + Metres(span_m) + " m; expected at least " + Metres(kMinWallSpanM) +
+              " m along the wall"));
+    }
+
+    WallGeometry wall;
+    wall.id = wall_spec.id;
+    wall.normal_local = normal;
+    wall.offset_m = normal.dot(centroid);
+    wall.end_a_local = centroid + along_min_m * direction;
+    wall.end_b_local = centroid + along_max_m * direction;
+    wall.num_points = n;
+    wall.rms_m = std::sqrt(across_sq_m2 / n);
+
+    // Fit: offset at the centroid σ²/n, direction σ²/Σs², the two independent; moved to the
+    // wall's centre (along-coordinate s_c) the offset picks up s_c·δθ.
+    const double sigma_ts_m = options.total_station_sigma_m;
+    const double var_angle_fit = sigma_ts_m * sigma_ts_m / along_sq_m2;
+    const double centre_along_m = 0.5 * (along_min_m + along_max_m);
+    const double var_offset_fit =
+        sigma_ts_m * sigma_ts_m / n + centre_along_m * centre_along_m * var_angle_fit;
+    // Tie: the whole survey shifts by the translation error and turns about the control
+    // centroid; only the along-wall component of the lever moves the wall along its normal.
+    const Eigen::Vector2d centre = 0.5 * (wall.end_a_local + wall.end_b_local);
+    const double lever_m = direction.dot(centre - tie.control_centroid_local);
+    const double var_offset_tie = tie.sigma_translation_m * tie.sigma_translation_m +
+                                  std::pow(tie.sigma_rotation_rad * lever_m, 2);
+    wall.sigma_offset_m = std::sqrt(var_offset_fit + var_offset_tie);
+    wall.sigma_angle_rad =
+        std::sqrt(var_angle_fit + tie.sigma_rotation_rad * tie.sigma_rotation_rad);
+    walls.push_back(wall);
+  }
+  return walls;
+}
+
+}  // namespace wallcal::calib

@@ -1,1 +1,301 @@
-// (being written)
+#include "calib/time_alignment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "calib/geodesy.h"
+
+namespace wallcal::calib {
+namespace {
+
+template <typename Sample>
+void CheckStream(const std::vector<Sample>& samples, const char* what) {
+  if (samples.size() < 2) {
+    throw std::invalid_argument(std::string("PoseInterpolator: ") + what +
+                                ": need at least 2 samples, got " +
+                                std::to_string(samples.size()));
+  }
+  for (size_t i = 1; i < samples.size(); ++i) {
+    // Written so that a NaN stamp fails too.
+    if (!(samples[i].stamp_s > samples[i - 1].stamp_s)) {
+      throw std::invalid_argument(std::string("PoseInterpolator: ") + what +
+                                  ": stamps not strictly increasing at sample " +
+                                  std::to_string(i));
+    }
+  }
+}
+
+template <typename Sample>
+double MedianPeriod(const std::vector<Sample>& samples) {
+  std::vector<double> periods;
+  periods.reserve(samples.size() - 1);
+  for (size_t i = 1; i < samples.size(); ++i) {
+    periods.push_back(samples[i].stamp_s - samples[i - 1].stamp_s);
+  }
+  const size_t mid = periods.size() / 2;
+  std::nth_element(periods.begin(), periods.begin() + mid, periods.end());
+  return periods[mid];
+}
+
+// Index lo of the bracketing pair (lo, lo + 1) for a stamp inside [front, back].
+template <typename Sample>
+size_t Bracket(const std::vector<Sample>& samples, double stamp_s) {
+  const auto it = std::upper_bound(
+      samples.begin(), samples.end(), stamp_s,
+      [](double t, const Sample& sample) { return t < sample.stamp_s; });
+  size_t hi = static_cast<size_t>(it - samples.begin());
+  if (hi >= samples.size()) hi = samples.size() - 1;  // stamp_s == back
+  return hi - 1;
+}
+
+// Circular mean of angles (rad), in (-π, π].
+double CircularMean(const std::vector<double>& angles_rad) {
+  double sum_sin = 0.0, sum_cos = 0.0;
+  for (double a : angles_rad) {
+    sum_sin += std::sin(a);
+    sum_cos += std::cos(a);
+  }
+  return WrapAngle(std::atan2(sum_sin, sum_cos));
+}
+
+}  // namespace
+
+const char* PoseStatusName(PoseStatus status) {
+  switch (status) {
+    case PoseStatus::kOk:
+      return "ok";
+    case PoseStatus::kBeforeStart:
+      return "before the GNSS/heading logs";
+    case PoseStatus::kAfterEnd:
+      return "after the GNSS/heading logs";
+    case PoseStatus::kGnssGap:
+      return "in a GNSS gap";
+    case PoseStatus::kHeadingGap:
+      return "in a heading gap";
+  }
+  return "unknown";
+}
+
+PoseInterpolator::PoseInterpolator(std::vector<PositionSample> positions,
+                                   std::vector<YawSample> yaws,
+                                   const io::AlignmentOptions& options)
+    : positions_(std::move(positions)), yaws_(std::move(yaws)), options_(options) {
+  CheckStream(positions_, "GNSS positions");
+  CheckStream(yaws_, "yaws");
+  gnss_period_s_ = MedianPeriod(positions_);
+  heading_period_s_ = MedianPeriod(yaws_);
+  gnss_max_gap_s_ = options_.max_gap_periods * gnss_period_s_;
+  heading_max_gap_s_ = options_.max_gap_periods * heading_period_s_;
+  start_s_ = std::max(positions_.front().stamp_s, yaws_.front().stamp_s);
+  end_s_ = std::min(positions_.back().stamp_s, yaws_.back().stamp_s);
+  FindDwells();
+}
+
+bool PoseInterpolator::PositionAt(double stamp_s, Eigen::Vector2d* p_local_m, double* sigma_m,
+                                  PoseStatus* failure) const {
+  if (!(stamp_s >= positions_.front().stamp_s)) {
+    *failure = PoseStatus::kBeforeStart;
+    return false;
+  }
+  if (stamp_s > positions_.back().stamp_s) {
+    *failure = PoseStatus::kAfterEnd;
+    return false;
+  }
+  const size_t lo = Bracket(positions_, stamp_s);
+  const PositionSample& a = positions_[lo];
+  const PositionSample& b = positions_[lo + 1];
+  if (b.stamp_s - a.stamp_s > gnss_max_gap_s_) {
+    *failure = PoseStatus::kGnssGap;
+    return false;
+  }
+  const double f = (stamp_s - a.stamp_s) / (b.stamp_s - a.stamp_s);
+  *p_local_m = a.p_local_m + f * (b.p_local_m - a.p_local_m);
+  *sigma_m = a.sigma_m + f * (b.sigma_m - a.sigma_m);
+  return true;
+}
+
+bool PoseInterpolator::YawAt(double stamp_s, double* yaw_rad, PoseStatus* failure) const {
+  if (!(stamp_s >= yaws_.front().stamp_s)) {
+    *failure = PoseStatus::kBeforeStart;
+    return false;
+  }
+  if (stamp_s > yaws_.back().stamp_s) {
+    *failure = PoseStatus::kAfterEnd;
+    return false;
+  }
+  const size_t lo = Bracket(yaws_, stamp_s);
+  const YawSample& a = yaws_[lo];
+  const YawSample& b = yaws_[lo + 1];
+  if (b.stamp_s - a.stamp_s > heading_max_gap_s_) {
+    *failure = PoseStatus::kHeadingGap;
+    return false;
+  }
+  const double f = (stamp_s - a.stamp_s) / (b.stamp_s - a.stamp_s);
+  // The shorter arc: a vehicle does not turn by more than π between two heading samples.
+  *yaw_rad = WrapAngle(a.yaw_rad + f * WrapAngle(b.yaw_rad - a.yaw_rad));
+  return true;
+}
+
+PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
+  if (!(stamp_s >= start_s_)) return PoseStatus::kBeforeStart;
+  if (stamp_s > end_s_) return PoseStatus::kAfterEnd;
+  Eigen::Vector2d p_local_m;
+  double sigma_m = 0.0, yaw_rad = 0.0;
+  PoseStatus failure = PoseStatus::kOk;
+  if (!PositionAt(stamp_s, &p_local_m, &sigma_m, &failure)) return failure;
+  if (!YawAt(stamp_s, &yaw_rad, &failure)) return failure;
+
+  pose->stamp_s = stamp_s;
+  pose->antenna_local_m = p_local_m;
+  pose->yaw_rad = yaw_rad;
+  pose->gnss_sigma_m = sigma_m;
+  pose->stationary = false;
+  // The last dwell starting at or before stamp_s is the only one that can contain it.
+  const auto it = std::upper_bound(dwells_.begin(), dwells_.end(), stamp_s,
+                                   [](double t, const Dwell& d) { return t < d.start_s; });
+  if (it != dwells_.begin() && stamp_s <= std::prev(it)->end_s) {
+    pose->stationary = true;
+    pose->segment = static_cast<int>(std::prev(it) - dwells_.begin());
+  } else {
+    const int slice = options_.segment_max_s > 0.0
+                          ? static_cast<int>(std::floor((stamp_s - start_s_) / options_.segment_max_s))
+                          : 0;
+    pose->segment = static_cast<int>(dwells_.size()) + slice;
+  }
+  return PoseStatus::kOk;
+}
+
+void PoseInterpolator::FindDwells() {
+  dwells_.clear();
+  const size_t n = positions_.size();
+  const double window_s = options_.stationary_window_s;
+  const double half_s = 0.5 * window_s;
+  const double max_step_m = options_.stationary_speed_mps * window_s;
+  const double max_turn_rad = options_.stationary_yaw_rate_rps * window_s;
+
+  // Yaw at every GNSS sample (for the run means and the edge growth).
+  std::vector<double> yaw_at(n, 0.0);
+  std::vector<bool> yaw_ok(n, false);
+  PoseStatus failure = PoseStatus::kOk;
+  for (size_t i = 0; i < n; ++i) {
+    double yaw_rad = 0.0;
+    yaw_ok[i] = YawAt(positions_[i].stamp_s, &yaw_rad, &failure);
+    yaw_at[i] = yaw_rad;
+  }
+
+  // 1. The window test at every GNSS sample.
+  std::vector<bool> still(n, false);
+  for (size_t i = 0; i < n; ++i) {
+    const double t = positions_[i].stamp_s;
+    Eigen::Vector2d p0, p1;
+    double s0 = 0.0, s1 = 0.0, y0 = 0.0, y1 = 0.0;
+    if (!PositionAt(t - half_s, &p0, &s0, &failure) || !PositionAt(t + half_s, &p1, &s1, &failure) ||
+        !YawAt(t - half_s, &y0, &failure) || !YawAt(t + half_s, &y1, &failure)) {
+      continue;
+    }
+    still[i] = (p1 - p0).norm() < max_step_m && std::abs(WrapAngle(y1 - y0)) < max_turn_rad;
+  }
+
+  // 2. Runs of still samples without a GNSS gap inside.
+  struct Run {
+    size_t first, last;
+    Eigen::Vector2d mean_p;
+    double mean_yaw;
+    bool yaw_known;
+  };
+  const auto summarise = [&](Run* run) {
+    run->mean_p.setZero();
+    std::vector<double> run_yaws;
+    for (size_t i = run->first; i <= run->last; ++i) {
+      run->mean_p += positions_[i].p_local_m;
+      if (yaw_ok[i]) run_yaws.push_back(yaw_at[i]);
+    }
+    run->mean_p /= static_cast<double>(run->last - run->first + 1);
+    run->yaw_known = !run_yaws.empty();
+    run->mean_yaw = run->yaw_known ? CircularMean(run_yaws) : 0.0;
+  };
+  const auto gap_free = [&](size_t from, size_t to) {
+    for (size_t i = from + 1; i <= to; ++i) {
+      if (positions_[i].stamp_s - positions_[i - 1].stamp_s > gnss_max_gap_s_) return false;
+    }
+    return true;
+  };
+  std::vector<Run> runs;
+  for (size_t i = 0; i < n; ++i) {
+    if (!still[i]) continue;
+    if (!runs.empty() && runs.back().last + 1 == i && gap_free(i - 1, i)) {
+      runs.back().last = i;
+    } else {
+      runs.push_back(Run{i, i, Eigen::Vector2d::Zero(), 0.0, false});
+    }
+  }
+  for (Run& run : runs) summarise(&run);
+
+  // 3. Merge runs split by a short break (one noisy heading pair is enough to fail a window)
+  // when the two sides are the same pose.
+  std::vector<Run> merged;
+  for (const Run& run : runs) {
+    if (!merged.empty()) {
+      Run& previous = merged.back();
+      const bool short_break =
+          positions_[run.first].stamp_s - positions_[previous.last].stamp_s <= window_s;
+      const bool same_pose =
+          (run.mean_p - previous.mean_p).norm() < max_step_m && run.yaw_known &&
+          previous.yaw_known && std::abs(WrapAngle(run.mean_yaw - previous.mean_yaw)) < max_turn_rad;
+      if (short_break && same_pose && gap_free(previous.last, run.first)) {
+        previous.last = run.last;
+        summarise(&previous);
+        continue;
+      }
+    }
+    merged.push_back(run);
+  }
+
+  // 4. Grow each run outwards while the samples sit at its mean pose: the window test marks a
+  // sample still only once the whole window is, which trims ~window/2 off each end of a stop.
+  const double grow_p_m = 0.5 * max_step_m;
+  const double grow_yaw_rad = 0.5 * max_turn_rad;
+  const auto at_rest = [&](const Run& run, size_t i) {
+    return (positions_[i].p_local_m - run.mean_p).norm() <= grow_p_m && yaw_ok[i] &&
+           run.yaw_known && std::abs(WrapAngle(yaw_at[i] - run.mean_yaw)) <= grow_yaw_rad;
+  };
+  for (size_t r = 0; r < merged.size(); ++r) {
+    Run& run = merged[r];
+    const size_t floor_index = r == 0 ? 0 : merged[r - 1].last + 1;
+    while (run.first > floor_index && gap_free(run.first - 1, run.first) &&
+           at_rest(run, run.first - 1)) {
+      --run.first;
+    }
+    const size_t ceiling_index = r + 1 < merged.size() ? merged[r + 1].first - 1 : n - 1;
+    while (run.last < ceiling_index && gap_free(run.last, run.last + 1) &&
+           at_rest(run, run.last + 1)) {
+      ++run.last;
+    }
+  }
+
+  // 5. Long enough runs are the dwells.
+  for (const Run& run : merged) {
+    Dwell dwell;
+    dwell.start_s = positions_[run.first].stamp_s;
+    dwell.end_s = positions_[run.last].stamp_s;
+    if (dwell.end_s - dwell.start_s < options_.min_dwell_s) continue;
+    Run final_run = run;
+    summarise(&final_run);
+    dwell.mean_p_local_m = final_run.mean_p;
+    // The yaw samples themselves (not the values interpolated at GNSS times) over the dwell.
+    std::vector<double> dwell_yaws;
+    const auto first = std::lower_bound(
+        yaws_.begin(), yaws_.end(), dwell.start_s,
+        [](const YawSample& sample, double t) { return sample.stamp_s < t; });
+    for (auto it = first; it != yaws_.end() && it->stamp_s <= dwell.end_s; ++it) {
+      dwell_yaws.push_back(it->yaw_rad);
+    }
+    dwell.mean_yaw_rad = dwell_yaws.empty() ? final_run.mean_yaw : CircularMean(dwell_yaws);
+    dwells_.push_back(dwell);
+  }
+}
+
+}  // namespace wallcal::calib

@@ -1,1 +1,327 @@
-// (being written)
+#include "calib/wall_detector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <Eigen/Eigenvalues>
+
+namespace wallcal::calib {
+namespace {
+
+constexpr double kPi = M_PI;
+
+// Floor on the per-point σ used for trimming: about a 1 cm quantisation step / √12 plus the
+// flatness of a real wall. Keeps a preset with a tiny σ from trimming a wall to nothing.
+constexpr double kMinPointSigmaM = 0.003;
+// Peaks tried before giving up: the strongest in-gate peak can be clutter (a hedge row seen
+// edge-on) while the wall is the second one.
+constexpr int kMaxPeaksTried = 3;
+// A refined line may leave the gate by this many accumulator cells (the Hough cell it came from
+// can sit on the gate's edge).
+constexpr double kGateToleranceCells = 2.0;
+// Cap on accumulator cells, against nonsensical step sizes.
+constexpr int64_t kMaxCells = 20'000'000;
+
+double WrapAngle(double a) {
+  a = std::remainder(a, 2.0 * kPi);  // [-π, π]
+  return a <= -kPi ? a + 2.0 * kPi : a;
+}
+
+struct Peak {
+  int votes = 0;
+  int row = 0, col = 0;
+};
+
+// Total-least-squares line through the points: the normal is the eigenvector of the scatter
+// matrix with the smaller eigenvalue, and the line passes through the centroid. Oriented so
+// that rho >= 0 (normal pointing from the scanner towards the line).
+struct LineFit {
+  Eigen::Vector2d normal = Eigen::Vector2d::UnitX();
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  double rho_m = 0.0;
+};
+
+bool FitLine(const ScanPoints& points, const std::vector<int>& idx, LineFit* fit) {
+  if (idx.size() < 2) return false;
+  Eigen::Vector2d c = Eigen::Vector2d::Zero();
+  for (int i : idx) c += points.p_scanner_m[i];
+  c /= static_cast<double>(idx.size());
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (int i : idx) {
+    const Eigen::Vector2d q = points.p_scanner_m[i] - c;
+    scatter += q * q.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
+  if (eig.info() != Eigen::Success) return false;
+  // Eigenvalues ascending: column 0 is the normal. A degenerate cloud (all points coincide) has
+  // no direction.
+  if (!(eig.eigenvalues()(1) > 0.0)) return false;
+  Eigen::Vector2d n = eig.eigenvectors().col(0).normalized();
+  double rho = n.dot(c);
+  if (rho < 0.0) {
+    n = -n;
+    rho = -rho;
+  }
+  fit->normal = n;
+  fit->centroid = c;
+  fit->rho_m = rho;
+  return true;
+}
+
+bool OnSegment(const LineGate& gate, double margin_m, const Eigen::Vector2d& p) {
+  const Eigen::Vector2d ab = gate.segment_b_scanner - gate.segment_a_scanner;
+  const double length = ab.norm();
+  if (length < 1e-9) return (p - gate.segment_a_scanner).norm() <= margin_m;
+  const double along = (p - gate.segment_a_scanner).dot(ab) / length;
+  return along >= -margin_m && along <= length + margin_m;
+}
+
+std::string Format(const char* fmt, double a, double b) {
+  char buf[160];
+  std::snprintf(buf, sizeof(buf), fmt, a, b);
+  return buf;
+}
+
+}  // namespace
+
+WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
+                         const io::DetectorOptions& options, double range_sigma_m,
+                         bool keep_accumulator) {
+  WallDetection det;
+  const double t_step = options.hough_theta_step_rad;
+  const double r_step = options.hough_rho_step_m;
+  if (!(t_step > 0.0) || !(r_step > 0.0) || !std::isfinite(gate.theta_rad) ||
+      !std::isfinite(gate.rho_m) || !(gate.theta_halfwidth_rad >= 0.0) ||
+      !(gate.rho_halfwidth_m >= 0.0)) {
+    det.reason = "invalid detector options or gate";
+    return det;
+  }
+  const int num_points = static_cast<int>(points.p_scanner_m.size());
+
+  // ---- Accumulator geometry: only the gate (plus one margin cell each side). ----------------
+  // Theta rows. A gate spanning the whole circle wraps instead of having margins.
+  const double theta_c = WrapAngle(gate.theta_rad);
+  const bool full_circle = gate.theta_halfwidth_rad >= kPi - 0.5 * t_step;
+  int n_theta = 0, row_first = 0, row_last = 0;
+  double theta0 = 0.0, theta_step = t_step;
+  if (full_circle) {
+    n_theta = std::max(1, static_cast<int>(std::lround(2.0 * kPi / t_step)));
+    theta_step = 2.0 * kPi / n_theta;
+    theta0 = theta_c - kPi + theta_step;
+    row_first = 0;
+    row_last = n_theta - 1;
+  } else {
+    const int n_half = static_cast<int>(std::floor(gate.theta_halfwidth_rad / t_step + 0.5));
+    n_theta = 2 * n_half + 3;
+    theta0 = theta_c - (n_half + 1) * t_step;
+    row_first = 1;
+    row_last = n_theta - 2;
+  }
+  // Rho columns: rho > 0 by convention, and no point can lie on a line farther than its range.
+  double max_range = 0.0;
+  for (int i = 0; i < num_points; ++i) {
+    if (!points.mixed_suspect[i]) max_range = std::max(max_range, double(points.range_m[i]));
+  }
+  const double rho_gate_lo = std::max(0.0, gate.rho_m - gate.rho_halfwidth_m);
+  const double rho_gate_hi = gate.rho_m + gate.rho_halfwidth_m;
+  const double rho_hi = std::min(rho_gate_hi, max_range + r_step);
+  if (num_points == 0 || rho_hi < rho_gate_lo) {
+    det.reason = "no line within the gates";
+    return det;
+  }
+  const int n_in = static_cast<int>(std::floor((rho_hi - rho_gate_lo) / r_step)) + 1;
+  const int n_rho = n_in + 2;
+  const double rho0 = rho_gate_lo - r_step;  // centre of column 0 (a margin column)
+  if (static_cast<int64_t>(n_theta) * n_rho > kMaxCells) {
+    det.reason = "accumulator too large (check hough steps)";
+    return det;
+  }
+
+  // ---- Voting (seed 002 Eq. 2: r = x cos θ + y sin θ). ---------------------------------------
+  cv::Mat_<int> acc(n_theta, n_rho, 0);
+  std::vector<double> cos_t(n_theta), sin_t(n_theta);
+  for (int k = 0; k < n_theta; ++k) {
+    cos_t[k] = std::cos(theta0 + k * theta_step);
+    sin_t[k] = std::sin(theta0 + k * theta_step);
+  }
+  const double inv_r_step = 1.0 / r_step;
+  const double min_voting_range = rho0 - 0.5 * r_step;  // |rho| <= range
+  for (int i = 0; i < num_points; ++i) {
+    // Mixed pixels lie between two surfaces: they must not build or shift a peak.
+    if (points.mixed_suspect[i] || points.range_m[i] < min_voting_range) continue;
+    const double x = points.p_scanner_m[i].x(), y = points.p_scanner_m[i].y();
+    for (int k = 0; k < n_theta; ++k) {
+      const double rho = x * cos_t[k] + y * sin_t[k];
+      const int j = static_cast<int>(std::floor((rho - rho0) * inv_r_step + 0.5));
+      if (j >= 0 && j < n_rho) ++acc(k, j);
+    }
+  }
+  if (keep_accumulator) {
+    det.accumulator = acc;
+    det.acc_theta0_rad = theta0;
+    det.acc_theta_step_rad = theta_step;
+    det.acc_rho0_m = rho0;
+    det.acc_rho_step_m = r_step;
+  }
+
+  // ---- Peaks: local maxima inside the gate. --------------------------------------------------
+  // A cell on the gate's edge that only carries the flank of a stronger line outside the gate
+  // has a bigger neighbour in the margin, so it is not a local maximum and is never chosen.
+  auto neighbour_row = [&](int k) {
+    if (full_circle) return (k % n_theta + n_theta) % n_theta;
+    return k;  // margins make k - 1 and k + 1 valid for every in-gate row
+  };
+  std::vector<Peak> peaks;
+  for (int k = row_first; k <= row_last; ++k) {
+    const int* row = acc[k];
+    for (int j = 1; j <= n_in; ++j) {
+      const int v = row[j];
+      if (v < 2) continue;
+      bool is_max = true;
+      for (int dk = -1; dk <= 1 && is_max; ++dk) {
+        const int* nrow = acc[neighbour_row(k + dk)];
+        for (int dj = -1; dj <= 1; ++dj) {
+          if ((dk != 0 || dj != 0) && nrow[j + dj] > v) {
+            is_max = false;
+            break;
+          }
+        }
+      }
+      if (is_max) peaks.push_back({v, k, j});
+    }
+  }
+  if (peaks.empty()) {
+    det.reason = "no line within the gates";
+    return det;
+  }
+  std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) {
+    if (a.votes != b.votes) return a.votes > b.votes;
+    return a.row != b.row ? a.row < b.row : a.col < b.col;
+  });
+  // Plateaus yield several equal neighbouring maxima: keep one per plateau.
+  std::vector<Peak> distinct;
+  for (const Peak& p : peaks) {
+    bool near = false;
+    for (const Peak& q : distinct) {
+      int drow = std::abs(p.row - q.row);
+      if (full_circle) drow = std::min(drow, n_theta - drow);
+      if (drow <= 2 && std::abs(p.col - q.col) <= 2) near = true;
+    }
+    if (!near) distinct.push_back(p);
+    if (static_cast<int>(distinct.size()) == kMaxPeaksTried) break;
+  }
+
+  // ---- Refinement of each peak, strongest first. ---------------------------------------------
+  const double point_sigma = std::max(range_sigma_m, kMinPointSigmaM);
+  const double trim_m = options.refine_sigma_factor * point_sigma;
+  std::string first_reason;
+  for (const Peak& peak : distinct) {
+    const double theta_p = theta0 + peak.row * theta_step;
+    const double rho_p = rho0 + peak.col * r_step;
+    const Eigen::Vector2d n_p(std::cos(theta_p), std::sin(theta_p));
+
+    std::vector<int> candidates;
+    for (int i = 0; i < num_points; ++i) {
+      if (points.mixed_suspect[i]) continue;
+      const Eigen::Vector2d& p = points.p_scanner_m[i];
+      if (std::abs(n_p.dot(p) - rho_p) > options.inlier_band_m) continue;
+      if (gate.has_segment && !OnSegment(gate, options.wall_extent_margin_m, p)) continue;
+      candidates.push_back(i);
+    }
+
+    // Trimmed fit. The threshold shrinks from the Hough band to the final 3σ (halving each
+    // round) so that clutter inside the band (a trunk touching the wall) cannot drag the first
+    // fit far enough to trim away the wall itself; then iterate at the final threshold until the
+    // set no longer changes.
+    std::vector<int> set = candidates;
+    LineFit fit;
+    bool ok = FitLine(points, set, &fit);
+    double threshold = std::max(trim_m, 0.5 * options.inlier_band_m);
+    for (int iter = 0; ok && iter < 30; ++iter) {
+      std::vector<int> next;
+      for (int i : candidates) {
+        if (std::abs(fit.normal.dot(points.p_scanner_m[i]) - fit.rho_m) <= threshold) {
+          next.push_back(i);
+        }
+      }
+      const bool final_threshold = threshold <= trim_m;
+      if (final_threshold && next == set) break;
+      set.swap(next);
+      ok = FitLine(points, set, &fit);
+      threshold = std::max(trim_m, 0.5 * threshold);
+    }
+    const int n = static_cast<int>(set.size());
+    if (!ok || n < options.min_inliers) {
+      if (first_reason.empty()) {
+        first_reason = "only " + std::to_string(ok ? n : std::min<int>(n, 1)) + " inliers (need " +
+                       std::to_string(options.min_inliers) + ")";
+      }
+      continue;
+    }
+
+    const double theta = WrapAngle(std::atan2(fit.normal.y(), fit.normal.x()));
+    const double rho = fit.rho_m;
+    const bool theta_in_gate =
+        full_circle || std::abs(WrapAngle(theta - theta_c)) <=
+                           gate.theta_halfwidth_rad + kGateToleranceCells * t_step;
+    const bool rho_in_gate = rho >= rho_gate_lo - kGateToleranceCells * r_step &&
+                             rho <= rho_gate_hi + kGateToleranceCells * r_step;
+    if (!theta_in_gate || !rho_in_gate) {
+      if (first_reason.empty()) {
+        first_reason = Format("best line (theta %.2f deg, rho %.3f m) lies outside the gates",
+                              theta * 180.0 / kPi, rho);
+      }
+      continue;
+    }
+
+    // Covariance of (rho, theta). Write each inlier as p_i = c + s_i·d + e_i·n, with n the
+    // unit normal, d = (−sin θ, cos θ) the line direction, c the centroid (Σ s_i = 0) and e_i
+    // the perpendicular noise, σ each. The residual n(θ)·p_i − ρ has derivatives −1 in ρ and
+    // d·p_i = t + s_i in θ, with t = d·c the centroid's position along the line measured from
+    // the foot of the perpendicular from the scanner. So JᵀJ = [[N, −N t], [−N t, N t² + S]],
+    // S = Σ s_i², det = N S, and
+    //   var θ = σ²/S,  var ρ = σ² (1/N + t²/S),  cov(ρ, θ) = σ² t/S.
+    // Equivalently: the offset at the centroid has variance σ²/N, independent of θ, and moving
+    // the reference from the centroid to the origin adds t·δθ to ρ (ρ = n(θ)·c, ∂ρ/∂θ = t).
+    // σ = max(preset σ, residual RMS): the RMS covers walls rougher than the preset's noise; the
+    // preset keeps a lucky scan from claiming more than the sensor can do.
+    const Eigen::Vector2d d(-std::sin(theta), std::cos(theta));
+    const double t = d.dot(fit.centroid);
+    double sum_s2 = 0.0, sum_e2 = 0.0;
+    double r_min = std::numeric_limits<double>::infinity(), r_max = 0.0;
+    for (int i : set) {
+      const Eigen::Vector2d q = points.p_scanner_m[i] - fit.centroid;
+      const double s = d.dot(q);
+      const double e = fit.normal.dot(q);
+      sum_s2 += s * s;
+      sum_e2 += e * e;
+      r_min = std::min(r_min, double(points.range_m[i]));
+      r_max = std::max(r_max, double(points.range_m[i]));
+    }
+    const double rms = std::sqrt(sum_e2 / std::max(1, n - 2));  // two parameters fitted
+    const double sigma = std::max(range_sigma_m, rms);
+    const double var_theta = sigma * sigma / sum_s2;
+    const double var_rho = sigma * sigma * (1.0 / n + t * t / sum_s2);
+
+    det.found = true;
+    det.reason.clear();
+    det.rho_m = rho;
+    det.theta_rad = theta;
+    det.sigma_rho_m = std::sqrt(var_rho);
+    det.sigma_theta_rad = std::sqrt(var_theta);
+    det.cov_rho_theta = sigma * sigma * t / sum_s2;
+    det.num_inliers = n;
+    det.range_min_m = r_min;
+    det.range_max_m = r_max;
+    det.residual_rms_m = std::sqrt(sum_e2 / n);
+    det.hough_votes = peak.votes;
+    std::sort(set.begin(), set.end());
+    det.inliers = std::move(set);
+    return det;
+  }
+  det.reason = first_reason.empty() ? "no line within the gates" : first_reason;
+  return det;
+}
+
+}  // namespace wallcal::calib

@@ -13,16 +13,16 @@ namespace wallcal::io {
 // Wall detection in one scan (calib/wall_detector).
 struct DetectorOptions {
   double hough_rho_step_m = 0.02;         // accumulator cell size in distance
-  double hough_theta_step_rad = 0.00436;  // 0.25 deg
+  double hough_theta_step_rad = 0.0043633231;  // 0.25 deg
   int min_inliers = 15;                   // fewer points on the line: no detection
   double inlier_band_m = 0.08;            // Hough band kept for the least-squares refinement
   double refine_sigma_factor = 3.0;       // final inliers: |residual| < factor * preset σ + res.
   double mixed_pixel_jump_m = 0.15;       // a range jump this big marks both neighbours suspect
   double min_range_m = 0.5;               // closer points are ignored (vehicle body, mud)
   // Gates around the line predicted from the surveyed wall and the pose:
-  double wide_angle_gate_rad = 0.35;   // first pass (mount known only roughly), 20 deg
+  double wide_angle_gate_rad = 0.34906585;   // first pass (mount known only roughly), 20 deg
   double wide_offset_gate_m = 6.0;     // first pass distance gate
-  double tight_angle_gate_rad = 0.035; // second pass (mount from the first solve), 2 deg
+  double tight_angle_gate_rad = 0.034906585; // second pass (mount from the first solve), 2 deg
   double tight_offset_gate_m = 0.25;   // second pass distance gate
   double wall_extent_margin_m = 0.5;   // inliers must project onto the surveyed wall ± this
   void Validate() const;
@@ -46,13 +46,13 @@ struct SolverOptions {
   double gnss_white_sigma_m = 0.005;      // per-epoch scatter of RTK positions
   double gnss_bias_sigma_m = 0.015;       // time-correlated RTK error, one per segment/station
   bool use_gst_sigma = true;              // take the bias σ from GST when the log has it
-  double heading_sigma_rad = 0.0017;      // heading white noise, 0.1 deg
+  double heading_sigma_rad = 0.0017453293;     // heading white noise, 0.1 deg
   double control_sigma_m = 0.015;         // RTK error of each control point
   double total_station_sigma_m = 0.003;   // total station point error (seed 002: ±3 mm fine)
-  double rotation_sigma_rad = 0.0035;     // σ of survey.rotation_deg (one control point), 0.2 deg
+  double rotation_sigma_rad = 0.0034906585;    // σ of survey.rotation_deg (one control point), 0.2 deg
   double huber_scale = 2.0;               // robust loss threshold, in units of σ
   int max_iterations = 100;
-  double min_heading_spread_rad = 0.35;   // 20 deg: narrower and the mount is not determined
+  double min_heading_spread_rad = 0.34906585;   // 20 deg: narrower and the mount is not determined
   int min_observations = 30;
   int min_stations = 3;
   void Validate() const;

@@ -42,4 +42,14 @@ MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& obser
                                 const std::vector<calib::WallGeometry>& walls,
                                 const io::SolverOptions& options);
 
+// The wall line `observation` should show for `mount`, from the nominal surveyed wall and the
+// measured pose (no nuisance parameters): the scanner-frame line parameters that the
+// observation's rho_m (m, > 0 when the scanner is in front of the wall) and theta_rad (rad, in
+// (−π, π]) estimate. The wall normal is oriented so that the antenna is on its negative side.
+// `wall` must be walls[observation.wall_index]. Used to gate the wall detector's second pass.
+double PredictRho(const calib::WallObservation& observation, const calib::WallGeometry& wall,
+                  const Mount& mount);
+double PredictTheta(const calib::WallObservation& observation, const calib::WallGeometry& wall,
+                    const Mount& mount);
+
 }  // namespace wallcal::solvers

@@ -1,0 +1,81 @@
+#pragma once
+// The calibrate and simulate programs as library calls, so tests can run them in-process.
+// Data flows one way: io/ reads the session -> calib/ makes wall observations -> solvers/
+// estimates the mount -> io/ writes offsets.yaml (only when the estimate is usable).
+
+#include <cstdint>
+#include <map>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "calib/observation.h"
+#include "io/options.h"
+#include "io/types.h"
+#include "solvers/mount_solver.h"
+
+namespace wallcal::app {
+
+// Where scanner presets and default configs are looked for, in order: $WALLCAL_CONFIG_DIR,
+// <executable>/../configs, the source tree's configs/ (compiled in).
+std::vector<std::string> ConfigDirs();
+std::vector<std::string> PresetDirs();
+
+struct CalibrateRequest {
+  std::string session_path;  // session.yaml or its folder
+  std::string config_path;   // calibrate options YAML; empty: built-in defaults
+  std::string method = "ceres";  // "ceres" or "barawid"
+};
+
+// Everything calibrate learned, for the summary and offsets.yaml.
+struct CalibrationResult {
+  io::SessionSpec session;
+  io::ScannerPreset preset;
+  solvers::MountEstimate first_pass;  // wide-gate pass on a subsample (Barawid start + Ceres)
+  solvers::MountEstimate estimate;    // the final estimate by the requested method
+  std::vector<calib::WallGeometry> walls;
+  std::vector<calib::WallObservation> observations;  // second pass
+  calib::LocalFrame frame;
+  double control_rms_m = 0.0;
+  int num_control = 0;
+  int num_dwells = 0;
+  int num_segments_used = 0;
+  // Scan accounting: every scan line of the log is in exactly one bucket.
+  int64_t scans_total = 0;  // valid scan records read + malformed scan lines skipped
+  int64_t scans_used = 0;   // scans with at least one wall observation in the final solve
+  std::map<std::string, int64_t> scans_skipped;  // reason -> count
+  std::map<int, int64_t> fixes_by_quality;
+  int64_t fixes_used = 0;
+  int64_t headings_used = 0;
+  io::SkipCounts gnss_skipped, heading_skipped, scan_lines_skipped;
+  double heading_min_deg = 0.0, heading_max_deg = 0.0;  // grid headings of used scans
+  double wall_angle_min_deg = 0.0, wall_angle_max_deg = 0.0;  // vehicle-to-wall angle φ
+  std::vector<std::string> warnings;
+  double seconds = 0.0;  // wall-clock run time, for the summary
+};
+
+// Runs the whole calibration. Writes nothing. Throws io::InputError for bad input; an
+// estimate the data cannot support comes back with estimate.usable == false and a message.
+// `progress` (may be null) receives one line per stage.
+CalibrationResult RunCalibration(const CalibrateRequest& request, std::ostream* progress);
+
+// offsets.yaml for a usable result.
+io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result);
+
+// The human summary printed on stdout.
+std::string FormatSummary(const CalibrationResult& result);
+
+// Default output path: offsets.yaml beside session.yaml.
+std::string DefaultOutputPath(const io::SessionSpec& session);
+
+// simulate: writes a session folder (session.yaml, scans.clf, gnss.nmea, heading.nmea,
+// survey.csv) and truth.yaml into `dir` (created if missing). Every file is written to a
+// temporary name and renamed, so an interrupted run leaves no half-written file behind.
+struct SimulateSummary {
+  int64_t scans_written = 0, scans_lost = 0, fixes = 0, headings = 0, survey_points = 0;
+  double duration_s = 0.0;
+};
+SimulateSummary WriteSimulatedSession(const io::SimulationConfig& config, uint64_t seed,
+                                      const std::string& dir);
+
+}  // namespace wallcal::app

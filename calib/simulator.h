@@ -1,0 +1,74 @@
+#pragma once
+// Synthesises a wall-calibration session with known truth: scans, GNSS fixes, headings, a
+// total-station survey and RTK control points, as a field crew would log them (seed 002 set-up).
+// Plain structs out; writing files is io/'s job (apps/simulate_main.cc).
+//
+// Frames and units:
+// - Physics happens in the site's local ENU tangent plane (GeographicLib::LocalCartesian at
+//   site_lat/lon/height), in ground metres: x = TRUE east, y = TRUE north. This is not the UTM
+//   grid; the tool's own geodesy (meridian convergence, point scale) turns the lat/lon and true
+//   headings produced here into its map frame, as it must for field data.
+// - Vehicle frame: x forward, y left, origin at the GNSS antenna. The scanner sits at
+//   antenna + R(yaw)·(mount_x, mount_y) with yaw + mount_yaw (SimulationConfig mount_*).
+// - The antenna, the scanner plane and the site origin share one horizontal plane (2-D model).
+// - Angles are radians; headings are TRUE headings, clockwise from true north, in [0, 2π).
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "io/options.h"
+#include "io/types.h"
+
+namespace wallcal::calib {
+
+// Receives each logged scan, in time order. The record is only valid during the call.
+using ScanSink = std::function<void(const io::ScanRecord& scan)>;
+
+// The true vehicle pose at one instant (true time t = stamp_s − start_time_s; stamp_s is on the
+// logging clock, the clock of the GNSS and heading logs).
+struct SimTruthPose {
+  double stamp_s;
+  Eigen::Vector2d antenna_enu_m;  // local ENU (true east, true north), ground metres
+  double yaw_enu_rad;             // vehicle x axis, ccw from true east (not wrapped)
+  bool stationary;                // inside a station dwell
+};
+
+struct SimulatedSession {
+  // GGA epochs at gnss_rate_hz: WGS84 lat/lon/ellipsoidal height of the noisy antenna position,
+  // quality 4 (RTK fixed) or 5 (float periods), GST σ in sigma_lat_m/sigma_lon_m (NaN when the
+  // config says write_gst: false). stamp_s on the logging clock.
+  std::vector<io::GnssFix> fixes;
+  // Measured TRUE headings at heading_rate_hz (clockwise from true north, rad, [0, 2π)).
+  std::vector<io::HeadingSample> headings;
+  // Total-station points (its own right-handed frame, ground metres, noisy). Control points C1,
+  // C2 come first with code "CTRL", then W001, W002, … on each surveyed wall (code = wall code).
+  std::vector<io::SurveyPoint> survey;
+  // RTK-measured WGS84 positions of the control points (noisy, control_sigma_m per axis).
+  std::vector<io::ControlPoint> control;
+  // The surveyed walls (config walls with a non-empty code), in config order.
+  std::vector<io::WallSpec> walls;
+  // The true pose every 0.1 s from t = 0 to the end of the run, for tests.
+  std::vector<SimTruthPose> truth_poses;
+  // scans_generated: every scan the scanner produced; of every log_every_n-th, scans_lost were
+  // lost in transmission (lost_scan_fraction) and scans_written were passed to the sink.
+  int64_t scans_generated = 0, scans_lost = 0, scans_written = 0;
+};
+
+// Runs the simulation. Deterministic for a given (config, preset, seed): every noise source
+// draws from its own random stream, so changing one setting does not reshuffle the others.
+// Scans are passed to `sink` in time order and not kept (an hour at 75 Hz is 270 000 scans);
+// `sink` may be empty. Each scan is treated as instantaneous (no motion during the sweep).
+// Throws io::InputError when the config or preset cannot be simulated (config.Validate()
+// fails, no wall has a survey code, fewer than 3 stations, the scanner would stand at or behind
+// the wall, a preset without beams or rate).
+SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerPreset& preset,
+                          uint64_t seed, const ScanSink& sink);
+
+// `config` unchanged when it has walls; otherwise with one 30 m surveyed wall "north_wall"
+// (code WALL1) 12 m north of the site origin, running east–west from x = −15 m to x = +15 m.
+io::SimulationConfig WithDefaultWalls(io::SimulationConfig config);
+
+}  // namespace wallcal::calib

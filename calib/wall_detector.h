@@ -1,0 +1,64 @@
+#pragma once
+// Finds the surveyed wall as a straight line in one scan (seed 002 §III.1, Eq. 2–3: the Hough
+// transform r = x cos θ + y sin θ), improved: the accumulator covers only the gate predicted
+// from the surveyed wall, points next to depth jumps (possible mixed pixels) do not vote, and
+// the Hough line is refined by a trimmed least-squares fit that also gives its covariance.
+//
+// Frame: scanner frame (x = bearing 0, y left, angles counter-clockwise, radians); metres.
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "calib/range_model.h"
+#include "io/options.h"
+
+namespace wallcal::calib {
+
+// Where the wall is expected in the scanner frame: the line {p: cos(theta) px + sin(theta) py = rho}, theta the normal from the
+// scanner towards the wall. Gates are half-widths. Predicted from the surveyed wall, the vehicle pose and the current mount estimate.
+// The defaults accept any line (theta over the full circle, any rho > 0).
+struct LineGate {
+  double theta_rad = 0, theta_halfwidth_rad = M_PI;
+  double rho_m = 0, rho_halfwidth_m = 1e9;
+  // Optional: the surveyed wall's ends in the scanner frame; inliers must project onto the segment ± margin (io::DetectorOptions::wall_extent_margin_m).
+  bool has_segment = false;
+  Eigen::Vector2d segment_a_scanner = Eigen::Vector2d::Zero(), segment_b_scanner = Eigen::Vector2d::Zero();
+};
+
+struct WallDetection {
+  bool found = false;
+  std::string reason;          // when not found: "no line within the gates", "only N inliers (need M)", ...
+  double rho_m = 0, theta_rad = 0;   // rho > 0, theta in (−π, π]
+  double sigma_rho_m = 0, sigma_theta_rad = 0, cov_rho_theta = 0;  // from the least-squares fit (point noise only)
+  int num_inliers = 0;
+  double range_min_m = 0, range_max_m = 0, residual_rms_m = 0;
+  int hough_votes = 0;         // votes in the chosen accumulator cell
+  std::vector<int> inliers;    // indices into ScanPoints
+  // For reports: the accumulator around the gate (rows = theta cells, cols = rho cells) and its axes.
+  // Row k is centred on theta acc_theta0_rad + k·acc_theta_step_rad, column j on rho acc_rho0_m + j·acc_rho_step_m;
+  // the accumulator includes one margin cell beyond the gate on each side (none in theta when the gate spans the circle).
+  cv::Mat accumulator;         // CV_32S; filled only when keep_accumulator is true
+  double acc_theta0_rad = 0, acc_theta_step_rad = 0, acc_rho0_m = 0, acc_rho_step_m = 0;
+};
+
+// Detects the wall line in `points` inside `gate`:
+//  1. Hough voting (seed 002 Eq. 2) over theta cells of options.hough_theta_step_rad spanning the
+//     gate's angular range and rho cells of options.hough_rho_step_m spanning its distance range;
+//     mixed_suspect points do not vote. Peaks must be local maxima inside the gate, so a strong
+//     line just outside (another wall, a parallel fence) is not picked through its spill-over.
+//  2. Points within options.inlier_band_m of the peak line (not mixed_suspect; with
+//     gate.has_segment, projecting onto the segment ± options.wall_extent_margin_m) are candidates.
+//  3. Total-least-squares line fit, trimmed iteratively: keep candidates with |residual| <=
+//     options.refine_sigma_factor · max(range_sigma_m, 3 mm) until the set is stable.
+//  4. Found when >= options.min_inliers remain and the fitted line lies inside the gate (within
+//     two accumulator cells). Up to three peaks are tried, strongest first.
+// range_sigma_m: the preset's 1σ range noise (m). Never throws; a scan without the wall is a
+// result with found = false and a reason.
+WallDetection DetectWall(const ScanPoints& points, const LineGate& gate, const io::DetectorOptions& options,
+                         double range_sigma_m /* preset noise σ */, bool keep_accumulator = false);
+
+}  // namespace wallcal::calib

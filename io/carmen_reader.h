@@ -1,0 +1,63 @@
+#pragma once
+// Streaming reader of CARMEN laser logs (RAWLASER1, ROBOTLASER1, FLASER; formats in SESSION.md),
+// plain or gzip-compressed (detected by zlib). Memory does not grow with the log: one line is
+// held at a time.
+//
+// Every line that is not a usable scan is counted in skipped() by reason, with the first line it
+// happened on: lines of other kinds ("not a scan: PARAM", "not a scan: ODOM", "comment", ...)
+// and malformed scan lines ("FLASER: beam count disagrees with the line", "RAWLASER1: negative
+// or non-finite range", "RAWLASER1: line cut off at end of file", ...). A malformed scan line is
+// skipped whole, never half-used.
+//
+// Geometry: RAWLASER1 / ROBOTLASER1 carry start angle and step. FLASER carries none; CARMEN's
+// own convention is used: start −90°, step 1° for 180 or 181 beams, 0.5° for 360 or 361, 0.25°
+// for 400 or 401 (start −50°), otherwise 180° / (n − 1). FLASER has no maximum range:
+// max_range_m = 0 (unknown).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io/types.h"
+
+namespace wallcal::io {
+
+class CarmenReader {
+ public:
+  // Opens the log. Throws InputError naming `path` if it cannot be opened.
+  explicit CarmenReader(const std::string& path);
+  ~CarmenReader();
+  CarmenReader(const CarmenReader&) = delete;
+  CarmenReader& operator=(const CarmenReader&) = delete;
+
+  // Reads up to the next valid scan line and fills *scan (stamp = logger_timestamp, line =
+  // 1-based line number). Returns false at the end of the file. Throws InputError on a read
+  // error of the file itself (corrupt gzip stream).
+  bool Next(ScanRecord* scan);
+
+  const SkipCounts& skipped() const { return skipped_; }
+  int64_t lines_read() const { return lines_read_; }
+  int64_t scans_read() const { return scans_read_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  // Reads one line into line_ (without its newline). Returns false at end of file.
+  bool ReadLine();
+  // Parses line_ as a scan; false (and counted) when it is not a usable one.
+  bool ParseLine(ScanRecord* scan);
+  void Skip(const std::string& reason);
+
+  std::string path_;
+  void* gz_ = nullptr;  // gzFile (kept opaque: zlib stays out of this header)
+  std::string line_;
+  bool line_has_newline_ = false;
+  std::vector<char> chunk_;
+  std::vector<std::string_view> tokens_;
+  SkipCounts skipped_;
+  int64_t lines_read_ = 0;
+  int64_t scans_read_ = 0;
+};
+
+}  // namespace wallcal::io

@@ -1,0 +1,30 @@
+#pragma once
+// NMEA 0183 reader for the GNSS and heading logs (SESSION.md).
+//
+// Sentences: GGA (position; height_m = altitude + geoid separation, the separation taken as 0
+// when the field is empty), GST (σ latitude / longitude in metres, attached to the GGA fix with
+// the same UTC time field, before or after it), HDT and THS (heading, degrees clockwise from
+// north -> heading_rad in [0, 2π); THS only with status A), RMC and ZDA (date only). Any talker.
+//
+// Time: a line "<seconds> <sentence>" (logger-time prefix) is stamped with the prefix. A plain
+// sentence is stamped with its own UTC time of day on the date of the last RMC/ZDA before it
+// (the first date in the file for sentences before any date; across midnight the day is
+// advanced when the time of day drops by more than 12 h); HDT/THS take the stamp of the last
+// timed sentence before them. A plain capture without any RMC/ZDA date is stamped with the time
+// of day on 1970-01-01.
+//
+// Skipped and counted in NmeaLog::skipped (never half-used): "not NMEA" (comments, blank lines,
+// binary bytes), "no checksum", "bad checksum", "empty field", "bad field", "lat/lon out of
+// range", "THS status X", "no time yet", "time not increasing" (a fix or heading not later than
+// the previous one of its kind), "other sentence (GSV)" by type, "GST without its GGA".
+
+#include <string>
+
+#include "io/types.h"
+
+namespace wallcal::io {
+
+// Reads the whole log. Throws InputError if the file cannot be opened.
+NmeaLog ReadNmea(const std::string& path);
+
+}  // namespace wallcal::io

@@ -1,0 +1,72 @@
+#pragma once
+// The joint mount adjustment as a Ceres problem, built apart from solving it (STYLE.md).
+// SolveMountCeres (mount_solver.h) is CheckObservability + BuildMountProblem + SolveMountProblem
+// (+ one rebuild when the lever arm used for the noise model moved, see ceres_solver.cc).
+// Exposed for the tests; the pipeline calls SolveMountCeres.
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <ceres/ceres.h>
+
+#include "calib/observation.h"
+#include "io/options.h"
+#include "solvers/mount_solver.h"
+#include "solvers/wall_line_cost.h"
+
+namespace wallcal::solvers {
+
+// Owns the Ceres problem and the parameter values it points into. Not copyable or movable
+// (Ceres holds the addresses): handled through std::unique_ptr.
+struct MountProblem {
+  MountProblem() = default;
+  MountProblem(const MountProblem&) = delete;
+  MountProblem& operator=(const MountProblem&) = delete;
+
+  std::array<double, 3> mount{};  // [x_m, y_m, yaw_rad], starts at the initial mount
+  // Per wall (same index as the walls vector): [δd_m, δα_rad], starts at 0. A wall no
+  // observation refers to is not in the problem.
+  std::vector<std::array<double, 2>> wall_deltas;
+  // Per GNSS segment: the pose.segment ids (ascending), their bias [east_m, north_m] (starts at
+  // 0) and the prior σ_b used (m). A segment with σ_b = 0 is held constant at 0.
+  std::vector<int> segment_ids;
+  std::vector<std::array<double, 2>> biases;
+  std::vector<double> bias_sigma_m;
+  // Held constant at 0: the bias of observations without a segment (their GNSS error is in
+  // their white noise instead).
+  std::array<double, 2> no_bias{};
+  // Per observation, input order.
+  std::vector<WallLineMeasurement> measurements;
+  std::vector<double*> wall_block;  // the wall block each observation uses
+  std::vector<double*> bias_block;  // the bias block each observation uses (maybe no_bias)
+  std::vector<ceres::ResidualBlockId> residual_blocks;
+  // Declared last so that it goes first, while the values it points into still exist.
+  ceres::Problem problem;
+};
+
+// Builds the problem (see wall_line_cost.h and prior_cost.h for the residuals). The noise model
+// of each observation uses `lever_mount` for the lever arm that turns heading noise into rho
+// noise; the parameters start at `initial`. Assumes CheckObservability passed (wall indices in
+// range). Returns nullptr and sets *error when an observation's covariance is not positive
+// definite (all its σ zero).
+std::unique_ptr<MountProblem> BuildMountProblem(
+    const std::vector<calib::WallObservation>& observations,
+    const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
+    const Mount& lever_mount, const Mount& initial, std::string* error);
+
+// The 2x2 covariance (m², m·rad, rad²) of one observation's [rho; theta] error before the
+// nuisance parameters: line fit + GNSS white noise along the normal (plus the bias σ when the
+// observation has no segment) + heading noise through the lever arm. `bias_sigma_m` is the σ
+// that goes into the white part for segment −1 (ignored otherwise).
+Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
+                                      const calib::WallGeometry& wall,
+                                      const io::SolverOptions& options, const Mount& lever_mount,
+                                      double bias_sigma_m);
+
+// Solves and fills the estimate (mount, covariance from ceres::Covariance with every nuisance
+// block free, residuals, report). Never throws; failures come back as usable = false.
+MountEstimate SolveMountProblem(MountProblem& problem, const io::SolverOptions& options);
+
+}  // namespace wallcal::solvers

@@ -1,0 +1,36 @@
+#pragma once
+// Checks, before any solve, whether a set of wall observations can determine the mount at all.
+// Both solvers run these same checks, so that they refuse the same data with the same words.
+
+#include <string>
+#include <vector>
+
+#include "calib/observation.h"
+#include "io/options.h"
+
+namespace wallcal::solvers {
+
+struct ObservabilityReport {
+  bool ok = false;
+  std::string message;  // empty when ok; otherwise why the mount is not determined
+  int num_observations = 0;
+  int num_stations = 0;  // distinct pose.segment >= 0 (segment −1 is not counted as a station)
+  // Vehicle-to-wall angles φ = atan2(n) − ψ (seed 002, Eq. 8), taken as axes (modulo π, since
+  // a normal and its opposite constrain the same mount component): the narrowest arc that
+  // holds them all, [min, max] (rad), and its width.
+  double angle_min_rad = 0.0;
+  double angle_max_rad = 0.0;
+  double angle_spread_rad = 0.0;
+};
+
+// Never throws. A wall_index outside `walls` makes the report not ok (a bug upstream, reported
+// rather than crashed on). Checks, in this order: the number of observations against
+// options.min_observations, the number of stations against options.min_stations, and the
+// spread of φ against options.min_heading_spread_rad. A narrow spread leaves the mount
+// component perpendicular to the mean wall normal (in vehicle coordinates) undetermined; the
+// message names the mount axis (x forward or y lateral) closest to it.
+ObservabilityReport CheckObservability(const std::vector<calib::WallObservation>& observations,
+                                       const std::vector<calib::WallGeometry>& walls,
+                                       const io::SolverOptions& options);
+
+}  // namespace wallcal::solvers

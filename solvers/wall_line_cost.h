@@ -1,0 +1,101 @@
+#pragma once
+// The cost of one wall observation (one scan's line fit on one surveyed wall) in the joint mount
+// adjustment (solvers/ceres_solver.cc).
+//
+// Residual (2, dimensionless: whitened by the observation's total covariance):
+//   e = W · [ rho_pred − rho_m ;  wrap(theta_pred − theta_rad) ]          ([m; rad] before W)
+// with, in the local ground frame (metres, radians ccw from grid east):
+//   n' = R(δα) n_w,   d' = n'·c_w + δd      wall w turned by δα about its centre c_w (a point on
+//                                           the surveyed line) and shifted by δd along n'
+//   n = σ n',  d = σ d'                     σ = ±1, fixed per observation so that the measured
+//                                           antenna is on the negative side of the line
+//   s = p − b + R(ψ)·(x, y)                 scanner origin: the true antenna is the measured
+//                                           one p minus the segment's GNSS bias b
+//   rho_pred   = d − n·s                    [m], > 0 when the scanner is in front of the wall
+//   theta_pred = atan2(σ n_w) + δα − ψ − yaw  [rad]  (atan2(n) = atan2(σ n_w) + δα exactly)
+// W = L⁻¹ with L Lᵀ = Σ, the 2x2 covariance of [rho; theta] (m², m·rad, rad²): line fit +
+// GNSS white noise + heading noise (built in ceres_solver.cc, where the choice is explained).
+//
+// Parameter blocks: mount [x_m, y_m, yaw_rad] (vehicle frame: x forward, y left, yaw ccw),
+// wall [δd_m, δα_rad], GNSS bias [b_east_m, b_north_m] (measured = true + b).
+// The robust loss is chosen where the block is added (HuberLoss on these whitened units).
+
+#include <cmath>
+
+#include <Eigen/Core>
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/jet.h>
+
+namespace wallcal::solvers {
+
+// Everything a WallLineCost holds fixed, precomputed once from the input.
+struct WallLineMeasurement {
+  Eigen::Vector2d antenna_local_m = Eigen::Vector2d::Zero();  // p, measured
+  double vehicle_yaw_rad = 0.0;                                 // ψ
+  double sign = 1.0;                                            // σ = ±1
+  Eigen::Vector2d wall_normal_local = Eigen::Vector2d::UnitX(); // n_w (unit, as surveyed)
+  Eigen::Vector2d wall_centre_local_m = Eigen::Vector2d::Zero();  // c_w, on the surveyed line
+  double wall_normal_angle_rad = 0.0;  // atan2(σ n_w)
+  double rho_m = 0.0;                  // observed
+  double theta_rad = 0.0;              // observed
+  Eigen::Matrix2d sqrt_information = Eigen::Matrix2d::Identity();  // W = L⁻¹ (1/m, 1/rad)
+};
+
+class WallLineCost {
+ public:
+  explicit WallLineCost(const WallLineMeasurement& measurement) : m_(measurement) {}
+
+  template <typename T>
+  bool operator()(const T* const mount, const T* const wall_delta, const T* const bias,
+                  T* residual) const {
+    T error[2];
+    Errors(mount, wall_delta, bias, error);
+    const Eigen::Matrix2d& w = m_.sqrt_information;
+    residual[0] = w(0, 0) * error[0] + w(0, 1) * error[1];
+    residual[1] = w(1, 0) * error[0] + w(1, 1) * error[1];
+    return true;
+  }
+
+  // The errors before whitening: error[0] = rho_pred − rho_m (m), error[1] = wrap(theta_pred −
+  // theta_rad) (rad, in [−π, π)).
+  template <typename T>
+  void Errors(const T* const mount, const T* const wall_delta, const T* const bias,
+              T* error) const {
+    using std::cos;
+    using std::floor;
+    using std::sin;
+    constexpr double kPi = 3.14159265358979323846;
+    const T& delta_d_m = wall_delta[0];
+    const T& delta_alpha_rad = wall_delta[1];
+    // Moved wall line, oriented towards the vehicle.
+    const T ca = cos(delta_alpha_rad);
+    const T sa = sin(delta_alpha_rad);
+    const T nx = m_.sign * (ca * m_.wall_normal_local.x() - sa * m_.wall_normal_local.y());
+    const T ny = m_.sign * (sa * m_.wall_normal_local.x() + ca * m_.wall_normal_local.y());
+    const T d_m = nx * m_.wall_centre_local_m.x() + ny * m_.wall_centre_local_m.y() +
+                  m_.sign * delta_d_m;
+    // Scanner origin in the local frame.
+    const double cpsi = std::cos(m_.vehicle_yaw_rad);
+    const double spsi = std::sin(m_.vehicle_yaw_rad);
+    const T sx = m_.antenna_local_m.x() - bias[0] + cpsi * mount[0] - spsi * mount[1];
+    const T sy = m_.antenna_local_m.y() - bias[1] + spsi * mount[0] + cpsi * mount[1];
+    error[0] = d_m - (nx * sx + ny * sy) - m_.rho_m;
+    T theta_error_rad =
+        m_.wall_normal_angle_rad + delta_alpha_rad - m_.vehicle_yaw_rad - mount[2] - m_.theta_rad;
+    // Wrap into [−π, π); floor has a zero derivative, so the Jacobian is unaffected.
+    theta_error_rad -= T(2.0 * kPi) * floor((theta_error_rad + T(kPi)) / T(2.0 * kPi));
+    error[1] = theta_error_rad;
+  }
+
+  const WallLineMeasurement& measurement() const { return m_; }
+
+  static ceres::CostFunction* Create(const WallLineMeasurement& measurement) {
+    return new ceres::AutoDiffCostFunction<WallLineCost, 2, 3, 2, 2>(
+        new WallLineCost(measurement));
+  }
+
+ private:
+  WallLineMeasurement m_;
+};
+
+}  // namespace wallcal::solvers
