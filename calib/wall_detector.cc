@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include <Eigen/Eigenvalues>
 
@@ -254,7 +255,7 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
     const int n = static_cast<int>(set.size());
     if (!ok || n < options.min_inliers) {
       if (first_reason.empty()) {
-        first_reason = "only " + std::to_string(ok ? n : std::min<int>(n, 1)) + " inliers (need " +
+        first_reason = "only " + std::to_string(ok ? n : 0) + " inliers (need " +
                        std::to_string(options.min_inliers) + ")";
       }
       continue;

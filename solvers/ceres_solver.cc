@@ -1,1 +1,340 @@
-// (being written)
+// The joint mount adjustment: seed 002's wall geometry (Eq. 8-10) written as one least-squares
+// problem over every scan, with the things seed 002 treats as exact made uncertain instead:
+// the surveyed wall lines (offset and direction) and the RTK-GNSS error that is common to all
+// scans of one station. Estimating those nuisance parameters with their priors is what keeps
+// the mount σ honest: thousands of scans at one station share one GNSS error, so the σ must
+// not shrink as 1/√N.
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <ceres/ceres.h>
+
+#include "solvers/geometry.h"
+#include "solvers/mount_problem.h"
+#include "solvers/mount_solver.h"
+#include "solvers/observability.h"
+#include "solvers/prior_cost.h"
+#include "solvers/wall_line_cost.h"
+
+namespace wallcal::solvers {
+
+namespace {
+
+// Whitened residual norm beyond which an observation counts as rejected (reported only; the
+// Huber loss is what down-weights it).
+constexpr double kRejectWhitenedNorm = 3.0;
+
+// When the solution's (x, y) is this far from the mount the noise model's lever arms were
+// computed with, the problem is rebuilt with the solution's lever arms and solved once more.
+constexpr double kLeverRebuildDistanceM = 0.05;
+
+// The σ of the correlated GNSS error for one observation's position: the GST σ when the log has
+// one and the options allow it, the configured bias σ otherwise.
+double PoseBiasSigma(const calib::VehiclePose& pose, const io::SolverOptions& options) {
+  if (options.use_gst_sigma && pose.gnss_sigma_m > 0.0) return pose.gnss_sigma_m;
+  return options.gnss_bias_sigma_m;
+}
+
+Mount MountFromArray(const std::array<double, 3>& values) {
+  Mount mount;
+  mount.x_m = values[0];
+  mount.y_m = values[1];
+  mount.yaw_rad = values[2];
+  return mount;
+}
+
+}  // namespace
+
+Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
+                                      const calib::WallGeometry& wall,
+                                      const io::SolverOptions& options, const Mount& lever_mount,
+                                      double bias_sigma_m) {
+  const OrientedWall oriented = OrientWall(wall, observation.pose.antenna_local_m);
+  Eigen::Matrix2d covariance;
+  covariance << observation.sigma_rho_m * observation.sigma_rho_m, observation.cov_rho_theta,
+      observation.cov_rho_theta, observation.sigma_theta_rad * observation.sigma_theta_rad;
+
+  // GNSS white noise moves the scanner along the normal one-for-one: rho only. Without a
+  // segment there is no bias block, so the correlated part is counted here as if it were white
+  // (optimistic for that observation, but such observations are rare: moving scans outside
+  // any segment).
+  double position_variance_m2 = options.gnss_white_sigma_m * options.gnss_white_sigma_m;
+  if (observation.pose.segment < 0) position_variance_m2 += bias_sigma_m * bias_sigma_m;
+
+  // Heading noise δψ turns the lever arm R(ψ)(x, y): d rho_pred/dψ = −n·(J R(ψ)(x, y)) = −ℓ,
+  // with J the 90° rotation, i.e. ℓ is the along-wall component of the lever arm; and
+  // d theta_pred/dψ = −1. Hence the block σ_h² [ℓ², ℓ; ℓ, 1]. The lever uses `lever_mount`
+  // (the initial mount, then the solution: SolveMountCeres rebuilds once when it moved).
+  const double c = std::cos(observation.pose.yaw_rad);
+  const double s = std::sin(observation.pose.yaw_rad);
+  const Eigen::Vector2d lever_local(c * lever_mount.x_m - s * lever_mount.y_m,
+                                    s * lever_mount.x_m + c * lever_mount.y_m);
+  const Eigen::Vector2d lever_turned(-lever_local.y(), lever_local.x());
+  const double ell_m = oriented.normal_local.dot(lever_turned);
+  const double heading_variance = options.heading_sigma_rad * options.heading_sigma_rad;
+
+  covariance(0, 0) += position_variance_m2 + ell_m * ell_m * heading_variance;
+  covariance(0, 1) += ell_m * heading_variance;
+  covariance(1, 0) += ell_m * heading_variance;
+  covariance(1, 1) += heading_variance;
+  return covariance;
+}
+
+std::unique_ptr<MountProblem> BuildMountProblem(
+    const std::vector<calib::WallObservation>& observations,
+    const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
+    const Mount& lever_mount, const Mount& initial, std::string* error) {
+  auto mp = std::make_unique<MountProblem>();
+  mp->mount = {initial.x_m, initial.y_m, initial.yaw_rad};
+  mp->wall_deltas.assign(walls.size(), {0.0, 0.0});
+
+  // GNSS segments and their bias σ: the mean GST σ over the segment's observations (when
+  // allowed and present), else the configured σ.
+  std::map<int, std::pair<double, int>> gst_sum_count;
+  for (const auto& observation : observations) {
+    const int segment = observation.pose.segment;
+    if (segment < 0) continue;
+    auto& entry = gst_sum_count[segment];
+    if (options.use_gst_sigma && observation.pose.gnss_sigma_m > 0.0) {
+      entry.first += observation.pose.gnss_sigma_m;
+      entry.second += 1;
+    }
+  }
+  std::map<int, int> segment_index;
+  for (const auto& [segment, sum_count] : gst_sum_count) {
+    segment_index[segment] = static_cast<int>(mp->segment_ids.size());
+    mp->segment_ids.push_back(segment);
+    mp->bias_sigma_m.push_back(sum_count.second > 0 ? sum_count.first / sum_count.second
+                                                    : options.gnss_bias_sigma_m);
+  }
+  mp->biases.assign(mp->segment_ids.size(), {0.0, 0.0});
+
+  // Everything fixed per observation, including W = L⁻¹ of its covariance, before the problem
+  // takes any ownership (so that a bad covariance leaves nothing half-built).
+  mp->measurements.reserve(observations.size());
+  mp->wall_block.reserve(observations.size());
+  mp->bias_block.reserve(observations.size());
+  bool uses_no_bias = false;
+  std::set<int> walls_used;
+  for (size_t i = 0; i < observations.size(); ++i) {
+    const calib::WallObservation& observation = observations[i];
+    const calib::WallGeometry& wall = walls[observation.wall_index];
+    const OrientedWall oriented = OrientWall(wall, observation.pose.antenna_local_m);
+    const Eigen::Matrix2d covariance = ObservationCovariance(
+        observation, wall, options, lever_mount, PoseBiasSigma(observation.pose, options));
+    const Eigen::LLT<Eigen::Matrix2d> llt(covariance);
+    if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().minCoeff() > 0.0)) {
+      if (error != nullptr) {
+        *error = "observation " + std::to_string(i) + " (scan " +
+                 std::to_string(observation.scan_index) +
+                 ") has no usable noise model: its covariance is not positive definite (line "
+                 "fit σ and every noise σ in the options are zero?)";
+      }
+      return nullptr;
+    }
+    WallLineMeasurement m;
+    m.antenna_local_m = observation.pose.antenna_local_m;
+    m.vehicle_yaw_rad = observation.pose.yaw_rad;
+    m.sign = oriented.sign;
+    m.wall_normal_local = wall.normal_local;
+    // The rotation centre: the middle of the surveyed extent, projected onto the line.
+    const Eigen::Vector2d middle = 0.5 * (wall.end_a_local + wall.end_b_local);
+    m.wall_centre_local_m =
+        middle - (wall.normal_local.dot(middle) - wall.offset_m) * wall.normal_local;
+    m.wall_normal_angle_rad = oriented.normal_angle_rad;
+    m.rho_m = observation.rho_m;
+    m.theta_rad = observation.theta_rad;
+    m.sqrt_information = llt.matrixL().solve(Eigen::Matrix2d::Identity());
+    mp->measurements.push_back(m);
+    walls_used.insert(observation.wall_index);
+
+    mp->wall_block.push_back(mp->wall_deltas[observation.wall_index].data());
+    double* bias = mp->no_bias.data();
+    const int segment = observation.pose.segment;
+    if (segment >= 0) {
+      const int k = segment_index.at(segment);
+      // A segment whose σ_b is 0 has no error to estimate: it shares the constant zero block.
+      if (mp->bias_sigma_m[k] > 0.0) bias = mp->biases[k].data();
+    }
+    uses_no_bias = uses_no_bias || bias == mp->no_bias.data();
+    mp->bias_block.push_back(bias);
+  }
+
+  // Observation blocks, robustified in whitened units. The problem owns the loss (one shared
+  // instance) and every cost function.
+  ceres::LossFunction* loss =
+      options.huber_scale > 0.0 ? new ceres::HuberLoss(options.huber_scale) : nullptr;
+  mp->residual_blocks.reserve(observations.size());
+  for (size_t i = 0; i < mp->measurements.size(); ++i) {
+    mp->residual_blocks.push_back(
+        mp->problem.AddResidualBlock(WallLineCost::Create(mp->measurements[i]), loss,
+                                     mp->mount.data(), mp->wall_block[i], mp->bias_block[i]));
+  }
+
+  // Wall priors. A σ of 0 means the survey is taken as exact in that coordinate: the coordinate
+  // is held constant (the whole block when both are 0) rather than given an infinite weight.
+  for (int w : walls_used) {
+    double* block = mp->wall_deltas[w].data();
+    const double sigma_offset_m = walls[w].sigma_offset_m;
+    const double sigma_angle_rad = walls[w].sigma_angle_rad;
+    if (!(sigma_offset_m > 0.0) && !(sigma_angle_rad > 0.0)) {
+      mp->problem.SetParameterBlockConstant(block);
+      continue;
+    }
+    Eigen::Vector2d prior_sigma(sigma_offset_m, sigma_angle_rad);
+    if (!(sigma_offset_m > 0.0) || !(sigma_angle_rad > 0.0)) {
+      const int fixed = sigma_offset_m > 0.0 ? 1 : 0;
+      prior_sigma[fixed] = 1.0;  // the coordinate stays 0, so its prior residual stays 0
+      mp->problem.SetManifold(block, new ceres::SubsetManifold(2, {fixed}));
+    }
+    mp->problem.AddResidualBlock(ZeroMeanPriorCost::Create(prior_sigma), nullptr, block);
+  }
+  // GNSS bias priors (segments with σ_b = 0 are not in the problem, see above).
+  for (size_t k = 0; k < mp->segment_ids.size(); ++k) {
+    const double sigma_m = mp->bias_sigma_m[k];
+    if (!(sigma_m > 0.0)) continue;
+    mp->problem.AddResidualBlock(ZeroMeanPriorCost::Create(Eigen::Vector2d(sigma_m, sigma_m)),
+                                 nullptr, mp->biases[k].data());
+  }
+  // The zero bias of observations without a segment is data, not an estimate.
+  if (uses_no_bias) mp->problem.SetParameterBlockConstant(mp->no_bias.data());
+  return mp;
+}
+
+MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& options) {
+  MountEstimate estimate;
+  estimate.method = "ceres";
+
+  ceres::Solver::Options solver_options;
+  // Few parameters (3 + 2·walls + 2·segments), many residuals each touching three blocks:
+  // the normal equations are small and sparse, so forming them and factoring with a sparse
+  // Cholesky is fast (measured: see the large-problem test in ceres_solver_test.cc).
+  solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.num_threads = 1;
+  solver_options.minimizer_progress_to_stdout = false;
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &mp.problem, &summary);
+
+  estimate.solver_report = summary.BriefReport();
+  estimate.mount = MountFromArray(mp.mount);
+  estimate.mount.yaw_rad = WrapAngle(estimate.mount.yaw_rad);
+
+  // Residuals at the solution, nuisance parameters applied.
+  const int n = static_cast<int>(mp.measurements.size());
+  estimate.residual_rho_m.resize(n);
+  double sum_sq_m2 = 0.0;
+  int rejected = 0;
+  for (int i = 0; i < n; ++i) {
+    const WallLineCost cost(mp.measurements[i]);
+    double error[2];
+    double whitened[2];
+    cost.Errors(mp.mount.data(), mp.wall_block[i], mp.bias_block[i], error);
+    cost(mp.mount.data(), mp.wall_block[i], mp.bias_block[i], whitened);
+    estimate.residual_rho_m[i] = -error[0];  // observed − predicted
+    if (std::hypot(whitened[0], whitened[1]) > kRejectWhitenedNorm) {
+      ++rejected;
+    } else {
+      sum_sq_m2 += error[0] * error[0];
+    }
+  }
+  estimate.observations_rejected = rejected;
+  estimate.observations_used = n - rejected;
+  estimate.residual_rms_m =
+      estimate.observations_used > 0 ? std::sqrt(sum_sq_m2 / estimate.observations_used) : 0.0;
+
+  if (!summary.IsSolutionUsable()) {
+    estimate.message = "the least-squares solve failed: " + summary.message;
+    return estimate;
+  }
+  if (summary.termination_type != ceres::CONVERGENCE) {
+    // NO_CONVERGENCE is "usable" to Ceres, but an offset written from a solve that ran out of
+    // iterations would be a silent guess.
+    estimate.message = "the least-squares solve did not converge within " +
+                       std::to_string(options.max_iterations) + " iterations (" +
+                       summary.message + ")";
+    return estimate;
+  }
+
+  // Covariance of the mount with every nuisance block free, so that the wall and GNSS bias
+  // uncertainties propagate into it. Jacobians are evaluated with the Huber loss applied, as
+  // Ceres does by default: observations in the linear part of the loss count for less.
+  ceres::Covariance::Options covariance_options;
+  covariance_options.algorithm_type = ceres::SPARSE_QR;
+#ifndef CERES_NO_SUITESPARSE
+  covariance_options.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+#else
+  covariance_options.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
+#endif
+  covariance_options.num_threads = 1;
+  ceres::Covariance covariance(covariance_options);
+  const std::vector<std::pair<const double*, const double*>> blocks = {
+      {mp.mount.data(), mp.mount.data()}};
+  if (!covariance.Compute(blocks, &mp.problem)) {
+    estimate.message =
+        "the mount covariance could not be computed: the Jacobian is rank deficient (a mount or "
+        "nuisance direction is determined neither by the observations nor by the priors)";
+    return estimate;
+  }
+  double values[9];
+  if (!covariance.GetCovarianceBlock(mp.mount.data(), mp.mount.data(), values)) {
+    estimate.message = "the mount covariance could not be read back from Ceres";
+    return estimate;
+  }
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) estimate.covariance(r, c) = values[3 * r + c];
+  }
+  if (!estimate.covariance.allFinite() || !(estimate.covariance.diagonal().minCoeff() > 0.0)) {
+    estimate.message = "the mount covariance is not finite and positive";
+    return estimate;
+  }
+  estimate.usable = true;
+  return estimate;
+}
+
+MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observations,
+                              const std::vector<calib::WallGeometry>& walls,
+                              const io::SolverOptions& options, const Mount& initial) {
+  const ObservabilityReport observability = CheckObservability(observations, walls, options);
+  if (!observability.ok) {
+    MountEstimate refused;
+    refused.method = "ceres";
+    refused.mount = initial;
+    refused.message = observability.message;
+    return refused;
+  }
+  std::string error;
+  auto mp = BuildMountProblem(observations, walls, options, initial, initial, &error);
+  if (!mp) {
+    MountEstimate refused;
+    refused.method = "ceres";
+    refused.mount = initial;
+    refused.message = error;
+    return refused;
+  }
+  MountEstimate estimate = SolveMountProblem(*mp, options);
+  const double moved_m =
+      std::hypot(estimate.mount.x_m - initial.x_m, estimate.mount.y_m - initial.y_m);
+  if (estimate.usable && moved_m > kLeverRebuildDistanceM) {
+    // The heading-noise lever arms were computed from a mount far from the solution: rebuild
+    // the noise model from the solution and solve again from there.
+    const Mount first = estimate.mount;
+    auto second = BuildMountProblem(observations, walls, options, first, first, &error);
+    if (second) {
+      const std::string first_report = estimate.solver_report;
+      estimate = SolveMountProblem(*second, options);
+      estimate.solver_report = first_report + "\n" + estimate.solver_report;
+    }
+  }
+  return estimate;
+}
+
+}  // namespace wallcal::solvers
