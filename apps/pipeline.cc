@@ -13,6 +13,8 @@
 #include <set>
 #include <sstream>
 
+#include <Eigen/Geometry>
+
 #include "calib/geodesy.h"
 #include "calib/range_model.h"
 #include "calib/simulator.h"
@@ -68,11 +70,35 @@ bool QualityAccepted(int quality, int min_fix_quality) {
   return rank > 0 && rank >= QualityRank(min_fix_quality);
 }
 
+// Lines a healthy log has too (other NMEA sentences, comments, CARMEN PARAM/ODOM lines): they
+// are counted but are no reason for a warning.
+bool IsInformational(const std::string& reason) {
+  return reason == "not NMEA" || reason == "comment" || reason == "blank line" ||
+         reason.rfind("other sentence", 0) == 0 || reason.rfind("not a scan", 0) == 0;
+}
+
+// Malformed scan lines: the reasons a CARMEN scan line itself was skipped.
+int64_t MalformedScans(const io::SkipCounts& skips) {
+  int64_t n = 0;
+  for (const auto& [reason, count] : skips.by_reason) {
+    if (!IsInformational(reason)) n += count;
+  }
+  return n;
+}
+
+// "file: N lines skipped (reason: n, first at line L; ...)" for the reasons worth a warning;
+// empty when there are none.
 std::string DescribeSkips(const std::string& file, const io::SkipCounts& skips) {
+  int64_t total = 0;
+  for (const auto& [reason, count] : skips.by_reason) {
+    if (!IsInformational(reason)) total += count;
+  }
+  if (total == 0) return std::string();
   std::ostringstream out;
-  out << fs::path(file).filename().string() << ": " << skips.Total() << " lines skipped (";
+  out << fs::path(file).filename().string() << ": " << total << " lines skipped (";
   bool first = true;
   for (const auto& [reason, count] : skips.by_reason) {
+    if (IsInformational(reason)) continue;
     if (!first) out << "; ";
     first = false;
     out << reason << ": " << count;
@@ -305,9 +331,13 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, std::ostream* 
   result.fixes_by_quality = gnss.fixes_by_quality;
   result.gnss_skipped = gnss.skipped;
   result.heading_skipped = heading_log.skipped;
-  if (gnss.skipped.Total() > 0) result.warnings.push_back(DescribeSkips(session.gnss_log, gnss.skipped));
-  if (session.heading_log != session.gnss_log && heading_log.skipped.Total() > 0) {
-    result.warnings.push_back(DescribeSkips(session.heading_log, heading_log.skipped));
+  if (const std::string w = DescribeSkips(session.gnss_log, gnss.skipped); !w.empty()) {
+    result.warnings.push_back(w);
+  }
+  if (session.heading_log != session.gnss_log) {
+    if (const std::string w = DescribeSkips(session.heading_log, heading_log.skipped); !w.empty()) {
+      result.warnings.push_back(w);
+    }
   }
 
   std::vector<calib::PositionSample> positions;
@@ -396,7 +426,9 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, std::ostream* 
   PassOutcome first = DetectionPass(context, guess, wide, min_interval_s);
   if (first.scans_read == 0) {
     std::string why = "no scan records";
-    if (first.line_skips.Total() > 0) why += "; " + DescribeSkips(session.scanner_log, first.line_skips);
+    if (const std::string w = DescribeSkips(session.scanner_log, first.line_skips); !w.empty()) {
+      why += "; " + w;
+    }
     throw io::InputError(io::Where(session.scanner_log, 0, why +
                                    "; expected CARMEN RAWLASER1/ROBOTLASER1/FLASER lines"));
   }
@@ -413,7 +445,7 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, std::ostream* 
     result.first_pass.usable = false;
     result.first_pass.message = why.str();
     result.estimate = result.first_pass;
-    result.scans_total = first.scans_read + first.line_skips.Total();
+    result.scans_total = first.scans_read + MalformedScans(first.line_skips);
     return result;
   }
   solvers::MountEstimate start =
@@ -421,14 +453,14 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, std::ostream* 
   if (!start.usable) {
     result.first_pass = start;
     result.estimate = start;
-    result.scans_total = first.scans_read + first.line_skips.Total();
+    result.scans_total = first.scans_read + MalformedScans(first.line_skips);
     return result;
   }
   result.first_pass =
       solvers::SolveMountCeres(first.observations, result.walls, options.solver, start.mount);
   if (!result.first_pass.usable) {
     result.estimate = result.first_pass;
-    result.scans_total = first.scans_read + first.line_skips.Total();
+    result.scans_total = first.scans_read + MalformedScans(first.line_skips);
     return result;
   }
   say("first pass: " + std::to_string(first.observations.size()) + " observations, mount x " +
@@ -448,11 +480,11 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, std::ostream* 
   result.observations = std::move(second.observations);
   result.scans_skipped = second.skipped;
   result.scan_lines_skipped = second.line_skips;
-  result.scans_total = second.scans_read + second.line_skips.Total();
-  if (second.line_skips.Total() > 0) {
-    result.warnings.push_back(DescribeSkips(session.scanner_log, second.line_skips));
+  result.scans_total = second.scans_read + MalformedScans(second.line_skips);
+  if (const std::string w = DescribeSkips(session.scanner_log, second.line_skips); !w.empty()) {
+    result.warnings.push_back(w);
     for (const auto& [reason, count] : second.line_skips.by_reason) {
-      result.scans_skipped["log line skipped: " + reason] += count;
+      if (!IsInformational(reason)) result.scans_skipped["malformed line: " + reason] += count;
     }
   }
   if (second.beam_count_mismatch > 0) {

@@ -1,12 +1,12 @@
 #include "calib/geodesy.h"
 
-#include <cmath>
-#include <sstream>
-#include <string>
-
 #include <GeographicLib/Math.hpp>
 #include <GeographicLib/TransverseMercator.hpp>
 #include <GeographicLib/UTMUPS.hpp>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
 
 namespace wallcal::calib {
 namespace {
@@ -40,8 +40,8 @@ double CentralMeridianDeg(int zone) { return 6.0 * zone - 183.0; }
 
 UtmPoint ToUtm(double lat_deg, double lon_deg, std::optional<io::UtmZone> zone) {
   if (!std::isfinite(lat_deg) || !std::isfinite(lon_deg)) {
-    throw io::InputError("latitude/longitude is not a finite number (" + Number(lat_deg, 9) +
-                         ", " + Number(lon_deg, 9) + "); expected degrees");
+    throw io::InputError("latitude/longitude is not a finite number (" + Number(lat_deg, 9) + ", " +
+                         Number(lon_deg, 9) + "); expected degrees");
   }
   // UTM proper ends at 84° N and 80° S; beyond lies UPS, which this tool does not use.
   if (lat_deg > 84.0 || lat_deg < -80.0) {
@@ -54,15 +54,17 @@ UtmPoint ToUtm(double lat_deg, double lon_deg, std::optional<io::UtmZone> zone) 
     out.zone = zone->zone;
     out.north = zone->north;
   } else {
-    out.zone = GeographicLib::UTMUPS::StandardZone(lat_deg, lon_deg);
+    // GeographicLib hands 84° N exactly to UPS; UTM's own limit includes it.
+    out.zone = GeographicLib::UTMUPS::StandardZone(std::min(lat_deg, 83.9999999), lon_deg);
     out.north = lat_deg >= 0.0;
   }
   const double lon0_deg = CentralMeridianDeg(out.zone);
   const double delta_lon_deg = GeographicLib::Math::AngDiff(lon0_deg, lon_deg);
   if (std::abs(delta_lon_deg) > kMaxForcedZoneDeltaLonDeg) {
     throw io::InputError("longitude " + Number(lon_deg, 7) + "° is " +
-                         Number(std::abs(delta_lon_deg), 1) + "° from the central meridian of UTM zone " +
-                         std::to_string(out.zone) + "; expected a point in that zone or a neighbouring one");
+                         Number(std::abs(delta_lon_deg), 1) +
+                         "° from the central meridian of UTM zone " + std::to_string(out.zone) +
+                         "; expected a point in that zone or a neighbouring one");
   }
   // The projection is called directly (not through UTMUPS::Forward) so that a forced zone also
   // forces the hemisphere: a session straddling the equator keeps one continuous northing.

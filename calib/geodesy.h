@@ -6,9 +6,8 @@
 // from grid east. Lengths in metres: "grid" metres on the UTM projection plane, "ground" metres
 // on the ellipsoid (grid = ground × point scale k).
 
-#include <optional>
-
 #include <Eigen/Core>
+#include <optional>
 
 #include "calib/observation.h"
 #include "io/types.h"

@@ -8,17 +8,24 @@ namespace {
 
 enum class Fate { kValid, kNonFinite, kErrorCode, kNoReturn, kTooClose };
 
-Fate Classify(double raw_m, double corrected_m, const io::ScanRecord& scan,
+// Raw readings are floats as logged, while thresholds come from text as doubles: compare in
+// float, or a logged 8.183 (8.18299961f) would slip under an 8.183 maximum and a logged 0.020
+// under the URG's 20 mm error-code limit.
+Fate Classify(float raw_m, double corrected_m, const io::ScanRecord& scan,
               const io::ScannerPreset& preset, double min_range_m) {
-  if (!std::isfinite(raw_m) || raw_m < 0.0) return Fate::kNonFinite;
+  if (!std::isfinite(raw_m) || raw_m < 0.0f) return Fate::kNonFinite;
   // Error codes are sensor words, not distances: test the raw value before any correction.
-  if (raw_m < preset.error_codes_below_m) return Fate::kErrorCode;
-  if (preset.max_range_is_no_return && preset.max_range_m > 0.0 && raw_m >= preset.max_range_m) {
+  if (raw_m < static_cast<float>(preset.error_codes_below_m)) return Fate::kErrorCode;
+  if (preset.max_range_is_no_return && preset.max_range_m > 0.0 &&
+      raw_m >= static_cast<float>(preset.max_range_m)) {
     return Fate::kNoReturn;
   }
-  if (scan.max_range_m > 0.0 && raw_m >= scan.max_range_m) return Fate::kNoReturn;
+  if (scan.max_range_m > 0.0 && raw_m >= static_cast<float>(scan.max_range_m)) {
+    return Fate::kNoReturn;
+  }
   // The preset's floor is the sensor's (raw); the option's is physical (corrected).
-  if (raw_m < preset.min_range_m || corrected_m < min_range_m || corrected_m <= 0.0) {
+  if (raw_m < static_cast<float>(preset.min_range_m) || corrected_m < min_range_m ||
+      corrected_m <= 0.0) {
     return Fate::kTooClose;
   }
   return Fate::kValid;
@@ -33,8 +40,8 @@ ScanPoints ToScanPoints(const io::ScanRecord& scan, const io::ScannerPreset& pre
   std::vector<uint8_t> valid(n, 0);
   RangeCounts local;
   for (int i = 0; i < n; ++i) {
-    const double raw = scan.ranges_m[i];
-    const double corrected = preset.range_scale_k * raw + preset.range_offset_b_m;
+    const float raw = scan.ranges_m[i];
+    const double corrected = preset.range_scale_k * double(raw) + preset.range_offset_b_m;
     switch (Classify(raw, corrected, scan, preset, min_range_m)) {
       case Fate::kValid:
         valid[i] = 1;

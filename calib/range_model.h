@@ -38,6 +38,7 @@ struct RangeCounts {
 //               echo" as its maximum), or raw >= scan.max_range_m when that is > 0;
 //   too_close   raw < preset.min_range_m (the sensor's own floor), or the corrected range
 //               < min_range_m (vehicle body, mud on the window), or a corrected range <= 0.
+// Thresholds are compared with the raw reading in float precision (the log's precision).
 // A valid reading is corrected as r = preset.range_scale_k · raw + preset.range_offset_b_m
 // (seeds 000/001, "ŷ = k·μ + b").
 //

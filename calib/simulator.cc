@@ -1,5 +1,6 @@
 #include "calib/simulator.h"
 
+#include <GeographicLib/LocalCartesian.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -7,8 +8,6 @@
 #include <random>
 #include <string>
 #include <utility>
-
-#include <GeographicLib/LocalCartesian.hpp>
 
 namespace wallcal::calib {
 namespace {
@@ -57,15 +56,21 @@ double WrapTwoPi(double angle_rad) {
   return a;
 }
 
-double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+Eigen::Vector2d Direction(double angle_rad) { return {std::cos(angle_rad), std::sin(angle_rad)}; }
+
+double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
 
 Eigen::Vector2d Rotate(double angle_rad, const Eigen::Vector2d& v) {
   const double c = std::cos(angle_rad), s = std::sin(angle_rad);
   return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
 }
 
+// No file or line to name here: the caller (simulate's main) knows which file the config came
+// from; the message names the key, as SimulationConfig::Validate() does.
 void Require(bool ok, const std::string& message) {
-  if (!ok) throw io::InputError(io::Where("simulation config", 0, message));
+  if (!ok) throw io::InputError(message);
 }
 
 // ---- Trajectory -------------------------------------------------------------------------------
@@ -121,7 +126,8 @@ Trajectory PlanTrajectory(const io::SimulationConfig& config, const io::SimWall&
   // The vehicle works on the side of the wall that holds the site origin (the default wall is
   // 12 m north of it); for a wall through the origin, on the left of x0,y0 -> x1,y1.
   const double origin_side = -left_normal.dot(a);
-  const Eigen::Vector2d out_normal = origin_side < 0.0 ? Eigen::Vector2d(-left_normal) : left_normal;
+  const Eigen::Vector2d out_normal =
+      origin_side < 0.0 ? Eigen::Vector2d(-left_normal) : left_normal;
   const Eigen::Vector2d facing = -out_normal;
   const Eigen::Vector2d right(facing.y(), -facing.x());
   const double facing_yaw_rad = std::atan2(facing.y(), facing.x());
@@ -152,8 +158,8 @@ Trajectory PlanTrajectory(const io::SimulationConfig& config, const io::SimWall&
     // drive_speed_mps is the mean speed over the drive. The turn counts as the path swept by a
     // point 2 m from the antenna (roughly the scanner's lever arm), and no drive is shorter than
     // 0.5 s, so a pure turn still takes a plausible time.
-    const double path_m = std::max((positions[i + 1] - positions[i]).norm(),
-                                   2.0 * std::abs(yaws[i + 1] - yaws[i]));
+    const double path_m =
+        std::max((positions[i + 1] - positions[i]).norm(), 2.0 * std::abs(yaws[i + 1] - yaws[i]));
     const double drive_s = std::max(0.5, path_m / config.drive_speed_mps);
     Segment drive;
     drive.t0_s = t;
@@ -228,7 +234,17 @@ class ScannerModel {
         preset_(preset),
         scene_(config),
         range_noise_(seed, Stream::kScanNoise),
-        mixed_noise_(seed, Stream::kMixedPixel) {}
+        mixed_noise_(seed, Stream::kMixedPixel),
+        cos_max_incidence_(std::cos(preset.max_incidence_rad)) {
+    // Beam directions in the scanner frame, computed once: each scan then only rotates them
+    // (the trigonometry per beam dominated the run time of hour-long sessions).
+    const double half_rad = 0.4 * preset.angular_step_rad;
+    for (int i = 0; i < preset.num_beams; ++i) {
+      const double bearing_rad = preset.start_angle_rad + i * preset.angular_step_rad;
+      beams_.push_back({Direction(bearing_rad), Direction(bearing_rad - half_rad),
+                        Direction(bearing_rad + half_rad)});
+    }
+  }
 
   io::ScanRecord Scan(const Pose& pose, double stamp_s) {
     io::ScanRecord scan;
@@ -240,9 +256,14 @@ class ScannerModel {
     const Eigen::Vector2d origin =
         pose.antenna_enu_m + Rotate(pose.yaw_rad, {config_.mount_x_m, config_.mount_y_m});
     const double scanner_yaw_rad = pose.yaw_rad + config_.mount_yaw_rad;
+    const double c = std::cos(scanner_yaw_rad), s = std::sin(scanner_yaw_rad);
+    const auto to_enu = [c, s](const Eigen::Vector2d& v) {
+      return Eigen::Vector2d(c * v.x() - s * v.y(), s * v.x() + c * v.y());
+    };
     for (int i = 0; i < preset_.num_beams; ++i) {
-      const double bearing_rad = scanner_yaw_rad + preset_.start_angle_rad + i * preset_.angular_step_rad;
-      scan.ranges_m[i] = static_cast<float>(Beam(origin, bearing_rad));
+      const BeamDirections& b = beams_[i];
+      scan.ranges_m[i] =
+          static_cast<float>(Beam(origin, to_enu(b.centre), to_enu(b.lower), to_enu(b.upper)));
     }
     return scan;
   }
@@ -256,7 +277,9 @@ class ScannerModel {
   // below error_codes_below_m. A preset with neither convention gets its maximum range.
   double NoReturnValue(NoReturn why) const {
     if (preset_.max_range_is_no_return) return preset_.max_range_m;
-    const double code_m = why == NoReturn::kNoEcho ? 0.001 : why == NoReturn::kTooOblique ? 0.002 : 0.003;
+    const double code_m = why == NoReturn::kNoEcho       ? 0.001
+                          : why == NoReturn::kTooOblique ? 0.002
+                                                         : 0.003;
     if (code_m < preset_.error_codes_below_m) return code_m;
     if (preset_.error_codes_below_m > 0.0) return 0.0;
     return preset_.max_range_m;
@@ -267,8 +290,9 @@ class ScannerModel {
     return res > 0.0 ? std::round(range_m / res) * res : range_m;
   }
 
-  double Beam(const Eigen::Vector2d& origin, double bearing_rad) {
-    const Eigen::Vector2d dir(std::cos(bearing_rad), std::sin(bearing_rad));
+  // One beam along `dir`; `lower`, `upper`: the edges of its footprint (±0.4 angular step).
+  double Beam(const Eigen::Vector2d& origin, const Eigen::Vector2d& dir,
+              const Eigen::Vector2d& lower, const Eigen::Vector2d& upper) {
     const std::optional<Hit> hit = scene_.Cast(origin, dir);
     // One draw per beam whatever happens, so the noise of a beam does not depend on the others.
     const double xi_m = range_noise_.Normal(preset_.range_sigma_m);
@@ -278,28 +302,30 @@ class ScannerModel {
     // angular step stand in for the footprint's edges.
     std::optional<double> true_range_m;
     if (config_.mixed_pixel_probability > 0.0) {
-      const double half_rad = 0.4 * preset_.angular_step_rad;
-      const auto lo = scene_.Cast(origin, {std::cos(bearing_rad - half_rad), std::sin(bearing_rad - half_rad)});
-      const auto hi = scene_.Cast(origin, {std::cos(bearing_rad + half_rad), std::sin(bearing_rad + half_rad)});
+      const auto lo = scene_.Cast(origin, lower);
+      const auto hi = scene_.Cast(origin, upper);
       if (lo && hi && std::abs(lo->range_m - hi->range_m) > 0.1) {
         const double u = mixed_noise_.Uniform();
         const double v = mixed_noise_.Uniform();
-        if (u < config_.mixed_pixel_probability) true_range_m = lo->range_m + v * (hi->range_m - lo->range_m);
+        if (u < config_.mixed_pixel_probability)
+          true_range_m = lo->range_m + v * (hi->range_m - lo->range_m);
       }
     }
     if (!true_range_m) {
       if (!hit) return NoReturnValue(NoReturn::kNoEcho);
       // Too oblique a surface sends too little light back (seeds 000, 001: incidence limits).
-      if (std::acos(std::min(1.0, hit->cos_incidence)) > preset_.max_incidence_rad) {
+      if (hit->cos_incidence < cos_max_incidence_) {
         return NoReturnValue(NoReturn::kTooOblique);
       }
       true_range_m = hit->range_m;
     }
     if (*true_range_m >= preset_.max_range_m) return NoReturnValue(NoReturn::kOutOfRange);
     // Seeds 000/001 simulation model: z = Int(n·y + c + ξ), Int the range resolution.
-    const double z_m = Quantise(preset_.sim_scale_n * *true_range_m + preset_.sim_offset_c_m + xi_m);
+    const double z_m =
+        Quantise(preset_.sim_scale_n * *true_range_m + preset_.sim_offset_c_m + xi_m);
     if (z_m >= preset_.max_range_m) return NoReturnValue(NoReturn::kOutOfRange);
-    if (z_m < std::max(preset_.min_range_m, preset_.error_codes_below_m)) return NoReturnValue(NoReturn::kNoEcho);
+    if (z_m < std::max(preset_.min_range_m, preset_.error_codes_below_m))
+      return NoReturnValue(NoReturn::kNoEcho);
     return z_m;
   }
 
@@ -308,13 +334,18 @@ class ScannerModel {
   Scene scene_;
   Noise range_noise_;
   Noise mixed_noise_;
+  double cos_max_incidence_;
+  struct BeamDirections {
+    Eigen::Vector2d centre, lower, upper;  // unit vectors in the scanner frame
+  };
+  std::vector<BeamDirections> beams_;
 };
 
 // ---- GNSS ----------------------------------------------------------------------------------
 // Float periods: float_fraction of the run in up to three contiguous blocks (one per 20 s of
 // float time, at least one), each at a random place inside its own third of the run.
-std::vector<std::pair<double, double>> FloatPeriods(const io::SimulationConfig& config, double duration_s,
-                                                    uint64_t seed) {
+std::vector<std::pair<double, double>> FloatPeriods(const io::SimulationConfig& config,
+                                                    double duration_s, uint64_t seed) {
   std::vector<std::pair<double, double>> periods;
   const double fraction = std::clamp(config.float_fraction, 0.0, 1.0);
   if (fraction <= 0.0) return periods;
@@ -330,7 +361,8 @@ std::vector<std::pair<double, double>> FloatPeriods(const io::SimulationConfig& 
   return periods;
 }
 
-std::vector<io::GnssFix> SimulateGnss(const io::SimulationConfig& config, const Trajectory& trajectory,
+std::vector<io::GnssFix> SimulateGnss(const io::SimulationConfig& config,
+                                      const Trajectory& trajectory,
                                       const GeographicLib::LocalCartesian& enu, uint64_t seed) {
   const auto float_periods = FloatPeriods(config, trajectory.duration_s(), seed);
   Noise bias_noise(seed, Stream::kGnssBias);
@@ -349,18 +381,21 @@ std::vector<io::GnssFix> SimulateGnss(const io::SimulationConfig& config, const 
   const double sigma_up_m = 2.0 * config.gnss_white_sigma_m;
 
   std::vector<io::GnssFix> fixes;
-  const int64_t count = static_cast<int64_t>(std::floor(trajectory.duration_s() * config.gnss_rate_hz + 1e-9)) + 1;
+  const int64_t count =
+      static_cast<int64_t>(std::floor(trajectory.duration_s() * config.gnss_rate_hz + 1e-9)) + 1;
   fixes.reserve(count);
   for (int64_t j = 0; j < count; ++j) {
     const double t_s = j / config.gnss_rate_hz;
     if (j > 0) {
-      bias = phi * bias + Eigen::Vector2d(bias_noise.Normal(sigma_b * drive), bias_noise.Normal(sigma_b * drive));
+      bias = phi * bias + Eigen::Vector2d(bias_noise.Normal(sigma_b * drive),
+                                          bias_noise.Normal(sigma_b * drive));
     }
     const Eigen::Vector2d white(white_noise.Normal(config.gnss_white_sigma_m),
                                 white_noise.Normal(config.gnss_white_sigma_m));
     const double up_m = white_noise.Normal(sigma_up_m);
-    const bool is_float = std::any_of(float_periods.begin(), float_periods.end(),
-                                      [t_s](const auto& p) { return t_s >= p.first && t_s < p.second; });
+    const bool is_float =
+        std::any_of(float_periods.begin(), float_periods.end(),
+                    [t_s](const auto& p) { return t_s >= p.first && t_s < p.second; });
     // An RTK float solution is roughly ten times worse than fixed (brief's assumption).
     const double scale = is_float ? 10.0 : 1.0;
     const Pose pose = trajectory.At(t_s);
@@ -384,10 +419,11 @@ std::vector<io::GnssFix> SimulateGnss(const io::SimulationConfig& config, const 
 // ---- Heading --------------------------------------------------------------------------------
 // Measured heading = true heading + bias + drift·t + white. The drift is linear with the
 // configured rate and a sign drawn from the seed (seed 002: FOG drift ±0.5°/h).
-std::vector<io::HeadingSample> SimulateHeadings(const io::SimulationConfig& config, const Trajectory& trajectory,
-                                                uint64_t seed) {
+std::vector<io::HeadingSample> SimulateHeadings(const io::SimulationConfig& config,
+                                                const Trajectory& trajectory, uint64_t seed) {
   Noise noise(seed, Stream::kHeading);
-  const double drift_rad_per_s = (noise.Uniform() < 0.5 ? -1.0 : 1.0) * config.heading_drift_rad_per_s;
+  const double drift_rad_per_s =
+      (noise.Uniform() < 0.5 ? -1.0 : 1.0) * config.heading_drift_rad_per_s;
   std::vector<io::HeadingSample> headings;
   const int64_t count =
       static_cast<int64_t>(std::floor(trajectory.duration_s() * config.heading_rate_hz + 1e-9)) + 1;
@@ -397,8 +433,9 @@ std::vector<io::HeadingSample> SimulateHeadings(const io::SimulationConfig& conf
     const double true_heading_rad = kPi / 2.0 - trajectory.At(t_s).yaw_rad;  // cw from true north
     io::HeadingSample sample;
     sample.stamp_s = config.start_time_s + t_s;
-    sample.heading_rad = WrapTwoPi(true_heading_rad + config.heading_bias_rad + drift_rad_per_s * t_s +
-                                   noise.Normal(config.heading_white_sigma_rad));
+    sample.heading_rad =
+        WrapTwoPi(true_heading_rad + config.heading_bias_rad + drift_rad_per_s * t_s +
+                  noise.Normal(config.heading_white_sigma_rad));
     headings.push_back(sample);
   }
   return headings;
@@ -410,7 +447,9 @@ std::vector<io::HeadingSample> SimulateHeadings(const io::SimulationConfig& conf
 struct SurveyFrame {
   Eigen::Vector2d origin_enu_m;
   double rotation_rad;
-  Eigen::Vector2d ToStation(const Eigen::Vector2d& p_enu) const { return Rotate(-rotation_rad, p_enu - origin_enu_m); }
+  Eigen::Vector2d ToStation(const Eigen::Vector2d& p_enu) const {
+    return Rotate(-rotation_rad, p_enu - origin_enu_m);
+  }
 };
 
 }  // namespace
@@ -428,45 +467,56 @@ io::SimulationConfig WithDefaultWalls(io::SimulationConfig config) {
   return config;
 }
 
-SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerPreset& preset, uint64_t seed,
-                          const ScanSink& sink) {
+SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerPreset& preset,
+                          uint64_t seed, const ScanSink& sink) {
   config.Validate();
-  // What this simulator itself needs, whatever Validate() already checked.
+  // What this simulator itself needs beyond Validate(). Messages in Validate()'s form: the
+  // YAML key first, so the user knows what to change.
   const auto first_surveyed = std::find_if(config.walls.begin(), config.walls.end(),
                                            [](const io::SimWall& w) { return !w.code.empty(); });
   Require(first_surveyed != config.walls.end(),
-          "walls: no wall has a survey code; expected at least one (see WithDefaultWalls)");
-  Require(std::hypot(first_surveyed->x1_m - first_surveyed->x0_m, first_surveyed->y1_m - first_surveyed->y0_m) > 0.0,
-          "walls: the first surveyed wall '" + first_surveyed->id + "' has zero length");
-  Require(config.num_stations >= 3, "num_stations: expected at least 3");
-  Require(config.dwell_s > 0.0 && config.drive_speed_mps > 0.0,
-          "dwell_s, drive_speed_mps: expected positive values");
+          "simulation.walls must hold at least one wall with a survey code, got none (see "
+          "WithDefaultWalls)");
+  Require(std::hypot(first_surveyed->x1_m - first_surveyed->x0_m,
+                     first_surveyed->y1_m - first_surveyed->y0_m) > 0.0,
+          "simulation.walls: wall '" + first_surveyed->id + "' must have two different ends");
+  Require(config.num_stations >= 3,
+          "simulation.num_stations must be >= 3, got " + std::to_string(config.num_stations));
+  Require(config.dwell_s >= 0.0 && config.drive_speed_mps > 0.0,
+          "simulation.dwell_s must be >= 0 and simulation.drive_speed_mps > 0");
   Require(config.gnss_rate_hz > 0.0 && config.heading_rate_hz > 0.0,
-          "gnss_rate_hz, heading_rate_hz: expected positive values");
+          "simulation.gnss_rate_hz and simulation.heading_rate_hz must be > 0");
   Require(config.station_distance_m > std::hypot(config.mount_x_m, config.mount_y_m) + 0.1,
-          "station_distance_m: the scanner would stand at or behind the wall; expected more than the "
-          "mount's distance from the antenna + 0.1 m");
+          "simulation.station_distance_m must exceed the mount's distance from the antenna + 0.1 m "
+          "(else the "
+          "scanner would stand at or behind the wall), got " +
+              std::to_string(config.station_distance_m));
   Require(preset.num_beams > 0 && preset.rate_hz > 0.0 && preset.angular_step_rad != 0.0,
-          "scanner preset '" + preset.name + "': expected num_beams > 0, rate_hz > 0, a non-zero angular step");
-  Require(preset.max_range_m > 0.0, "scanner preset '" + preset.name + "': expected max_range_m > 0");
+          "scanner preset '" + preset.name +
+              "' must have num_beams > 0, rate_hz > 0 and a non-zero angular step");
+  Require(preset.max_range_m > 0.0,
+          "scanner preset '" + preset.name + "' must have max_range_m > 0");
 
   SimulatedSession session;
   const Trajectory trajectory = PlanTrajectory(config, *first_surveyed);
   const double duration_s = trajectory.duration_s();
   // The site's tangent plane: ENU axes are TRUE east/north, not the UTM grid.
-  const GeographicLib::LocalCartesian enu(config.site_lat_deg, config.site_lon_deg, config.site_height_m);
+  const GeographicLib::LocalCartesian enu(config.site_lat_deg, config.site_lon_deg,
+                                          config.site_height_m);
 
   for (const auto& w : config.walls) {
     if (!w.code.empty()) session.walls.push_back({w.id, w.code});
   }
 
   // Truth every 0.1 s (index/10 so that it coincides exactly with 10 Hz GNSS epochs).
-  const int64_t truth_count = static_cast<int64_t>(std::floor(duration_s * kTruthPeriodDivisor + 1e-9)) + 1;
+  const int64_t truth_count =
+      static_cast<int64_t>(std::floor(duration_s * kTruthPeriodDivisor + 1e-9)) + 1;
   session.truth_poses.reserve(truth_count);
   for (int64_t k = 0; k < truth_count; ++k) {
     const double t_s = k / kTruthPeriodDivisor;
     const Pose pose = trajectory.At(t_s);
-    session.truth_poses.push_back({config.start_time_s + t_s, pose.antenna_enu_m, pose.yaw_rad, pose.stationary});
+    session.truth_poses.push_back(
+        {config.start_time_s + t_s, pose.antenna_enu_m, pose.yaw_rad, pose.stationary});
   }
 
   session.fixes = SimulateGnss(config, trajectory, enu, seed);
@@ -474,11 +524,13 @@ SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerP
 
   // Survey: control points first (as a crew would set them up), then the walls.
   {
-    const SurveyFrame frame{{config.survey_origin_x_m, config.survey_origin_y_m}, config.survey_rotation_rad};
+    const SurveyFrame frame{{config.survey_origin_x_m, config.survey_origin_y_m},
+                            config.survey_rotation_rad};
     Noise survey_noise(seed, Stream::kSurvey);
     Noise control_noise(seed, Stream::kControl);
     const double sigma_ts = config.total_station_sigma_m;
-    auto add_point = [&](const std::string& id, const std::string& code, const Eigen::Vector2d& p_enu, double z_m) {
+    auto add_point = [&](const std::string& id, const std::string& code,
+                         const Eigen::Vector2d& p_enu, double z_m) {
       const Eigen::Vector2d p_station = frame.ToStation(p_enu);
       io::SurveyPoint point;
       point.id = id;
@@ -518,7 +570,8 @@ SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerP
       const double spacing_m = w.survey_spacing_m > 0.0 ? w.survey_spacing_m : 1.0;
       const int steps = static_cast<int>(std::floor(length_m / spacing_m + 1e-9));
       for (int k = 0; k <= steps; ++k) {
-        const Eigen::Vector2d p_enu = length_m > 0.0 ? Eigen::Vector2d(w0 + (k * spacing_m / length_m) * (w1 - w0)) : w0;
+        const Eigen::Vector2d p_enu =
+            length_m > 0.0 ? Eigen::Vector2d(w0 + (k * spacing_m / length_m) * (w1 - w0)) : w0;
         for (double z_m : {0.5, w.height_m - 0.5}) {
           char id[16];
           std::snprintf(id, sizeof(id), "W%03d", ++number);
@@ -532,7 +585,8 @@ SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerP
   ScannerModel scanner(config, preset, seed);
   Noise lost_noise(seed, Stream::kLostScan);
   const int64_t log_every = std::max<int64_t>(1, std::llround(config.log_every_n));
-  const int64_t scan_count = static_cast<int64_t>(std::floor(duration_s * preset.rate_hz + 1e-9)) + 1;
+  const int64_t scan_count =
+      static_cast<int64_t>(std::floor(duration_s * preset.rate_hz + 1e-9)) + 1;
   for (int64_t k = 0; k < scan_count; ++k) {
     ++session.scans_generated;
     if (k % log_every != 0) continue;

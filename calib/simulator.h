@@ -13,11 +13,10 @@
 // - The antenna, the scanner plane and the site origin share one horizontal plane (2-D model).
 // - Angles are radians; headings are TRUE headings, clockwise from true north, in [0, 2π).
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <functional>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "io/options.h"
 #include "io/types.h"

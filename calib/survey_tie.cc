@@ -1,10 +1,9 @@
 #include "calib/survey_tie.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-
-#include <Eigen/Eigenvalues>
 
 #include "calib/geodesy.h"
 
@@ -52,10 +51,10 @@ const io::SurveyPoint& FindControlInSurvey(const std::vector<io::SurveyPoint>& s
                                        "; expected a survey point with id " + control.id));
   }
   if (count > 1) {
-    throw io::InputError(io::Where(
-        spec.file, control.line,
-        "control point " + control.id + " appears " + std::to_string(count) + " times in " +
-            survey_file + "; expected exactly one survey point with that id"));
+    throw io::InputError(io::Where(spec.file, control.line,
+                                   "control point " + control.id + " appears " +
+                                       std::to_string(count) + " times in " + survey_file +
+                                       "; expected exactly one survey point with that id"));
   }
   return *found;
 }
@@ -83,18 +82,17 @@ SurveyTie TieSurvey(const std::vector<io::SurveyPoint>& survey, const std::strin
       const double survey_gap_m = (p_survey[i] - p_survey[j]).norm();
       const double local_gap_m = (p_local[i] - p_local[j]).norm();
       if (survey_gap_m < kCoincidentM || local_gap_m < kCoincidentM) {
-        throw io::InputError(io::Where(
-            spec.file, control[i].line,
-            "control points " + control[j].id + " and " + control[i].id + " coincide (" +
-                Metres(survey_gap_m) + " m apart in the survey, " + Metres(local_gap_m) +
-                " m by RTK); expected distinct points, ideally at the ends of the site"));
+        throw io::InputError(
+            io::Where(spec.file, control[i].line,
+                      "control points " + control[j].id + " and " + control[i].id + " coincide (" +
+                          Metres(survey_gap_m) + " m apart in the survey, " + Metres(local_gap_m) +
+                          " m by RTK); expected distinct points, ideally at the ends of the site"));
       }
     }
   }
 
   // Control point error per axis: RTK and total station, independent.
-  const double sigma_point_m =
-      std::hypot(options.control_sigma_m, options.total_station_sigma_m);
+  const double sigma_point_m = std::hypot(options.control_sigma_m, options.total_station_sigma_m);
 
   SurveyTie tie;
   tie.num_control = n;
@@ -206,11 +204,11 @@ std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
     }
     const double span_m = along_max_m - along_min_m;
     if (span_m < kMinWallSpanM) {
-      throw io::InputError(io::Where(
-          survey_file, 0,
-          "wall " + wall_spec.id + ": the survey points with code " + wall_spec.code +
-              " span only " + Metres(span_m) + " m; expected at least " + Metres(kMinWallSpanM) +
-              " m along the wall"));
+      throw io::InputError(io::Where(survey_file, 0,
+                                     "wall " + wall_spec.id + ": the survey points with code " +
+                                         wall_spec.code + " span only " + Metres(span_m) +
+                                         " m; expected at least " + Metres(kMinWallSpanM) +
+                                         " m along the wall"));
     }
 
     WallGeometry wall;

@@ -7,10 +7,9 @@
 // rigid 2-D transform without scale: p_local = local_R_survey · p_survey + local_t_survey.
 // Heights (z) play no part: the scan plane is treated as horizontal.
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "calib/observation.h"
 #include "io/options.h"
@@ -29,7 +28,7 @@ struct SurveyTie {
   Eigen::Matrix2d local_R_survey = Eigen::Matrix2d::Identity();
   Eigen::Vector2d local_t_survey = Eigen::Vector2d::Zero();  // p_local = R * p_survey + t
   std::vector<ControlResidual> control_residuals;            // in the order of spec.control
-  double control_rms_m = 0;  // RMS of the control residual norms (0 with one control point)
+  double control_rms_m = 0;        // RMS of the control residual norms (0 with one control point)
   double sigma_rotation_rad = 0;   // 1σ of the fitted (or given) rotation
   double sigma_translation_m = 0;  // 1σ per axis of the translation at the control centroid
   Eigen::Vector2d control_centroid_local = Eigen::Vector2d::Zero();

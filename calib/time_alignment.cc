@@ -15,8 +15,7 @@ template <typename Sample>
 void CheckStream(const std::vector<Sample>& samples, const char* what) {
   if (samples.size() < 2) {
     throw std::invalid_argument(std::string("PoseInterpolator: ") + what +
-                                ": need at least 2 samples, got " +
-                                std::to_string(samples.size()));
+                                ": need at least 2 samples, got " + std::to_string(samples.size()));
   }
   for (size_t i = 1; i < samples.size(); ++i) {
     // Written so that a NaN stamp fails too.
@@ -43,9 +42,9 @@ double MedianPeriod(const std::vector<Sample>& samples) {
 // Index lo of the bracketing pair (lo, lo + 1) for a stamp inside [front, back].
 template <typename Sample>
 size_t Bracket(const std::vector<Sample>& samples, double stamp_s) {
-  const auto it = std::upper_bound(
-      samples.begin(), samples.end(), stamp_s,
-      [](double t, const Sample& sample) { return t < sample.stamp_s; });
+  const auto it =
+      std::upper_bound(samples.begin(), samples.end(), stamp_s,
+                       [](double t, const Sample& sample) { return t < sample.stamp_s; });
   size_t hi = static_cast<size_t>(it - samples.begin());
   if (hi >= samples.size()) hi = samples.size() - 1;  // stamp_s == back
   return hi - 1;
@@ -80,8 +79,7 @@ const char* PoseStatusName(PoseStatus status) {
 }
 
 PoseInterpolator::PoseInterpolator(std::vector<PositionSample> positions,
-                                   std::vector<YawSample> yaws,
-                                   const io::AlignmentOptions& options)
+                                   std::vector<YawSample> yaws, const io::AlignmentOptions& options)
     : positions_(std::move(positions)), yaws_(std::move(yaws)), options_(options) {
   CheckStream(positions_, "GNSS positions");
   CheckStream(yaws_, "yaws");
@@ -160,9 +158,10 @@ PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
     pose->stationary = true;
     pose->segment = static_cast<int>(std::prev(it) - dwells_.begin());
   } else {
-    const int slice = options_.segment_max_s > 0.0
-                          ? static_cast<int>(std::floor((stamp_s - start_s_) / options_.segment_max_s))
-                          : 0;
+    const int slice =
+        options_.segment_max_s > 0.0
+            ? static_cast<int>(std::floor((stamp_s - start_s_) / options_.segment_max_s))
+            : 0;
     pose->segment = static_cast<int>(dwells_.size()) + slice;
   }
   return PoseStatus::kOk;
@@ -192,8 +191,9 @@ void PoseInterpolator::FindDwells() {
     const double t = positions_[i].stamp_s;
     Eigen::Vector2d p0, p1;
     double s0 = 0.0, s1 = 0.0, y0 = 0.0, y1 = 0.0;
-    if (!PositionAt(t - half_s, &p0, &s0, &failure) || !PositionAt(t + half_s, &p1, &s1, &failure) ||
-        !YawAt(t - half_s, &y0, &failure) || !YawAt(t + half_s, &y1, &failure)) {
+    if (!PositionAt(t - half_s, &p0, &s0, &failure) ||
+        !PositionAt(t + half_s, &p1, &s1, &failure) || !YawAt(t - half_s, &y0, &failure) ||
+        !YawAt(t + half_s, &y1, &failure)) {
       continue;
     }
     still[i] = (p1 - p0).norm() < max_step_m && std::abs(WrapAngle(y1 - y0)) < max_turn_rad;
@@ -234,47 +234,99 @@ void PoseInterpolator::FindDwells() {
   }
   for (Run& run : runs) summarise(&run);
 
-  // 3. Merge runs split by a short break (one noisy heading pair is enough to fail a window)
-  // when the two sides are the same pose.
-  std::vector<Run> merged;
+  // 3. Grow each run outwards while the samples sit at its mean pose: the window test marks a
+  // sample still only once the whole window is, which trims ~window/2 off each end of a stop.
+  // Tolerances: half the window's displacement threshold and the whole window's yaw threshold,
+  // widened to 3.5× the scatter seen within the runs themselves (heading noise of 0.1° σ is a
+  // third of the yaw threshold: per-sample tests at the bare threshold stop at random). One
+  // sample off in yaw alone is passed over when the sample beyond it is at rest again; a turn on
+  // the spot is off for every sample.
+  double sum_sq_p_m2 = 0.0, sum_sq_yaw_rad2 = 0.0;
+  int count_p = 0, count_yaw = 0;
   for (const Run& run : runs) {
-    if (!merged.empty()) {
-      Run& previous = merged.back();
-      const bool short_break =
-          positions_[run.first].stamp_s - positions_[previous.last].stamp_s <= window_s;
-      const bool same_pose =
-          (run.mean_p - previous.mean_p).norm() < max_step_m && run.yaw_known &&
-          previous.yaw_known && std::abs(WrapAngle(run.mean_yaw - previous.mean_yaw)) < max_turn_rad;
-      if (short_break && same_pose && gap_free(previous.last, run.first)) {
-        previous.last = run.last;
-        summarise(&previous);
-        continue;
+    if (run.last - run.first < 2) continue;  // too few samples for a fair scatter
+    for (size_t i = run.first; i <= run.last; ++i) {
+      sum_sq_p_m2 += (positions_[i].p_local_m - run.mean_p).squaredNorm();
+      ++count_p;
+      if (yaw_ok[i] && run.yaw_known) {
+        sum_sq_yaw_rad2 += std::pow(WrapAngle(yaw_at[i] - run.mean_yaw), 2);
+        ++count_yaw;
       }
     }
-    merged.push_back(run);
   }
-
-  // 4. Grow each run outwards while the samples sit at its mean pose: the window test marks a
-  // sample still only once the whole window is, which trims ~window/2 off each end of a stop.
-  const double grow_p_m = 0.5 * max_step_m;
-  const double grow_yaw_rad = 0.5 * max_turn_rad;
-  const auto at_rest = [&](const Run& run, size_t i) {
-    return (positions_[i].p_local_m - run.mean_p).norm() <= grow_p_m && yaw_ok[i] &&
-           run.yaw_known && std::abs(WrapAngle(yaw_at[i] - run.mean_yaw)) <= grow_yaw_rad;
+  const double scatter_p_m = count_p > 0 ? std::sqrt(sum_sq_p_m2 / count_p) : 0.0;
+  const double scatter_yaw_rad = count_yaw > 0 ? std::sqrt(sum_sq_yaw_rad2 / count_yaw) : 0.0;
+  const double grow_p_m = std::min(std::max(0.5 * max_step_m, 3.5 * scatter_p_m), 2.0 * max_step_m);
+  const double grow_yaw_rad =
+      std::min(std::max(max_turn_rad, 3.5 * scatter_yaw_rad), 4.0 * max_turn_rad);
+  enum class Rest { kAtRest, kYawOff, kMoved };
+  const auto rest_state = [&](const Run& run, size_t i) {
+    if ((positions_[i].p_local_m - run.mean_p).norm() > grow_p_m) return Rest::kMoved;
+    if (!yaw_ok[i] || !run.yaw_known) return Rest::kMoved;
+    return std::abs(WrapAngle(yaw_at[i] - run.mean_yaw)) <= grow_yaw_rad ? Rest::kAtRest
+                                                                         : Rest::kYawOff;
   };
-  for (size_t r = 0; r < merged.size(); ++r) {
-    Run& run = merged[r];
-    const size_t floor_index = r == 0 ? 0 : merged[r - 1].last + 1;
-    while (run.first > floor_index && gap_free(run.first - 1, run.first) &&
-           at_rest(run, run.first - 1)) {
-      --run.first;
+  // How many samples (0, 1 or 2) the run can take beyond its edge in direction step (±1)
+  // without passing limit (inclusive) or a GNSS gap.
+  const auto growth = [&](const Run& run, long edge, long step, long limit) -> long {
+    const auto usable = [&](long i) {
+      const bool inside = step < 0 ? i >= limit : i <= limit;
+      return inside && gap_free(static_cast<size_t>(std::min(i, i - step)),
+                                static_cast<size_t>(std::max(i, i - step)));
+    };
+    const long first = edge + step, second = edge + 2 * step;
+    if (!usable(first)) return 0;
+    const Rest state = rest_state(run, static_cast<size_t>(first));
+    if (state == Rest::kAtRest) return 1;
+    if (state == Rest::kMoved || !usable(second)) return 0;
+    return rest_state(run, static_cast<size_t>(second)) == Rest::kAtRest ? 2 : 0;
+  };
+  const auto grow_all = [&](std::vector<Run>* all) {
+    std::vector<Run>& v = *all;
+    for (size_t r = 0; r < v.size(); ++r) {
+      Run& run = v[r];
+      const long floor_index = r == 0 ? 0 : static_cast<long>(v[r - 1].last) + 1;
+      const long ceiling_index =
+          r + 1 < v.size() ? static_cast<long>(v[r + 1].first) - 1 : static_cast<long>(n) - 1;
+      for (long k; (k = growth(run, static_cast<long>(run.first), -1, floor_index)) > 0;) {
+        run.first -= static_cast<size_t>(k);
+      }
+      for (long k; (k = growth(run, static_cast<long>(run.last), +1, ceiling_index)) > 0;) {
+        run.last += static_cast<size_t>(k);
+      }
     }
-    const size_t ceiling_index = r + 1 < merged.size() ? merged[r + 1].first - 1 : n - 1;
-    while (run.last < ceiling_index && gap_free(run.last, run.last + 1) &&
-           at_rest(run, run.last + 1)) {
-      ++run.last;
+    for (Run& run : v) summarise(&run);  // more samples: steadier means
+  };
+
+  // 4. Merge neighbouring runs at the same pose: one noisy heading pair is enough to fail a
+  // window test and split a stop; growth closes such a split only when every sample between is
+  // at rest, so a break shorter than the window is forgiven as well.
+  const auto merge_all = [&](const std::vector<Run>& all) {
+    std::vector<Run> merged;
+    for (const Run& run : all) {
+      if (!merged.empty()) {
+        Run& previous = merged.back();
+        const bool close =
+            positions_[run.first].stamp_s - positions_[previous.last].stamp_s <= window_s;
+        const bool same_pose = (run.mean_p - previous.mean_p).norm() < max_step_m &&
+                               run.yaw_known && previous.yaw_known &&
+                               std::abs(WrapAngle(run.mean_yaw - previous.mean_yaw)) < grow_yaw_rad;
+        if (close && same_pose && gap_free(previous.last, run.first)) {
+          previous.last = run.last;
+          summarise(&previous);
+          continue;
+        }
+      }
+      merged.push_back(run);
     }
-  }
+    return merged;
+  };
+  // Growth from a fragment of one or two samples starts from a noisy mean and may stop short;
+  // once merged, the stop's full mean lets a second growth reach its true ends.
+  grow_all(&runs);
+  std::vector<Run> merged = merge_all(runs);
+  grow_all(&merged);
+  merged = merge_all(merged);
 
   // 5. Long enough runs are the dwells.
   for (const Run& run : merged) {
@@ -287,9 +339,9 @@ void PoseInterpolator::FindDwells() {
     dwell.mean_p_local_m = final_run.mean_p;
     // The yaw samples themselves (not the values interpolated at GNSS times) over the dwell.
     std::vector<double> dwell_yaws;
-    const auto first = std::lower_bound(
-        yaws_.begin(), yaws_.end(), dwell.start_s,
-        [](const YawSample& sample, double t) { return sample.stamp_s < t; });
+    const auto first =
+        std::lower_bound(yaws_.begin(), yaws_.end(), dwell.start_s,
+                         [](const YawSample& sample, double t) { return sample.stamp_s < t; });
     for (auto it = first; it != yaws_.end() && it->stamp_s <= dwell.end_s; ++it) {
       dwell_yaws.push_back(it->yaw_rad);
     }

@@ -6,9 +6,8 @@
 // local ground frame (calib/observation.h), metres; yaws are radians counter-clockwise from
 // grid east (already converted from headings, see calib/geodesy.h).
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "calib/observation.h"
 #include "io/options.h"
@@ -48,10 +47,11 @@ class PoseInterpolator {
   // Dwells are found here: the vehicle is still at a GNSS sample when, over a window of
   // options.stationary_window_s centred on it, the displacement / window is below
   // stationary_speed_mps and the yaw change / window below stationary_yaw_rate_rps. Runs of
-  // still samples are merged across short breaks when their mean poses agree (noise in a single
-  // window must not cut a station in two), then grown outwards sample by sample while the
-  // position and yaw stay at the run's mean (the window test alone would trim about half a
-  // window off each end of a stop). Runs lasting at least min_dwell_s are dwells.
+  // still samples are then grown outwards sample by sample while position and yaw stay at the
+  // run's mean (the window test alone trims about half a window off each end of a stop), and
+  // neighbouring runs at the same pose are merged (one noisy heading pair fails a window and
+  // would cut a station in two); grow and merge are done twice. Runs lasting at least
+  // min_dwell_s are dwells.
   PoseInterpolator(std::vector<PositionSample> positions, std::vector<YawSample> yaws,
                    const io::AlignmentOptions& options);
 
@@ -67,7 +67,7 @@ class PoseInterpolator {
   const std::vector<Dwell>& dwells() const { return dwells_; }
   double gnss_period_s() const { return gnss_period_s_; }        // median GNSS sample period
   double heading_period_s() const { return heading_period_s_; }  // median heading period
-  double start_s() const { return start_s_; }  // overlap of the two streams
+  double start_s() const { return start_s_; }                    // overlap of the two streams
   double end_s() const { return end_s_; }
 
  private:

@@ -1,6 +1,7 @@
 #include "calib/wall_detector.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -18,9 +19,13 @@ constexpr double kMinPointSigmaM = 0.003;
 // Peaks tried before giving up: the strongest in-gate peak can be clutter (a hedge row seen
 // edge-on) while the wall is the second one.
 constexpr int kMaxPeaksTried = 3;
-// A refined line may leave the gate by this many accumulator cells (the Hough cell it came from
-// can sit on the gate's edge).
-constexpr double kGateToleranceCells = 2.0;
+// Rounds of peak search; a new round follows when a peak turned out to be a line outside the
+// gate and its points withdrew their votes.
+constexpr int kMaxRounds = 4;
+// A refined line may leave the gate by this many accumulator cells: the gate's edge is only
+// resolved to a cell. Any more and a strong line just outside the gate, which can win the gate's
+// edge cells when it lies within a cell or two of them, would be accepted.
+constexpr double kGateToleranceCells = 0.5;
 // Cap on accumulator cells, against nonsensical step sizes.
 constexpr int64_t kMaxCells = 20'000'000;
 
@@ -78,6 +83,134 @@ bool OnSegment(const LineGate& gate, double margin_m, const Eigen::Vector2d& p) 
   return along >= -margin_m && along <= length + margin_m;
 }
 
+// Trimmed total-least-squares fit of the candidates (indices into points, ascending). The
+// threshold shrinks from half the Hough band to the final trim_m (halving each round) so that
+// clutter inside the band (a trunk touching the wall) cannot drag the first fit far enough to
+// trim away the wall itself; then it iterates at trim_m until the set no longer changes.
+bool TrimmedFit(const ScanPoints& points, const std::vector<int>& candidates, double trim_m,
+                double band_m, LineFit* fit, std::vector<int>* set) {
+  *set = candidates;
+  bool ok = FitLine(points, *set, fit);
+  double threshold = std::max(trim_m, 0.5 * band_m);
+  for (int iter = 0; ok && iter < 30; ++iter) {
+    std::vector<int> next;
+    for (int i : candidates) {
+      if (std::abs(fit->normal.dot(points.p_scanner_m[i]) - fit->rho_m) <= threshold) {
+        next.push_back(i);
+      }
+    }
+    if (threshold <= trim_m && next == *set) break;
+    set->swap(next);
+    ok = FitLine(points, *set, fit);
+    threshold = std::max(trim_m, 0.5 * threshold);
+  }
+  return ok;
+}
+
+// Local maxima of the accumulator (stored rho-major: acc_t(j, k), j rho cell, k theta row)
+// inside the gate (rows row_first..row_last, columns 1..n_in), and of these the strongest
+// kMaxPeaksTried, one per plateau. A cell on the gate's edge that only carries the flank of a
+// stronger line outside the gate has a bigger neighbour in the margin, so it is not a maximum.
+std::vector<Peak> StrongestPeaks(const cv::Mat_<int>& acc_t, const std::vector<int>& busy_cells,
+                                 int n_theta, int n_in, int row_first, int row_last,
+                                 bool full_circle) {
+  auto neighbour_row = [&](int k) {
+    if (full_circle) return (k % n_theta + n_theta) % n_theta;
+    return k;  // margins make k - 1 and k + 1 valid for every in-gate row
+  };
+  std::vector<Peak> peaks;
+  for (int cell : busy_cells) {
+    const int j = cell / n_theta, k = cell % n_theta;
+    if (k < row_first || k > row_last || j < 1 || j > n_in) continue;
+    const int v = acc_t(j, k);
+    if (v < 2) continue;  // votes may have been withdrawn
+    bool is_max = true;
+    for (int dj = -1; dj <= 1 && is_max; ++dj) {
+      const int* column = acc_t[j + dj];
+      for (int dk = -1; dk <= 1; ++dk) {
+        if ((dk != 0 || dj != 0) && column[neighbour_row(k + dk)] > v) {
+          is_max = false;
+          break;
+        }
+      }
+    }
+    if (is_max) peaks.push_back({v, k, j});
+  }
+  // Repeated selection rather than a sort: a cluttered scan has many two-vote maxima.
+  auto better = [](const Peak& a, const Peak& b) {
+    if (a.votes != b.votes) return a.votes > b.votes;
+    return a.row != b.row ? a.row < b.row : a.col < b.col;
+  };
+  auto near = [&](const Peak& a, const Peak& b) {  // same plateau
+    int drow = std::abs(a.row - b.row);
+    if (full_circle) drow = std::min(drow, n_theta - drow);
+    return drow <= 2 && std::abs(a.col - b.col) <= 2;
+  };
+  std::vector<Peak> distinct;
+  while (static_cast<int>(distinct.size()) < kMaxPeaksTried) {
+    const Peak* best = nullptr;
+    for (const Peak& p : peaks) {
+      if (best != nullptr && !better(p, *best)) continue;
+      bool taken = false;
+      for (const Peak& q : distinct) taken = taken || near(p, q);
+      if (!taken) best = &p;
+    }
+    if (best == nullptr) break;
+    distinct.push_back(*best);
+  }
+  return distinct;
+}
+
+// Fills the detection from the final fit.
+//
+// Covariance of (rho, theta). Write each inlier as p_i = c + s_i·d + e_i·n, with n the unit
+// normal, d = (−sin θ, cos θ) the line direction, c the centroid (Σ s_i = 0) and e_i the
+// perpendicular noise, σ each. The residual n(θ)·p_i − ρ has derivatives −1 in ρ and
+// d·p_i = t + s_i in θ, with t = d·c the centroid's position along the line measured from the
+// foot of the perpendicular from the scanner. So JᵀJ = [[N, −N t], [−N t, N t² + S]] with
+// S = Σ s_i², det = N S, and
+//   var θ = σ²/S,  var ρ = σ² (1/N + t²/S),  cov(ρ, θ) = σ² t/S.
+// Equivalently: the offset at the centroid has variance σ²/N, independent of θ, and moving the
+// reference from the centroid to the origin adds t·δθ to ρ (ρ = n(θ)·c, ∂ρ/∂θ = t).
+// σ = max(preset σ, residual RMS): the RMS covers walls rougher than the preset's noise; the
+// preset keeps a lucky scan from claiming more than the sensor can do.
+void FillDetection(const ScanPoints& points, const LineFit& fit, std::vector<int> set,
+                   double range_sigma_m, int votes, WallDetection* det) {
+  const int n = static_cast<int>(set.size());
+  const double theta = WrapAngle(std::atan2(fit.normal.y(), fit.normal.x()));
+  const Eigen::Vector2d d(-std::sin(theta), std::cos(theta));
+  const double t = d.dot(fit.centroid);
+  double sum_s2 = 0.0, sum_e2 = 0.0;
+  double r_min = std::numeric_limits<double>::infinity(), r_max = 0.0;
+  for (int i : set) {
+    const Eigen::Vector2d q = points.p_scanner_m[i] - fit.centroid;
+    const double s = d.dot(q);
+    const double e = fit.normal.dot(q);
+    sum_s2 += s * s;
+    sum_e2 += e * e;
+    r_min = std::min(r_min, double(points.range_m[i]));
+    r_max = std::max(r_max, double(points.range_m[i]));
+  }
+  const double rms = std::sqrt(sum_e2 / std::max(1, n - 2));  // two parameters fitted
+  const double sigma = std::max(range_sigma_m, rms);
+  const double var_theta = sigma * sigma / sum_s2;
+  const double var_rho = sigma * sigma * (1.0 / n + t * t / sum_s2);
+
+  det->found = true;
+  det->reason.clear();
+  det->rho_m = fit.rho_m;
+  det->theta_rad = theta;
+  det->sigma_rho_m = std::sqrt(var_rho);
+  det->sigma_theta_rad = std::sqrt(var_theta);
+  det->cov_rho_theta = sigma * sigma * t / sum_s2;
+  det->num_inliers = n;
+  det->range_min_m = r_min;
+  det->range_max_m = r_max;
+  det->residual_rms_m = std::sqrt(sum_e2 / n);
+  det->hough_votes = votes;
+  det->inliers = std::move(set);
+}
+
 std::string Format(const char* fmt, double a, double b) {
   char buf[160];
   std::snprintf(buf, sizeof(buf), fmt, a, b);
@@ -99,6 +232,8 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
     return det;
   }
   const int num_points = static_cast<int>(points.p_scanner_m.size());
+  assert(points.range_m.size() == points.p_scanner_m.size() &&
+         points.mixed_suspect.size() == points.p_scanner_m.size());
 
   // ---- Accumulator geometry: only the gate (plus one margin cell each side). ----------------
   // Theta rows. A gate spanning the whole circle wraps instead of having margins.
@@ -140,7 +275,10 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   }
 
   // ---- Voting (seed 002 Eq. 2: r = x cos θ + y sin θ). ---------------------------------------
-  cv::Mat_<int> acc(n_theta, n_rho, 0);
+  // Stored rho-major (one column of theta cells per rho cell): a point's votes in neighbouring
+  // theta rows fall at nearly the same rho, so they land in the same cache lines. Transposed to
+  // the documented theta-rows layout only when the caller keeps it.
+  cv::Mat_<int> acc_t(n_rho, n_theta, 0);
   std::vector<double> cos_t(n_theta), sin_t(n_theta);
   for (int k = 0; k < n_theta; ++k) {
     cos_t[k] = std::cos(theta0 + k * theta_step);
@@ -148,178 +286,100 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   }
   const double inv_r_step = 1.0 / r_step;
   const double min_voting_range = rho0 - 0.5 * r_step;  // |rho| <= range
-  for (int i = 0; i < num_points; ++i) {
-    // Mixed pixels lie between two surfaces: they must not build or shift a peak.
-    if (points.mixed_suspect[i] || points.range_m[i] < min_voting_range) continue;
+  // Cells reaching two votes are the only possible peaks: listing them as they fill spares a
+  // scan of the whole accumulator (most of a wide gate's cells stay empty).
+  std::vector<int> busy_cells;
+  // delta = +1 casts point i's votes, −1 withdraws them.
+  auto vote = [&](int i, int delta) {
     const double x = points.p_scanner_m[i].x(), y = points.p_scanner_m[i].y();
     for (int k = 0; k < n_theta; ++k) {
       const double rho = x * cos_t[k] + y * sin_t[k];
-      const int j = static_cast<int>(std::floor((rho - rho0) * inv_r_step + 0.5));
-      if (j >= 0 && j < n_rho) ++acc(k, j);
+      const double f = (rho - rho0) * inv_r_step + 0.5;  // cell j covers f in [j, j + 1)
+      if (!(f >= 0.0 && f < n_rho)) continue;
+      const int j = static_cast<int>(f);
+      if ((acc_t(j, k) += delta) == 2 && delta > 0) busy_cells.push_back(j * n_theta + k);
     }
+  };
+  // Points that vote: not mixed (they lie between two surfaces and must not build or shift a
+  // peak), and not closer than the gate (|rho| <= range). Cleared for points of a line found to
+  // lie outside the gate.
+  std::vector<uint8_t> voter(num_points, 0);
+  for (int i = 0; i < num_points; ++i) {
+    voter[i] = !points.mixed_suspect[i] && points.range_m[i] >= min_voting_range;
+    if (voter[i]) vote(i, +1);
   }
   if (keep_accumulator) {
-    det.accumulator = acc;
+    det.accumulator = acc_t.t();
     det.acc_theta0_rad = theta0;
     det.acc_theta_step_rad = theta_step;
     det.acc_rho0_m = rho0;
     det.acc_rho_step_m = r_step;
   }
 
-  // ---- Peaks: local maxima inside the gate. --------------------------------------------------
-  // A cell on the gate's edge that only carries the flank of a stronger line outside the gate
-  // has a bigger neighbour in the margin, so it is not a local maximum and is never chosen.
-  auto neighbour_row = [&](int k) {
-    if (full_circle) return (k % n_theta + n_theta) % n_theta;
-    return k;  // margins make k - 1 and k + 1 valid for every in-gate row
-  };
-  std::vector<Peak> peaks;
-  for (int k = row_first; k <= row_last; ++k) {
-    const int* row = acc[k];
-    for (int j = 1; j <= n_in; ++j) {
-      const int v = row[j];
-      if (v < 2) continue;
-      bool is_max = true;
-      for (int dk = -1; dk <= 1 && is_max; ++dk) {
-        const int* nrow = acc[neighbour_row(k + dk)];
-        for (int dj = -1; dj <= 1; ++dj) {
-          if ((dk != 0 || dj != 0) && nrow[j + dj] > v) {
-            is_max = false;
-            break;
-          }
-        }
-      }
-      if (is_max) peaks.push_back({v, k, j});
-    }
-  }
-  if (peaks.empty()) {
-    det.reason = "no line within the gates";
-    return det;
-  }
-  std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) {
-    if (a.votes != b.votes) return a.votes > b.votes;
-    return a.row != b.row ? a.row < b.row : a.col < b.col;
-  });
-  // Plateaus yield several equal neighbouring maxima: keep one per plateau.
-  std::vector<Peak> distinct;
-  for (const Peak& p : peaks) {
-    bool near = false;
-    for (const Peak& q : distinct) {
-      int drow = std::abs(p.row - q.row);
-      if (full_circle) drow = std::min(drow, n_theta - drow);
-      if (drow <= 2 && std::abs(p.col - q.col) <= 2) near = true;
-    }
-    if (!near) distinct.push_back(p);
-    if (static_cast<int>(distinct.size()) == kMaxPeaksTried) break;
-  }
-
-  // ---- Refinement of each peak, strongest first. ---------------------------------------------
   const double point_sigma = std::max(range_sigma_m, kMinPointSigmaM);
   const double trim_m = options.refine_sigma_factor * point_sigma;
   std::string first_reason;
-  for (const Peak& peak : distinct) {
-    const double theta_p = theta0 + peak.row * theta_step;
-    const double rho_p = rho0 + peak.col * r_step;
-    const Eigen::Vector2d n_p(std::cos(theta_p), std::sin(theta_p));
+  // Each round: peaks -> refinement of the strongest few. A peak whose refined line falls
+  // outside the gate belongs to a line beyond it (its flank reached into the gate, possibly as
+  // several peaks along the gate's edge): its inliers withdraw their votes and the next round
+  // looks again.
+  for (int round = 0; round < kMaxRounds; ++round) {
+    const std::vector<Peak> distinct = StrongestPeaks(acc_t, busy_cells, n_theta, n_in, row_first,
+                                                      row_last, full_circle);
+    if (distinct.empty()) break;
+    bool revote = false;
+    for (const Peak& peak : distinct) {
+      const double theta_p = theta0 + peak.row * theta_step;
+      const double rho_p = rho0 + peak.col * r_step;
+      const Eigen::Vector2d n_p(std::cos(theta_p), std::sin(theta_p));
 
-    std::vector<int> candidates;
-    for (int i = 0; i < num_points; ++i) {
-      if (points.mixed_suspect[i]) continue;
-      const Eigen::Vector2d& p = points.p_scanner_m[i];
-      if (std::abs(n_p.dot(p) - rho_p) > options.inlier_band_m) continue;
-      if (gate.has_segment && !OnSegment(gate, options.wall_extent_margin_m, p)) continue;
-      candidates.push_back(i);
-    }
-
-    // Trimmed fit. The threshold shrinks from the Hough band to the final 3σ (halving each
-    // round) so that clutter inside the band (a trunk touching the wall) cannot drag the first
-    // fit far enough to trim away the wall itself; then iterate at the final threshold until the
-    // set no longer changes.
-    std::vector<int> set = candidates;
-    LineFit fit;
-    bool ok = FitLine(points, set, &fit);
-    double threshold = std::max(trim_m, 0.5 * options.inlier_band_m);
-    for (int iter = 0; ok && iter < 30; ++iter) {
-      std::vector<int> next;
-      for (int i : candidates) {
-        if (std::abs(fit.normal.dot(points.p_scanner_m[i]) - fit.rho_m) <= threshold) {
-          next.push_back(i);
+      std::vector<int> candidates;
+      for (int i = 0; i < num_points; ++i) {
+        if (points.mixed_suspect[i] || (!voter[i] && points.range_m[i] >= min_voting_range)) {
+          continue;  // mixed, or already given to a line outside the gate
         }
+        const Eigen::Vector2d& p = points.p_scanner_m[i];
+        if (std::abs(n_p.dot(p) - rho_p) > options.inlier_band_m) continue;
+        if (gate.has_segment && !OnSegment(gate, options.wall_extent_margin_m, p)) continue;
+        candidates.push_back(i);
       }
-      const bool final_threshold = threshold <= trim_m;
-      if (final_threshold && next == set) break;
-      set.swap(next);
-      ok = FitLine(points, set, &fit);
-      threshold = std::max(trim_m, 0.5 * threshold);
-    }
-    const int n = static_cast<int>(set.size());
-    if (!ok || n < options.min_inliers) {
-      if (first_reason.empty()) {
-        first_reason = "only " + std::to_string(ok ? n : 0) + " inliers (need " +
-                       std::to_string(options.min_inliers) + ")";
+
+      LineFit fit;
+      std::vector<int> set;
+      const bool ok = TrimmedFit(points, candidates, trim_m, options.inlier_band_m, &fit, &set);
+      const int n = static_cast<int>(set.size());
+      if (!ok || n < options.min_inliers) {
+        if (first_reason.empty()) {
+          first_reason = "only " + std::to_string(ok ? n : 0) + " inliers (need " +
+                         std::to_string(options.min_inliers) + ")";
+        }
+        continue;
       }
-      continue;
-    }
 
-    const double theta = WrapAngle(std::atan2(fit.normal.y(), fit.normal.x()));
-    const double rho = fit.rho_m;
-    const bool theta_in_gate =
-        full_circle || std::abs(WrapAngle(theta - theta_c)) <=
-                           gate.theta_halfwidth_rad + kGateToleranceCells * t_step;
-    const bool rho_in_gate = rho >= rho_gate_lo - kGateToleranceCells * r_step &&
-                             rho <= rho_gate_hi + kGateToleranceCells * r_step;
-    if (!theta_in_gate || !rho_in_gate) {
-      if (first_reason.empty()) {
-        first_reason = Format("best line (theta %.2f deg, rho %.3f m) lies outside the gates",
-                              theta * 180.0 / kPi, rho);
+      const double theta = WrapAngle(std::atan2(fit.normal.y(), fit.normal.x()));
+      const double rho = fit.rho_m;
+      const bool theta_in_gate =
+          full_circle || std::abs(WrapAngle(theta - theta_c)) <=
+                             gate.theta_halfwidth_rad + kGateToleranceCells * t_step;
+      const bool rho_in_gate = rho >= rho_gate_lo - kGateToleranceCells * r_step &&
+                               rho <= rho_gate_hi + kGateToleranceCells * r_step;
+      if (!theta_in_gate || !rho_in_gate) {
+        if (first_reason.empty()) {
+          first_reason = Format("best line (theta %.2f deg, rho %.3f m) lies outside the gates",
+                                theta * 180.0 / kPi, rho);
+        }
+        for (int i : set) {
+          if (voter[i]) vote(i, -1);
+          voter[i] = 0;
+        }
+        revote = true;
+        break;
       }
-      continue;
-    }
 
-    // Covariance of (rho, theta). Write each inlier as p_i = c + s_i·d + e_i·n, with n the
-    // unit normal, d = (−sin θ, cos θ) the line direction, c the centroid (Σ s_i = 0) and e_i
-    // the perpendicular noise, σ each. The residual n(θ)·p_i − ρ has derivatives −1 in ρ and
-    // d·p_i = t + s_i in θ, with t = d·c the centroid's position along the line measured from
-    // the foot of the perpendicular from the scanner. So JᵀJ = [[N, −N t], [−N t, N t² + S]],
-    // S = Σ s_i², det = N S, and
-    //   var θ = σ²/S,  var ρ = σ² (1/N + t²/S),  cov(ρ, θ) = σ² t/S.
-    // Equivalently: the offset at the centroid has variance σ²/N, independent of θ, and moving
-    // the reference from the centroid to the origin adds t·δθ to ρ (ρ = n(θ)·c, ∂ρ/∂θ = t).
-    // σ = max(preset σ, residual RMS): the RMS covers walls rougher than the preset's noise; the
-    // preset keeps a lucky scan from claiming more than the sensor can do.
-    const Eigen::Vector2d d(-std::sin(theta), std::cos(theta));
-    const double t = d.dot(fit.centroid);
-    double sum_s2 = 0.0, sum_e2 = 0.0;
-    double r_min = std::numeric_limits<double>::infinity(), r_max = 0.0;
-    for (int i : set) {
-      const Eigen::Vector2d q = points.p_scanner_m[i] - fit.centroid;
-      const double s = d.dot(q);
-      const double e = fit.normal.dot(q);
-      sum_s2 += s * s;
-      sum_e2 += e * e;
-      r_min = std::min(r_min, double(points.range_m[i]));
-      r_max = std::max(r_max, double(points.range_m[i]));
+      FillDetection(points, fit, set, range_sigma_m, peak.votes, &det);
+      return det;
     }
-    const double rms = std::sqrt(sum_e2 / std::max(1, n - 2));  // two parameters fitted
-    const double sigma = std::max(range_sigma_m, rms);
-    const double var_theta = sigma * sigma / sum_s2;
-    const double var_rho = sigma * sigma * (1.0 / n + t * t / sum_s2);
-
-    det.found = true;
-    det.reason.clear();
-    det.rho_m = rho;
-    det.theta_rad = theta;
-    det.sigma_rho_m = std::sqrt(var_rho);
-    det.sigma_theta_rad = std::sqrt(var_theta);
-    det.cov_rho_theta = sigma * sigma * t / sum_s2;
-    det.num_inliers = n;
-    det.range_min_m = r_min;
-    det.range_max_m = r_max;
-    det.residual_rms_m = std::sqrt(sum_e2 / n);
-    det.hough_votes = peak.votes;
-    std::sort(set.begin(), set.end());
-    det.inliers = std::move(set);
-    return det;
+    if (!revote) break;
   }
   det.reason = first_reason.empty() ? "no line within the gates" : first_reason;
   return det;

@@ -54,8 +54,8 @@ struct WallDetection {
 //     gate.has_segment, projecting onto the segment ± options.wall_extent_margin_m) are candidates.
 //  3. Total-least-squares line fit, trimmed iteratively: keep candidates with |residual| <=
 //     options.refine_sigma_factor · max(range_sigma_m, 3 mm) until the set is stable.
-//  4. Found when >= options.min_inliers remain and the fitted line lies inside the gate (within
-//     two accumulator cells). Up to three peaks are tried, strongest first.
+//  4. Found when >= options.min_inliers remain and the fitted line lies inside the gate (to half
+//     an accumulator cell). Up to three peaks are tried, strongest first.
 // range_sigma_m: the preset's 1σ range noise (m). Never throws; a scan without the wall is a
 // result with found = false and a reason.
 WallDetection DetectWall(const ScanPoints& points, const LineGate& gate, const io::DetectorOptions& options,

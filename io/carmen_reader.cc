@@ -1,1 +1,232 @@
-// (being written)
+#include "io/carmen_reader.h"
+
+#include <zlib.h>
+
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+
+namespace wallcal::io {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr size_t kChunkBytes = 1 << 16;
+constexpr int kMaxBeams = 100000;  // far above any 2-D scanner; guards the allocation
+
+bool IsSpace(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
+}
+
+void Tokenize(const std::string& line, std::vector<std::string_view>* tokens) {
+  tokens->clear();
+  const char* p = line.data();
+  const char* end = p + line.size();
+  while (p < end) {
+    while (p < end && IsSpace(*p)) ++p;
+    const char* start = p;
+    while (p < end && !IsSpace(*p)) ++p;
+    if (p > start) tokens->emplace_back(start, static_cast<size_t>(p - start));
+  }
+}
+
+// Whole-token parses: "1.5x" is not a number.
+bool ParseDouble(std::string_view token, double* value) {
+  const char* begin = token.data();
+  const char* end = begin + token.size();
+  if (begin < end && *begin == '+') ++begin;  // from_chars rejects a leading '+'
+  const auto result = std::from_chars(begin, end, *value);
+  return result.ec == std::errc() && result.ptr == end;
+}
+
+bool ParseInt(std::string_view token, int* value) {
+  const char* end = token.data() + token.size();
+  const auto result = std::from_chars(token.data(), end, *value);
+  return result.ec == std::errc() && result.ptr == end;
+}
+
+// FLASER lines carry no geometry. CARMEN's own readers (carmen_laser_get_fov /
+// _get_angle_increment) take a 180° field from −90°: 1° steps for 180/181 beams (a 180-beam
+// scan drops the last beam), 0.5° for 360/361, 0.25° over 100° for 400/401, else π/(n−1).
+void FlaserGeometry(int n, double* start_rad, double* step_rad) {
+  *start_rad = -0.5 * kPi;
+  if (n == 180 || n == 181) {
+    *step_rad = kPi / 180.0;
+  } else if (n == 360 || n == 361) {
+    *step_rad = kPi / 360.0;
+  } else if (n == 400 || n == 401) {
+    *step_rad = kPi / 720.0;
+    *start_rad = -50.0 * kPi / 180.0;
+  } else {
+    *step_rad = n > 1 ? kPi / (n - 1) : 0.0;
+  }
+}
+
+}  // namespace
+
+CarmenReader::CarmenReader(const std::string& path) : path_(path), chunk_(kChunkBytes) {
+  gzFile file = gzopen(path.c_str(), "rb");
+  if (file == nullptr) {
+    throw InputError(Where(path, 0,
+                           std::string("cannot open the scan log: ") +
+                               (errno != 0 ? std::strerror(errno) : "unknown error")));
+  }
+  gzbuffer(file, 1 << 18);
+  gz_ = file;
+  tokens_.reserve(1024);
+}
+
+CarmenReader::~CarmenReader() {
+  if (gz_ != nullptr) gzclose(static_cast<gzFile>(gz_));
+}
+
+bool CarmenReader::ReadLine() {
+  gzFile file = static_cast<gzFile>(gz_);
+  line_.clear();
+  line_has_newline_ = false;
+  // gzgets stops at a newline or a full buffer: long lines arrive in several chunks.
+  while (true) {
+    const char* got = gzgets(file, chunk_.data(), static_cast<int>(chunk_.size()));
+    if (got == nullptr) {
+      int error = Z_OK;
+      const char* message = gzerror(file, &error);
+      if (error != Z_OK && error != Z_BUF_ERROR) {
+        throw InputError(Where(path_, static_cast<int>(lines_read_ + 1),
+                               std::string("cannot read the scan log: ") + message));
+      }
+      // Z_BUF_ERROR: the gzip stream is cut off; a partial line is reported as truncated.
+      if (error == Z_BUF_ERROR && !gzip_cut_reported_) {
+        gzip_cut_reported_ = true;
+        skipped_.Add("gzip stream cut off", static_cast<int>(lines_read_ + 1));
+      }
+      return !line_.empty();
+    }
+    const size_t length = std::strlen(got);
+    line_.append(got, length);
+    if (length > 0 && got[length - 1] == '\n') {
+      line_has_newline_ = true;
+      line_.pop_back();
+      return true;
+    }
+  }
+}
+
+void CarmenReader::Skip(const std::string& reason) {
+  skipped_.Add(reason, static_cast<int>(lines_read_));
+}
+
+bool CarmenReader::Next(ScanRecord* scan) {
+  while (ReadLine()) {
+    ++lines_read_;
+    if (ParseLine(scan)) {
+      ++scans_read_;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool CarmenReader::ParseLine(ScanRecord* scan) {
+  Tokenize(line_, &tokens_);
+  if (tokens_.empty()) {
+    Skip("blank line");
+    return false;
+  }
+  const std::string_view keyword = tokens_[0];
+  if (keyword[0] == '#') {
+    Skip("comment");
+    return false;
+  }
+  const bool raw = keyword == "RAWLASER1";
+  const bool robot = keyword == "ROBOTLASER1";
+  const bool flaser = keyword == "FLASER";
+  if (!raw && !robot && !flaser) {
+    bool word = keyword.size() <= 24;
+    for (char c : keyword) {
+      word = word && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+    }
+    Skip("not a scan: " + (word ? std::string(keyword) : std::string("unreadable line")));
+    return false;
+  }
+  const std::string name(keyword);
+  auto malformed = [&](const std::string& reason) {
+    Skip(name + ": " + reason);
+    return false;
+  };
+  // Too few fields on a last line without its newline: the log was cut off while written.
+  auto short_line = [&](const std::string& reason) {
+    return malformed(line_has_newline_ ? reason : "line cut off at end of file");
+  };
+
+  // Layout: [header] n r_1..r_n [remissions] [robot fields] ipc_timestamp ipc_hostname
+  // logger_timestamp. The header before n: RAWLASER1/ROBOTLASER1 7 fields, FLASER none.
+  const size_t count_index = flaser ? 1 : 8;
+  if (tokens_.size() <= count_index) return short_line("too few fields");
+  int n = 0;
+  if (!ParseInt(tokens_[count_index], &n)) return malformed("non-numeric field");
+  if (n < 1 || n > kMaxBeams) return malformed("beam count out of range");
+  const size_t first_range = count_index + 1;
+  const size_t after_ranges = first_range + static_cast<size_t>(n);
+  size_t expected = 0;
+  if (flaser) {
+    expected = after_ranges + 6 + 3;  // laser pose, odometry pose, the three time fields
+  } else {
+    if (tokens_.size() <= after_ranges) return short_line("beam count disagrees with the line");
+    int remissions = 0;
+    if (!ParseInt(tokens_[after_ranges], &remissions) || remissions < 0 || remissions > kMaxBeams) {
+      return malformed("beam count disagrees with the line");
+    }
+    expected = after_ranges + 1 + static_cast<size_t>(remissions) + (robot ? 11 : 0) + 3;
+  }
+  if (tokens_.size() < expected) return short_line("beam count disagrees with the line");
+  if (tokens_.size() > expected) return malformed("beam count disagrees with the line");
+
+  // Every numeric field must be a number, even those not used: a garbled line is not trusted.
+  const size_t hostname_index = tokens_.size() - 2;
+  double value = 0.0;
+  for (size_t i = 1; i < tokens_.size(); ++i) {
+    if (i == hostname_index || i == count_index || (i >= first_range && i < after_ranges)) {
+      continue;
+    }
+    if (!ParseDouble(tokens_[i], &value)) return malformed("non-numeric field");
+  }
+
+  double stamp_s = 0.0;
+  ParseDouble(tokens_.back(), &stamp_s);
+  if (!std::isfinite(stamp_s)) return malformed("non-finite timestamp");
+
+  double start_rad = 0.0;
+  double step_rad = 0.0;
+  double max_range_m = 0.0;
+  if (flaser) {
+    FlaserGeometry(n, &start_rad, &step_rad);
+  } else {
+    ParseDouble(tokens_[2], &start_rad);
+    ParseDouble(tokens_[4], &step_rad);
+    ParseDouble(tokens_[5], &max_range_m);
+    if (!std::isfinite(start_rad) || !std::isfinite(step_rad) || !std::isfinite(max_range_m)) {
+      return malformed("non-finite scan geometry");
+    }
+  }
+
+  scan->ranges_m.resize(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    double range_m = 0.0;
+    if (!ParseDouble(tokens_[first_range + static_cast<size_t>(i)], &range_m)) {
+      return malformed("non-numeric field");
+    }
+    if (!(std::isfinite(range_m) && range_m >= 0.0)) {
+      return malformed("negative or non-finite range");
+    }
+    scan->ranges_m[static_cast<size_t>(i)] = static_cast<float>(range_m);
+  }
+  scan->stamp_s = stamp_s;
+  scan->start_angle_rad = start_rad;
+  scan->angular_step_rad = step_rad;
+  scan->max_range_m = max_range_m;
+  scan->line = static_cast<int>(lines_read_);
+  return true;
+}
+
+}  // namespace wallcal::io

@@ -53,6 +53,7 @@ class CarmenReader {
   void* gz_ = nullptr;  // gzFile (kept opaque: zlib stays out of this header)
   std::string line_;
   bool line_has_newline_ = false;
+  bool gzip_cut_reported_ = false;
   std::vector<char> chunk_;
   std::vector<std::string_view> tokens_;
   SkipCounts skipped_;

@@ -90,8 +90,7 @@ void VisitSimulation(V& v, SimulationConfig& c) {
   v.Number("mount_y_m", c.mount_y_m);
   v.Scaled("mount_yaw_deg", c.mount_yaw_rad, kDegPerRad);
   v.List("walls", c.walls, [](V& item_v, SimWall& w) { VisitSimWall(item_v, w); });
-  v.List("obstacles", c.obstacles,
-         [](V& item_v, SimObstacle& o) { VisitSimObstacle(item_v, o); });
+  v.List("obstacles", c.obstacles, [](V& item_v, SimObstacle& o) { VisitSimObstacle(item_v, o); });
   v.Integer("num_stations", c.num_stations);
   v.Number("station_distance_m", c.station_distance_m);
   v.Scaled("heading_spread_deg", c.heading_spread_rad, kDegPerRad);

@@ -14,9 +14,12 @@
 // of day on 1970-01-01.
 //
 // Skipped and counted in NmeaLog::skipped (never half-used): "not NMEA" (comments, blank lines,
-// binary bytes), "no checksum", "bad checksum", "empty field", "bad field", "lat/lon out of
-// range", "THS status X", "no time yet", "time not increasing" (a fix or heading not later than
-// the previous one of its kind), "other sentence (GSV)" by type, "GST without its GGA".
+// binary bytes), "no checksum", "bad checksum", "empty field" (a required field missing or
+// empty, e.g. "$GPHDT,,T"), "bad field" (not a number, bad hemisphere letter, minutes >= 60),
+// "lat/lon out of range", "GGA without a fix" (quality 0, no position), "heading out of range",
+// "THS status X", "no time yet", "time not increasing" (a fix or heading not later than the
+// previous one of its kind; a GGA dropped so is still counted in fixes_by_quality),
+// "other sentence (GSV)" by type, "GST without its GGA".
 
 #include <string>
 

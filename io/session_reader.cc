@@ -90,7 +90,8 @@ class MapReader {
                       : value.IsNull() ? "nothing"
                       : value.IsMap()  ? "a map"
                                        : "a list";
-    throw InputError(Where(file_, LineOf(value), Name(key) + ": expected " + expected + ", got " + got));
+    throw InputError(
+        Where(file_, LineOf(value), Name(key) + ": expected " + expected + ", got " + got));
   }
 
   double ToNumber(const YAML::Node& value, const std::string& key) const {
@@ -155,8 +156,7 @@ class MapReader {
     for (size_t i = 0; i < value.size(); ++i) {
       const YAML::Node item = value[i];
       if (!item.IsMap()) Bad(item, key + "[" + std::to_string(i) + "]", "a map");
-      MapReader item_reader(item, file_, Name(key) + "[" + std::to_string(i) + "].",
-                            LineOf(item));
+      MapReader item_reader(item, file_, Name(key) + "[" + std::to_string(i) + "].", LineOf(item));
       T element;
       visit_item(item_reader, element);
       item_reader.Finish();
@@ -182,9 +182,9 @@ class MapReader {
     for (auto it = node_.begin(); it != node_.end(); ++it) {
       const std::string key = it->first.IsScalar() ? it->first.Scalar() : "?";
       if (std::find(known_.begin(), known_.end(), key) == known_.end()) {
-        throw InputError(Where(file_, LineOf(it->first),
-                               "unknown key '" + Name(key) + "'; expected one of: " +
-                                   Join(known_, ", ")));
+        throw InputError(
+            Where(file_, LineOf(it->first),
+                  "unknown key '" + Name(key) + "'; expected one of: " + Join(known_, ", ")));
       }
     }
   }
@@ -224,9 +224,9 @@ UtmZone ParseUtmZone(MapReader& reader, const YAML::Node& value) {
   }
   const size_t digits = i;
   while (i < text.size() && text[i] == ' ') ++i;
-  const char letter =
-      i + 1 == text.size() ? static_cast<char>(std::toupper(static_cast<unsigned char>(text[i])))
-                           : '\0';
+  const char letter = i + 1 == text.size()
+                          ? static_cast<char>(std::toupper(static_cast<unsigned char>(text[i])))
+                          : '\0';
   if (digits == 0 || zone < 1 || zone > 60 || (letter != 'N' && letter != 'S')) {
     reader.Bad(value, "utm_zone", "a zone 1..60 and N or S, like 54N or 33S");
   }
@@ -263,8 +263,8 @@ SessionSpec ReadSession(const std::string& path) {
   fs::path file(path);
   if (fs::is_directory(file, ec)) file /= "session.yaml";
   if (!fs::is_regular_file(file, ec)) {
-    throw InputError(Where(path, 0,
-                           "no session.yaml here; expected a session.yaml or a folder holding one"));
+    throw InputError(
+        Where(path, 0, "no session.yaml here; expected a session.yaml or a folder holding one"));
   }
   SessionSpec spec;
   spec.file = file.lexically_normal().string();
@@ -274,13 +274,15 @@ SessionSpec ReadSession(const std::string& path) {
 
   const YAML::Node root = LoadYaml(f);
   MapReader top(root, f, "", 1);
-  if (!root.IsMap()) throw InputError(Where(f, 0, "empty session; expected the keys of SESSION.md"));
+  if (!root.IsMap())
+    throw InputError(Where(f, 0, "empty session; expected the keys of SESSION.md"));
 
-  top.Allow({"name", "utm_zone", "scanner", "gnss", "heading", "survey", "walls",
-             "antenna_in_base"});
+  top.Allow(
+      {"name", "utm_zone", "scanner", "gnss", "heading", "survey", "walls", "antenna_in_base"});
   top.Finish();
   top.Text("name", spec.name);
-  if (spec.name.empty()) spec.name = fs::absolute(spec.dir, ec).lexically_normal().filename().string();
+  if (spec.name.empty())
+    spec.name = fs::absolute(spec.dir, ec).lexically_normal().filename().string();
   if (const YAML::Node zone = top.Find("utm_zone"); zone.IsDefined()) {
     spec.utm_zone = ParseUtmZone(top, zone);
   }
@@ -356,8 +358,9 @@ SessionSpec ReadSession(const std::string& path) {
     for (size_t i = 0; i < control.size(); ++i) {
       ControlPoint point = ReadControlPoint(survey, control[i], i);
       if (!ids.insert(point.id).second) {
-        throw InputError(Where(f, point.line, "survey.control: control point '" + point.id +
-                                                  "' given twice; expected unique ids"));
+        throw InputError(Where(
+            f, point.line,
+            "survey.control: control point '" + point.id + "' given twice; expected unique ids"));
       }
       spec.control.push_back(std::move(point));
     }
@@ -386,12 +389,12 @@ SessionSpec ReadSession(const std::string& path) {
       entry.Finish();
       WallSpec wall;
       wall.id = entry.ToText(entry.Require("id", "a name for the wall"), "id");
-      wall.code = entry.ToText(
-          entry.Require("code", "the survey code of the points on this wall"), "code");
+      wall.code =
+          entry.ToText(entry.Require("code", "the survey code of the points on this wall"), "code");
       entry.Finish();
       if (!ids.insert(wall.id).second) {
-        throw InputError(Where(f, LineOf(item), "wall '" + wall.id +
-                                                    "' given twice; expected unique wall ids"));
+        throw InputError(
+            Where(f, LineOf(item), "wall '" + wall.id + "' given twice; expected unique wall ids"));
       }
       spec.walls.push_back(std::move(wall));
     }
@@ -416,14 +419,16 @@ ScannerPreset ReadScannerPreset(const std::string& file) {
   preset.name = fs::path(file).stem().string();
   top.Text("name", preset.name);
   top.Text("source", preset.source);
-  preset.num_beams = top.ToInteger(top.Require("num_beams", "the number of beams a scan"),
-                                   "num_beams");
+  preset.num_beams =
+      top.ToInteger(top.Require("num_beams", "the number of beams a scan"), "num_beams");
   preset.start_angle_rad =
       top.ToNumber(top.Require("start_angle_deg", "the bearing of beam 0 in degrees"),
-                   "start_angle_deg") / kDegPerRad;
+                   "start_angle_deg") /
+      kDegPerRad;
   preset.angular_step_rad =
       top.ToNumber(top.Require("angular_step_deg", "the step between beams in degrees"),
-                   "angular_step_deg") / kDegPerRad;
+                   "angular_step_deg") /
+      kDegPerRad;
   top.Number("rate_hz", preset.rate_hz);
   top.Number("min_range_m", preset.min_range_m);
   preset.max_range_m =
@@ -483,10 +488,9 @@ ScannerPreset LoadScannerPreset(const std::string& model,
       if (entry.path().extension() == ".yaml") available.insert(entry.path().stem().string());
     }
   }
-  const std::string names = available.empty()
-                                ? "none found"
-                                : Join(std::vector<std::string>(available.begin(), available.end()),
-                                       ", ");
+  const std::string names =
+      available.empty() ? "none found"
+                        : Join(std::vector<std::string>(available.begin(), available.end()), ", ");
   throw InputError("unknown scanner model '" + model + "'; available presets: " + names +
                    " (searched " + Join(search_dirs, ", ") + ")");
 }

@@ -2,12 +2,11 @@
 // comparison with the joint adjustment: the wall and the GNSS positions are taken as exact, every
 // scan as an independent measurement, and no observation is down-weighted.
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "solvers/geometry.h"
 #include "solvers/mount_solver.h"
@@ -55,7 +54,7 @@ MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& obser
     rows[i] = NormalInVehicle(wall, observation.pose.yaw_rad);
     const double antenna_to_wall_m =
         wall.offset_m - wall.normal_local.dot(observation.pose.antenna_local_m);  // D
-    rhs_m[i] = antenna_to_wall_m - observation.rho_m;                            // D − E
+    rhs_m[i] = antenna_to_wall_m - observation.rho_m;                             // D − E
     normal_matrix += rows[i] * rows[i].transpose();
     normal_rhs += rows[i] * rhs_m[i];
   }
@@ -78,7 +77,7 @@ MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& obser
   estimate.residual_rho_m.resize(n);
   for (int i = 0; i < n; ++i) {
     const double error_m = rhs_m[i] - rows[i].dot(xy_m);  // rho_pred − rho_observed
-    estimate.residual_rho_m[i] = -error_m;                 // observed − predicted
+    estimate.residual_rho_m[i] = -error_m;                // observed − predicted
     sum_sq_m2 += error_m * error_m;
     const double dev = WrapAngle(yaw_rad[i] - mean_yaw_rad);
     sum_yaw_sq += dev * dev;

@@ -5,6 +5,9 @@
 // the mount σ honest: thousands of scans at one station share one GNSS error, so the σ must
 // not shrink as 1/√N.
 
+#include <ceres/ceres.h>
+
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -12,9 +15,6 @@
 #include <set>
 #include <string>
 #include <vector>
-
-#include <Eigen/Cholesky>
-#include <ceres/ceres.h>
 
 #include "solvers/geometry.h"
 #include "solvers/mount_problem.h"
@@ -215,7 +215,10 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
   ceres::Solver::Options solver_options;
   // Few parameters (3 + 2·walls + 2·segments), many residuals each touching three blocks:
   // the normal equations are small and sparse, so forming them and factoring with a sparse
-  // Cholesky is fast (measured: see the large-problem test in ceres_solver_test.cc).
+  // Cholesky is fast. Measured on 270 000 observations (DISABLED_LargeProblemTiming in
+  // ceres_solver_test.cc, 2 busy cores): 1.3-2 s per solve with 100 or 300 segments, the same
+  // as DENSE_SCHUR within the noise and faster than SPARSE_SCHUR; most of it is evaluating the
+  // auto-diff Jacobians, the linear solver takes ~20 %.
   solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   solver_options.max_num_iterations = options.max_iterations;
   solver_options.num_threads = 1;
@@ -259,8 +262,8 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
     // NO_CONVERGENCE is "usable" to Ceres, but an offset written from a solve that ran out of
     // iterations would be a silent guess.
     estimate.message = "the least-squares solve did not converge within " +
-                       std::to_string(options.max_iterations) + " iterations (" +
-                       summary.message + ")";
+                       std::to_string(options.max_iterations) + " iterations (" + summary.message +
+                       ")";
     return estimate;
   }
 

@@ -4,12 +4,12 @@
 // (+ one rebuild when the lever arm used for the noise model moved, see ceres_solver.cc).
 // Exposed for the tests; the pipeline calls SolveMountCeres.
 
+#include <ceres/ceres.h>
+
 #include <array>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <ceres/ceres.h>
 
 #include "calib/observation.h"
 #include "io/options.h"

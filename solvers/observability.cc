@@ -106,13 +106,12 @@ ObservabilityReport CheckObservability(const std::vector<calib::WallObservation>
     const double uy = std::cos(mean_axis_rad);
     const char* axis = std::abs(ux) >= std::abs(uy) ? "x (forward)" : "y (lateral)";
     report.message =
-        Format("the wall was seen only at vehicle-to-wall angles %.1f°–%.1f° (spread %.1f°, "
-               "need %.1f°); ",
-               report.angle_min_rad * kDegPerRad, report.angle_max_rad * kDegPerRad,
-               report.angle_spread_rad * kDegPerRad,
-               options.min_heading_spread_rad * kDegPerRad) +
-        "the mount's " + axis +
-        " offset is not determined: add stations turned ≥ 30° to each side";
+        Format(
+            "the wall was seen only at vehicle-to-wall angles %.1f°–%.1f° (spread %.1f°, "
+            "need %.1f°); ",
+            report.angle_min_rad * kDegPerRad, report.angle_max_rad * kDegPerRad,
+            report.angle_spread_rad * kDegPerRad, options.min_heading_spread_rad * kDegPerRad) +
+        "the mount's " + axis + " offset is not determined: add stations turned ≥ 30° to each side";
     return report;
   }
   report.ok = true;

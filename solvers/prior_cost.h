@@ -9,8 +9,9 @@
 // sigma_k must be > 0; a coordinate known exactly is held constant by the caller instead.
 // No robust loss: the prior is the model, not a measurement that can be an outlier.
 
-#include <Eigen/Core>
 #include <ceres/autodiff_cost_function.h>
+
+#include <Eigen/Core>
 
 namespace wallcal::solvers {
 

@@ -20,24 +20,24 @@
 // wall [δd_m, δα_rad], GNSS bias [b_east_m, b_north_m] (measured = true + b).
 // The robust loss is chosen where the block is added (HuberLoss on these whitened units).
 
-#include <cmath>
-
-#include <Eigen/Core>
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/jet.h>
+
+#include <Eigen/Core>
+#include <cmath>
 
 namespace wallcal::solvers {
 
 // Everything a WallLineCost holds fixed, precomputed once from the input.
 struct WallLineMeasurement {
-  Eigen::Vector2d antenna_local_m = Eigen::Vector2d::Zero();  // p, measured
-  double vehicle_yaw_rad = 0.0;                                 // ψ
-  double sign = 1.0;                                            // σ = ±1
-  Eigen::Vector2d wall_normal_local = Eigen::Vector2d::UnitX(); // n_w (unit, as surveyed)
-  Eigen::Vector2d wall_centre_local_m = Eigen::Vector2d::Zero();  // c_w, on the surveyed line
-  double wall_normal_angle_rad = 0.0;  // atan2(σ n_w)
-  double rho_m = 0.0;                  // observed
-  double theta_rad = 0.0;              // observed
+  Eigen::Vector2d antenna_local_m = Eigen::Vector2d::Zero();       // p, measured
+  double vehicle_yaw_rad = 0.0;                                    // ψ
+  double sign = 1.0;                                               // σ = ±1
+  Eigen::Vector2d wall_normal_local = Eigen::Vector2d::UnitX();    // n_w (unit, as surveyed)
+  Eigen::Vector2d wall_centre_local_m = Eigen::Vector2d::Zero();   // c_w, on the surveyed line
+  double wall_normal_angle_rad = 0.0;                              // atan2(σ n_w)
+  double rho_m = 0.0;                                              // observed
+  double theta_rad = 0.0;                                          // observed
   Eigen::Matrix2d sqrt_information = Eigen::Matrix2d::Identity();  // W = L⁻¹ (1/m, 1/rad)
 };
 
@@ -72,8 +72,8 @@ class WallLineCost {
     const T sa = sin(delta_alpha_rad);
     const T nx = m_.sign * (ca * m_.wall_normal_local.x() - sa * m_.wall_normal_local.y());
     const T ny = m_.sign * (sa * m_.wall_normal_local.x() + ca * m_.wall_normal_local.y());
-    const T d_m = nx * m_.wall_centre_local_m.x() + ny * m_.wall_centre_local_m.y() +
-                  m_.sign * delta_d_m;
+    const T d_m =
+        nx * m_.wall_centre_local_m.x() + ny * m_.wall_centre_local_m.y() + m_.sign * delta_d_m;
     // Scanner origin in the local frame.
     const double cpsi = std::cos(m_.vehicle_yaw_rad);
     const double spsi = std::sin(m_.vehicle_yaw_rad);
@@ -90,8 +90,7 @@ class WallLineCost {
   const WallLineMeasurement& measurement() const { return m_; }
 
   static ceres::CostFunction* Create(const WallLineMeasurement& measurement) {
-    return new ceres::AutoDiffCostFunction<WallLineCost, 2, 3, 2, 2>(
-        new WallLineCost(measurement));
+    return new ceres::AutoDiffCostFunction<WallLineCost, 2, 3, 2, 2>(new WallLineCost(measurement));
   }
 
  private:

@@ -1,1 +1,600 @@
-// (being written)
+// Tests of the joint mount adjustment (solvers/ceres_solver.cc) and its cost functors, on wall
+// observations synthesised here from a known mount, known walls and known poses.
+
+#include <ceres/ceres.h>
+#include <ceres/gradient_checker.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "solvers/geometry.h"
+#include "solvers/mount_problem.h"
+#include "solvers/mount_solver.h"
+#include "solvers/prior_cost.h"
+#include "solvers/wall_line_cost.h"
+
+namespace wallcal::solvers {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadPerDeg = kPi / 180.0;
+
+// ---- Synthetic observations -----------------------------------------------------------------
+
+struct SimSettings {
+  Mount truth{2.57, 0.056, 2.8 * kRadPerDeg};  // seed 002's result
+  int stations = 10;
+  int scans_per_station = 20;
+  double base_heading_rad = 0.5 * kPi;  // facing the first wall (north)
+  double heading_half_spread_rad = 35.0 * kRadPerDeg;
+  bool second_wall = false;  // a wall perpendicular to the first, east of the stations
+  bool first_wall = true;
+  bool noise = true;
+  double fit_sigma_rho_m = 0.003;
+  double fit_sigma_theta_rad = 0.002;
+  double gnss_white_sigma_m = 0.003;
+  double gnss_bias_sigma_m = 0.015;  // one draw per station, shared by its scans
+  double heading_sigma_rad = 0.0009;
+  double wall_sigma_offset_m = 0.005;
+  double wall_sigma_angle_rad = 0.001;
+  double outlier_fraction = 0.0;  // share of observations whose rho is off by +0.5 m
+};
+
+struct SimData {
+  std::vector<calib::WallGeometry> walls;  // as surveyed (nominal)
+  std::vector<calib::WallObservation> observations;
+  std::vector<bool> is_outlier;
+};
+
+calib::WallGeometry MakeWall(const std::string& id, const Eigen::Vector2d& a,
+                             const Eigen::Vector2d& b, const SimSettings& s) {
+  calib::WallGeometry wall;
+  wall.id = id;
+  const Eigen::Vector2d along = (b - a).normalized();
+  wall.normal_local = Eigen::Vector2d(-along.y(), along.x());
+  wall.offset_m = wall.normal_local.dot(a);
+  wall.end_a_local = a;
+  wall.end_b_local = b;
+  wall.sigma_offset_m = s.wall_sigma_offset_m;
+  wall.sigma_angle_rad = s.wall_sigma_angle_rad;
+  wall.num_points = 20;
+  return wall;
+}
+
+Eigen::Vector2d Rotate(double angle_rad, const Eigen::Vector2d& v) {
+  const double c = std::cos(angle_rad);
+  const double s = std::sin(angle_rad);
+  return Eigen::Vector2d(c * v.x() - s * v.y(), s * v.x() + c * v.y());
+}
+
+// Stations along the first wall (y = 10, x from −10 to 10), antenna 7.5-8.5 m from it, headings
+// spread evenly over base ± half spread. The second wall runs north along x = 12.
+SimData Simulate(const SimSettings& s, std::mt19937& rng) {
+  std::normal_distribution<double> unit(0.0, 1.0);
+  auto draw = [&](double sigma) { return s.noise ? sigma * unit(rng) : 0.0; };
+  SimData data;
+  data.walls.push_back(MakeWall("north", {-10.0, 10.0}, {10.0, 10.0}, s));
+  data.walls.push_back(MakeWall("east", {12.0, -5.0}, {12.0, 15.0}, s));
+
+  // The true walls: the surveyed ones moved by their (unknown) survey error.
+  struct Line {
+    Eigen::Vector2d n;
+    double d;
+  };
+  std::vector<Line> true_walls;
+  for (const auto& wall : data.walls) {
+    const Eigen::Vector2d middle = 0.5 * (wall.end_a_local + wall.end_b_local);
+    const Eigen::Vector2d centre =
+        middle - (wall.normal_local.dot(middle) - wall.offset_m) * wall.normal_local;
+    const Eigen::Vector2d n = Rotate(draw(wall.sigma_angle_rad), wall.normal_local);
+    true_walls.push_back({n, n.dot(centre) + draw(wall.sigma_offset_m)});
+  }
+
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  int scan = 0;
+  for (int k = 0; k < s.stations; ++k) {
+    const double t = s.stations > 1 ? static_cast<double>(k) / (s.stations - 1) : 0.5;
+    const double heading_true_rad = s.base_heading_rad + s.heading_half_spread_rad * (2 * t - 1);
+    // Positions in a different order than headings, so the two are not tied.
+    const double u =
+        s.stations > 1 ? static_cast<double>((k * 7) % s.stations) / (s.stations - 1) : 0.5;
+    const Eigen::Vector2d antenna_true(-4.0 + 8.0 * u, 1.5 + 0.5 * (k % 3));
+    const Eigen::Vector2d bias(draw(s.gnss_bias_sigma_m), draw(s.gnss_bias_sigma_m));
+    for (int j = 0; j < s.scans_per_station; ++j, ++scan) {
+      const Eigen::Vector2d antenna_measured =
+          antenna_true + bias +
+          Eigen::Vector2d(draw(s.gnss_white_sigma_m), draw(s.gnss_white_sigma_m));
+      const double heading_measured_rad = heading_true_rad + draw(s.heading_sigma_rad);
+      const Eigen::Vector2d scanner_true =
+          antenna_true + Rotate(heading_true_rad, {s.truth.x_m, s.truth.y_m});
+      for (int w = 0; w < 2; ++w) {
+        if ((w == 0 && !s.first_wall) || (w == 1 && !s.second_wall)) continue;
+        // Orientation as the solver decides it: from the surveyed wall and the measured antenna.
+        const double sign =
+            data.walls[w].offset_m - data.walls[w].normal_local.dot(antenna_measured) < 0 ? -1.0
+                                                                                          : 1.0;
+        const Eigen::Vector2d n = sign * true_walls[w].n;
+        const double d = sign * true_walls[w].d;
+        calib::WallObservation o;
+        o.scan_index = scan;
+        o.wall_index = w;
+        o.rho_m = d - n.dot(scanner_true) + draw(s.fit_sigma_rho_m);
+        o.theta_rad = WrapAngle(std::atan2(n.y(), n.x()) - heading_true_rad - s.truth.yaw_rad +
+                                draw(s.fit_sigma_theta_rad));
+        const bool outlier = uniform(rng) < s.outlier_fraction;
+        if (outlier) o.rho_m += 0.5;
+        o.sigma_rho_m = s.fit_sigma_rho_m;
+        o.sigma_theta_rad = s.fit_sigma_theta_rad;
+        o.num_inliers = 100;
+        o.pose.stamp_s = 1000.0 + scan * 0.1;
+        o.pose.antenna_local_m = antenna_measured;
+        o.pose.yaw_rad = heading_measured_rad;
+        o.pose.stationary = true;
+        o.pose.segment = k;
+        data.observations.push_back(o);
+        data.is_outlier.push_back(outlier);
+      }
+    }
+  }
+  return data;
+}
+
+// The noise model the solver is told, matching the simulation.
+io::SolverOptions OptionsFor(const SimSettings& s) {
+  io::SolverOptions options;
+  options.gnss_white_sigma_m = s.gnss_white_sigma_m;
+  options.gnss_bias_sigma_m = s.gnss_bias_sigma_m;
+  options.use_gst_sigma = false;
+  options.heading_sigma_rad = s.heading_sigma_rad;
+  return options;
+}
+
+Eigen::Vector3d Error(const MountEstimate& estimate, const Mount& truth) {
+  return Eigen::Vector3d(estimate.mount.x_m - truth.x_m, estimate.mount.y_m - truth.y_m,
+                         WrapAngle(estimate.mount.yaw_rad - truth.yaw_rad));
+}
+
+Eigen::Vector3d Sigma(const MountEstimate& estimate) {
+  return estimate.covariance.diagonal().cwiseSqrt();
+}
+
+// ---- Cost functors --------------------------------------------------------------------------
+
+WallLineMeasurement HandMeasurement() {
+  WallLineMeasurement m;
+  m.antenna_local_m = Eigen::Vector2d(1.0, 2.0);
+  m.vehicle_yaw_rad = 0.5 * kPi;  // facing north
+  m.sign = 1.0;
+  m.wall_normal_local = Eigen::Vector2d(0.0, 1.0);  // wall y = 10
+  m.wall_centre_local_m = Eigen::Vector2d(0.0, 10.0);
+  m.wall_normal_angle_rad = 0.5 * kPi;
+  m.rho_m = 5.0;
+  m.theta_rad = 0.1;
+  m.sqrt_information << 100.0, 0.0, 30.0, 500.0;
+  return m;
+}
+
+TEST(WallLineCostTest, EvaluatesHandWorkedValue) {
+  // mount (x, y, yaw) = (2, 0.5, 0.05); wall (δd, δα) = (0.02, 0); bias b = (0.1, −0.2).
+  //   n' = (0, 1), d' = n'·c + δd = 10 + 0.02 = 10.02 (σ = +1)
+  //   s = p − b + R(90°)(2, 0.5) = (1 − 0.1, 2 + 0.2) + (−0.5, 2) = (0.4, 4.2)
+  //   rho_pred = 10.02 − 4.2 = 5.82            → rho error 5.82 − 5.0 = 0.82 m
+  //   theta_pred = π/2 + 0 − π/2 − 0.05 = −0.05 → theta error −0.05 − 0.1 = −0.15 rad
+  //   e = W [0.82; −0.15] = [100·0.82; 30·0.82 + 500·(−0.15)] = [82; 24.6 − 75] = [82; −50.4]
+  std::unique_ptr<ceres::CostFunction> cost(WallLineCost::Create(HandMeasurement()));
+  const double mount[3] = {2.0, 0.5, 0.05};
+  const double wall[2] = {0.02, 0.0};
+  const double bias[2] = {0.1, -0.2};
+  const double* parameters[3] = {mount, wall, bias};
+  double residual[2];
+  ASSERT_TRUE(cost->Evaluate(parameters, residual, nullptr));
+  EXPECT_NEAR(residual[0], 82.0, 1e-9);
+  EXPECT_NEAR(residual[1], -50.4, 1e-9);
+}
+
+TEST(WallLineCostTest, OrientsTheWallTowardsAnAntennaOnItsPositiveSide) {
+  // Wall y = 10 seen from the north: antenna (0, 15) facing south (ψ = −90°), σ = −1, so
+  // n = (0, −1), d = −10, atan2(n) = −π/2. Mount (2, 0, 0): s = (0, 15) + R(−90°)(2, 0) = (0, 13).
+  //   rho_pred = −10 − (−1)(13) = 3, theta_pred = −π/2 − (−π/2) − 0 = 0.
+  // Moving the wall north by δd = 0.1 (along the surveyed normal): d = −10.1, rho_pred = 2.9.
+  calib::WallGeometry wall;
+  wall.normal_local = Eigen::Vector2d(0.0, 1.0);
+  wall.offset_m = 10.0;
+  wall.end_a_local = Eigen::Vector2d(-5.0, 10.0);
+  wall.end_b_local = Eigen::Vector2d(5.0, 10.0);
+  const OrientedWall oriented = OrientWall(wall, Eigen::Vector2d(0.0, 15.0));
+  EXPECT_EQ(oriented.sign, -1.0);
+  EXPECT_NEAR(oriented.normal_angle_rad, -0.5 * kPi, 1e-12);
+
+  WallLineMeasurement m;
+  m.antenna_local_m = Eigen::Vector2d(0.0, 15.0);
+  m.vehicle_yaw_rad = -0.5 * kPi;
+  m.sign = oriented.sign;
+  m.wall_normal_local = wall.normal_local;
+  m.wall_centre_local_m = Eigen::Vector2d(0.0, 10.0);
+  m.wall_normal_angle_rad = oriented.normal_angle_rad;
+  m.rho_m = 3.0;
+  m.theta_rad = 0.0;
+  const WallLineCost cost(m);
+  const double mount[3] = {2.0, 0.0, 0.0};
+  const double bias[2] = {0.0, 0.0};
+  const double still[2] = {0.0, 0.0};
+  const double moved[2] = {0.1, 0.0};
+  double error[2];
+  cost.Errors(mount, still, bias, error);
+  EXPECT_NEAR(error[0], 0.0, 1e-12);
+  EXPECT_NEAR(error[1], 0.0, 1e-12);
+  cost.Errors(mount, moved, bias, error);
+  EXPECT_NEAR(error[0], -0.1, 1e-12);
+
+  calib::WallObservation observation;
+  observation.pose.antenna_local_m = m.antenna_local_m;
+  observation.pose.yaw_rad = m.vehicle_yaw_rad;
+  EXPECT_NEAR(PredictRho(observation, wall, Mount{2.0, 0.0, 0.0}), 3.0, 1e-12);
+  EXPECT_NEAR(PredictTheta(observation, wall, Mount{2.0, 0.0, 0.0}), 0.0, 1e-12);
+  EXPECT_NEAR(PredictTheta(observation, wall, Mount{2.0, 0.0, 0.3}), -0.3, 1e-12);
+}
+
+TEST(WallLineCostTest, JacobiansMatchNumericDifferentiation) {
+  WallLineMeasurement m = HandMeasurement();
+  m.wall_normal_local = Eigen::Vector2d(0.6, 0.8);
+  m.wall_centre_local_m = Eigen::Vector2d(3.0, 9.0);
+  m.sign = -1.0;
+  m.wall_normal_angle_rad = std::atan2(-0.8, -0.6);
+  m.vehicle_yaw_rad = 0.3;
+  std::unique_ptr<ceres::CostFunction> cost(WallLineCost::Create(m));
+  ceres::NumericDiffOptions numeric_options;
+  const std::vector<const ceres::Manifold*>* euclidean = nullptr;
+  ceres::GradientChecker checker(cost.get(), euclidean, numeric_options);
+  const double mount[3] = {2.57, 0.056, 0.0489};
+  const double wall[2] = {0.013, -0.004};
+  const double bias[2] = {0.011, -0.017};
+  const double* parameters[3] = {mount, wall, bias};
+  ceres::GradientChecker::ProbeResults results;
+  EXPECT_TRUE(checker.Probe(parameters, 1e-7, &results)) << results.error_log;
+}
+
+TEST(ZeroMeanPriorCostTest, EvaluatesAndDifferentiates) {
+  // r = value / σ: (0.01 / 0.005, −0.002 / 0.001) = (2, −2).
+  std::unique_ptr<ceres::CostFunction> cost(
+      ZeroMeanPriorCost::Create(Eigen::Vector2d(0.005, 0.001)));
+  const double value[2] = {0.01, -0.002};
+  const double* parameters[1] = {value};
+  double residual[2];
+  ASSERT_TRUE(cost->Evaluate(parameters, residual, nullptr));
+  EXPECT_NEAR(residual[0], 2.0, 1e-12);
+  EXPECT_NEAR(residual[1], -2.0, 1e-12);
+  ceres::NumericDiffOptions numeric_options;
+  const std::vector<const ceres::Manifold*>* euclidean = nullptr;
+  ceres::GradientChecker checker(cost.get(), euclidean, numeric_options);
+  ceres::GradientChecker::ProbeResults results;
+  EXPECT_TRUE(checker.Probe(parameters, 1e-7, &results)) << results.error_log;
+}
+
+TEST(ObservationCovarianceTest, CouplesHeadingNoiseThroughTheLeverArm) {
+  // Wall y = 10 ahead of a vehicle facing east (ψ = 0): n = (0, 1). Mount (2.5, 0): the lever
+  // R(0)(2.5, 0) = (2.5, 0), turned by 90°: (0, 2.5), ℓ = n·(0, 2.5) = 2.5 m (the lever is
+  // parallel to the wall). σ_h = 0.01: heading block 1e-4 [6.25, 2.5; 2.5, 1].
+  calib::WallGeometry wall;
+  wall.normal_local = Eigen::Vector2d(0.0, 1.0);
+  wall.offset_m = 10.0;
+  calib::WallObservation observation;
+  observation.sigma_rho_m = 0.002;
+  observation.sigma_theta_rad = 0.003;
+  observation.cov_rho_theta = 1e-6;
+  observation.pose.segment = 4;
+  io::SolverOptions options;
+  options.gnss_white_sigma_m = 0.004;
+  options.heading_sigma_rad = 0.01;
+  const Eigen::Matrix2d covariance =
+      ObservationCovariance(observation, wall, options, Mount{2.5, 0.0, 0.0}, 0.02);
+  EXPECT_NEAR(covariance(0, 0), 4e-6 + 16e-6 + 6.25e-4, 1e-15);
+  EXPECT_NEAR(covariance(0, 1), 1e-6 + 2.5e-4, 1e-15);
+  EXPECT_NEAR(covariance(1, 0), 1e-6 + 2.5e-4, 1e-15);
+  EXPECT_NEAR(covariance(1, 1), 9e-6 + 1e-4, 1e-15);
+  // Without a segment, the bias σ (0.02 m) joins the white part of rho.
+  observation.pose.segment = -1;
+  EXPECT_NEAR(ObservationCovariance(observation, wall, options, Mount{2.5, 0.0, 0.0}, 0.02)(0, 0),
+              4e-6 + 16e-6 + 6.25e-4 + 4e-4, 1e-15);
+}
+
+// ---- The solver -----------------------------------------------------------------------------
+
+TEST(SolveMountCeresTest, RecoversKnownMountFromSeveralStarts) {
+  SimSettings settings;
+  std::mt19937 rng(20070531);
+  const SimData data = Simulate(settings, rng);
+  const io::SolverOptions options = OptionsFor(settings);
+  const Mount& t = settings.truth;
+  const double d_yaw = 10.0 * kRadPerDeg;
+  const std::vector<Mount> starts = {{0.0, 0.0, 0.0},
+                                     {t.x_m + 0.5, t.y_m + 0.5, t.yaw_rad + d_yaw},
+                                     {t.x_m - 0.5, t.y_m - 0.5, t.yaw_rad - d_yaw},
+                                     {t.x_m + 0.5, t.y_m - 0.5, t.yaw_rad - d_yaw}};
+  std::vector<MountEstimate> estimates;
+  for (const Mount& start : starts) {
+    const MountEstimate estimate = SolveMountCeres(data.observations, data.walls, options, start);
+    ASSERT_TRUE(estimate.usable) << estimate.message;
+    EXPECT_EQ(estimate.method, "ceres");
+    const Eigen::Vector3d error = Error(estimate, t);
+    const Eigen::Vector3d sigma = Sigma(estimate);
+    // σ from the noise: ~1.5 cm GNSS bias over 10 stations, a few mm of wall, 1 mrad of wall
+    // direction; the error must be within 4σ, and σ itself of that order.
+    EXPECT_LT(sigma.x(), 0.02);
+    EXPECT_LT(sigma.y(), 0.03);
+    EXPECT_LT(sigma.z(), 0.003);
+    for (int k = 0; k < 3; ++k) EXPECT_LT(std::abs(error[k]), 4.0 * sigma[k]) << "axis " << k;
+    EXPECT_EQ(static_cast<int>(estimate.residual_rho_m.size()),
+              static_cast<int>(data.observations.size()));
+    EXPECT_GT(estimate.residual_rms_m, 0.001);
+    EXPECT_LT(estimate.residual_rms_m, 0.02);
+    EXPECT_FALSE(estimate.solver_report.empty());
+    estimates.push_back(estimate);
+  }
+  // Every start reaches the same minimum.
+  for (const auto& estimate : estimates) {
+    EXPECT_NEAR(estimate.mount.x_m, estimates[0].mount.x_m, 1e-4);
+    EXPECT_NEAR(estimate.mount.y_m, estimates[0].mount.y_m, 1e-4);
+    EXPECT_NEAR(estimate.mount.yaw_rad, estimates[0].mount.yaw_rad, 1e-5);
+  }
+}
+
+TEST(SolveMountCeresTest, ReportedSigmaMatchesScatterUnderCorrelatedGnssError) {
+  SimSettings settings;
+  const io::SolverOptions options = OptionsFor(settings);
+  std::mt19937 rng(42);
+  const int draws = 100;
+  Eigen::Vector3d sum_sq = Eigen::Vector3d::Zero();
+  for (int draw = 0; draw < draws; ++draw) {
+    const SimData data = Simulate(settings, rng);
+    const MountEstimate estimate =
+        SolveMountCeres(data.observations, data.walls, options, settings.truth);
+    ASSERT_TRUE(estimate.usable) << estimate.message;
+    const Eigen::Vector3d normalised =
+        Error(estimate, settings.truth).cwiseQuotient(Sigma(estimate));
+    sum_sq += normalised.cwiseAbs2();
+  }
+  const Eigen::Vector3d rms = (sum_sq / draws).cwiseSqrt();
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_GT(rms[k], 0.6) << "axis " << k;
+    EXPECT_LT(rms[k], 1.6) << "axis " << k;
+  }
+}
+
+TEST(SolveMountCeresTest, SigmaDoesNotShrinkWithMoreScansPerStation) {
+  SimSettings settings;
+  const io::SolverOptions options = OptionsFor(settings);
+  std::mt19937 rng(7);
+  const SimData few = Simulate(settings, rng);
+  settings.scans_per_station *= 10;
+  const SimData many = Simulate(settings, rng);
+  const MountEstimate a = SolveMountCeres(few.observations, few.walls, options, settings.truth);
+  const MountEstimate b = SolveMountCeres(many.observations, many.walls, options, settings.truth);
+  ASSERT_TRUE(a.usable) << a.message;
+  ASSERT_TRUE(b.usable) << b.message;
+  // Independent scans would give a ratio of 1/√10 ≈ 0.32; the station's shared GNSS error and
+  // the wall's survey error keep it close to 1.
+  const Eigen::Vector3d ratio = Sigma(b).cwiseQuotient(Sigma(a));
+  EXPECT_GT(ratio.x(), 0.8);
+  EXPECT_GT(ratio.y(), 0.8);
+  EXPECT_GT(ratio.z(), 0.6);
+  EXPECT_LE(ratio.maxCoeff(), 1.0 + 1e-9);
+}
+
+TEST(SolveMountCeresTest, SecondPerpendicularWallShrinksSigma) {
+  SimSettings settings;
+  settings.heading_half_spread_rad = 12.0 * kRadPerDeg;  // 24°: allowed, but weak sideways
+  const io::SolverOptions options = OptionsFor(settings);
+  std::mt19937 rng(11);
+  const SimData one = Simulate(settings, rng);
+  settings.second_wall = true;
+  const SimData two = Simulate(settings, rng);
+  const MountEstimate a = SolveMountCeres(one.observations, one.walls, options, settings.truth);
+  const MountEstimate b = SolveMountCeres(two.observations, two.walls, options, settings.truth);
+  ASSERT_TRUE(a.usable) << a.message;
+  ASSERT_TRUE(b.usable) << b.message;
+  // Facing the north wall, y (lateral) is the weak axis; the east wall measures it directly.
+  EXPECT_LT(Sigma(b).y(), 0.5 * Sigma(a).y());
+  EXPECT_LT(Sigma(b).x(), Sigma(a).x());
+  EXPECT_LT(std::abs(b.mount.y_m - settings.truth.y_m), 4.0 * Sigma(b).y());
+}
+
+TEST(SolveMountCeresTest, OutliersDoNotMoveTheEstimate) {
+  SimSettings settings;
+  std::mt19937 rng(99);
+  const SimData clean = Simulate(settings, rng);
+  std::mt19937 same_rng(99);
+  settings.outlier_fraction = 0.1;
+  const SimData dirty = Simulate(settings, same_rng);
+  int outliers = 0;
+  for (bool o : dirty.is_outlier) outliers += o ? 1 : 0;
+  ASSERT_GT(outliers, 5);
+
+  io::SolverOptions options = OptionsFor(settings);
+  const MountEstimate reference =
+      SolveMountCeres(clean.observations, clean.walls, options, Mount{});
+  const MountEstimate robust = SolveMountCeres(dirty.observations, dirty.walls, options, Mount{});
+  ASSERT_TRUE(reference.usable) << reference.message;
+  ASSERT_TRUE(robust.usable) << robust.message;
+  const double tolerance_m = 0.5 * Sigma(reference).head<2>().minCoeff();
+  EXPECT_NEAR(robust.mount.x_m, reference.mount.x_m, tolerance_m);
+  EXPECT_NEAR(robust.mount.y_m, reference.mount.y_m, tolerance_m);
+  EXPECT_NEAR(robust.mount.yaw_rad, reference.mount.yaw_rad, 0.5 * Sigma(reference).z());
+  EXPECT_GE(robust.observations_rejected, outliers);
+  EXPECT_LE(robust.observations_rejected,
+            outliers + static_cast<int>(0.05 * dirty.observations.size()));
+  EXPECT_EQ(robust.observations_used + robust.observations_rejected,
+            static_cast<int>(dirty.observations.size()));
+  // Each outlier's rho residual shows its +0.5 m (observed − predicted).
+  for (size_t i = 0; i < dirty.is_outlier.size(); ++i) {
+    if (dirty.is_outlier[i]) {
+      EXPECT_GT(robust.residual_rho_m[i], 0.4);
+    }
+  }
+
+  // Without the robust loss the same data pull the estimate well beyond that tolerance: the
+  // check above is not vacuous.
+  options.huber_scale = 0.0;
+  const MountEstimate plain = SolveMountCeres(dirty.observations, dirty.walls, options, Mount{});
+  ASSERT_TRUE(plain.usable) << plain.message;
+  EXPECT_GT(
+      std::hypot(plain.mount.x_m - reference.mount.x_m, plain.mount.y_m - reference.mount.y_m),
+      4.0 * tolerance_m);
+}
+
+TEST(SolveMountCeresTest, RefusesNarrowHeadingSpreadAndNamesTheWeakAxis) {
+  SimSettings settings;
+  settings.heading_half_spread_rad = 5.0 * kRadPerDeg;
+  std::mt19937 rng(3);
+  const SimData facing = Simulate(settings, rng);
+  const io::SolverOptions options = OptionsFor(settings);
+  const MountEstimate a = SolveMountCeres(facing.observations, facing.walls, options, Mount{});
+  EXPECT_FALSE(a.usable);
+  EXPECT_NE(a.message.find("vehicle-to-wall angles"), std::string::npos) << a.message;
+  EXPECT_NE(a.message.find("y (lateral)"), std::string::npos) << a.message;
+  EXPECT_NE(a.message.find("30°"), std::string::npos) << a.message;
+  // The same for the closed form (one shared check).
+  const MountEstimate closed = SolveMountBarawid(facing.observations, facing.walls, options);
+  EXPECT_FALSE(closed.usable);
+  EXPECT_EQ(closed.message, a.message);
+
+  // Driving along the wall (it is on the vehicle's left): the forward offset is the weak one.
+  settings.base_heading_rad = 0.0;
+  const SimData alongside = Simulate(settings, rng);
+  const MountEstimate b =
+      SolveMountCeres(alongside.observations, alongside.walls, options, Mount{});
+  EXPECT_FALSE(b.usable);
+  EXPECT_NE(b.message.find("x (forward)"), std::string::npos) << b.message;
+}
+
+TEST(SolveMountCeresTest, RefusesTooFewObservationsAndStations) {
+  SimSettings settings;
+  settings.stations = 5;
+  settings.scans_per_station = 2;
+  std::mt19937 rng(5);
+  const SimData data = Simulate(settings, rng);
+  const io::SolverOptions options = OptionsFor(settings);
+  const MountEstimate estimate = SolveMountCeres(data.observations, data.walls, options, Mount{});
+  EXPECT_FALSE(estimate.usable);
+  EXPECT_NE(estimate.message.find("only 10 wall observations; need at least 30"), std::string::npos)
+      << estimate.message;
+
+  settings.stations = 2;
+  settings.scans_per_station = 50;
+  const SimData two = Simulate(settings, rng);
+  const MountEstimate stations = SolveMountCeres(two.observations, two.walls, options, Mount{});
+  EXPECT_FALSE(stations.usable);
+  EXPECT_NE(stations.message.find("only 2 stations"), std::string::npos) << stations.message;
+
+  const MountEstimate none = SolveMountCeres({}, data.walls, options, Mount{});
+  EXPECT_FALSE(none.usable);
+}
+
+TEST(SolveMountCeresTest, FixedWallsAndBiasesAreHeldConstant) {
+  // σ = 0 for the wall and the GNSS bias: the survey and positions are taken as exact (the
+  // blocks are constant), and on noise-free data the mount comes back exactly.
+  SimSettings settings;
+  settings.noise = false;
+  settings.wall_sigma_offset_m = 0.0;
+  settings.wall_sigma_angle_rad = 0.0;
+  settings.gnss_bias_sigma_m = 0.0;
+  std::mt19937 rng(1);
+  const SimData data = Simulate(settings, rng);
+  const io::SolverOptions options = OptionsFor(settings);
+  const MountEstimate estimate = SolveMountCeres(data.observations, data.walls, options, Mount{});
+  ASSERT_TRUE(estimate.usable) << estimate.message;
+  EXPECT_NEAR(estimate.mount.x_m, settings.truth.x_m, 1e-7);
+  EXPECT_NEAR(estimate.mount.y_m, settings.truth.y_m, 1e-7);
+  EXPECT_NEAR(estimate.mount.yaw_rad, settings.truth.yaw_rad, 1e-8);
+  EXPECT_EQ(estimate.observations_rejected, 0);
+
+  // Only the wall offset known exactly: a subset manifold keeps it, the direction is free.
+  settings.wall_sigma_angle_rad = 0.001;
+  const SimData half = Simulate(settings, rng);
+  std::string error;
+  auto problem = BuildMountProblem(half.observations, half.walls, options, settings.truth,
+                                   settings.truth, &error);
+  ASSERT_NE(problem, nullptr) << error;
+  EXPECT_NE(problem->problem.GetManifold(problem->wall_deltas[0].data()), nullptr);
+  EXPECT_TRUE(problem->problem.IsParameterBlockConstant(problem->no_bias.data()));
+  const MountEstimate solved = SolveMountProblem(*problem, options);
+  ASSERT_TRUE(solved.usable) << solved.message;
+  EXPECT_EQ(problem->wall_deltas[0][0], 0.0);
+}
+
+TEST(SolveMountCeresTest, TakesBiasSigmaFromGstAndSkipsBiasWithoutSegment) {
+  SimSettings settings;
+  std::mt19937 rng(8);
+  SimData data = Simulate(settings, rng);
+  // Station 0 logged GST σ of 0.01 and 0.03 m (mean 0.02); station 1 none (configured σ);
+  // observations of station 2 have no segment.
+  for (size_t i = 0; i < data.observations.size(); ++i) {
+    auto& pose = data.observations[i].pose;
+    if (pose.segment == 0) pose.gnss_sigma_m = (i % 2 == 0) ? 0.01 : 0.03;
+    if (pose.segment == 2) pose.segment = -1;
+  }
+  io::SolverOptions options = OptionsFor(settings);
+  options.use_gst_sigma = true;
+  std::string error;
+  auto problem = BuildMountProblem(data.observations, data.walls, options, settings.truth,
+                                   settings.truth, &error);
+  ASSERT_NE(problem, nullptr) << error;
+  ASSERT_EQ(problem->segment_ids.size(), 9u);
+  EXPECT_EQ(problem->segment_ids[0], 0);
+  EXPECT_NEAR(problem->bias_sigma_m[0], 0.02, 1e-12);
+  EXPECT_NEAR(problem->bias_sigma_m[1], settings.gnss_bias_sigma_m, 1e-12);
+  for (size_t i = 0; i < data.observations.size(); ++i) {
+    EXPECT_EQ(problem->bias_block[i] == problem->no_bias.data(),
+              data.observations[i].pose.segment < 0);
+  }
+  EXPECT_TRUE(problem->problem.IsParameterBlockConstant(problem->no_bias.data()));
+  const MountEstimate estimate = SolveMountProblem(*problem, options);
+  ASSERT_TRUE(estimate.usable) << estimate.message;
+  EXPECT_LT(std::abs(estimate.mount.x_m - settings.truth.x_m), 4.0 * Sigma(estimate).x());
+
+  // Without GST the configured σ applies everywhere.
+  options.use_gst_sigma = false;
+  auto plain = BuildMountProblem(data.observations, data.walls, options, settings.truth,
+                                 settings.truth, &error);
+  ASSERT_NE(plain, nullptr) << error;
+  EXPECT_NEAR(plain->bias_sigma_m[0], settings.gnss_bias_sigma_m, 1e-12);
+}
+
+TEST(SolveMountCeresTest, PredictionsMatchNoiseFreeObservations) {
+  SimSettings settings;
+  settings.noise = false;
+  std::mt19937 rng(2);
+  const SimData data = Simulate(settings, rng);
+  for (const auto& observation : data.observations) {
+    const auto& wall = data.walls[observation.wall_index];
+    EXPECT_NEAR(PredictRho(observation, wall, settings.truth), observation.rho_m, 1e-12);
+    EXPECT_NEAR(WrapAngle(PredictTheta(observation, wall, settings.truth) - observation.theta_rad),
+                0.0, 1e-12);
+  }
+}
+
+// Information only (not run by default): the solve time of a large session,
+// 270 000 observations in 100 segments. Run with --gtest_also_run_disabled_tests.
+TEST(SolveMountCeresTest, DISABLED_LargeProblemTiming) {
+  SimSettings settings;
+  settings.stations = 100;
+  settings.scans_per_station = 2700;
+  std::mt19937 rng(270000);
+  const SimData data = Simulate(settings, rng);
+  const io::SolverOptions options = OptionsFor(settings);
+  const auto start = std::chrono::steady_clock::now();
+  const MountEstimate estimate = SolveMountCeres(data.observations, data.walls, options, Mount{});
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_TRUE(estimate.usable) << estimate.message;
+  std::printf("%zu observations, %d segments: %.2f s\n%s\n", data.observations.size(),
+              settings.stations, seconds, estimate.solver_report.c_str());
+}
+
+}  // namespace
+}  // namespace wallcal::solvers

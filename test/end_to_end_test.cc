@@ -104,13 +104,13 @@ TEST(EndToEndTest, SouthernHemisphereWestLongitude) { RunScenario("lms200_south_
 
 // ---- The programs ----------------------------------------------------------------------------
 
-struct Run {
+struct CommandRun {
   int status = -1;
   std::string out;
 };
 
-Run RunCommand(const std::string& command) {
-  Run run;
+CommandRun RunCommand(const std::string& command) {
+  CommandRun run;
   FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
   if (pipe == nullptr) return run;
   char buffer[4096];
@@ -133,7 +133,7 @@ double Printed(const std::string& out, const std::string& label) {
 TEST(CalibrateProgramTest, SampleSessionPrintsTheTrueMount) {
   const fs::path sample = fs::path(WALLCAL_SOURCE_DIR) / "samples" / "lms291-sapporo";
   const fs::path out = FreshDir("sample") / "offsets.yaml";
-  const Run run = RunCommand(kCalibrate + " " + sample.string() + " --output " + out.string());
+  const CommandRun run = RunCommand(kCalibrate + " " + sample.string() + " --output " + out.string());
   ASSERT_EQ(run.status, 0) << run.out;
   const io::SimulationConfig truth = io::ReadTruthYaml((sample / "truth.yaml").string());
   // Printed with 4 decimals; same tolerances as the end-to-end tests above.
@@ -145,20 +145,20 @@ TEST(CalibrateProgramTest, SampleSessionPrintsTheTrueMount) {
 
 TEST(CalibrateProgramTest, MissingSessionFailsWithReasonAndWritesNothing) {
   const fs::path dir = FreshDir("missing");
-  const Run run = RunCommand(kCalibrate + " " + (dir / "nope").string());
+  const CommandRun run = RunCommand(kCalibrate + " " + (dir / "nope").string());
   EXPECT_EQ(run.status, 2) << run.out;
   EXPECT_NE(run.out.find("session.yaml"), std::string::npos) << run.out;
   EXPECT_FALSE(fs::exists(dir / "nope" / "offsets.yaml"));
 }
 
 TEST(CalibrateProgramTest, UnknownOptionIsAUsageError) {
-  const Run run = RunCommand(kCalibrate + " x --frobnicate");
+  const CommandRun run = RunCommand(kCalibrate + " x --frobnicate");
   EXPECT_EQ(run.status, 2);
   EXPECT_NE(run.out.find("--frobnicate"), std::string::npos) << run.out;
 }
 
 TEST(CalibrateProgramTest, HelpExplainsTheProgram) {
-  const Run run = RunCommand(kCalibrate + " --help");
+  const CommandRun run = RunCommand(kCalibrate + " --help");
   EXPECT_EQ(run.status, 0);
   EXPECT_NE(run.out.find("--method"), std::string::npos);
   EXPECT_NE(run.out.find("offsets.yaml"), std::string::npos);
@@ -177,7 +177,7 @@ TEST(CalibrateProgramTest, NarrowHeadingsAreRefusedAndOldOffsetsKept) {
     std::ofstream old(out);
     old << "previous: calibration\n";
   }
-  const Run run = RunCommand(kCalibrate + " " + dir.string());
+  const CommandRun run = RunCommand(kCalibrate + " " + dir.string());
   EXPECT_EQ(run.status, 1) << run.out;
   EXPECT_NE(run.out.find("not determined"), std::string::npos) << run.out;
   std::ifstream in(out);
@@ -188,20 +188,20 @@ TEST(CalibrateProgramTest, NarrowHeadingsAreRefusedAndOldOffsetsKept) {
 
 TEST(SimulateProgramTest, WritesACompleteSessionThatCalibrates) {
   const fs::path dir = FreshDir("simulate_cli");
-  const Run sim = RunCommand(kSimulate + " --config " + ScenarioPath("lms291_sapporo") +
+  const CommandRun sim = RunCommand(kSimulate + " --config " + ScenarioPath("lms291_sapporo") +
                              " --seed 5 --output " + dir.string());
   ASSERT_EQ(sim.status, 0) << sim.out;
   for (const char* file : {"session.yaml", "scans.clf", "gnss.nmea", "heading.nmea",
                            "survey.csv", "truth.yaml"}) {
     EXPECT_TRUE(fs::exists(dir / file)) << file;
   }
-  const Run cal = RunCommand(kCalibrate + " " + (dir / "session.yaml").string() + " --method barawid");
+  const CommandRun cal = RunCommand(kCalibrate + " " + (dir / "session.yaml").string() + " --method barawid");
   EXPECT_EQ(cal.status, 0) << cal.out;
   EXPECT_TRUE(fs::exists(dir / "offsets.yaml"));
 }
 
 TEST(SimulateProgramTest, BadSeedIsAUsageError) {
-  const Run run = RunCommand(kSimulate + " --seed -3 --output /tmp/x");
+  const CommandRun run = RunCommand(kSimulate + " --seed -3 --output /tmp/x");
   EXPECT_EQ(run.status, 2);
   EXPECT_NE(run.out.find("--seed"), std::string::npos) << run.out;
 }

@@ -1,11 +1,11 @@
 #include "calib/geodesy.h"
 
+#include <gtest/gtest.h>
+
+#include <GeographicLib/Geodesic.hpp>
 #include <cmath>
 #include <limits>
 #include <string>
-
-#include <GeographicLib/Geodesic.hpp>
-#include <gtest/gtest.h>
 
 namespace wallcal::calib {
 namespace {
@@ -26,8 +26,7 @@ Reference KruegerUtm(double lat_deg, double lon_deg, double lon0_deg, bool north
   const double n = f / (2.0 - f);
   const double big_a = a / (1.0 + n) * (1.0 + n * n / 4.0 + n * n * n * n / 64.0);
   const double alpha[3] = {n / 2.0 - 2.0 * n * n / 3.0 + 5.0 * n * n * n / 16.0,
-                           13.0 * n * n / 48.0 - 3.0 * n * n * n / 5.0,
-                           61.0 * n * n * n / 240.0};
+                           13.0 * n * n / 48.0 - 3.0 * n * n * n / 5.0, 61.0 * n * n * n / 240.0};
   const double phi = lat_deg * kDeg, dlambda = (lon_deg - lon0_deg) * kDeg;
   const double e = 2.0 * std::sqrt(n) / (1.0 + n);
   const double t = std::sinh(std::atanh(std::sin(phi)) - e * std::atanh(e * std::sin(phi)));
@@ -45,8 +44,8 @@ Reference KruegerUtm(double lat_deg, double lon_deg, double lon0_deg, bool north
   r.easting_m = 500000.0 + k0 * big_a * x;
   r.northing_m = (north ? 0.0 : 10000000.0) + k0 * big_a * y;
   const double s = std::sqrt(1.0 + t * t);
-  r.gamma_rad = std::atan2(tau * s + sigma * t * std::tan(dlambda),
-                           sigma * s - tau * t * std::tan(dlambda));
+  r.gamma_rad =
+      std::atan2(tau * s + sigma * t * std::tan(dlambda), sigma * s - tau * t * std::tan(dlambda));
   const double q = (1.0 - n) / (1.0 + n) * std::tan(phi);
   r.k = k0 * big_a / a *
         std::sqrt((1.0 + q * q) * (sigma * sigma + tau * tau) /
@@ -108,10 +107,10 @@ TEST(GeodesyTest, ConvergenceSignFollowsQuadrant) {
   // northern hemisphere: the meridians converge towards the pole, so grid north (parallel to
   // the central meridian) lies clockwise of the local meridian there. Mirror images elsewhere.
   // Zone 54: central meridian 141° E.
-  EXPECT_GT(ToUtm(43.0, 142.0).convergence_rad, 0.0);    // north-east
-  EXPECT_LT(ToUtm(43.0, 140.0).convergence_rad, 0.0);    // north-west
-  EXPECT_LT(ToUtm(-43.0, 142.0).convergence_rad, 0.0);   // south-east
-  EXPECT_GT(ToUtm(-43.0, 140.0).convergence_rad, 0.0);   // south-west
+  EXPECT_GT(ToUtm(43.0, 142.0).convergence_rad, 0.0);   // north-east
+  EXPECT_LT(ToUtm(43.0, 140.0).convergence_rad, 0.0);   // north-west
+  EXPECT_LT(ToUtm(-43.0, 142.0).convergence_rad, 0.0);  // south-east
+  EXPECT_GT(ToUtm(-43.0, 140.0).convergence_rad, 0.0);  // south-west
   // Magnitude: γ ≈ Δλ·sin φ to first order.
   for (double lat_deg : {-60.0, -43.0, 10.0, 43.0, 70.0}) {
     for (double dlon_deg : {-2.5, -1.0, 1.0, 2.5}) {
@@ -229,7 +228,8 @@ TEST(GeodesyTest, LocalFrameKeepsGroundDistancesFarFromMeridian) {
     EXPECT_NEAR(d.norm(), 100.0, 1e-3);
     // A vehicle driving along the geodesic with that true heading: its yaw is the direction
     // of the displacement in the local frame (the projection is conformal).
-    const double mean_heading_rad = 0.5 * (azimuth_deg + azimuth2_deg) * kDeg;
+    const double mean_heading_rad =
+        (azimuth_deg + 0.5 * std::remainder(azimuth2_deg - azimuth_deg, 360.0)) * kDeg;
     const double lat_mid = 0.5 * (lat1 + lat2), lon_mid = 0.5 * (lon1 + lon2);
     const double yaw = YawFromTrueHeading(frame, mean_heading_rad, lat_mid, lon_mid);
     EXPECT_NEAR(WrapAngle(yaw - std::atan2(d.y(), d.x())), 0.0, 2e-6);

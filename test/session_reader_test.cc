@@ -1,1 +1,450 @@
-// (being written)
+#include "io/session_reader.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "io/writers.h"
+
+namespace wallcal::io {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+
+std::string Dir(const std::string& name) {
+  const fs::path dir = fs::path(::testing::TempDir()) / "session_reader_test" / name;
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+std::string WriteFile(const std::string& path, const std::string& content) {
+  std::ofstream(path, std::ios::binary) << content;
+  return path;
+}
+
+// The session of SESSION.md, as printed there.
+const char kExample[] = R"(name: sapporo-north-wall          # free text
+utm_zone: 54N                     # optional
+scanner:
+  model: sick_lms291              # a preset in configs/scanners/
+  log: scans.clf                  # CARMEN log, see below
+  time_offset_s: 0.0              # optional, added to every scan time
+gnss:
+  log: gnss.nmea                  # NMEA 0183 GGA (GST optional), logger-time prefixed
+  min_fix_quality: 4              # optional
+heading:
+  log: heading.nmea               # NMEA 0183 HDT or THS, logger-time prefixed
+  reference: true_north           # or grid_north
+survey:
+  points: survey.csv              # total-station export in its local frame, see below
+  control:                        # survey points whose position RTK-GNSS also measured (WGS84)
+    - {id: C1, lat: 43.0712345, lon: 141.3398765, h: 72.31}
+    - {id: C2, lat: 43.0713012, lon: 141.3401123, h: 72.29}
+  # With one control point only, give the rotation of Eq. 4-5 of seed 002 instead:
+  # rotation_deg: 12.5            # counter-clockwise from the local x axis to grid east
+walls:
+  - id: north_wall
+    code: WALL1                   # the survey points whose code is WALL1 lie on this wall
+)";
+
+TEST(SessionReaderTest, ReadsTheSessionExample) {
+  const std::string dir = Dir("example");
+  WriteFile(dir + "/session.yaml", kExample);
+  const SessionSpec spec = ReadSession(dir);  // the folder holding session.yaml
+  EXPECT_EQ(spec.file, (fs::path(dir) / "session.yaml").lexically_normal().string());
+  EXPECT_EQ(spec.name, "sapporo-north-wall");
+  ASSERT_TRUE(spec.utm_zone.has_value());
+  EXPECT_EQ(spec.utm_zone->zone, 54);
+  EXPECT_TRUE(spec.utm_zone->north);
+  EXPECT_EQ(spec.scanner_model, "sick_lms291");
+  EXPECT_EQ(spec.scanner_log, (fs::path(dir) / "scans.clf").string());
+  EXPECT_EQ(spec.gnss_log, (fs::path(dir) / "gnss.nmea").string());
+  EXPECT_EQ(spec.heading_log, (fs::path(dir) / "heading.nmea").string());
+  EXPECT_EQ(spec.survey_points, (fs::path(dir) / "survey.csv").string());
+  EXPECT_EQ(spec.min_fix_quality, 4);
+  EXPECT_EQ(spec.heading_reference, HeadingReference::kTrueNorth);
+  ASSERT_EQ(spec.control.size(), 2u);
+  EXPECT_EQ(spec.control[1].id, "C2");
+  EXPECT_DOUBLE_EQ(spec.control[1].lat_deg, 43.0713012);
+  EXPECT_DOUBLE_EQ(spec.control[1].lon_deg, 141.3401123);
+  EXPECT_DOUBLE_EQ(spec.control[1].h_m, 72.29);
+  EXPECT_EQ(spec.control[1].line, 17);
+  EXPECT_FALSE(spec.survey_rotation_rad.has_value());
+  ASSERT_EQ(spec.walls.size(), 1u);
+  EXPECT_EQ(spec.walls[0].id, "north_wall");
+  EXPECT_EQ(spec.walls[0].code, "WALL1");
+  EXPECT_FALSE(spec.mount_guess.has_value());
+  EXPECT_FALSE(spec.antenna_in_base.has_value());
+}
+
+TEST(SessionReaderTest, ReadsExtensionKeysAndRoundTrips) {
+  const std::string dir = Dir("extensions");
+  fs::create_directories(dir + "/logs");
+  WriteFile(dir + "/session.yaml", R"(name: "two walls: east & north"
+utm_zone: 33s
+scanner:
+  model: hokuyo_urg04lx
+  log: logs/scans.clf.gz
+  time_offset_s: -0.0125
+  mount_guess: {x: 2.5, y: -0.05, yaw_deg: 3.0}
+gnss: {log: logs/gnss.nmea, min_fix_quality: 5}
+heading: {log: /data/heading.nmea, reference: grid_north}
+survey:
+  points: ../survey.csv
+  control: [{id: C1, lat: -33.5, lon: 151.25, h: 20.0}]
+  rotation_deg: 12.5
+walls:
+  - {id: east, code: WALL1}
+  - {id: north, code: "007"}
+antenna_in_base: {x: 0.1, y: 0.2, z: 1.9}
+)");
+  const SessionSpec spec = ReadSession(dir + "/session.yaml");
+  EXPECT_EQ(spec.name, "two walls: east & north");
+  EXPECT_EQ(spec.utm_zone->zone, 33);
+  EXPECT_FALSE(spec.utm_zone->north);
+  EXPECT_EQ(spec.scanner_log, (fs::path(dir) / "logs/scans.clf.gz").string());
+  EXPECT_EQ(spec.heading_log, "/data/heading.nmea");
+  EXPECT_EQ(spec.survey_points, (fs::path(dir).parent_path() / "survey.csv").string());
+  EXPECT_DOUBLE_EQ(spec.scanner_time_offset_s, -0.0125);
+  ASSERT_TRUE(spec.mount_guess.has_value());
+  EXPECT_DOUBLE_EQ(spec.mount_guess->x_m, 2.5);
+  EXPECT_DOUBLE_EQ(spec.mount_guess->y_m, -0.05);
+  EXPECT_NEAR(spec.mount_guess->yaw_rad, 3.0 * kDegToRad, 1e-15);
+  EXPECT_EQ(spec.min_fix_quality, 5);
+  EXPECT_EQ(spec.heading_reference, HeadingReference::kGridNorth);
+  ASSERT_TRUE(spec.survey_rotation_rad.has_value());
+  EXPECT_NEAR(*spec.survey_rotation_rad, 12.5 * kDegToRad, 1e-15);
+  EXPECT_EQ(spec.walls[1].code, "007");
+  ASSERT_TRUE(spec.antenna_in_base.has_value());
+  EXPECT_DOUBLE_EQ(spec.antenna_in_base->z_m, 1.9);
+
+  // Written back into the same folder, it reads back to the same session.
+  const std::string copy_path = dir + "/copy.yaml";
+  WriteFile(copy_path, FormatSessionYaml(spec));
+  const SessionSpec copy = ReadSession(copy_path);
+  EXPECT_EQ(copy.name, spec.name);
+  EXPECT_EQ(copy.utm_zone->zone, 33);
+  EXPECT_FALSE(copy.utm_zone->north);
+  EXPECT_EQ(copy.scanner_log, spec.scanner_log);
+  EXPECT_EQ(copy.gnss_log, spec.gnss_log);
+  EXPECT_EQ(copy.heading_log, spec.heading_log);
+  EXPECT_EQ(copy.survey_points, spec.survey_points);
+  EXPECT_DOUBLE_EQ(copy.scanner_time_offset_s, spec.scanner_time_offset_s);
+  EXPECT_NEAR(copy.mount_guess->yaw_rad, spec.mount_guess->yaw_rad, 1e-15);
+  EXPECT_EQ(copy.min_fix_quality, 5);
+  EXPECT_EQ(copy.heading_reference, HeadingReference::kGridNorth);
+  EXPECT_DOUBLE_EQ(copy.control[0].lat_deg, -33.5);
+  EXPECT_NEAR(*copy.survey_rotation_rad, *spec.survey_rotation_rad, 1e-15);
+  ASSERT_EQ(copy.walls.size(), 2u);
+  EXPECT_EQ(copy.walls[1].code, "007");
+  EXPECT_DOUBLE_EQ(copy.antenna_in_base->y_m, 0.2);
+}
+
+// Runs ReadSession on `yaml` and returns the error message ("" if none).
+std::string SessionError(const std::string& name, const std::string& yaml) {
+  const std::string dir = Dir(name);
+  WriteFile(dir + "/session.yaml", yaml);
+  try {
+    ReadSession(dir);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string Without(std::string text, const std::string& line) {
+  const size_t at = text.find(line);
+  EXPECT_NE(at, std::string::npos) << line;
+  return text.erase(at, line.size());
+}
+
+std::string Replace(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST(SessionReaderTest, MissingSessionFile) {
+  const std::string dir = Dir("empty_folder");
+  try {
+    ReadSession(dir);
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              dir + ": no session.yaml here; expected a session.yaml or a folder holding one");
+  }
+}
+
+TEST(SessionReaderTest, NamesEachMissingRequiredKey) {
+  const std::string example = kExample;
+  const struct {
+    std::string line;
+    std::string key;
+  } cases[] = {
+      {"  model: sick_lms291              # a preset in configs/scanners/\n", "scanner.model"},
+      {"  log: scans.clf                  # CARMEN log, see below\n", "scanner.log"},
+      {"  log: gnss.nmea                  # NMEA 0183 GGA (GST optional), logger-time prefixed\n",
+       "gnss.log"},
+      {"  log: heading.nmea               # NMEA 0183 HDT or THS, logger-time prefixed\n",
+       "heading.log"},
+      {"  points: survey.csv              # total-station export in its local frame, see below\n",
+       "survey.points"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = SessionError("missing", Without(example, c.line));
+    EXPECT_NE(message.find(c.key + " is missing"), std::string::npos) << message;
+  }
+  // Whole sections and lists.
+  const size_t walls_at = example.find("walls:");
+  EXPECT_NE(SessionError("no_walls", example.substr(0, walls_at)).find("walls is missing"),
+            std::string::npos);
+  EXPECT_NE(
+      SessionError("empty_walls", example.substr(0, walls_at) + "walls: []\n").find("at least one"),
+      std::string::npos);
+  const std::string no_control =
+      Without(Without(Without(example,
+                              "  control:                        # survey points whose "
+                              "position RTK-GNSS also measured (WGS84)\n"),
+                      "    - {id: C1, lat: 43.0712345, lon: 141.3398765, h: 72.31}\n"),
+              "    - {id: C2, lat: 43.0713012, lon: 141.3401123, h: 72.29}\n");
+  EXPECT_NE(SessionError("no_control", no_control).find("survey.control is missing"),
+            std::string::npos);
+  const std::string message = SessionError(
+      "control_without_h", Replace(example, "lat: 43.0712345, lon: 141.3398765, h: 72.31",
+                                   "lat: 43.0712345, lon: 141.3398765"));
+  EXPECT_NE(message.find("survey.control[0].h is missing"), std::string::npos) << message;
+  EXPECT_NE(message.find("session.yaml:16:"), std::string::npos) << message;
+  EXPECT_NE(SessionError("wall_without_code",
+                         Without(example,
+                                 "    code: WALL1                   # the survey points "
+                                 "whose code is WALL1 lie on this wall\n"))
+                .find("walls[0].code is missing"),
+            std::string::npos);
+}
+
+TEST(SessionReaderTest, RejectsUnknownKeysWithTheirLine) {
+  const std::string example = kExample;
+  std::string message =
+      SessionError("unknown", Replace(example, "  time_offset_s: 0.0", "  time_ofset_s: 0.0"));
+  EXPECT_NE(message.find("session.yaml:6: unknown key 'scanner.time_ofset_s'"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("time_offset_s"), std::string::npos) << message;  // lists valid keys
+  message = SessionError("unknown_top", example + "extra: 1\n");
+  EXPECT_NE(message.find("session.yaml:23: unknown key 'extra'"), std::string::npos) << message;
+  message = SessionError("unknown_in_wall", Replace(example, "    code: WALL1", "    cod: WALL1"));
+  EXPECT_NE(message.find("session.yaml:22: unknown key 'walls[0].cod'"), std::string::npos)
+      << message;
+}
+
+TEST(SessionReaderTest, OneControlPointNeedsTheRotation) {
+  const std::string one =
+      Without(kExample, "    - {id: C2, lat: 43.0713012, lon: 141.3401123, h: 72.29}\n");
+  const std::string message = SessionError("one_control", one);
+  EXPECT_NE(message.find("one control point needs survey.rotation_deg (seed 002 Eq. 4-5)"),
+            std::string::npos)
+      << message;
+  EXPECT_EQ(SessionError("one_control_ok",
+                         Replace(one, "  # rotation_deg: 12.5", "  rotation_deg: 12.5")),
+            "");
+}
+
+TEST(SessionReaderTest, RejectsBadValues) {
+  const std::string example = kExample;
+  for (const std::string zone : {"61N", "0N", "54X", "N54", "54", "abc", "54NN"}) {
+    const std::string message =
+        SessionError("zone", Replace(example, "utm_zone: 54N", "utm_zone: " + zone));
+    EXPECT_NE(message.find("session.yaml:2: utm_zone: expected a zone 1..60 and N or S"),
+              std::string::npos)
+        << zone << ": " << message;
+  }
+  std::string message =
+      SessionError("quality", Replace(example, "min_fix_quality: 4", "min_fix_quality: 10"));
+  EXPECT_NE(message.find("session.yaml:9: gnss.min_fix_quality"), std::string::npos) << message;
+  message =
+      SessionError("reference", Replace(example, "reference: true_north", "reference: magnetic"));
+  EXPECT_NE(message.find("true_north or grid_north"), std::string::npos) << message;
+  message = SessionError("offset", Replace(example, "time_offset_s: 0.0", "time_offset_s: soon"));
+  EXPECT_NE(
+      message.find("session.yaml:6: scanner.time_offset_s: expected a finite number, got 'soon'"),
+      std::string::npos)
+      << message;
+  message = SessionError("lat", Replace(example, "lat: 43.0712345", "lat: 93.0712345"));
+  EXPECT_NE(message.find("survey.control[0].lat"), std::string::npos) << message;
+  message = SessionError("duplicate_wall", example + "  - {id: north_wall, code: WALL2}\n");
+  EXPECT_NE(message.find("given twice"), std::string::npos) << message;
+  message = SessionError("syntax", example + "scanner: [unclosed\n");
+  EXPECT_NE(message.find("YAML syntax error"), std::string::npos) << message;
+}
+
+// ---- Scanner presets ----
+
+const std::vector<std::string> kPresetDirs = {WALLCAL_SOURCE_DIR "/configs/scanners"};
+
+TEST(SessionReaderTest, LoadsTheShippedScannerPresets) {
+  const ScannerPreset lms291 = LoadScannerPreset("sick_lms291", kPresetDirs);
+  EXPECT_EQ(lms291.name, "sick_lms291");
+  EXPECT_EQ(lms291.num_beams, 181);
+  EXPECT_NEAR(lms291.start_angle_rad, -90.0 * kDegToRad, 1e-12);
+  EXPECT_NEAR(lms291.angular_step_rad, 1.0 * kDegToRad, 1e-12);
+  EXPECT_DOUBLE_EQ(lms291.max_range_m, 80.0);
+  EXPECT_DOUBLE_EQ(lms291.range_resolution_m, 0.01);
+  EXPECT_DOUBLE_EQ(lms291.range_sigma_m, 0.010);
+  EXPECT_TRUE(lms291.max_range_is_no_return);
+
+  const ScannerPreset lms200 = LoadScannerPreset("sick_lms200", kPresetDirs);
+  EXPECT_EQ(lms200.num_beams, 181);
+  EXPECT_DOUBLE_EQ(lms200.range_scale_k, 1.0002);
+  EXPECT_DOUBLE_EQ(lms200.range_offset_b_m, -0.0036);
+  EXPECT_DOUBLE_EQ(lms200.sim_scale_n, 0.9998);
+  EXPECT_DOUBLE_EQ(lms200.sim_offset_c_m, 0.0036);
+  EXPECT_DOUBLE_EQ(lms200.range_sigma_m, 0.0053);
+
+  const ScannerPreset urg = LoadScannerPreset("hokuyo_urg04lx", kPresetDirs);
+  EXPECT_EQ(urg.num_beams, 682);
+  EXPECT_DOUBLE_EQ(urg.error_codes_below_m, 0.020);
+  EXPECT_FALSE(urg.max_range_is_no_return);
+  EXPECT_NEAR(urg.angular_step_rad, 0.3515625 * kDegToRad, 1e-12);
+  EXPECT_NEAR(urg.max_incidence_rad, 70.0 * kDegToRad, 1e-12);
+  EXPECT_DOUBLE_EQ(urg.rate_hz, 10.0);
+}
+
+TEST(SessionReaderTest, UnknownPresetListsTheAvailableOnes) {
+  try {
+    LoadScannerPreset("sick_lms999", {"/nonexistent/dir", kPresetDirs[0]});
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("unknown scanner model 'sick_lms999'"), std::string::npos) << message;
+    EXPECT_NE(message.find("hokuyo_urg04lx, sick_lms200, sick_lms291"), std::string::npos)
+        << message;
+  }
+  EXPECT_THROW(LoadScannerPreset("../scanners/sick_lms291", kPresetDirs), InputError);
+}
+
+TEST(SessionReaderTest, FirstSearchDirWins) {
+  const std::string dir = Dir("presets");
+  WriteFile(dir + "/sick_lms291.yaml",
+            "num_beams: 361\nstart_angle_deg: -90\nangular_step_deg: 0.5\nmax_range_m: 30\n");
+  const ScannerPreset preset = LoadScannerPreset("sick_lms291", {dir, kPresetDirs[0]});
+  EXPECT_EQ(preset.num_beams, 361);
+  EXPECT_EQ(preset.name, "sick_lms291");  // from the file name
+  WriteFile(dir + "/bad.yaml",
+            "num_beams: 361\nstart_angle_deg: -90\nangular_step_deg: 0.5\nmax_range_m: 30\n"
+            "range_correction: {k: 1.0, b: 0.0}\n");
+  EXPECT_THROW(ReadScannerPreset(dir + "/bad.yaml"), InputError);  // b_m, not b
+}
+
+// ---- Option files ----
+
+TEST(SessionReaderTest, ReadsCalibrateOptionsInDegrees) {
+  const std::string path = WriteFile(Dir("options") + "/calibrate.yaml", R"(
+detector:
+  min_inliers: 20
+  wide_angle_gate_deg: 15
+alignment:
+  stationary_yaw_rate_deg_per_s: 0.5
+  use_moving_scans: true
+solver:
+  heading_sigma_deg: 0.2
+  min_heading_spread_deg: 30
+first_pass_max_scans: 500
+)");
+  const CalibrateOptions options = ReadCalibrateOptions(path);
+  EXPECT_EQ(options.detector.min_inliers, 20);
+  EXPECT_NEAR(options.detector.wide_angle_gate_rad, 15.0 * kDegToRad, 1e-15);
+  EXPECT_DOUBLE_EQ(options.detector.inlier_band_m, DetectorOptions().inlier_band_m);  // default
+  EXPECT_NEAR(options.alignment.stationary_yaw_rate_rps, 0.5 * kDegToRad, 1e-15);
+  EXPECT_TRUE(options.alignment.use_moving_scans);
+  EXPECT_NEAR(options.solver.heading_sigma_rad, 0.2 * kDegToRad, 1e-15);
+  EXPECT_NEAR(options.solver.min_heading_spread_rad, 30.0 * kDegToRad, 1e-15);
+  EXPECT_EQ(options.first_pass_max_scans, 500);
+}
+
+TEST(SessionReaderTest, RejectsBadCalibrateOptions) {
+  const std::string dir = Dir("bad_options");
+  auto error = [&dir](const std::string& yaml) {
+    try {
+      ReadCalibrateOptions(WriteFile(dir + "/calibrate.yaml", yaml));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error("detector:\n  min_inliers: 20\n  wide_angle_gate_rad: 0.3\n")
+                .find("calibrate.yaml:3: unknown key 'detector.wide_angle_gate_rad'"),
+            std::string::npos);
+  EXPECT_NE(
+      error("solvers:\n  max_iterations: 3\n").find("calibrate.yaml:1: unknown key 'solvers'"),
+      std::string::npos);
+  EXPECT_NE(error("detector:\n  min_inliers: 0\n")
+                .find("calibrate.yaml: detector.min_inliers must be >= 3, got 0"),
+            std::string::npos);
+  EXPECT_NE(
+      error("detector:\n  min_inliers: many\n").find("calibrate.yaml:2: detector.min_inliers"),
+      std::string::npos);
+  EXPECT_NE(error("alignment:\n  use_moving_scans: maybe\n").find("true or false"),
+            std::string::npos);
+  EXPECT_NE(error("detector: 3\n").find("detector must be a map"), std::string::npos);
+}
+
+TEST(SessionReaderTest, SimulationConfigDefaultsAndLists) {
+  const std::string dir = Dir("simulation");
+  const SimulationConfig defaults = ReadSimulationConfig(WriteFile(dir + "/empty.yaml", ""));
+  const SimulationConfig expected;
+  EXPECT_EQ(defaults.name, expected.name);
+  EXPECT_EQ(defaults.scanner_model, expected.scanner_model);
+  EXPECT_DOUBLE_EQ(defaults.mount_yaw_rad, expected.mount_yaw_rad);
+  EXPECT_DOUBLE_EQ(defaults.heading_drift_rad_per_s, expected.heading_drift_rad_per_s);
+  EXPECT_EQ(defaults.num_stations, expected.num_stations);
+  EXPECT_TRUE(defaults.walls.empty());
+
+  const SimulationConfig config = ReadSimulationConfig(WriteFile(dir + "/site.yaml", R"(
+name: yard
+mount_yaw_deg: -1.5
+heading_drift_deg_per_h: 0.5
+heading_spread_deg: 90
+write_gst: false
+walls:
+  - {id: north, code: WALL1, x0_m: -10, y0_m: 20, x1_m: 10, y1_m: 20}
+  - {id: shed, code: "", x0_m: 15, y0_m: 0, x1_m: 15, y1_m: 8, height_m: 2.5}
+obstacles:
+  - {x_m: 1, y_m: 5, radius_m: 0.3}
+)"));
+  EXPECT_EQ(config.name, "yard");
+  EXPECT_NEAR(config.mount_yaw_rad, -1.5 * kDegToRad, 1e-15);
+  EXPECT_NEAR(config.heading_drift_rad_per_s, 0.5 * kDegToRad / 3600.0, 1e-18);
+  EXPECT_NEAR(config.heading_spread_rad, 90 * kDegToRad, 1e-15);
+  EXPECT_FALSE(config.write_gst);
+  ASSERT_EQ(config.walls.size(), 2u);
+  EXPECT_EQ(config.walls[0].code, "WALL1");
+  EXPECT_DOUBLE_EQ(config.walls[0].y1_m, 20.0);
+  EXPECT_DOUBLE_EQ(config.walls[0].height_m, SimWall().height_m);
+  EXPECT_EQ(config.walls[1].code, "");
+  EXPECT_DOUBLE_EQ(config.walls[1].height_m, 2.5);
+  ASSERT_EQ(config.obstacles.size(), 1u);
+  EXPECT_DOUBLE_EQ(config.obstacles[0].radius_m, 0.3);
+
+  try {
+    ReadSimulationConfig(WriteFile(dir + "/bad.yaml", "walls:\n  - {id: a, x0: 1}\n"));
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml:2: unknown key 'walls[0].x0'"),
+              std::string::npos)
+        << e.what();
+  }
+  try {
+    ReadSimulationConfig(WriteFile(dir + "/invalid.yaml", "num_stations: 0\n"));
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("simulation.num_stations must be >= 1, got 0"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace wallcal::io

@@ -1,1 +1,309 @@
-// (being written)
+#include "io/writers.h"
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "io/carmen_reader.h"
+#include "io/nmea_reader.h"
+#include "io/session_reader.h"
+#include "io/survey_reader.h"
+
+namespace wallcal::io {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kPi = 3.14159265358979323846;
+
+std::string Dir(const std::string& name) {
+  const fs::path dir = fs::path(::testing::TempDir()) / "writers_test" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string WriteText(const std::string& path, const std::string& content) {
+  std::ofstream(path, std::ios::binary) << content;
+  return path;
+}
+
+size_t FilesIn(const std::string& dir) {
+  size_t n = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    (void)entry;
+    ++n;
+  }
+  return n;
+}
+
+TEST(WritersTest, WriteFileAtomicallyCreatesAndReplaces) {
+  const std::string dir = Dir("atomic");
+  const std::string path = dir + "/offsets.yaml";
+  WriteFileAtomically(path, "first\n");
+  EXPECT_EQ(ReadText(path), "first\n");
+  WriteFileAtomically(path, "second, longer content\n");
+  EXPECT_EQ(ReadText(path), "second, longer content\n");
+  EXPECT_EQ(FilesIn(dir), 1u);  // no temporary file left behind
+  const auto permissions = fs::status(path).permissions();
+  EXPECT_NE(permissions & fs::perms::others_read, fs::perms::none);
+}
+
+TEST(WritersTest, WriteFileAtomicallyFailsCleanlyOnAMissingFolder) {
+  const std::string dir = Dir("missing_parent") + "/no_such_folder";
+  const std::string path = dir + "/offsets.yaml";
+  try {
+    WriteFileAtomically(path, "content\n");
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+TEST(WritersTest, WriteFileAtomicallyKeepsTheOldFileWhenTheTargetIsAFolder) {
+  const std::string dir = Dir("target_is_folder");
+  const std::string path = dir + "/offsets.yaml";
+  fs::create_directories(path + "/inside");  // rename over a non-empty folder fails
+  EXPECT_THROW(WriteFileAtomically(path, "content\n"), InputError);
+  EXPECT_TRUE(fs::is_directory(path));
+  EXPECT_EQ(FilesIn(dir), 1u);  // the temporary file was removed
+}
+
+TEST(WritersTest, NmeaChecksumOfTheSessionExample) {
+  EXPECT_EQ(NmeaChecksum("HEHDT,123.456,T"), "28");
+  EXPECT_EQ(
+      NmeaChecksum("GNGGA,051202.10,4304.27407,N,14120.39259,E,4,14,0.7,53.10,M,19.21,M,1.0,0000"),
+      "64");
+  EXPECT_EQ(NmeaChecksum("GPHDT,,T"), "1B");
+}
+
+TEST(WritersTest, OffsetsYamlParsesBackToTheSameNumbers) {
+  OffsetsDocument doc;
+  doc.x_m = 2.5703;
+  doc.y_m = 0.0561;
+  doc.yaw_rad = 0.048869;
+  const double cov[9] = {1.7e-5, 2e-7, -3e-8, 2e-7, 1.0e-5, 4e-9, -3e-8, 4e-9, 8.2e-7};
+  std::copy(cov, cov + 9, doc.covariance);
+  doc.method = "ceres";
+  doc.scans_total = 45000;
+  doc.scans_used = 43950;
+  doc.heading_min_deg = 31.0;
+  doc.heading_max_deg = 148.5;
+  doc.residual_rms_m = 0.0061;
+  doc.quality_extra = {{"stations", "12"}, {"walls", "{north_wall: 4100, east: 300}"}};
+  doc.warnings = {"heading spread: only 45 deg", "quote \" and # hash: kept"};
+  doc.session = "/data/sessions/sapporo north";
+  doc.tool_version = "0.1.0";
+
+  const YAML::Node root = YAML::Load(FormatOffsetsYaml(doc));
+  const YAML::Node mount = root["scanner_mount"];
+  EXPECT_EQ(mount["parent_frame"].as<std::string>(), "gnss_antenna");
+  EXPECT_EQ(mount["child_frame"].as<std::string>(), "laser");
+  EXPECT_NEAR(mount["x"].as<double>(), 2.5703, 1e-6);
+  EXPECT_NEAR(mount["y"].as<double>(), 0.0561, 1e-6);
+  EXPECT_NEAR(mount["yaw"].as<double>(), 0.048869, 1e-8);
+  EXPECT_NEAR(mount["yaw_deg"].as<double>(), 0.048869 * 180 / kPi, 1e-4);
+  EXPECT_NEAR(mount["stddev"]["x"].as<double>(), std::sqrt(1.7e-5), 1e-6);
+  EXPECT_NEAR(mount["stddev"]["y"].as<double>(), std::sqrt(1.0e-5), 1e-6);
+  EXPECT_NEAR(mount["stddev"]["yaw_deg"].as<double>(), std::sqrt(8.2e-7) * 180 / kPi, 1e-4);
+  ASSERT_EQ(mount["covariance"].size(), 9u);
+  for (int i = 0; i < 9; ++i) {
+    EXPECT_NEAR(mount["covariance"][i].as<double>(), cov[i], std::abs(cov[i]) * 1e-6) << i;
+  }
+  const YAML::Node seed = root["seed_002_notation"];
+  EXPECT_NEAR(seed["a"].as<double>(), -0.0561, 1e-6);
+  EXPECT_NEAR(seed["b"].as<double>(), 2.5703, 1e-6);
+  EXPECT_NEAR(seed["delta_deg"].as<double>(), 2.8000, 1e-4);
+  const YAML::Node quality = root["quality"];
+  EXPECT_EQ(quality["scans_total"].as<int64_t>(), 45000);
+  EXPECT_EQ(quality["scans_used"].as<int64_t>(), 43950);
+  EXPECT_DOUBLE_EQ(quality["headings_deg"]["min"].as<double>(), 31.0);
+  EXPECT_DOUBLE_EQ(quality["headings_deg"]["max"].as<double>(), 148.5);
+  EXPECT_NEAR(quality["residual_rms_m"].as<double>(), 0.0061, 1e-6);
+  EXPECT_EQ(quality["stations"].as<int>(), 12);
+  EXPECT_EQ(quality["walls"]["east"].as<int>(), 300);
+  ASSERT_EQ(root["warnings"].size(), 2u);
+  EXPECT_EQ(root["warnings"][1].as<std::string>(), "quote \" and # hash: kept");
+  EXPECT_EQ(root["method"].as<std::string>(), "ceres");
+  EXPECT_EQ(root["source"]["session"].as<std::string>(), "/data/sessions/sapporo north");
+  EXPECT_EQ(root["source"]["tool_version"].as<std::string>(), "0.1.0");
+
+  doc.warnings.clear();
+  EXPECT_EQ(YAML::Load(FormatOffsetsYaml(doc))["warnings"].size(), 0u);
+}
+
+TEST(WritersTest, NmeaLinesReadBack) {
+  GnssFix north_east;
+  north_east.stamp_s = 1747031522.125;  // 2025-05-12 06:32:02.125 UTC (10 ms field: .12/.13)
+  north_east.lat_deg = 43.07123456789;
+  north_east.lon_deg = 141.33987654321;
+  north_east.height_m = 72.3105;
+  north_east.quality = 4;
+  north_east.satellites = 14;
+  north_east.hdop = 0.7;
+  north_east.sigma_lat_m = 0.012;
+  north_east.sigma_lon_m = 0.015;
+  GnssFix south_west = north_east;
+  south_west.stamp_s += 0.1;
+  south_west.lat_deg = -33.99999999999;  // rounds up to whole degrees in the minutes field
+  south_west.lon_deg = -0.00000012345;
+  south_west.quality = 5;
+  south_west.hdop = kNaN;
+  const double headings_rad[] = {0.0, 1.2345678, 2 * kPi - 1e-9, 4.0};
+
+  std::string log;
+  for (const GnssFix& fix : {north_east, south_west}) {
+    log += FormatGstLine(fix) + "\n" + FormatGgaLine(fix) + "\n";
+  }
+  for (int i = 0; i < 4; ++i) log += FormatHdtLine(1747031523.0 + i * 0.05, headings_rad[i]) + "\n";
+  EXPECT_EQ(FormatGgaLine(north_east).find('\n'), std::string::npos);
+  EXPECT_EQ(FormatGgaLine(north_east).rfind("1747031522.125 $GNGGA,063202.1", 0), 0u)
+      << FormatGgaLine(north_east);
+
+  const NmeaLog nmea = ReadNmea(WriteText(Dir("nmea") + "/gnss.nmea", log));
+  EXPECT_EQ(nmea.skipped.Total(), 0);
+  ASSERT_EQ(nmea.fixes.size(), 2u);
+  const GnssFix* expected[] = {&north_east, &south_west};
+  for (size_t i = 0; i < 2; ++i) {
+    const GnssFix& fix = nmea.fixes[i];
+    SCOPED_TRACE(i);
+    EXPECT_NEAR(fix.stamp_s, expected[i]->stamp_s, 1e-6);
+    EXPECT_NEAR(fix.lat_deg, expected[i]->lat_deg, 1e-9);
+    EXPECT_NEAR(fix.lon_deg, expected[i]->lon_deg, 1e-9);
+    EXPECT_NEAR(fix.height_m, expected[i]->height_m, 1e-4);
+    EXPECT_EQ(fix.quality, expected[i]->quality);
+    EXPECT_EQ(fix.satellites, 14);
+    EXPECT_NEAR(fix.sigma_lat_m, 0.012, 1e-9);
+    EXPECT_NEAR(fix.sigma_lon_m, 0.015, 1e-9);
+  }
+  EXPECT_DOUBLE_EQ(nmea.fixes[0].hdop, 0.7);
+  EXPECT_TRUE(std::isnan(nmea.fixes[1].hdop));
+  ASSERT_EQ(nmea.headings.size(), 4u);
+  EXPECT_NEAR(nmea.headings[0].heading_rad, 0.0, 1e-6);
+  EXPECT_NEAR(nmea.headings[1].heading_rad, 1.2345678, 1e-6);
+  EXPECT_NEAR(nmea.headings[2].heading_rad, 0.0, 1e-6);  // 359.99999.. deg prints as 0.0000
+  EXPECT_NEAR(nmea.headings[3].heading_rad, 4.0, 1e-6);
+  EXPECT_DOUBLE_EQ(nmea.headings[3].stamp_s, 1747031523.15);
+}
+
+TEST(WritersTest, RawlaserLineReadsBack) {
+  ScanRecord scan;
+  scan.stamp_s = 1747031522.123456;
+  scan.start_angle_rad = -kPi / 2;
+  scan.angular_step_rad = kPi / 360;
+  scan.max_range_m = 80.0;
+  for (int i = 0; i < 361; ++i) scan.ranges_m.push_back(1.0f + 0.0137f * static_cast<float>(i));
+  const std::string line = FormatCarmenRawlaser(scan);
+  EXPECT_EQ(line.rfind("RAWLASER1 0 ", 0), 0u);
+  EXPECT_NE(line.find(" wallcal-sim 1747031522.123456"), std::string::npos);
+  EXPECT_EQ(line.find('\n'), std::string::npos);
+
+  CarmenReader reader(WriteText(Dir("carmen") + "/scans.clf", line + "\n"));
+  ScanRecord read;
+  ASSERT_TRUE(reader.Next(&read));
+  EXPECT_DOUBLE_EQ(read.stamp_s, scan.stamp_s);
+  EXPECT_DOUBLE_EQ(read.start_angle_rad, scan.start_angle_rad);
+  EXPECT_DOUBLE_EQ(read.angular_step_rad, scan.angular_step_rad);
+  EXPECT_DOUBLE_EQ(read.max_range_m, 80.0);
+  ASSERT_EQ(read.ranges_m.size(), 361u);
+  for (size_t i = 0; i < 361; ++i)
+    EXPECT_NEAR(read.ranges_m[i], scan.ranges_m[i], 0.00051) << i;  // mm
+  EXPECT_FALSE(reader.Next(&read));
+  EXPECT_EQ(reader.skipped().Total(), 0);
+}
+
+TEST(WritersTest, SurveyCsvReadsBack) {
+  const std::vector<SurveyPoint> points = {{"C1", "CTRL", 0.0, 0.0, 0.0, 0},
+                                           {"W001", "WALL1", 1.00249, -10.0131, 0.512, 0}};
+  const std::string text = FormatSurveyCsv(points);
+  EXPECT_EQ(text.rfind("id,x,y,z,code\n", 0), 0u);
+  const std::vector<SurveyPoint> read = ReadSurvey(WriteText(Dir("survey") + "/survey.csv", text));
+  ASSERT_EQ(read.size(), 2u);
+  EXPECT_EQ(read[1].id, "W001");
+  EXPECT_EQ(read[1].code, "WALL1");
+  EXPECT_NEAR(read[1].x_m, 1.0025, 1e-12);
+  EXPECT_NEAR(read[1].y_m, -10.0131, 1e-12);
+  EXPECT_NEAR(read[1].z_m, 0.512, 1e-12);
+}
+
+TEST(WritersTest, SessionYamlRoundTrips) {
+  const std::string dir = Dir("session");
+  SessionSpec spec;
+  spec.dir = dir;
+  spec.name = "simulated";
+  spec.scanner_model = "sick_lms291";
+  spec.scanner_log = dir + "/scans.clf";
+  spec.scanner_time_offset_s = 0.02;
+  spec.gnss_log = dir + "/gnss.nmea";
+  spec.heading_log = dir + "/heading.nmea";
+  spec.survey_points = dir + "/survey.csv";
+  spec.control = {{"C1", 43.07, 141.34, 70.0, 0}, {"C2", 43.0701234567891, 141.3401, 70.5, 0}};
+  spec.walls = {{"north", "WALL1"}, {"true", "yes"}};  // words YAML would take for booleans
+  const std::string text = FormatSessionYaml(spec);
+  EXPECT_NE(text.find("log: scans.clf\n"), std::string::npos) << text;  // relative to the folder
+  const SessionSpec read = ReadSession(WriteText(dir + "/session.yaml", text));
+  EXPECT_EQ(read.name, "simulated");
+  EXPECT_FALSE(read.utm_zone.has_value());
+  EXPECT_EQ(read.scanner_log, fs::path(spec.scanner_log).lexically_normal().string());
+  EXPECT_EQ(read.survey_points, fs::path(spec.survey_points).lexically_normal().string());
+  EXPECT_DOUBLE_EQ(read.scanner_time_offset_s, 0.02);
+  ASSERT_EQ(read.control.size(), 2u);
+  EXPECT_DOUBLE_EQ(read.control[1].lat_deg, 43.0701234567891);  // full precision
+  EXPECT_EQ(read.walls[1].id, "true");
+  EXPECT_EQ(read.walls[1].code, "yes");
+  EXPECT_FALSE(read.mount_guess.has_value());
+  EXPECT_FALSE(read.antenna_in_base.has_value());
+}
+
+TEST(WritersTest, TruthYamlRoundTrips) {
+  SimulationConfig config;
+  config.name = "two walls";
+  config.mount_x_m = 2.5703;
+  config.mount_y_m = -0.0561;
+  config.mount_yaw_rad = 0.0488692190558412;
+  config.heading_drift_rad_per_s = 2.42e-6;
+  config.write_gst = false;
+  config.walls = {{"north", "WALL1", -10, 20, 10, 20, 3.0, 0.5},
+                  {"shed", "", 15, 0, 15, 8, 2.5, 1.0}};
+  config.obstacles = {{1.0, 5.0, 0.3}};
+  const std::string path = WriteText(Dir("truth") + "/truth.yaml", FormatTruthYaml(config, 42));
+
+  const YAML::Node root = YAML::LoadFile(path);
+  EXPECT_EQ(root["seed"].as<uint64_t>(), 42u);
+  EXPECT_DOUBLE_EQ(root["truth"]["x"].as<double>(), 2.5703);
+  EXPECT_NEAR(root["truth"]["yaw_deg"].as<double>(), 2.8, 1e-9);
+
+  const SimulationConfig read = ReadTruthYaml(path);
+  EXPECT_EQ(read.name, "two walls");
+  EXPECT_DOUBLE_EQ(read.mount_x_m, config.mount_x_m);
+  EXPECT_DOUBLE_EQ(read.mount_y_m, config.mount_y_m);
+  EXPECT_DOUBLE_EQ(read.mount_yaw_rad, config.mount_yaw_rad);
+  EXPECT_NEAR(read.heading_drift_rad_per_s, config.heading_drift_rad_per_s, 1e-18);
+  EXPECT_NEAR(read.heading_spread_rad, config.heading_spread_rad, 1e-15);
+  EXPECT_NEAR(read.survey_rotation_rad, config.survey_rotation_rad, 1e-15);
+  EXPECT_DOUBLE_EQ(read.start_time_s, config.start_time_s);
+  EXPECT_EQ(read.num_stations, config.num_stations);
+  EXPECT_FALSE(read.write_gst);
+  ASSERT_EQ(read.walls.size(), 2u);
+  EXPECT_EQ(read.walls[1].id, "shed");
+  EXPECT_EQ(read.walls[1].code, "");
+  EXPECT_DOUBLE_EQ(read.walls[0].survey_spacing_m, 0.5);
+  EXPECT_DOUBLE_EQ(read.walls[1].y1_m, 8.0);
+  ASSERT_EQ(read.obstacles.size(), 1u);
+  EXPECT_DOUBLE_EQ(read.obstacles[0].radius_m, 0.3);
+}
+
+}  // namespace
+}  // namespace wallcal::io
