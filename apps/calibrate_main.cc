@@ -88,8 +88,13 @@ int main(int argc, char** argv) {
 
   try {
     const bool show_progress = !quiet && isatty(STDERR_FILENO);
-    const wallcal::app::CalibrationResult result =
-        wallcal::app::RunCalibration(request, show_progress ? &std::cerr : nullptr);
+    wallcal::app::ProgressFn progress;
+    if (show_progress) {
+      progress = [](const wallcal::app::Progress& p) {
+        if (p.done == 0) std::cerr << "calibrate: " << p.stage << "\n";
+      };
+    }
+    const wallcal::app::CalibrationResult result = wallcal::app::RunCalibration(request, progress);
     std::cout << wallcal::app::FormatSummary(result);
     if (!result.estimate.usable) {
       std::cerr << "calibrate: " << result.session.file

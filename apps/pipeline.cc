@@ -138,7 +138,8 @@ struct Gates {
 // Streams the scan log once. With min_interval_s > 0 only scans at least that far apart in time
 // are examined (the first, wide-gate pass samples the session evenly).
 PassOutcome DetectionPass(const PassContext& context, const solvers::Mount& mount,
-                          const Gates& gates, double min_interval_s) {
+                          const Gates& gates, double min_interval_s, const std::string& stage,
+                          int64_t expected_scans, const ProgressFn& progress) {
   PassOutcome outcome;
   io::CarmenReader reader(context.session->scanner_log);
   io::ScanRecord scan;
@@ -148,6 +149,7 @@ PassOutcome DetectionPass(const PassContext& context, const solvers::Mount& moun
   const bool use_moving = context.options->alignment.use_moving_scans;
   while (reader.Next(&scan)) {
     ++scan_index;
+    if (progress && scan_index % 2000 == 0) progress(Progress{stage, scan_index, expected_scans});
     const double stamp_s = scan.stamp_s + context.session->scanner_time_offset_s;
     if (min_interval_s > 0.0) {
       if (stamp_s - last_examined_s < min_interval_s) continue;
@@ -285,10 +287,10 @@ std::string DefaultOutputPath(const io::SessionSpec& session) {
   return (fs::path(session.dir) / "offsets.yaml").string();
 }
 
-CalibrationResult RunCalibration(const CalibrateRequest& request, std::ostream* progress) {
+CalibrationResult RunCalibration(const CalibrateRequest& request, const ProgressFn& progress) {
   const auto t_start = std::chrono::steady_clock::now();
-  auto say = [&](const std::string& line) {
-    if (progress != nullptr) *progress << line << std::endl;
+  auto say = [&](const std::string& stage) {
+    if (progress) progress(Progress{stage, 0, 0});
   };
   if (request.method != "ceres" && request.method != "barawid") {
     throw io::InputError("--method: unknown method '" + request.method +
@@ -423,7 +425,8 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, std::ostream* 
   say("first pass: wall detection on a subsample with wide gates");
   const Gates wide{options.detector.wide_angle_gate_rad, options.detector.wide_offset_gate_m,
                    false};
-  PassOutcome first = DetectionPass(context, guess, wide, min_interval_s);
+  PassOutcome first =
+      DetectionPass(context, guess, wide, min_interval_s, "first pass", 0, progress);
   if (first.scans_read == 0) {
     std::string why = "no scan records";
     if (const std::string w = DescribeSkips(session.scanner_log, first.line_skips); !w.empty()) {
@@ -476,7 +479,8 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, std::ostream* 
                5.0 * std::sqrt(std::max(0.0, c1(0, 0) + c1(1, 1)))),
       true};
   say("second pass: wall detection in every scan with tight gates");
-  PassOutcome second = DetectionPass(context, result.first_pass.mount, tight, 0.0);
+  PassOutcome second = DetectionPass(context, result.first_pass.mount, tight, 0.0, "second pass",
+                                     first.scans_read, progress);
   result.observations = std::move(second.observations);
   result.scans_skipped = second.skipped;
   result.scan_lines_skipped = second.line_skips;

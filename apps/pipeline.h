@@ -4,6 +4,7 @@
 // estimates the mount -> io/ writes offsets.yaml (only when the estimate is usable).
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <ostream>
 #include <string>
@@ -25,7 +26,17 @@ struct CalibrateRequest {
   std::string session_path;  // session.yaml or its folder
   std::string config_path;   // calibrate options YAML; empty: built-in defaults
   std::string method = "ceres";  // "ceres" or "barawid"
+  bool force = false;  // write an estimate the observability checks refuse, with a warning
 };
+
+// Progress of a long run: a stage name and, within a stage, how far it got. total == 0 when
+// the total is not known (the first pass over the scan log).
+struct Progress {
+  std::string stage;  // "reading survey", "first pass", "second pass", "solving", ...
+  int64_t done = 0;
+  int64_t total = 0;
+};
+using ProgressFn = std::function<void(const Progress&)>;
 
 // Everything calibrate learned, for the summary and offsets.yaml.
 struct CalibrationResult {
@@ -56,8 +67,9 @@ struct CalibrationResult {
 
 // Runs the whole calibration. Writes nothing. Throws io::InputError for bad input; an
 // estimate the data cannot support comes back with estimate.usable == false and a message.
-// `progress` (may be null) receives one line per stage.
-CalibrationResult RunCalibration(const CalibrateRequest& request, std::ostream* progress);
+// `progress` (may be empty) is called at each stage and every few thousand scans.
+CalibrationResult RunCalibration(const CalibrateRequest& request,
+                                 const ProgressFn& progress = nullptr);
 
 // offsets.yaml for a usable result.
 io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result);

@@ -301,13 +301,13 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
     }
   };
   // Points that vote: not mixed (they lie between two surfaces and must not build or shift a
-  // peak), and not closer than the gate (|rho| <= range). Cleared for points of a line found to
-  // lie outside the gate.
+  // peak), and not closer than the gate (|rho| <= range).
   std::vector<uint8_t> voter(num_points, 0);
   for (int i = 0; i < num_points; ++i) {
     voter[i] = !points.mixed_suspect[i] && points.range_m[i] >= min_voting_range;
     if (voter[i]) vote(i, +1);
   }
+  std::vector<uint8_t> withdrawn(num_points, 0);  // given to a line outside the gate
   if (keep_accumulator) {
     det.accumulator = acc_t.t();
     det.acc_theta0_rad = theta0;
@@ -335,9 +335,7 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
 
       std::vector<int> candidates;
       for (int i = 0; i < num_points; ++i) {
-        if (points.mixed_suspect[i] || (!voter[i] && points.range_m[i] >= min_voting_range)) {
-          continue;  // mixed, or already given to a line outside the gate
-        }
+        if (points.mixed_suspect[i] || withdrawn[i]) continue;
         const Eigen::Vector2d& p = points.p_scanner_m[i];
         if (std::abs(n_p.dot(p) - rho_p) > options.inlier_band_m) continue;
         if (gate.has_segment && !OnSegment(gate, options.wall_extent_margin_m, p)) continue;
@@ -371,6 +369,7 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
         for (int i : set) {
           if (voter[i]) vote(i, -1);
           voter[i] = 0;
+          withdrawn[i] = 1;
         }
         revote = true;
         break;

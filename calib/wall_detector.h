@@ -55,7 +55,8 @@ struct WallDetection {
 //  3. Total-least-squares line fit, trimmed iteratively: keep candidates with |residual| <=
 //     options.refine_sigma_factor · max(range_sigma_m, 3 mm) until the set is stable.
 //  4. Found when >= options.min_inliers remain and the fitted line lies inside the gate (to half
-//     an accumulator cell). Up to three peaks are tried, strongest first.
+//     an accumulator cell). Up to three peaks are tried, strongest first. A fitted line outside
+//     the gate withdraws its points' votes and the peak search starts again (a few rounds).
 // range_sigma_m: the preset's 1σ range noise (m). Never throws; a scan without the wall is a
 // result with found = false and a reason.
 WallDetection DetectWall(const ScanPoints& points, const LineGate& gate, const io::DetectorOptions& options,

