@@ -38,6 +38,41 @@ struct Progress {
 };
 using ProgressFn = std::function<void(const Progress&)>;
 
+// Residuals examined after the solve (seed 003's residual analysis): robust spread, outliers,
+// and trends against what a systematic error would show up in.
+struct ResidualTrend {
+  std::string against;   // "range", "incidence", "bearing", "heading", "station", "time"
+  std::string unit;      // unit of the slope, e.g. "m/m", "m/deg", "m/station"
+  double slope = 0.0;    // least-squares slope of the distance residual against that quantity
+  double significance = 0.0;  // |slope| / σ(slope)
+  bool flagged = false;
+  std::string message;   // what a flagged trend suggests (e.g. "range scale error: check k")
+};
+struct ResidualAnalysis {
+  bool done = false;
+  double robust_sigma_m = 0.0;  // 1.4826 × median absolute deviation of the distance residuals
+  double outlier_share = 0.0;   // share of observations beyond 2 robust σ (seed 003: 2σ rule)
+  std::vector<ResidualTrend> trends;
+  std::vector<std::string> flags;  // human-readable summaries of the flagged trends
+  bool range_model_estimated = false;  // k, b re-estimated jointly when ranges span enough
+  double range_scale_k = 1.0, range_offset_b_m = 0.0;
+  double sigma_range_scale_k = 0.0, sigma_range_offset_b_m = 0.0;
+};
+
+// How much the mount moves when the session is split or resampled.
+struct RepeatabilitySplit {
+  std::string name;          // "first half", "second half", "odd stations", ...
+  solvers::Mount mount;
+  bool usable = false;
+};
+struct Repeatability {
+  bool done = false;
+  std::vector<RepeatabilitySplit> splits;
+  int bootstrap_samples = 0;
+  double bootstrap_sigma_x_m = 0.0, bootstrap_sigma_y_m = 0.0, bootstrap_sigma_yaw_rad = 0.0;
+  double max_split_shift_x_m = 0.0, max_split_shift_y_m = 0.0, max_split_shift_yaw_rad = 0.0;
+};
+
 // Everything calibrate learned, for the summary and offsets.yaml.
 struct CalibrationResult {
   io::SessionSpec session;
@@ -61,6 +96,11 @@ struct CalibrationResult {
   io::SkipCounts gnss_skipped, heading_skipped, scan_lines_skipped;
   double heading_min_deg = 0.0, heading_max_deg = 0.0;  // grid headings of used scans
   double wall_angle_min_deg = 0.0, wall_angle_max_deg = 0.0;  // vehicle-to-wall angle φ
+  ResidualAnalysis residual_analysis;
+  Repeatability repeatability;
+  double time_offset_s = 0.0;        // estimated scanner-to-GNSS clock offset (moving data)
+  double time_offset_sigma_s = 0.0;  // 0 when not estimated
+  bool forced = false;               // written despite a failed observability check
   std::vector<std::string> warnings;
   double seconds = 0.0;  // wall-clock run time, for the summary
 };

@@ -5,7 +5,6 @@
 #include <ceres/gradient_checker.h>
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -578,23 +577,6 @@ TEST(SolveMountCeresTest, PredictionsMatchNoiseFreeObservations) {
   }
 }
 
-// Information only (not run by default): the solve time of a large session,
-// 270 000 observations in 100 segments. Run with --gtest_also_run_disabled_tests.
-TEST(SolveMountCeresTest, DISABLED_LargeProblemTiming) {
-  SimSettings settings;
-  settings.stations = 100;
-  settings.scans_per_station = 2700;
-  std::mt19937 rng(270000);
-  const SimData data = Simulate(settings, rng);
-  const io::SolverOptions options = OptionsFor(settings);
-  const auto start = std::chrono::steady_clock::now();
-  const MountEstimate estimate = SolveMountCeres(data.observations, data.walls, options, Mount{});
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  ASSERT_TRUE(estimate.usable) << estimate.message;
-  std::printf("%zu observations, %d segments: %.2f s\n%s\n", data.observations.size(),
-              settings.stations, seconds, estimate.solver_report.c_str());
-}
 
 }  // namespace
 }  // namespace wallcal::solvers
