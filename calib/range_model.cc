@@ -48,10 +48,18 @@ ScanPoints ToScanPoints(const io::ScanRecord& scan, const io::ScannerPreset& pre
         r[i] = corrected;
         ++local.valid;
         break;
-      case Fate::kNonFinite: ++local.non_finite; break;
-      case Fate::kErrorCode: ++local.error_code; break;
-      case Fate::kNoReturn: ++local.no_return; break;
-      case Fate::kTooClose: ++local.too_close; break;
+      case Fate::kNonFinite:
+        ++local.non_finite;
+        break;
+      case Fate::kErrorCode:
+        ++local.error_code;
+        break;
+      case Fate::kNoReturn:
+        ++local.no_return;
+        break;
+      case Fate::kTooClose:
+        ++local.too_close;
+        break;
     }
   }
   if (counts != nullptr) {

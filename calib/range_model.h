@@ -20,7 +20,8 @@ struct ScanPoints {
   std::vector<float> range_m;                // corrected range
   std::vector<float> bearing_rad;            // beam bearing (ccw from scanner x)
   std::vector<int> beam;                     // beam index in the scan
-  std::vector<uint8_t> mixed_suspect;        // 1: next to a range jump (possible mixed pixel, seeds 000/001 §4.5)
+  // 1: next to a range jump (possible mixed pixel, seeds 000/001 §4.5); see ToScanPoints.
+  std::vector<uint8_t> mixed_suspect;
 };
 
 // Readings by fate. ToScanPoints adds to these (never resets them), so one struct can total a

@@ -1,12 +1,11 @@
 #include "calib/wall_detector.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <limits>
-
-#include <Eigen/Eigenvalues>
 
 namespace wallcal::calib {
 namespace {
@@ -324,8 +323,8 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   // several peaks along the gate's edge): its inliers withdraw their votes and the next round
   // looks again.
   for (int round = 0; round < kMaxRounds; ++round) {
-    const std::vector<Peak> distinct = StrongestPeaks(acc_t, busy_cells, n_theta, n_in, row_first,
-                                                      row_last, full_circle);
+    const std::vector<Peak> distinct =
+        StrongestPeaks(acc_t, busy_cells, n_theta, n_in, row_first, row_last, full_circle);
     if (distinct.empty()) break;
     bool revote = false;
     for (const Peak& peak : distinct) {

@@ -18,30 +18,38 @@
 
 namespace wallcal::calib {
 
-// Where the wall is expected in the scanner frame: the line {p: cos(theta) px + sin(theta) py = rho}, theta the normal from the
-// scanner towards the wall. Gates are half-widths. Predicted from the surveyed wall, the vehicle pose and the current mount estimate.
-// The defaults accept any line (theta over the full circle, any rho > 0).
+// Where the wall is expected in the scanner frame: the line
+// {p : cos(theta)·px + sin(theta)·py = rho}, theta the normal from the scanner towards the wall.
+// Gates are half-widths. Predicted from the surveyed wall, the vehicle pose and the current mount
+// estimate. The defaults accept any line (theta over the full circle, any rho > 0).
 struct LineGate {
   double theta_rad = 0, theta_halfwidth_rad = M_PI;
   double rho_m = 0, rho_halfwidth_m = 1e9;
-  // Optional: the surveyed wall's ends in the scanner frame; inliers must project onto the segment ± margin (io::DetectorOptions::wall_extent_margin_m).
+  // Optional: the surveyed wall's ends in the scanner frame; inliers must project onto the
+  // segment ± margin (io::DetectorOptions::wall_extent_margin_m).
   bool has_segment = false;
-  Eigen::Vector2d segment_a_scanner = Eigen::Vector2d::Zero(), segment_b_scanner = Eigen::Vector2d::Zero();
+  Eigen::Vector2d segment_a_scanner = Eigen::Vector2d::Zero(),
+                  segment_b_scanner = Eigen::Vector2d::Zero();
 };
 
 struct WallDetection {
   bool found = false;
-  std::string reason;          // when not found: "no line within the gates", "only N inliers (need M)", ...
-  double rho_m = 0, theta_rad = 0;   // rho > 0, theta in (−π, π]
-  double sigma_rho_m = 0, sigma_theta_rad = 0, cov_rho_theta = 0;  // from the least-squares fit (point noise only)
+  // When not found: "no line within the gates", "only N inliers (need M)", "best line (...)
+  // lies outside the gates", "invalid detector options or gate".
+  std::string reason;
+  double rho_m = 0, theta_rad = 0;  // rho > 0, theta in (−π, π]
+  // From the least-squares fit (point noise only): m, rad, m·rad.
+  double sigma_rho_m = 0, sigma_theta_rad = 0, cov_rho_theta = 0;
   int num_inliers = 0;
-  double range_min_m = 0, range_max_m = 0, residual_rms_m = 0;
-  int hough_votes = 0;         // votes in the chosen accumulator cell
-  std::vector<int> inliers;    // indices into ScanPoints
-  // For reports: the accumulator around the gate (rows = theta cells, cols = rho cells) and its axes.
-  // Row k is centred on theta acc_theta0_rad + k·acc_theta_step_rad, column j on rho acc_rho0_m + j·acc_rho_step_m;
-  // the accumulator includes one margin cell beyond the gate on each side (none in theta when the gate spans the circle).
-  cv::Mat accumulator;         // CV_32S; filled only when keep_accumulator is true
+  double range_min_m = 0, range_max_m = 0;  // range span of the inliers
+  double residual_rms_m = 0;                // RMS of the inliers about the line
+  int hough_votes = 0;                      // votes in the chosen accumulator cell
+  std::vector<int> inliers;                 // indices into ScanPoints, ascending
+  // For reports: the accumulator around the gate (rows = theta cells, cols = rho cells) and its
+  // axes. Row k is centred on theta acc_theta0_rad + k·acc_theta_step_rad, column j on rho
+  // acc_rho0_m + j·acc_rho_step_m. It includes one margin cell beyond the gate on each side (none
+  // in theta when the gate spans the circle) and holds the votes before any withdrawal.
+  cv::Mat accumulator;  // CV_32S; filled only when keep_accumulator is true
   double acc_theta0_rad = 0, acc_theta_step_rad = 0, acc_rho0_m = 0, acc_rho_step_m = 0;
 };
 
@@ -57,9 +65,14 @@ struct WallDetection {
 //  4. Found when >= options.min_inliers remain and the fitted line lies inside the gate (to half
 //     an accumulator cell). Up to three peaks are tried, strongest first. A fitted line outside
 //     the gate withdraws its points' votes and the peak search starts again (a few rounds).
+// Covariance: with σ = max(range_sigma_m, residual RMS), N inliers, s_i their positions along
+// the line about their centroid and t the centroid's position along the line from the foot of
+// the perpendicular: var θ = σ²/Σs_i², var ρ = σ²(1/N + t²/Σs_i²), cov(ρ, θ) = σ² t/Σs_i²
+// (derivation in wall_detector.cc).
 // range_sigma_m: the preset's 1σ range noise (m). Never throws; a scan without the wall is a
 // result with found = false and a reason.
-WallDetection DetectWall(const ScanPoints& points, const LineGate& gate, const io::DetectorOptions& options,
+WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
+                         const io::DetectorOptions& options,
                          double range_sigma_m /* preset noise σ */, bool keep_accumulator = false);
 
 }  // namespace wallcal::calib

@@ -1,10 +1,10 @@
 #include "calib/range_model.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <limits>
 #include <random>
-
-#include <gtest/gtest.h>
 
 namespace wallcal::calib {
 namespace {
@@ -70,10 +70,10 @@ int IndexOfBeam(const ScanPoints& pts, int beam) {
 TEST(RangeModelTest, UrgErrorCodesAreDroppedAndCounted) {
   const io::ScannerPreset urg = UrgPreset();
   std::vector<float> r(urg.num_beams, 2.0f);
-  r[10] = 0.0f;     // URG error codes are small integers in mm (seed 000)
+  r[10] = 0.0f;  // URG error codes are small integers in mm (seed 000)
   r[11] = 0.006f;
   r[12] = 0.019f;
-  r[13] = 0.020f;   // the smallest real range: kept
+  r[13] = 0.020f;  // the smallest real range: kept
   RangeCounts counts;
   const ScanPoints pts = ToScanPoints(ScanFor(urg, r), urg, 0.0, 0.15, &counts);
   EXPECT_EQ(counts.error_code, 3);
@@ -88,7 +88,7 @@ TEST(RangeModelTest, UrgErrorCodesAreDroppedAndCounted) {
 TEST(RangeModelTest, SickNoReturnsAtMaximumAreDroppedAndCounted) {
   const io::ScannerPreset sick = Lms291Preset();
   std::vector<float> r(sick.num_beams, 8.0f);
-  r[0] = 80.0f;   // the LMS reports "no echo" as its maximum
+  r[0] = 80.0f;  // the LMS reports "no echo" as its maximum
   r[1] = 81.9f;
   r[90] = 79.99f;  // just below: a real (far) return
   RangeCounts counts;
@@ -176,9 +176,9 @@ TEST(RangeModelTest, FlagsBothSidesOfARangeJumpAndAMixedPixel) {
   EXPECT_TRUE(suspect(60));   // trunk edge
   EXPECT_FALSE(suspect(61));  // trunk interior
   EXPECT_FALSE(suspect(62));
-  EXPECT_TRUE(suspect(63));   // trunk edge
-  EXPECT_TRUE(suspect(64));   // the mixed pixel
-  EXPECT_TRUE(suspect(65));   // wall point after it
+  EXPECT_TRUE(suspect(63));  // trunk edge
+  EXPECT_TRUE(suspect(64));  // the mixed pixel
+  EXPECT_TRUE(suspect(65));  // wall point after it
   EXPECT_FALSE(suspect(66));
   EXPECT_FALSE(suspect(58));
   EXPECT_TRUE(suspect(119));

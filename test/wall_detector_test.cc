@@ -1,13 +1,13 @@
 #include "calib/wall_detector.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <random>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "calib/range_model.h"
 #include "io/options.h"
@@ -122,8 +122,8 @@ io::ScanRecord Log(const std::vector<double>& true_r, const io::ScannerPreset& p
     double z = preset.max_range_is_no_return ? preset.max_range_m : 0.0;
     if (r < preset.max_range_m) {
       // ξ is the noise of the corrected range (k ≈ 1/n): divide by k so that σ holds after it.
-      const double logged = preset.sim_scale_n * r + preset.sim_offset_c_m +
-                            noise(*rng) / preset.range_scale_k;
+      const double logged =
+          preset.sim_scale_n * r + preset.sim_offset_c_m + noise(*rng) / preset.range_scale_k;
       z = std::round(logged / preset.range_resolution_m) * preset.range_resolution_m;
     }
     scan.ranges_m.push_back(static_cast<float>(z));
@@ -233,10 +233,11 @@ TEST(WallDetectorTest, ReportedSigmaMatchesScatterOverManyScans) {
   // Unbiased: the mean error is well inside its own standard error (×4).
   EXPECT_LT(std::abs(mean_r), 4.0 * std::sqrt(emp_var_r / kDraws));
   EXPECT_LT(std::abs(mean_t), 4.0 * std::sqrt(emp_var_t / kDraws));
-  std::printf("sigma rho reported %.2f mm, empirical %.2f mm; sigma theta %.4f / %.4f deg; "
-              "corr %.2f / %.2f\n",
-              1e3 * std::sqrt(rep_var_r), 1e3 * std::sqrt(emp_var_r),
-              std::sqrt(rep_var_t) / kDeg, std::sqrt(emp_var_t) / kDeg, rep_corr, emp_corr);
+  std::printf(
+      "sigma rho reported %.2f mm, empirical %.2f mm; sigma theta %.4f / %.4f deg; "
+      "corr %.2f / %.2f\n",
+      1e3 * std::sqrt(rep_var_r), 1e3 * std::sqrt(emp_var_r), std::sqrt(rep_var_t) / kDeg,
+      std::sqrt(emp_var_t) / kDeg, rep_corr, emp_corr);
 }
 
 TEST(WallDetectorTest, FindsWallBehindTrees) {
@@ -286,7 +287,8 @@ TEST(WallDetectorTest, IgnoresSecondWallOutsideGate) {
   }
   // A gate between the scanner and the wall holds no line: neither wall nor fence may be
   // taken through the flanks of their sinusoids.
-  const WallDetection between = DetectWall(pts, Gate(theta, 0.35, 6.0, 2.0), opt, sick.range_sigma_m);
+  const WallDetection between =
+      DetectWall(pts, Gate(theta, 0.35, 6.0, 2.0), opt, sick.range_sigma_m);
   EXPECT_FALSE(between.found) << between.rho_m << " " << between.theta_rad;
 }
 
@@ -446,7 +448,7 @@ TEST(WallDetectorTest, HandlesUrgGeometry) {
   Scene scene;
   scene.walls.push_back(WallOnLine(theta, rho, -1.5, 1.7));
   scene.walls.push_back(WallOnLine(theta + M_PI / 2, 1.7, -2.0, 1.6));  // side wall: a corner
-  scene.trunks.push_back({Eigen::Vector2d(1.2, -0.4), 0.08});          // a table leg
+  scene.trunks.push_back({Eigen::Vector2d(1.2, -0.4), 0.08});           // a table leg
   std::mt19937 rng(9);
   const io::ScanRecord scan = Log(TrueRanges(scene, urg), urg, &rng);
   RangeCounts counts;
