@@ -3,19 +3,26 @@
 
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <exception>
 #include <iostream>
+#include <optional>
 #include <string>
 
+#include "apps/emit.h"
 #include "apps/pipeline.h"
+#include "apps/report.h"
+#include "io/session_reader.h"
 #include "io/version.h"
 #include "io/writers.h"
 
 namespace {
 
-constexpr const char* kUsage = R"(usage: calibrate SESSION [--output FILE] [--method ceres|barawid] [--config FILE] [--quiet]
+constexpr const char* kUsage = R"(usage: calibrate SESSION [--output FILE] [--method ceres|barawid] [--config FILE]
+                 [--report DIR] [--emit ros2-static-tf|urdf|json] [--parent-frame NAME]
+                 [--child-frame NAME] [--base-frame NAME] [--force] [--quiet]
 
 Estimates where a 2-D laser scanner sits on a vehicle (x, y, yaw of the scanner in the GNSS
 antenna's frame: x forward, y left, yaw counter-clockwise) from a logged session in front of a
@@ -28,11 +35,29 @@ surveyed wall, and writes offsets.yaml.
                      barawid the closed form of Barawid et al. 2007 (seed 002, Eq. 8-16), for
                              comparison; its sigma treats every scan as independent
   --config FILE      calibration options (YAML; defaults: configs/calibrate.yaml)
-  --quiet            no progress lines on stderr, only warnings and errors
+  --report DIR       also write DIR/report.html: one self-contained page (inline SVG plots, no
+                     script, nothing fetched) showing the mount and its uncertainty, the site,
+                     scans, the Hough accumulator, residuals, heading coverage and the counts
+                     (docs/report.md). Written even when the mount is not determined.
+  --emit FORMAT      print the mount for a navigation stack: ros2-static-tf (a
+                     `ros2 run tf2_ros static_transform_publisher ...` line), urdf (a fixed
+                     <joint>), json (mount, sigma, covariance, frames). With --emit, stdout
+                     carries ONLY the emitted text (pipe it); the summary goes to stderr.
+                     Emitted only when the mount is determined. When session.yaml gives
+                     antenna_in_base, a base frame -> child frame transform is emitted too
+                     (the laser's z is then the antenna's z: the calibration cannot see it).
+  --parent-frame N   the antenna frame's name (default gnss_antenna)
+  --child-frame N    the scanner frame's name (default laser)
+  --base-frame N     the vehicle frame's name (default base_link)
+  --force            write an estimate the observability checks refuse, with a warning
+  --quiet            no progress on stderr, only the summary, warnings and errors
   --help             this text;  --version  the tool version
 
-Exit status: 0 offsets written; 1 the data cannot determine the mount (nothing written);
-2 bad input or usage (nothing written). The reason is one line on stderr.
+On a terminal (stderr is a tty) progress is shown on stderr: scans read / total, rate and time
+left, updated in place. When stderr is not a terminal, nothing but the summary and warnings.
+
+Exit status: 0 offsets written; 1 the data cannot determine the mount (nothing written but the
+report); 2 bad input or usage (nothing written). The reason is one line on stderr.
 )";
 
 int Usage(const std::string& message) {
@@ -40,18 +65,93 @@ int Usage(const std::string& message) {
   return 2;
 }
 
+// Progress on a terminal: a stage announcement (done == 0, total == 0) gets its own line; counted
+// progress within a stage is rewritten in place with '\r' at most five times a second.
+class ProgressLine {
+ public:
+  void Update(const wallcal::app::Progress& p) {
+    const auto now = Clock::now();
+    if (p.done == 0 && p.total == 0) {
+      // The first counted call of a stage of unknown length looks like an announcement; it
+      // repeats the start of the announcement just made ("first pass" after "first pass: ...").
+      if (!announced_.empty() && announced_.rfind(p.stage, 0) == 0) return;
+      Close();
+      std::cerr << "calibrate: " << p.stage << "\n";
+      announced_ = p.stage;
+      stage_.clear();
+      return;
+    }
+    const bool new_stage = p.stage != stage_;
+    if (new_stage) {
+      Close();
+      stage_ = p.stage;
+      stage_start_ = now;
+      stage_start_done_ = p.done;
+    } else if (now - last_draw_ < std::chrono::milliseconds(200)) {
+      return;
+    }
+    last_draw_ = now;
+    const double elapsed_s = std::chrono::duration<double>(now - stage_start_).count();
+    const double rate = elapsed_s > 0.05 ? (p.done - stage_start_done_) / elapsed_s : 0.0;
+    char line[256];
+    int n = std::snprintf(line, sizeof(line), "\rcalibrate:   %s: %lld", p.stage.c_str(),
+                          static_cast<long long>(p.done));
+    if (p.total > 0 && n > 0 && n < static_cast<int>(sizeof(line))) {
+      n += std::snprintf(line + n, sizeof(line) - n, " / %lld scans",
+                         static_cast<long long>(p.total));
+    } else if (n > 0 && n < static_cast<int>(sizeof(line))) {
+      n += std::snprintf(line + n, sizeof(line) - n, " scans");
+    }
+    if (rate > 0 && n > 0 && n < static_cast<int>(sizeof(line))) {
+      n += std::snprintf(line + n, sizeof(line) - n, ", %.0f scans/s", rate);
+      if (p.total > p.done) {
+        const double left_s = (p.total - p.done) / rate;
+        if (n > 0 && n < static_cast<int>(sizeof(line))) {
+          n += std::snprintf(line + n, sizeof(line) - n, ", %.0f s left", left_s + 0.5);
+        }
+      }
+    }
+    std::cerr << line << "\x1b[K" << std::flush;  // clear what a longer previous line left
+    open_ = true;
+  }
+  // Ends an in-place line so the next output starts on a fresh line.
+  void Close() {
+    if (open_) std::cerr << "\n";
+    open_ = false;
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  std::string stage_, announced_;
+  Clock::time_point stage_start_{}, last_draw_{};
+  long long stage_start_done_ = 0;
+  bool open_ = false;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  wallcal::app::CalibrateRequest request;
-  std::string output;
+  namespace app = wallcal::app;
+  app::CalibrateRequest request;
+  std::string output, report_dir;
+  std::optional<app::EmitFormat> emit;
+  app::EmitFrames frames;
   bool quiet = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    auto value = [&](const char* name) -> const char* {
+    auto value = [&]() -> const char* {
       if (i + 1 >= argc) return nullptr;
-      (void)name;
       return argv[++i];
+    };
+    auto frame = [&](const char* option, std::string* name) -> int {
+      const char* v = value();
+      if (v == nullptr) return Usage(std::string(option) + " needs a frame name");
+      if (!app::IsValidFrameName(v)) {
+        return Usage(std::string(option) + ": invalid frame name '" + v +
+                     "'; expected letters, digits, '_', '.', '/', '-' (not first)");
+      }
+      *name = v;
+      return 0;
     };
     if (arg == "--help" || arg == "-h") {
       std::cout << kUsage;
@@ -60,20 +160,40 @@ int main(int argc, char** argv) {
       std::cout << "wallcal calibrate " << wallcal::io::kToolVersion << "\n";
       return 0;
     } else if (arg == "--output" || arg == "-o") {
-      const char* v = value("--output");
+      const char* v = value();
       if (v == nullptr) return Usage("--output needs a file name");
       output = v;
     } else if (arg == "--method") {
-      const char* v = value("--method");
+      const char* v = value();
       if (v == nullptr) return Usage("--method needs ceres or barawid");
       request.method = v;
       if (request.method != "ceres" && request.method != "barawid") {
         return Usage("--method: unknown method '" + request.method + "'; expected ceres or barawid");
       }
     } else if (arg == "--config") {
-      const char* v = value("--config");
+      const char* v = value();
       if (v == nullptr) return Usage("--config needs a file name");
       request.config_path = v;
+    } else if (arg == "--report") {
+      const char* v = value();
+      if (v == nullptr || *v == '\0') return Usage("--report needs a folder");
+      report_dir = v;
+    } else if (arg == "--emit") {
+      const char* v = value();
+      app::EmitFormat format;
+      if (v == nullptr || !app::ParseEmitFormat(v, &format)) {
+        return Usage(std::string("--emit: ") + (v ? "unknown format '" + std::string(v) + "'" : "no format") +
+                     "; expected ros2-static-tf, urdf or json");
+      }
+      emit = format;
+    } else if (arg == "--parent-frame") {
+      if (const int status = frame("--parent-frame", &frames.parent); status != 0) return status;
+    } else if (arg == "--child-frame") {
+      if (const int status = frame("--child-frame", &frames.child); status != 0) return status;
+    } else if (arg == "--base-frame") {
+      if (const int status = frame("--base-frame", &frames.base); status != 0) return status;
+    } else if (arg == "--force") {
+      request.force = true;
     } else if (arg == "--quiet" || arg == "-q") {
       quiet = true;
     } else if (!arg.empty() && arg[0] == '-') {
@@ -86,30 +206,47 @@ int main(int argc, char** argv) {
   }
   if (request.session_path.empty()) return Usage("no SESSION given");
 
+  // With --emit, stdout is reserved for the emitted text so it can be piped.
+  std::ostream& summary_out = emit ? std::cerr : std::cout;
+  ProgressLine progress_line;
   try {
     const bool show_progress = !quiet && isatty(STDERR_FILENO);
-    wallcal::app::ProgressFn progress;
+    app::ProgressFn progress;
     if (show_progress) {
-      progress = [](const wallcal::app::Progress& p) {
-        if (p.done == 0) std::cerr << "calibrate: " << p.stage << "\n";
-      };
+      progress = [&progress_line](const app::Progress& p) { progress_line.Update(p); };
     }
-    const wallcal::app::CalibrationResult result = wallcal::app::RunCalibration(request, progress);
-    std::cout << wallcal::app::FormatSummary(result);
+    const app::CalibrationResult result = app::RunCalibration(request, progress);
+    progress_line.Close();
+    summary_out << app::FormatSummary(result);
+    if (!report_dir.empty()) {
+      // The same options the run used: the report re-detects a few scans with them.
+      wallcal::io::CalibrateOptions options;
+      if (!request.config_path.empty()) options = wallcal::io::ReadCalibrateOptions(request.config_path);
+      if (show_progress) std::cerr << "calibrate: writing the report\n";
+      const std::string path = app::WriteReport(result, options, report_dir);
+      summary_out << "  report     " << path << "\n";
+    }
     if (!result.estimate.usable) {
       std::cerr << "calibrate: " << result.session.file
                 << ": mount not determined: " << result.estimate.message << "\n";
       return 1;
     }
-    if (output.empty()) output = wallcal::app::DefaultOutputPath(result.session);
+    if (output.empty()) output = app::DefaultOutputPath(result.session);
     wallcal::io::WriteFileAtomically(
-        output, wallcal::io::FormatOffsetsYaml(wallcal::app::MakeOffsetsDocument(result)));
-    std::cout << "  wrote      " << output << "\n";
+        output, wallcal::io::FormatOffsetsYaml(app::MakeOffsetsDocument(result)));
+    summary_out << "  wrote      " << output << "\n";
+    if (emit) {
+      summary_out << std::flush;
+      std::cout << app::FormatEmit(*emit, result.estimate, result.session.antenna_in_base, frames)
+                << std::flush;
+    }
     return 0;
   } catch (const wallcal::io::InputError& error) {
+    progress_line.Close();
     std::cerr << "calibrate: " << error.what() << "\n";
     return 2;
   } catch (const std::exception& error) {
+    progress_line.Close();
     std::cerr << "calibrate: internal error: " << error.what() << "\n";
     return 3;
   }
