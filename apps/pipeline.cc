@@ -15,6 +15,8 @@
 
 #include <Eigen/Geometry>
 
+#include "apps/repeatability.h"
+#include "apps/residual_analysis.h"
 #include "calib/geodesy.h"
 #include "calib/range_model.h"
 #include "calib/simulator.h"
@@ -116,6 +118,7 @@ struct PassContext {
   const io::CalibrateOptions* options = nullptr;
   const std::vector<calib::WallGeometry>* walls = nullptr;
   const calib::PoseInterpolator* poses = nullptr;
+  bool use_moving = false;  // moving scans are used (option, or too few dwells)
 };
 
 struct PassOutcome {
@@ -139,14 +142,15 @@ struct Gates {
 // are examined (the first, wide-gate pass samples the session evenly).
 PassOutcome DetectionPass(const PassContext& context, const solvers::Mount& mount,
                           const Gates& gates, double min_interval_s, const std::string& stage,
-                          int64_t expected_scans, const ProgressFn& progress) {
+                          int64_t expected_scans, const ProgressFn& progress,
+                          double gate_time_offset_s = 0.0) {
   PassOutcome outcome;
   io::CarmenReader reader(context.session->scanner_log);
   io::ScanRecord scan;
   double last_examined_s = -1e300;
   int scan_index = -1;
   const io::DetectorOptions& detector = context.options->detector;
-  const bool use_moving = context.options->alignment.use_moving_scans;
+  const bool use_moving = context.use_moving;
   while (reader.Next(&scan)) {
     ++scan_index;
     if (progress && scan_index % 2000 == 0) progress(Progress{stage, scan_index, expected_scans});
@@ -182,8 +186,14 @@ PassOutcome DetectionPass(const PassContext& context, const solvers::Mount& moun
       observation.scan_index = scan_index;
       observation.wall_index = static_cast<int>(w);
       observation.pose = pose;
-      const double rho_pred_m = solvers::PredictRho(observation, wall, mount);
-      const double theta_pred_rad = solvers::PredictTheta(observation, wall, mount);
+      // The gates are predicted at the scan's true time (the clock offset of the first pass
+      // moves a moving vehicle's pose); the observation keeps the pose at the stamp, since
+      // the solver applies the offset itself.
+      calib::WallObservation gate_at = observation;
+      gate_at.pose.antenna_local_m += gate_time_offset_s * pose.velocity_local_mps;
+      gate_at.pose.yaw_rad += gate_time_offset_s * pose.yaw_rate_rps;
+      const double rho_pred_m = solvers::PredictRho(gate_at, wall, mount);
+      const double theta_pred_rad = solvers::PredictTheta(gate_at, wall, mount);
       if (rho_pred_m + gates.offset_m <= detector.min_range_m) {
         why_not = "scanner at or behind the wall";
         continue;
@@ -195,10 +205,11 @@ PassOutcome DetectionPass(const PassContext& context, const solvers::Mount& moun
       gate.rho_halfwidth_m = gates.offset_m;
       if (gates.use_segment) {
         // The surveyed wall's ends seen from the scanner (current mount estimate).
-        const double scanner_yaw = pose.yaw_rad + mount.yaw_rad;
-        const Eigen::Rotation2Dd vehicle_R(pose.yaw_rad);
+        const calib::VehiclePose& at = gate_at.pose;
+        const double scanner_yaw = at.yaw_rad + mount.yaw_rad;
+        const Eigen::Rotation2Dd vehicle_R(at.yaw_rad);
         const Eigen::Vector2d scanner_local =
-            pose.antenna_local_m + vehicle_R * Eigen::Vector2d(mount.x_m, mount.y_m);
+            at.antenna_local_m + vehicle_R * Eigen::Vector2d(mount.x_m, mount.y_m);
         const Eigen::Rotation2Dd scanner_R_local(-scanner_yaw);
         gate.has_segment = true;
         gate.segment_a_scanner = scanner_R_local * (wall.end_a_local - scanner_local);
@@ -412,6 +423,16 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
   context.options = &options;
   context.walls = &result.walls;
   context.poses = &poses;
+  // Moving scans: when asked for, or when the engineer drove continuously (too few dwells to
+  // calibrate from stations alone). The solver then estimates the scanner clock offset too.
+  context.use_moving = options.alignment.use_moving_scans ||
+                       (options.alignment.moving_scans_if_few_stations &&
+                        result.num_dwells < options.solver.min_stations);
+  if (context.use_moving && !options.alignment.use_moving_scans) {
+    result.warnings.push_back("only " + std::to_string(result.num_dwells) +
+                              " stations (dwells) found: scans taken while moving are used, with "
+                              "an estimated scanner clock offset (stop-and-go is more accurate)");
+  }
 
   // --- First pass: wide gates around the rough mount, on an even subsample -------------
   solvers::Mount guess;
@@ -452,15 +473,15 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
     return result;
   }
   solvers::MountEstimate start =
-      solvers::SolveMountBarawid(first.observations, result.walls, options.solver);
+      solvers::SolveMountBarawid(first.observations, result.walls, options.solver, request.force);
   if (!start.usable) {
     result.first_pass = start;
     result.estimate = start;
     result.scans_total = first.scans_read + MalformedScans(first.line_skips);
     return result;
   }
-  result.first_pass =
-      solvers::SolveMountCeres(first.observations, result.walls, options.solver, start.mount);
+  result.first_pass = solvers::SolveMountCeres(first.observations, result.walls, options.solver,
+                                               start.mount, request.force);
   if (!result.first_pass.usable) {
     result.estimate = result.first_pass;
     result.scans_total = first.scans_read + MalformedScans(first.line_skips);
@@ -479,8 +500,9 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
                5.0 * std::sqrt(std::max(0.0, c1(0, 0) + c1(1, 1)))),
       true};
   say("second pass: wall detection in every scan with tight gates");
-  PassOutcome second = DetectionPass(context, result.first_pass.mount, tight, 0.0, "second pass",
-                                     first.scans_read, progress);
+  PassOutcome second = DetectionPass(
+      context, result.first_pass.mount, tight, 0.0, "second pass", first.scans_read, progress,
+      result.first_pass.time_offset_estimated ? result.first_pass.time_offset_s : 0.0);
   result.observations = std::move(second.observations);
   result.scans_skipped = second.skipped;
   result.scan_lines_skipped = second.line_skips;
@@ -501,10 +523,32 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
   say("solving (" + request.method + ") on " + std::to_string(result.observations.size()) +
       " observations");
   if (request.method == "barawid") {
-    result.estimate = solvers::SolveMountBarawid(result.observations, result.walls, options.solver);
+    result.estimate = solvers::SolveMountBarawid(result.observations, result.walls,
+                                                 options.solver, request.force);
   } else {
     result.estimate = solvers::SolveMountCeres(result.observations, result.walls, options.solver,
-                                               result.first_pass.mount);
+                                               result.first_pass.mount, request.force);
+  }
+  const solvers::MountEstimate& final_estimate = result.estimate;
+  result.forced = final_estimate.usable && final_estimate.forced;
+  for (const std::string& w : final_estimate.warnings) result.warnings.push_back(w);
+  if (final_estimate.time_offset_estimated) {
+    result.time_offset_s = final_estimate.time_offset_s;
+    result.time_offset_sigma_s = final_estimate.time_offset_sigma_s;
+  }
+  if (final_estimate.usable) {
+    say("residual analysis");
+    result.residual_analysis = AnalyseResiduals(result.observations, result.walls, final_estimate, preset);
+    for (const std::string& flag : result.residual_analysis.flags) {
+      result.warnings.push_back("residuals: " + flag);
+    }
+    if (request.method == "ceres" && options.solver.bootstrap_samples >= 0) {
+      say("repeatability: split halves and " + std::to_string(options.solver.bootstrap_samples) +
+          " bootstrap resamples of the stations");
+      result.repeatability =
+          AssessRepeatability(result.observations, result.walls, options.solver,
+                              final_estimate.mount, options.solver.bootstrap_samples);
+    }
   }
 
   std::set<int> used_scans, used_segments;
@@ -585,6 +629,59 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result) {
              ", sigma_angle_deg: " + Fmt("%.4f", w.sigma_angle_rad * kRadToDeg) + "}";
   }
   add("walls", walls + "]");
+  if (e.independent_stations > 0.0) {
+    add("independent_stations", Fmt("%.2f", e.independent_stations));
+  }
+  if (e.time_offset_estimated) {
+    add("time_offset_s", Fmt("%.4f", result.time_offset_s));
+    add("time_offset_sigma_s", Fmt("%.4f", result.time_offset_sigma_s));
+  } else {
+    add("time_offset_s", "null  # not estimated: every scan used was taken at a station");
+  }
+  if (!e.weak_direction.empty()) add("weak_direction", "\"" + e.weak_direction + "\"");
+  add("forced", result.forced ? "true" : "false");
+  const ResidualAnalysis& ra = result.residual_analysis;
+  if (ra.done) {
+    add("residual_robust_sigma_m", Fmt("%.4f", ra.robust_sigma_m));
+    add("outlier_share", Fmt("%.4f", ra.outlier_share));
+    std::string trends = "{";
+    for (size_t i = 0; i < ra.trends.size(); ++i) {
+      const ResidualTrend& t = ra.trends[i];
+      trends += (i ? ", " : "") + t.against + ": {slope: " + Fmt("%.4g", t.slope) + ", unit: \"" +
+                t.unit + "\", significance: " + Fmt("%.2f", t.significance) +
+                ", flagged: " + (t.flagged ? "true" : "false") + "}";
+    }
+    add("residual_trends", trends + "}");
+    std::string flags = "[";
+    for (size_t i = 0; i < ra.flags.size(); ++i) {
+      flags += (i ? ", " : "") + std::string("\"") + ra.flags[i] + "\"";
+    }
+    add("residual_flags", flags + "]");
+    if (ra.range_model_estimated) {
+      add("range_scale_k_from_residuals",
+          "{k: " + Fmt("%.5f", ra.range_scale_k) + ", sigma: " + Fmt("%.5f", ra.sigma_range_scale_k) +
+              ", preset_k: " + Fmt("%.5f", result.preset.range_scale_k) + "}");
+    }
+  }
+  const Repeatability& rep = result.repeatability;
+  if (rep.done) {
+    std::string text = "{bootstrap_samples: " + std::to_string(rep.bootstrap_samples) +
+                       ", bootstrap_sigma: {x: " + Fmt("%.4f", rep.bootstrap_sigma_x_m) +
+                       ", y: " + Fmt("%.4f", rep.bootstrap_sigma_y_m) +
+                       ", yaw_deg: " + Fmt("%.4f", rep.bootstrap_sigma_yaw_rad * kRadToDeg) +
+                       "}, split_max_shift: {x: " + Fmt("%.4f", rep.max_split_shift_x_m) +
+                       ", y: " + Fmt("%.4f", rep.max_split_shift_y_m) +
+                       ", yaw_deg: " + Fmt("%.4f", rep.max_split_shift_yaw_rad * kRadToDeg) +
+                       "}, splits: [";
+    for (size_t i = 0; i < rep.splits.size(); ++i) {
+      const RepeatabilitySplit& sp = rep.splits[i];
+      text += (i ? ", " : "") + std::string("{name: \"") + sp.name +
+              "\", usable: " + (sp.usable ? "true" : "false") + ", x: " +
+              Fmt("%.4f", sp.mount.x_m) + ", y: " + Fmt("%.4f", sp.mount.y_m) +
+              ", yaw_deg: " + Fmt("%.4f", sp.mount.yaw_rad * kRadToDeg) + "}";
+    }
+    add("repeatability", text + "]}");
+  }
   add("yaw_reference",
       "\"relative to the heading sensor's zero: a constant heading bias is indistinguishable "
       "from mount yaw\"");
@@ -641,6 +738,41 @@ std::string FormatSummary(const CalibrationResult& result) {
                   "  residuals  RMS %.4f m over %d observations, %d outliers (> 3 sigma)\n",
                   e.residual_rms_m, e.observations_used, e.observations_rejected);
     out << line;
+    out << "  yaw        relative to the heading sensor's zero (a constant heading bias is "
+           "indistinguishable from mount yaw)\n";
+    if (e.independent_stations > 0.0) {
+      std::snprintf(line, sizeof(line),
+                    "  gnss error %.1f independent realisations over the stations (RTK error "
+                    "correlated in time)\n",
+                    e.independent_stations);
+      out << line;
+    }
+    if (e.time_offset_estimated) {
+      std::snprintf(line, sizeof(line),
+                    "  clock      scanner time offset %+.4f ± %.4f s (true scan time = stamp + "
+                    "offset)\n",
+                    result.time_offset_s, result.time_offset_sigma_s);
+      out << line;
+    }
+    const ResidualAnalysis& ra = result.residual_analysis;
+    if (ra.done) {
+      std::snprintf(line, sizeof(line),
+                    "  analysis   robust sigma %.4f m, %.1f %% beyond 2 sigma, %zu flagged "
+                    "trend(s)\n",
+                    ra.robust_sigma_m, 100.0 * ra.outlier_share, ra.flags.size());
+      out << line;
+    }
+    const Repeatability& rep = result.repeatability;
+    if (rep.done) {
+      std::snprintf(line, sizeof(line),
+                    "  repeat     bootstrap (%d) sigma x %.4f m, y %.4f m, yaw %.3f deg; "
+                    "split halves/odd-even move it at most x %.4f m, y %.4f m, yaw %.3f deg\n",
+                    rep.bootstrap_samples, rep.bootstrap_sigma_x_m, rep.bootstrap_sigma_y_m,
+                    rep.bootstrap_sigma_yaw_rad * kRadToDeg, rep.max_split_shift_x_m,
+                    rep.max_split_shift_y_m, rep.max_split_shift_yaw_rad * kRadToDeg);
+      out << line;
+    }
+    if (result.forced) out << "  FORCED     written although the data do not determine the mount\n";
   } else {
     out << "  mount      NOT DETERMINED: " << e.message << "\n";
   }

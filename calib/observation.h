@@ -45,6 +45,10 @@ struct VehiclePose {
   double gnss_sigma_m = 0.0;     // per-axis 1σ of the GNSS position (GST or default), 0 if unknown
   bool stationary = false;
   int segment = -1;  // index of the dwell/segment sharing correlated GNSS error; -1 none
+  // Rates at that instant (from the GNSS and heading samples around it), for the pose at a
+  // slightly different time: p(t + dt) ≈ p + v·dt, ψ(t + dt) ≈ ψ + ω·dt (scanner clock offset).
+  Eigen::Vector2d velocity_local_mps = Eigen::Vector2d::Zero();  // antenna, local frame
+  double yaw_rate_rps = 0.0;  // ccw
 };
 
 // The wall line one scan saw: {p_scanner : cos(theta)·px + sin(theta)·py = rho}, rho > 0,

@@ -154,6 +154,8 @@ PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
   // The last dwell starting at or before stamp_s is the only one that can contain it.
   const auto it = std::upper_bound(dwells_.begin(), dwells_.end(), stamp_s,
                                    [](double t, const Dwell& d) { return t < d.start_s; });
+  pose->velocity_local_mps.setZero();
+  pose->yaw_rate_rps = 0.0;
   if (it != dwells_.begin() && stamp_s <= std::prev(it)->end_s) {
     pose->stationary = true;
     pose->segment = static_cast<int>(std::prev(it) - dwells_.begin());
@@ -163,6 +165,24 @@ PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
             ? static_cast<int>(std::floor((stamp_s - start_s_) / options_.segment_max_s))
             : 0;
     pose->segment = static_cast<int>(dwells_.size()) + slice;
+  }
+  // Rates by central differences over a window (half the stationary window each side, at
+  // least one sample period): a single GNSS period would turn 3 mm of white noise into cm/s.
+  // The window is clipped to the span where both streams interpolate. Computed inside dwells
+  // too: a scan stamped at a dwell's edge may have been taken as the vehicle moved off, and
+  // the rate is what lets the solver's clock offset account for it (mm/s of noise otherwise).
+  const double half_s = std::max(0.5 * options_.stationary_window_s,
+                                 std::max(gnss_period_s_, heading_period_s_));
+  const double t0 = std::max(start_s_, stamp_s - half_s);
+  const double t1 = std::min(end_s_, stamp_s + half_s);
+  Eigen::Vector2d p0, p1;
+  double s0 = 0.0, s1 = 0.0, y0 = 0.0, y1 = 0.0;
+  PoseStatus ignored = PoseStatus::kOk;
+  if (t1 > t0 && PositionAt(t0, &p0, &s0, &ignored) && PositionAt(t1, &p1, &s1, &ignored)) {
+    pose->velocity_local_mps = (p1 - p0) / (t1 - t0);
+  }
+  if (t1 > t0 && YawAt(t0, &y0, &ignored) && YawAt(t1, &y1, &ignored)) {
+    pose->yaw_rate_rps = WrapAngle(y1 - y0) / (t1 - t0);
   }
   return PoseStatus::kOk;
 }

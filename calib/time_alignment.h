@@ -60,7 +60,9 @@ class PoseInterpolator {
   // pair of samples further apart than the stream's max gap -> kGnssGap / kHeadingGap (GNSS
   // checked first). On kOk fills every field of *pose: stationary = inside a dwell; segment =
   // the dwell's index inside one, otherwise dwells().size() + floor((t − start_s()) /
-  // segment_max_s) so that moving scans in one time slice share a GNSS-error segment.
+  // segment_max_s) so that moving scans in one time slice share a GNSS-error segment;
+  // velocity_local_mps and yaw_rate_rps = central differences over ±half the stationary
+  // window (clipped to the streams; a few mm/s of noise inside a dwell).
   // On any other status *pose is left unchanged. O(log n).
   PoseStatus At(double stamp_s, VehiclePose* pose) const;
 

@@ -40,6 +40,7 @@ void VisitAlignment(V& v, AlignmentOptions& o) {
   v.Number("min_dwell_s", o.min_dwell_s);
   v.Boolean("use_moving_scans", o.use_moving_scans);
   v.Number("segment_max_s", o.segment_max_s);
+  v.Boolean("moving_scans_if_few_stations", o.moving_scans_if_few_stations);
 }
 
 template <class V>
@@ -56,6 +57,11 @@ void VisitSolver(V& v, SolverOptions& o) {
   v.Scaled("min_heading_spread_deg", o.min_heading_spread_rad, kDegPerRad);
   v.Integer("min_observations", o.min_observations);
   v.Integer("min_stations", o.min_stations);
+  v.Number("gnss_bias_tau_s", o.gnss_bias_tau_s);
+  v.Number("time_offset_sigma_s", o.time_offset_sigma_s);
+  v.Number("max_sigma_xy_m", o.max_sigma_xy_m);
+  v.Scaled("max_sigma_yaw_deg", o.max_sigma_yaw_rad, kDegPerRad);
+  v.Integer("bootstrap_samples", o.bootstrap_samples);
 }
 
 template <class V>
@@ -97,6 +103,9 @@ void VisitSimulation(V& v, SimulationConfig& c) {
   v.Number("dwell_s", c.dwell_s);
   v.Number("drive_speed_mps", c.drive_speed_mps);
   v.Number("lateral_spread_m", c.lateral_spread_m);
+  v.Boolean("continuous", c.continuous);
+  v.Number("weave_amplitude_m", c.weave_amplitude_m);
+  v.Number("continuous_duration_s", c.continuous_duration_s);
   v.Number("gnss_rate_hz", c.gnss_rate_hz);
   v.Number("gnss_bias_sigma_m", c.gnss_bias_sigma_m);
   v.Number("gnss_bias_tau_s", c.gnss_bias_tau_s);

@@ -87,6 +87,11 @@ void SolverOptions::Validate() const {
   CheckRange("solver.min_heading_spread_deg", min_heading_spread_rad * kDegPerRad, 0.0, 360.0);
   CheckAtLeast("solver.min_observations", min_observations, 1);
   CheckAtLeast("solver.min_stations", min_stations, 1);
+  CheckNonNegative("solver.gnss_bias_tau_s", gnss_bias_tau_s);
+  CheckNonNegative("solver.time_offset_sigma_s", time_offset_sigma_s);
+  CheckPositive("solver.max_sigma_xy_m", max_sigma_xy_m);
+  CheckAnglePositive("solver.max_sigma_yaw_deg", max_sigma_yaw_rad, 180.0);
+  CheckAtLeast("solver.bootstrap_samples", bootstrap_samples, 0);
 }
 
 void CalibrateOptions::Validate() const {

@@ -36,7 +36,10 @@ struct AlignmentOptions {
   double stationary_window_s = 1.0;        // window for speed / yaw rate
   double min_dwell_s = 2.0;                // shorter dwells are not stations
   bool use_moving_scans = false;           // scans taken while moving are skipped by default
-  double segment_max_s = 30.0;             // GNSS-error segment length for moving data
+  double segment_max_s = 5.0;              // GNSS-error segment length for moving data
+  // Use moving scans anyway when the session has fewer dwells than solver.min_stations (an
+  // engineer drove continuously): the solver then also estimates the scanner clock offset.
+  bool moving_scans_if_few_stations = true;
   void Validate() const;
 };
 
@@ -55,6 +58,19 @@ struct SolverOptions {
   double min_heading_spread_rad = 0.34906585;   // 20 deg: narrower and the mount is not determined
   int min_observations = 30;
   int min_stations = 3;
+  // Correlation time of the receiver's RTK error (first-order Gauss–Markov): the biases of
+  // stations closer in time than this are correlated, so they count as fewer independent
+  // realisations. 0: every segment's bias is independent.
+  double gnss_bias_tau_s = 60.0;
+  // Prior σ of the scanner-clock offset to the GNSS/heading clocks, estimated when moving scans
+  // are used (0: never estimated).
+  double time_offset_sigma_s = 0.1;
+  // Largest 1σ accepted for the mount: beyond these (in any combination of x, y, yaw) the mount
+  // is "not determined" and calibrate refuses unless forced.
+  double max_sigma_xy_m = 0.05;
+  double max_sigma_yaw_rad = 0.0087266463;  // 0.5 deg
+  // Repeatability: resamples of the stations (with replacement) re-solved; 0 switches it off.
+  int bootstrap_samples = 50;
   void Validate() const;
 };
 
@@ -108,6 +124,13 @@ struct SimulationConfig {
   double dwell_s = 4.0;                // time stopped at each station
   double drive_speed_mps = 1.0;
   double lateral_spread_m = 6.0;       // station positions spread along the wall
+  // Continuous driving (no stops): the vehicle sweeps the stations' headings and positions once,
+  // smoothly, over continuous_duration_s (0: as long as the stop-and-go plan), while weaving
+  // forward and back along the wall normal by ±weave_amplitude_m at a mean speed of
+  // drive_speed_mps.
+  bool continuous = false;
+  double weave_amplitude_m = 1.0;
+  double continuous_duration_s = 0.0;
   // GNSS
   double gnss_rate_hz = 10.0;
   double gnss_bias_sigma_m = 0.015;    // time-correlated (Gauss-Markov) RTK error

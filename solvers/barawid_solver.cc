@@ -16,13 +16,18 @@ namespace wallcal::solvers {
 
 MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& observations,
                                 const std::vector<calib::WallGeometry>& walls,
-                                const io::SolverOptions& options) {
+                                const io::SolverOptions& options, bool force) {
   MountEstimate estimate;
   estimate.method = "barawid";
   const ObservabilityReport observability = CheckObservability(observations, walls, options);
   if (!observability.ok) {
-    estimate.message = observability.message;
-    return estimate;
+    if (!force || !observability.solvable) {
+      estimate.message = observability.message;
+      return estimate;
+    }
+    // Forced: the closed form still needs a solvable normal system (checked below).
+    estimate.forced = true;
+    estimate.warnings.push_back("FORCED: " + observability.message);
   }
   const int n = static_cast<int>(observations.size());
 

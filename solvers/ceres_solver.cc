@@ -8,8 +8,11 @@
 #include <ceres/ceres.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <set>
@@ -34,6 +37,13 @@ constexpr double kRejectWhitenedNorm = 3.0;
 // When the solution's (x, y) is this far from the mount the noise model's lever arms were
 // computed with, the problem is rebuilt with the solution's lever arms and solved once more.
 constexpr double kLeverRebuildDistanceM = 0.05;
+
+// Segments closer in time than ~τ/2000 are one GNSS error: ρ is capped so that the chain step's
+// σ (σ_b √(1 − ρ²)) stays a usable weight.
+constexpr double kMaxSegmentCorrelation = 0.999;
+
+// Fewer independent GNSS-error realisations than this (all stations within about one τ): warn.
+constexpr double kMinIndependentStations = 1.5;
 
 // The σ of the correlated GNSS error for one observation's position: the GST σ when the log has
 // one and the options allow it, the configured bias σ otherwise.
@@ -90,31 +100,65 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
 std::unique_ptr<MountProblem> BuildMountProblem(
     const std::vector<calib::WallObservation>& observations,
     const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
-    const Mount& lever_mount, const Mount& initial, std::string* error) {
+    const Mount& lever_mount, const Mount& initial, std::string* error,
+    const std::vector<double>& weights) {
   auto mp = std::make_unique<MountProblem>();
   mp->mount = {initial.x_m, initial.y_m, initial.yaw_rad};
   mp->wall_deltas.assign(walls.size(), {0.0, 0.0});
+  const auto weight_of = [&weights](size_t i) {
+    return i < weights.size() ? std::max(0.0, weights[i]) : 1.0;
+  };
 
   // GNSS segments and their bias σ: the mean GST σ over the segment's observations (when
-  // allowed and present), else the configured σ.
-  std::map<int, std::pair<double, int>> gst_sum_count;
-  for (const auto& observation : observations) {
+  // allowed and present), else the configured σ; and their mean time, for the Gauss–Markov
+  // chain below.
+  struct SegmentSums {
+    double gst_sum = 0.0;
+    int gst_count = 0;
+    double stamp_sum = 0.0;
+    int count = 0;
+  };
+  std::map<int, SegmentSums> sums;
+  int moving = 0;
+  for (size_t i = 0; i < observations.size(); ++i) {
+    const auto& observation = observations[i];
+    if (!(weight_of(i) > 0.0)) continue;
+    if (!observation.pose.stationary) ++moving;
     const int segment = observation.pose.segment;
     if (segment < 0) continue;
-    auto& entry = gst_sum_count[segment];
+    SegmentSums& entry = sums[segment];
     if (options.use_gst_sigma && observation.pose.gnss_sigma_m > 0.0) {
-      entry.first += observation.pose.gnss_sigma_m;
-      entry.second += 1;
+      entry.gst_sum += observation.pose.gnss_sigma_m;
+      entry.gst_count += 1;
     }
+    entry.stamp_sum += observation.pose.stamp_s;
+    entry.count += 1;
   }
   std::map<int, int> segment_index;
-  for (const auto& [segment, sum_count] : gst_sum_count) {
+  for (const auto& [segment, entry] : sums) {
     segment_index[segment] = static_cast<int>(mp->segment_ids.size());
     mp->segment_ids.push_back(segment);
-    mp->bias_sigma_m.push_back(sum_count.second > 0 ? sum_count.first / sum_count.second
-                                                    : options.gnss_bias_sigma_m);
+    mp->bias_sigma_m.push_back(entry.gst_count > 0 ? entry.gst_sum / entry.gst_count
+                                                   : options.gnss_bias_sigma_m);
+    mp->segment_mid_s.push_back(entry.stamp_sum / entry.count);
   }
   mp->biases.assign(mp->segment_ids.size(), {0.0, 0.0});
+  // Time order and the correlation with the previous segment in it: ρ = exp(−Δt/τ).
+  mp->segment_order.resize(mp->segment_ids.size());
+  for (size_t k = 0; k < mp->segment_order.size(); ++k) mp->segment_order[k] = static_cast<int>(k);
+  std::stable_sort(mp->segment_order.begin(), mp->segment_order.end(), [&mp](int a, int b) {
+    return mp->segment_mid_s[a] < mp->segment_mid_s[b];
+  });
+  mp->segment_rho.assign(mp->segment_order.size(), 0.0);
+  for (size_t k = 1; k < mp->segment_order.size(); ++k) {
+    const double dt_s = mp->segment_mid_s[mp->segment_order[k]] -
+                        mp->segment_mid_s[mp->segment_order[k - 1]];
+    mp->segment_rho[k] = options.gnss_bias_tau_s > 0.0
+                             ? std::min(kMaxSegmentCorrelation,
+                                        std::exp(-std::max(0.0, dt_s) / options.gnss_bias_tau_s))
+                             : 0.0;
+  }
+  mp->time_offset_estimated = options.time_offset_sigma_s > 0.0 && moving >= kMinMovingObservations;
 
   // Everything fixed per observation, including W = L⁻¹ of its covariance, before the problem
   // takes any ownership (so that a bad covariance leaves nothing half-built).
@@ -139,9 +183,12 @@ std::unique_ptr<MountProblem> BuildMountProblem(
       }
       return nullptr;
     }
+    const double weight = weight_of(i);
     WallLineMeasurement m;
     m.antenna_local_m = observation.pose.antenna_local_m;
     m.vehicle_yaw_rad = observation.pose.yaw_rad;
+    m.velocity_local_mps = observation.pose.velocity_local_mps;
+    m.yaw_rate_rps = observation.pose.yaw_rate_rps;
     m.sign = oriented.sign;
     m.wall_normal_local = wall.normal_local;
     // The rotation centre: the middle of the surveyed extent, projected onto the line.
@@ -151,32 +198,41 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     m.wall_normal_angle_rad = oriented.normal_angle_rad;
     m.rho_m = observation.rho_m;
     m.theta_rad = observation.theta_rad;
-    m.sqrt_information = llt.matrixL().solve(Eigen::Matrix2d::Identity());
+    m.sqrt_information = std::sqrt(weight > 0.0 ? weight : 1.0) *
+                         Eigen::Matrix2d(llt.matrixL().solve(Eigen::Matrix2d::Identity()));
     mp->measurements.push_back(m);
-    walls_used.insert(observation.wall_index);
+    mp->weights.push_back(weight);
+    if (weight > 0.0) walls_used.insert(observation.wall_index);
 
     mp->wall_block.push_back(mp->wall_deltas[observation.wall_index].data());
     double* bias = mp->no_bias.data();
     const int segment = observation.pose.segment;
-    if (segment >= 0) {
-      const int k = segment_index.at(segment);
+    const auto found = segment_index.find(segment);
+    if (segment >= 0 && found != segment_index.end()) {
       // A segment whose σ_b is 0 has no error to estimate: it shares the constant zero block.
-      if (mp->bias_sigma_m[k] > 0.0) bias = mp->biases[k].data();
+      if (mp->bias_sigma_m[found->second] > 0.0) bias = mp->biases[found->second].data();
     }
-    uses_no_bias = uses_no_bias || bias == mp->no_bias.data();
+    if (weight > 0.0) uses_no_bias = uses_no_bias || bias == mp->no_bias.data();
     mp->bias_block.push_back(bias);
   }
 
   // Observation blocks, robustified in whitened units. The problem owns the loss (one shared
-  // instance) and every cost function.
+  // instance) and every cost function. Observations of weight 0 get no block.
   ceres::LossFunction* loss =
       options.huber_scale > 0.0 ? new ceres::HuberLoss(options.huber_scale) : nullptr;
   mp->residual_blocks.reserve(observations.size());
+  bool loss_used = false;
   for (size_t i = 0; i < mp->measurements.size(); ++i) {
-    mp->residual_blocks.push_back(
-        mp->problem.AddResidualBlock(WallLineCost::Create(mp->measurements[i]), loss,
-                                     mp->mount.data(), mp->wall_block[i], mp->bias_block[i]));
+    if (!(mp->weights[i] > 0.0)) {
+      mp->residual_blocks.push_back(nullptr);
+      continue;
+    }
+    loss_used = true;
+    mp->residual_blocks.push_back(mp->problem.AddResidualBlock(
+        WallLineCost::Create(mp->measurements[i]), loss, mp->mount.data(), mp->wall_block[i],
+        mp->bias_block[i], mp->time_offset.data()));
   }
+  if (!loss_used) delete loss;
 
   // Wall priors. A σ of 0 means the survey is taken as exact in that coordinate: the coordinate
   // is held constant (the whole block when both are 0) rather than given an infinite weight.
@@ -196,29 +252,93 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     }
     mp->problem.AddResidualBlock(ZeroMeanPriorCost::Create(prior_sigma), nullptr, block);
   }
-  // GNSS bias priors (segments with σ_b = 0 are not in the problem, see above).
-  for (size_t k = 0; k < mp->segment_ids.size(); ++k) {
-    const double sigma_m = mp->bias_sigma_m[k];
-    if (!(sigma_m > 0.0)) continue;
-    mp->problem.AddResidualBlock(ZeroMeanPriorCost::Create(Eigen::Vector2d(sigma_m, sigma_m)),
-                                 nullptr, mp->biases[k].data());
+  // GNSS bias priors: a first-order Gauss–Markov chain in time (the RTK error is correlated
+  // over τ, and stations are often closer in time than that: independent priors per station
+  // would count them as independent draws and make σ too small). The first segment of each
+  // chain gets the marginal prior; a segment with σ_b = 0 (not in the problem, see above)
+  // breaks the chain. ρ = exp(−Δt/τ) between segment mean times.
+  int previous = -1;
+  for (size_t k = 0; k < mp->segment_order.size(); ++k) {
+    const int index = mp->segment_order[k];
+    const double sigma_m = mp->bias_sigma_m[index];
+    if (!(sigma_m > 0.0)) {
+      previous = -1;
+      continue;
+    }
+    const double rho = mp->segment_rho[k];
+    if (previous < 0 || !(rho > 0.0)) {
+      mp->problem.AddResidualBlock(ZeroMeanPriorCost::Create(Eigen::Vector2d(sigma_m, sigma_m)),
+                                   nullptr, mp->biases[index].data());
+    } else {
+      const double a = rho * sigma_m / mp->bias_sigma_m[previous];
+      const double sigma_w = sigma_m * std::sqrt(1.0 - rho * rho);
+      mp->problem.AddResidualBlock(GaussMarkovStepCost::Create(a, sigma_w), nullptr,
+                                   mp->biases[previous].data(), mp->biases[index].data());
+    }
+    previous = index;
   }
   // The zero bias of observations without a segment is data, not an estimate.
   if (uses_no_bias) mp->problem.SetParameterBlockConstant(mp->no_bias.data());
+  // The clock offset: a prior of σ_dt when moving scans can tell it; otherwise held at 0 (at
+  // a station the pose does not change with time, so dt is not in the data).
+  if (mp->problem.HasParameterBlock(mp->time_offset.data())) {
+    if (mp->time_offset_estimated) {
+      mp->problem.AddResidualBlock(ScalarPriorCost::Create(options.time_offset_sigma_s), nullptr,
+                                   mp->time_offset.data());
+    } else {
+      mp->problem.SetParameterBlockConstant(mp->time_offset.data());
+    }
+  }
   return mp;
 }
 
-MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& options) {
+Eigen::Matrix3d MountInformation(MountProblem& mp) {
+  if (!mp.problem.HasParameterBlock(mp.mount.data())) return Eigen::Matrix3d::Zero();
+  std::vector<double*> blocks;
+  mp.problem.GetParameterBlocks(&blocks);
+  ceres::Problem::EvaluateOptions evaluate;
+  evaluate.parameter_blocks.push_back(mp.mount.data());
+  for (double* block : blocks) {
+    if (block == mp.mount.data() || mp.problem.IsParameterBlockConstant(block)) continue;
+    evaluate.parameter_blocks.push_back(block);
+  }
+  evaluate.apply_loss_function = true;
+  evaluate.num_threads = 1;
+  ceres::CRSMatrix jacobian;
+  if (!mp.problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &jacobian)) {
+    return Eigen::Matrix3d::Zero();
+  }
+  const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor, int>> j(
+      jacobian.num_rows, jacobian.num_cols, static_cast<int>(jacobian.values.size()),
+      jacobian.rows.data(), jacobian.cols.data(), jacobian.values.data());
+  const Eigen::SparseMatrix<double> jc = j;  // column major for the product
+  const Eigen::MatrixXd h = Eigen::MatrixXd(jc.transpose() * jc);
+  const int n = static_cast<int>(h.rows()) - 3;
+  Eigen::Matrix3d information = h.topLeftCorner<3, 3>();
+  if (n > 0) {
+    // Schur complement: the nuisance block has priors on every coordinate, so it is positive
+    // definite; a tiny ridge guards against round-off only.
+    Eigen::MatrixXd hnn = h.bottomRightCorner(n, n);
+    const double ridge = 1e-12 * std::max(1.0, hnn.diagonal().cwiseAbs().maxCoeff());
+    hnn.diagonal().array() += ridge;
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(hnn);
+    const Eigen::MatrixXd hnm = h.bottomLeftCorner(n, 3);
+    information -= hnm.transpose() * ldlt.solve(hnm);
+  }
+  return 0.5 * (information + information.transpose());
+}
+
+MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& options,
+                                bool compute_covariance) {
   MountEstimate estimate;
   estimate.method = "ceres";
 
   ceres::Solver::Options solver_options;
-  // Few parameters (3 + 2·walls + 2·segments), many residuals each touching three blocks:
+  // Few parameters (3 + 2·walls + 2·segments + 1), many residuals each touching four blocks:
   // the normal equations are small and sparse, so forming them and factoring with a sparse
-  // Cholesky is fast. Measured on 270 000 observations (DISABLED_LargeProblemTiming in
-  // ceres_solver_test.cc, 2 busy cores): 1.3-2 s per solve with 100 or 300 segments, the same
-  // as DENSE_SCHUR within the noise and faster than SPARSE_SCHUR; most of it is evaluating the
-  // auto-diff Jacobians, the linear solver takes ~20 %.
+  // Cholesky is fast. Measured on 270 000 observations (bench/, 2 busy cores): 1.3-2 s per
+  // solve with 100 or 300 segments, the same as DENSE_SCHUR within the noise and faster than
+  // SPARSE_SCHUR; most of it is evaluating the auto-diff Jacobians.
   solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   solver_options.max_num_iterations = options.max_iterations;
   solver_options.num_threads = 1;
@@ -230,32 +350,55 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
   estimate.solver_report = summary.BriefReport();
   estimate.mount = MountFromArray(mp.mount);
   estimate.mount.yaw_rad = WrapAngle(estimate.mount.yaw_rad);
+  estimate.time_offset_estimated = mp.time_offset_estimated;
+  estimate.time_offset_s = mp.time_offset[0];
+  for (size_t k = 0; k < mp.segment_order.size(); ++k) {
+    const int index = mp.segment_order[k];
+    estimate.segment_ids.push_back(mp.segment_ids[index]);
+    estimate.segment_bias_m.emplace_back(mp.biases[index][0], mp.biases[index][1]);
+    estimate.segment_bias_sigma_m.push_back(mp.bias_sigma_m[index]);
+  }
+  // Independent realisations of the GNSS error among the segments (Gauss–Markov): each
+  // segment adds what it does not share with the previous one.
+  if (!mp.segment_order.empty()) {
+    estimate.independent_stations = 1.0;
+    for (size_t k = 1; k < mp.segment_rho.size(); ++k) {
+      estimate.independent_stations += 1.0 - mp.segment_rho[k] * mp.segment_rho[k];
+    }
+  }
 
   // Residuals at the solution, nuisance parameters applied.
   const int n = static_cast<int>(mp.measurements.size());
   estimate.residual_rho_m.resize(n);
   double sum_sq_m2 = 0.0;
   int rejected = 0;
+  int counted = 0;
   for (int i = 0; i < n; ++i) {
     const WallLineCost cost(mp.measurements[i]);
     double error[2];
     double whitened[2];
-    cost.Errors(mp.mount.data(), mp.wall_block[i], mp.bias_block[i], error);
-    cost(mp.mount.data(), mp.wall_block[i], mp.bias_block[i], whitened);
+    cost.Errors(mp.mount.data(), mp.wall_block[i], mp.bias_block[i], mp.time_offset.data(), error);
+    cost(mp.mount.data(), mp.wall_block[i], mp.bias_block[i], mp.time_offset.data(), whitened);
     estimate.residual_rho_m[i] = -error[0];  // observed − predicted
-    if (std::hypot(whitened[0], whitened[1]) > kRejectWhitenedNorm) {
+    if (!(mp.weights[i] > 0.0)) continue;
+    ++counted;
+    if (std::hypot(whitened[0], whitened[1]) / std::sqrt(mp.weights[i]) > kRejectWhitenedNorm) {
       ++rejected;
     } else {
       sum_sq_m2 += error[0] * error[0];
     }
   }
   estimate.observations_rejected = rejected;
-  estimate.observations_used = n - rejected;
+  estimate.observations_used = counted - rejected;
   estimate.residual_rms_m =
       estimate.observations_used > 0 ? std::sqrt(sum_sq_m2 / estimate.observations_used) : 0.0;
 
   if (!summary.IsSolutionUsable()) {
     estimate.message = "the least-squares solve failed: " + summary.message;
+    return estimate;
+  }
+  if (!compute_covariance) {
+    estimate.usable = true;
     return estimate;
   }
   if (summary.termination_type != ceres::CONVERGENCE) {
@@ -279,8 +422,9 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
 #endif
   covariance_options.num_threads = 1;
   ceres::Covariance covariance(covariance_options);
-  const std::vector<std::pair<const double*, const double*>> blocks = {
+  std::vector<std::pair<const double*, const double*>> blocks = {
       {mp.mount.data(), mp.mount.data()}};
+  if (mp.time_offset_estimated) blocks.emplace_back(mp.time_offset.data(), mp.time_offset.data());
   if (!covariance.Compute(blocks, &mp.problem)) {
     estimate.message =
         "the mount covariance could not be computed: the Jacobian is rank deficient (a mount or "
@@ -295,6 +439,13 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) estimate.covariance(r, c) = values[3 * r + c];
   }
+  if (mp.time_offset_estimated) {
+    double dt_variance = 0.0;
+    if (covariance.GetCovarianceBlock(mp.time_offset.data(), mp.time_offset.data(),
+                                      &dt_variance)) {
+      estimate.time_offset_sigma_s = std::sqrt(std::max(0.0, dt_variance));
+    }
+  }
   if (!estimate.covariance.allFinite() || !(estimate.covariance.diagonal().minCoeff() > 0.0)) {
     estimate.message = "the mount covariance is not finite and positive";
     return estimate;
@@ -303,26 +454,55 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
   return estimate;
 }
 
+namespace {
+
+// The covariance from an information matrix that may be singular: eigenvalues below a floor
+// (relative to the largest) are raised to it, so that an undetermined direction comes out with
+// a huge but finite σ instead of a failure (used only for forced estimates and refits).
+Eigen::Matrix3d CovarianceFromInformation(const Eigen::Matrix3d& information) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(information);
+  const double largest = std::max(eigen.eigenvalues().cwiseAbs().maxCoeff(), 1e-300);
+  Eigen::Vector3d inverse;
+  for (int k = 0; k < 3; ++k) inverse[k] = 1.0 / std::max(eigen.eigenvalues()[k], 1e-12 * largest);
+  return eigen.eigenvectors() * inverse.asDiagonal() * eigen.eigenvectors().transpose();
+}
+
+MountEstimate Refused(const Mount& initial, const std::string& message) {
+  MountEstimate refused;
+  refused.method = "ceres";
+  refused.mount = initial;
+  refused.message = message;
+  return refused;
+}
+
+}  // namespace
+
 MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observations,
                               const std::vector<calib::WallGeometry>& walls,
-                              const io::SolverOptions& options, const Mount& initial) {
+                              const io::SolverOptions& options, const Mount& initial,
+                              bool force) {
+  std::vector<std::string> forced_warnings;
   const ObservabilityReport observability = CheckObservability(observations, walls, options);
   if (!observability.ok) {
-    MountEstimate refused;
-    refused.method = "ceres";
-    refused.mount = initial;
-    refused.message = observability.message;
-    return refused;
+    if (!force || !observability.solvable) return Refused(initial, observability.message);
+    forced_warnings.push_back("FORCED: " + observability.message);
   }
   std::string error;
   auto mp = BuildMountProblem(observations, walls, options, initial, initial, &error);
-  if (!mp) {
-    MountEstimate refused;
-    refused.method = "ceres";
-    refused.mount = initial;
-    refused.message = error;
-    return refused;
+  if (!mp) return Refused(initial, error);
+
+  // Before solving: is every mount direction determined by this geometry and noise model?
+  const DeterminationReport before =
+      CheckDetermination(MountInformation(*mp), observations, walls, options);
+  if (!before.ok) {
+    if (!force) {
+      MountEstimate refused = Refused(initial, before.message);
+      refused.weak_direction = before.weak_direction;
+      return refused;
+    }
+    if (observability.ok) forced_warnings.push_back("FORCED: " + before.message);
   }
+
   MountEstimate estimate = SolveMountProblem(*mp, options);
   const double moved_m =
       std::hypot(estimate.mount.x_m - initial.x_m, estimate.mount.y_m - initial.y_m);
@@ -335,9 +515,70 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
       const std::string first_report = estimate.solver_report;
       estimate = SolveMountProblem(*second, options);
       estimate.solver_report = first_report + "\n" + estimate.solver_report;
+      mp = std::move(second);
     }
   }
+  // After solving: the same check at the solution (the noise model's lever arms and the robust
+  // loss's weights have changed).
+  const Eigen::Matrix3d information = MountInformation(*mp);
+  const DeterminationReport after = CheckDetermination(information, observations, walls, options);
+  if (!after.ok) {
+    estimate.weak_direction = after.weak_direction;
+    if (!force) {
+      estimate.usable = false;
+      estimate.message = after.message;
+      return estimate;
+    }
+    if (observability.ok && before.ok) forced_warnings.push_back("FORCED: " + after.message);
+  }
+  if (!estimate.usable && force && !forced_warnings.empty() &&
+      estimate.message.rfind("the mount covariance", 0) == 0) {
+    // Forced through a direction the data cannot tell: the solution exists (the priors hold the
+    // nuisance parameters), its σ along that direction is huge.
+    estimate.covariance = CovarianceFromInformation(information);
+    estimate.usable = true;
+    estimate.message.clear();
+  }
+  if (!forced_warnings.empty()) {
+    estimate.forced = true;
+    estimate.warnings.insert(estimate.warnings.begin(), forced_warnings.begin(),
+                             forced_warnings.end());
+  }
+  if (estimate.usable && estimate.independent_stations > 0.0 &&
+      estimate.independent_stations < kMinIndependentStations) {
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "the stations count as only %.1f independent GNSS errors (RTK error "
+                  "correlation time %.0f s): spread the stations over a longer time for a "
+                  "smaller σ",
+                  estimate.independent_stations, options.gnss_bias_tau_s);
+    estimate.warnings.push_back(line);
+  }
   return estimate;
+}
+
+Refit RefitMount(const std::vector<calib::WallObservation>& observations,
+                 const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
+                 const Mount& initial, const std::vector<double>& weights, int max_iterations) {
+  Refit refit;
+  refit.mount = initial;
+  std::string error;
+  auto mp = BuildMountProblem(observations, walls, options, initial, initial, &error, weights);
+  if (!mp || !mp->problem.HasParameterBlock(mp->mount.data())) return refit;
+  io::SolverOptions quick = options;
+  quick.max_iterations = std::max(1, max_iterations);
+  const MountEstimate estimate = SolveMountProblem(*mp, quick, /*compute_covariance=*/false);
+  if (!estimate.usable) return refit;
+  refit.converged = true;
+  refit.mount = estimate.mount;
+  const Eigen::Matrix3d information = MountInformation(*mp);
+  refit.covariance = CovarianceFromInformation(information);
+  std::vector<calib::WallObservation> used;
+  for (size_t i = 0; i < observations.size(); ++i) {
+    if (i >= weights.size() || weights[i] > 0.0) used.push_back(observations[i]);
+  }
+  refit.determined = CheckDetermination(information, used, walls, options).ok;
+  return refit;
 }
 
 }  // namespace wallcal::solvers

@@ -34,14 +34,23 @@ struct MountProblem {
   std::vector<int> segment_ids;
   std::vector<std::array<double, 2>> biases;
   std::vector<double> bias_sigma_m;
+  std::vector<double> segment_mid_s;  // mean stamp of each segment's observations
+  // Segment indices (into segment_ids) in time order, and the Gauss–Markov correlation ρ
+  // between each and the previous one in that order (0 for the first).
+  std::vector<int> segment_order;
+  std::vector<double> segment_rho;
+  // Scanner clock offset [dt_s]; constant at 0 unless time_offset_estimated.
+  std::array<double, 1> time_offset{};
+  bool time_offset_estimated = false;
   // Held constant at 0: the bias of observations without a segment (their GNSS error is in
   // their white noise instead).
   std::array<double, 2> no_bias{};
   // Per observation, input order.
   std::vector<WallLineMeasurement> measurements;
+  std::vector<double> weights;       // information multiplier (0: no residual block)
   std::vector<double*> wall_block;  // the wall block each observation uses
   std::vector<double*> bias_block;  // the bias block each observation uses (maybe no_bias)
-  std::vector<ceres::ResidualBlockId> residual_blocks;
+  std::vector<ceres::ResidualBlockId> residual_blocks;  // nullptr for weight 0
   // Declared last so that it goes first, while the values it points into still exist.
   ceres::Problem problem;
 };
@@ -50,11 +59,23 @@ struct MountProblem {
 // of each observation uses `lever_mount` for the lever arm that turns heading noise into rho
 // noise; the parameters start at `initial`. Assumes CheckObservability passed (wall indices in
 // range). Returns nullptr and sets *error when an observation's covariance is not positive
-// definite (all its σ zero).
+// definite (all its σ zero). `weights` (empty, or one per observation, >= 0) multiplies each
+// observation's information (0: left out), for the bootstrap. The segment biases form a
+// Gauss–Markov chain in time (options.gnss_bias_tau_s); the time offset is estimated (prior
+// options.time_offset_sigma_s) when at least kMinMovingObservations observations are not
+// stationary.
+inline constexpr int kMinMovingObservations = 20;
 std::unique_ptr<MountProblem> BuildMountProblem(
     const std::vector<calib::WallObservation>& observations,
     const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
-    const Mount& lever_mount, const Mount& initial, std::string* error);
+    const Mount& lever_mount, const Mount& initial, std::string* error,
+    const std::vector<double>& weights = {});
+
+// The information matrix of the mount (x, y, yaw; 1/m², 1/(m·rad), 1/rad²) at the problem's
+// current values, with every free nuisance parameter (walls, biases, time offset) marginalised
+// (Schur complement of the Gauss–Newton normal matrix, robust loss applied). Its inverse is the
+// mount covariance; it is singular when a mount direction is not determined at all.
+Eigen::Matrix3d MountInformation(MountProblem& problem);
 
 // The 2x2 covariance (m², m·rad, rad²) of one observation's [rho; theta] error before the
 // nuisance parameters: line fit + GNSS white noise along the normal (plus the bias σ when the
@@ -67,6 +88,8 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
 
 // Solves and fills the estimate (mount, covariance from ceres::Covariance with every nuisance
 // block free, residuals, report). Never throws; failures come back as usable = false.
-MountEstimate SolveMountProblem(MountProblem& problem, const io::SolverOptions& options);
+// compute_covariance false: stop after the solve and the residuals (usable = converged).
+MountEstimate SolveMountProblem(MountProblem& problem, const io::SolverOptions& options,
+                                bool compute_covariance = true);
 
 }  // namespace wallcal::solvers

@@ -32,15 +32,53 @@ struct MountEstimate {
   double residual_rms_m = 0.0;    // RMS of the distance residuals of used observations
   std::vector<double> residual_rho_m;  // per observation (same order as the input), metres
   std::string solver_report;  // Ceres' brief report, or a line for barawid
+  // Observability (ceres; barawid fills what its checks know). forced: an observability check
+  // failed but the caller asked for the estimate anyway (usable stays true; `warnings` then
+  // starts with "FORCED: ..." and the covariance says how little is known).
+  bool forced = false;
+  std::vector<std::string> warnings;
+  std::string weak_direction;  // e.g. "lateral offset y"; empty when every direction is fine
+  // Stations counted as independent GNSS-error realisations (Gauss–Markov, τ): 1 + Σ (1 − ρ²)
+  // over consecutive segments with ρ = exp(−Δt/τ).
+  double independent_stations = 0.0;
+  // Scanner clock offset (true scan time = stamped + dt), estimated when moving scans are used.
+  bool time_offset_estimated = false;
+  double time_offset_s = 0.0;
+  double time_offset_sigma_s = 0.0;
+  // Estimated GNSS bias per segment (ceres): pose.segment id, bias [east, north] (m) and its
+  // prior σ (m), in time order.
+  std::vector<int> segment_ids;
+  std::vector<Eigen::Vector2d> segment_bias_m;
+  std::vector<double> segment_bias_sigma_m;
 };
+
+// `force`: when an observability check fails (before or after the solve), solve anyway and
+// return the estimate as usable with forced = true and a "FORCED: ..." warning, instead of
+// refusing. Checks that make a solve impossible (no observations, bad wall index) still refuse.
 
 MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observations,
                               const std::vector<calib::WallGeometry>& walls,
-                              const io::SolverOptions& options, const Mount& initial);
+                              const io::SolverOptions& options, const Mount& initial,
+                              bool force = false);
 
 MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& observations,
                                 const std::vector<calib::WallGeometry>& walls,
-                                const io::SolverOptions& options);
+                                const io::SolverOptions& options, bool force = false);
+
+// A quick re-solve for repeatability (split sessions, bootstrap): the Ceres adjustment with
+// each observation's information multiplied by weights[i] (>= 0; 0 drops it; weights empty:
+// all 1), started from `initial`, at most `max_iterations`, no Ceres covariance. `covariance`
+// is the mount covariance from the information matrix (nuisance parameters marginalised),
+// `determined` whether it passes options.max_sigma_*. Never throws.
+struct Refit {
+  bool converged = false;
+  bool determined = false;
+  Mount mount;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+};
+Refit RefitMount(const std::vector<calib::WallObservation>& observations,
+                 const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
+                 const Mount& initial, const std::vector<double>& weights, int max_iterations);
 
 // The wall line `observation` should show for `mount`, from the nominal surveyed wall and the
 // measured pose (no nuisance parameters): the scanner-frame line parameters that the

@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <set>
+#include <string>
+
+#include <Eigen/Eigenvalues>
 
 #include "solvers/geometry.h"
 
@@ -34,9 +38,11 @@ ObservabilityReport CheckObservability(const std::vector<calib::WallObservation>
                        std::to_string(observations[i].scan_index) + ") refers to wall index " +
                        std::to_string(w) + ", but there are " + std::to_string(walls.size()) +
                        " walls";
+      report.solvable = false;
       return report;
     }
   }
+  report.solvable = !observations.empty();
   if (observations.empty() || report.num_observations < options.min_observations) {
     report.message = "only " + std::to_string(observations.size()) +
                      " wall observations; need at least " +
@@ -104,17 +110,108 @@ ObservabilityReport CheckObservability(const std::vector<calib::WallObservation>
     // left free.
     const double ux = -std::sin(mean_axis_rad);
     const double uy = std::cos(mean_axis_rad);
-    const char* axis = std::abs(ux) >= std::abs(uy) ? "x (forward)" : "y (lateral)";
+    const char* axis = std::abs(ux) >= std::abs(uy) ? "forward offset x" : "lateral offset y";
     report.message =
-        Format(
-            "the wall was seen only at vehicle-to-wall angles %.1f°–%.1f° (spread %.1f°, "
-            "need %.1f°); ",
-            report.angle_min_rad * kDegPerRad, report.angle_max_rad * kDegPerRad,
-            report.angle_spread_rad * kDegPerRad, options.min_heading_spread_rad * kDegPerRad) +
-        "the mount's " + axis + " offset is not determined: add stations turned ≥ 30° to each side";
+        std::string(axis) + " is not determined: the wall was seen only at headings " +
+        HeadingArc(observations) +
+        Format(" (vehicle-to-wall angles %.1f°–%.1f°, spread %.1f°, need %.1f°)",
+               report.angle_min_rad * kDegPerRad, report.angle_max_rad * kDegPerRad,
+               report.angle_spread_rad * kDegPerRad, options.min_heading_spread_rad * kDegPerRad) +
+        "; add stations turned ≥ 30° to each side, or survey a second wall at a right angle";
     return report;
   }
   report.ok = true;
+  return report;
+}
+
+std::string HeadingArc(const std::vector<calib::WallObservation>& observations) {
+  if (observations.empty()) return "(none)";
+  // Grid heading = 90° − yaw, in [0, 2π); the narrowest arc is the circle minus its widest gap.
+  std::vector<double> headings;
+  headings.reserve(observations.size());
+  for (const auto& o : observations) {
+    double h = std::fmod(0.5 * kPi - o.pose.yaw_rad, 2.0 * kPi);
+    if (h < 0.0) h += 2.0 * kPi;
+    headings.push_back(h);
+  }
+  std::sort(headings.begin(), headings.end());
+  double widest = headings.front() + 2.0 * kPi - headings.back();
+  double start = headings.front();
+  double end = headings.back();
+  for (size_t k = 1; k < headings.size(); ++k) {
+    const double gap = headings[k] - headings[k - 1];
+    if (gap > widest) {
+      widest = gap;
+      start = headings[k];
+      end = headings[k - 1];
+    }
+  }
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.0f°–%.0f°", start * kDegPerRad, end * kDegPerRad);
+  return buffer;
+}
+
+DeterminationReport CheckDetermination(const Eigen::Matrix3d& information,
+                                       const std::vector<calib::WallObservation>& observations,
+                                       const std::vector<calib::WallGeometry>& walls,
+                                       const io::SolverOptions& options) {
+  DeterminationReport report;
+  // Scaled parameters u = D⁻¹ (x, y, yaw) with D = the largest accepted σ per axis: the
+  // information of u is D I D, and every direction is determined when its smallest eigenvalue
+  // is at least 1 (σ ≤ 1 along every unit direction of u).
+  const Eigen::Vector3d scale(options.max_sigma_xy_m, options.max_sigma_xy_m,
+                              options.max_sigma_yaw_rad);
+  const Eigen::Matrix3d scaled = scale.asDiagonal() * information * scale.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(0.5 * (scaled + scaled.transpose()));
+  const double smallest = eigen.eigenvalues()[0];
+  const Eigen::Vector3d weakest = eigen.eigenvectors().col(0);
+  const Eigen::FullPivLU<Eigen::Matrix3d> lu(information);
+  if (information.allFinite() && lu.isInvertible()) {
+    const Eigen::Matrix3d covariance = lu.inverse();
+    for (int k = 0; k < 3; ++k) {
+      report.sigma[k] = covariance(k, k) > 0.0 ? std::sqrt(covariance(k, k))
+                                               : std::numeric_limits<double>::infinity();
+    }
+  } else {
+    report.sigma.setConstant(std::numeric_limits<double>::infinity());
+  }
+  if (information.allFinite() && smallest >= 1.0) {
+    report.ok = true;
+    return report;
+  }
+  // Name the direction by its large components (squared share ≥ 20 %), largest first.
+  static const char* const kNames[3] = {"forward offset x", "lateral offset y", "yaw"};
+  std::vector<int> order = {0, 1, 2};
+  std::sort(order.begin(), order.end(),
+            [&weakest](int a, int b) { return std::abs(weakest[a]) > std::abs(weakest[b]); });
+  std::string name = kNames[order[0]];
+  for (int k = 1; k < 3; ++k) {
+    if (weakest[order[k]] * weakest[order[k]] >= 0.2) name += std::string(" with ") + kNames[order[k]];
+  }
+  report.weak_direction = name;
+  const ObservabilityReport spread = CheckObservability(observations, walls, options);
+  char buffer[512];
+  const double sigma_along = smallest > 0.0 ? 1.0 / std::sqrt(smallest)
+                                            : std::numeric_limits<double>::infinity();
+  std::snprintf(buffer, sizeof buffer,
+                "%s is not determined (σ along it %.1f× the accepted %.3f m / %.2f°; σ x %.3f m, "
+                "y %.3f m, yaw %.3f°): the wall was seen only at headings %s (vehicle-to-wall "
+                "angles %.1f°–%.1f°, %d stations); ",
+                name.c_str(), sigma_along, options.max_sigma_xy_m,
+                options.max_sigma_yaw_rad * kDegPerRad, report.sigma[0], report.sigma[1],
+                report.sigma[2] * kDegPerRad, HeadingArc(observations).c_str(),
+                spread.angle_min_rad * kDegPerRad, spread.angle_max_rad * kDegPerRad,
+                spread.num_stations);
+  report.message = buffer;
+  if (order[0] == 2) {
+    report.message +=
+        "add stations and scans (the yaw comes from the wall's direction in every scan: check "
+        "the heading sensor's noise and the wall detection)";
+  } else {
+    report.message +=
+        "add stations turned ≥ 30° to each side, or survey a second wall at a right angle to "
+        "this one";
+  }
   return report;
 }
 

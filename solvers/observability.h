@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "calib/observation.h"
 #include "io/options.h"
 
@@ -13,6 +15,9 @@ namespace wallcal::solvers {
 struct ObservabilityReport {
   bool ok = false;
   std::string message;  // empty when ok; otherwise why the mount is not determined
+  // false when no solve is possible at all (no observations, a bad wall index): --force cannot
+  // help. The other failures (few observations or stations, narrow spread) can be forced.
+  bool solvable = true;
   int num_observations = 0;
   int num_stations = 0;  // distinct pose.segment >= 0 (segment −1 is not counted as a station)
   // Vehicle-to-wall angles φ = atan2(n) − ψ (seed 002, Eq. 8), taken as axes (modulo π, since
@@ -32,5 +37,26 @@ struct ObservabilityReport {
 ObservabilityReport CheckObservability(const std::vector<calib::WallObservation>& observations,
                                        const std::vector<calib::WallGeometry>& walls,
                                        const io::SolverOptions& options);
+
+// The conditioning check on the mount's information matrix (nuisance parameters marginalised,
+// see MountInformation in mount_problem.h). In units scaled by options.max_sigma_xy_m and
+// max_sigma_yaw_rad, the weakest direction (smallest eigenvalue) must have σ ≤ 1. When it does
+// not, `message` names that direction in words ("lateral offset y", "forward offset x", "yaw",
+// or a combination "forward offset x with yaw"), its σ, the headings and vehicle-to-wall
+// angles seen, and what to collect.
+struct DeterminationReport {
+  bool ok = false;
+  std::string weak_direction;  // empty when ok
+  std::string message;
+  Eigen::Vector3d sigma = Eigen::Vector3d::Zero();  // per axis from the information (inf: none)
+};
+DeterminationReport CheckDetermination(const Eigen::Matrix3d& information,
+                                       const std::vector<calib::WallObservation>& observations,
+                                       const std::vector<calib::WallGeometry>& walls,
+                                       const io::SolverOptions& options);
+
+// Grid headings (clockwise from grid north, deg, [0, 360)) of the observations: the narrowest
+// arc holding them all, as "85°–97°".
+std::string HeadingArc(const std::vector<calib::WallObservation>& observations);
 
 }  // namespace wallcal::solvers

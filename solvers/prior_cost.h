@@ -4,8 +4,9 @@
 // Used for
 //  - a wall's [δd_m, δα_rad] with sigma = [WallGeometry::sigma_offset_m, sigma_angle_rad]: the
 //    surveyed line is known to that 1σ (survey points, tie to UTM);
-//  - a GNSS segment's bias [b_east_m, b_north_m] with sigma = [σ_b, σ_b] (m): the correlated
-//    RTK error shared by all scans of one station or segment.
+//  - the first GNSS segment's bias [b_east_m, b_north_m] with sigma = [σ_b, σ_b] (m): the
+//    correlated RTK error shared by all scans of one station or segment (the later segments
+//    are tied to it by GaussMarkovStepCost below).
 // sigma_k must be > 0; a coordinate known exactly is held constant by the caller instead.
 // No robust loss: the prior is the model, not a measurement that can be an outlier.
 
@@ -32,6 +33,53 @@ class ZeroMeanPriorCost {
 
  private:
   Eigen::Vector2d inverse_sigma_;
+};
+
+// One step of a first-order Gauss–Markov process between two GNSS segment biases (2-vectors,
+// metres), taken at times Δt apart with correlation ρ = exp(−Δt/τ) and marginal σ's σ0, σ1:
+//   b1 = ρ (σ1/σ0) b0 + w,   w ~ N(0, σ1² (1 − ρ²) I)
+//   r_k = (b1_k − a·b0_k) / σ_w      a = ρ σ1/σ0,  σ_w = σ1 √(1 − ρ²)   (dimensionless)
+// With a zero-mean prior of σ0 on the first bias of a chain, the biases get exactly the joint
+// distribution of the process sampled at those times. a >= 0 and σ_w > 0 (the caller keeps ρ
+// below 1).
+class GaussMarkovStepCost {
+ public:
+  GaussMarkovStepCost(double a, double sigma_w) : a_(a), inverse_sigma_(1.0 / sigma_w) {}
+
+  template <typename T>
+  bool operator()(const T* const previous, const T* const next, T* residual) const {
+    residual[0] = (next[0] - a_ * previous[0]) * inverse_sigma_;
+    residual[1] = (next[1] - a_ * previous[1]) * inverse_sigma_;
+    return true;
+  }
+
+  static ceres::CostFunction* Create(double a, double sigma_w) {
+    return new ceres::AutoDiffCostFunction<GaussMarkovStepCost, 2, 2, 2>(
+        new GaussMarkovStepCost(a, sigma_w));
+  }
+
+ private:
+  double a_;
+  double inverse_sigma_;
+};
+
+// A zero-mean prior on a scalar: r = value / sigma. sigma > 0.
+class ScalarPriorCost {
+ public:
+  explicit ScalarPriorCost(double sigma) : inverse_sigma_(1.0 / sigma) {}
+
+  template <typename T>
+  bool operator()(const T* const value, T* residual) const {
+    residual[0] = value[0] * inverse_sigma_;
+    return true;
+  }
+
+  static ceres::CostFunction* Create(double sigma) {
+    return new ceres::AutoDiffCostFunction<ScalarPriorCost, 1, 1>(new ScalarPriorCost(sigma));
+  }
+
+ private:
+  double inverse_sigma_;
 };
 
 }  // namespace wallcal::solvers

@@ -9,15 +9,19 @@
 //                                           the surveyed line) and shifted by δd along n'
 //   n = σ n',  d = σ d'                     σ = ±1, fixed per observation so that the measured
 //                                           antenna is on the negative side of the line
-//   s = p − b + R(ψ)·(x, y)                 scanner origin: the true antenna is the measured
-//                                           one p minus the segment's GNSS bias b
+//   p' = p + v·dt,  ψ' = ψ + ω·dt           the pose at the scan's true time: the scan stamp is
+//                                           dt early on the GNSS/heading clock (v, ω the
+//                                           vehicle's velocity and yaw rate; 0 at a station)
+//   s = p' − b + R(ψ')·(x, y)               scanner origin: the true antenna is the measured
+//                                           one minus the segment's GNSS bias b
 //   rho_pred   = d − n·s                    [m], > 0 when the scanner is in front of the wall
-//   theta_pred = atan2(σ n_w) + δα − ψ − yaw  [rad]  (atan2(n) = atan2(σ n_w) + δα exactly)
+//   theta_pred = atan2(σ n_w) + δα − ψ' − yaw  [rad]  (atan2(n) = atan2(σ n_w) + δα exactly)
 // W = L⁻¹ with L Lᵀ = Σ, the 2x2 covariance of [rho; theta] (m², m·rad, rad²): line fit +
 // GNSS white noise + heading noise (built in ceres_solver.cc, where the choice is explained).
 //
 // Parameter blocks: mount [x_m, y_m, yaw_rad] (vehicle frame: x forward, y left, yaw ccw),
-// wall [δd_m, δα_rad], GNSS bias [b_east_m, b_north_m] (measured = true + b).
+// wall [δd_m, δα_rad], GNSS bias [b_east_m, b_north_m] (measured = true + b), time offset
+// [dt_s] (true scan time = stamped time + dt; held constant at 0 unless moving scans are used).
 // The robust loss is chosen where the block is added (HuberLoss on these whitened units).
 
 #include <ceres/autodiff_cost_function.h>
@@ -32,6 +36,8 @@ namespace wallcal::solvers {
 struct WallLineMeasurement {
   Eigen::Vector2d antenna_local_m = Eigen::Vector2d::Zero();       // p, measured
   double vehicle_yaw_rad = 0.0;                                    // ψ
+  Eigen::Vector2d velocity_local_mps = Eigen::Vector2d::Zero();    // v
+  double yaw_rate_rps = 0.0;                                       // ω
   double sign = 1.0;                                               // σ = ±1
   Eigen::Vector2d wall_normal_local = Eigen::Vector2d::UnitX();    // n_w (unit, as surveyed)
   Eigen::Vector2d wall_centre_local_m = Eigen::Vector2d::Zero();   // c_w, on the surveyed line
@@ -47,9 +53,9 @@ class WallLineCost {
 
   template <typename T>
   bool operator()(const T* const mount, const T* const wall_delta, const T* const bias,
-                  T* residual) const {
+                  const T* const time_offset, T* residual) const {
     T error[2];
-    Errors(mount, wall_delta, bias, error);
+    Errors(mount, wall_delta, bias, time_offset, error);
     const Eigen::Matrix2d& w = m_.sqrt_information;
     residual[0] = w(0, 0) * error[0] + w(0, 1) * error[1];
     residual[1] = w(1, 0) * error[0] + w(1, 1) * error[1];
@@ -60,7 +66,7 @@ class WallLineCost {
   // theta_rad) (rad, in [−π, π)).
   template <typename T>
   void Errors(const T* const mount, const T* const wall_delta, const T* const bias,
-              T* error) const {
+              const T* const time_offset, T* error) const {
     using std::cos;
     using std::floor;
     using std::sin;
@@ -75,13 +81,17 @@ class WallLineCost {
     const T d_m =
         nx * m_.wall_centre_local_m.x() + ny * m_.wall_centre_local_m.y() + m_.sign * delta_d_m;
     // Scanner origin in the local frame.
-    const double cpsi = std::cos(m_.vehicle_yaw_rad);
-    const double spsi = std::sin(m_.vehicle_yaw_rad);
-    const T sx = m_.antenna_local_m.x() - bias[0] + cpsi * mount[0] - spsi * mount[1];
-    const T sy = m_.antenna_local_m.y() - bias[1] + spsi * mount[0] + cpsi * mount[1];
+    const T& dt_s = time_offset[0];
+    const T psi = m_.vehicle_yaw_rad + m_.yaw_rate_rps * dt_s;
+    const T cpsi = cos(psi);
+    const T spsi = sin(psi);
+    const T sx = m_.antenna_local_m.x() + m_.velocity_local_mps.x() * dt_s - bias[0] +
+                 cpsi * mount[0] - spsi * mount[1];
+    const T sy = m_.antenna_local_m.y() + m_.velocity_local_mps.y() * dt_s - bias[1] +
+                 spsi * mount[0] + cpsi * mount[1];
     error[0] = d_m - (nx * sx + ny * sy) - m_.rho_m;
     T theta_error_rad =
-        m_.wall_normal_angle_rad + delta_alpha_rad - m_.vehicle_yaw_rad - mount[2] - m_.theta_rad;
+        m_.wall_normal_angle_rad + delta_alpha_rad - psi - mount[2] - m_.theta_rad;
     // Wrap into [−π, π); floor has a zero derivative, so the Jacobian is unaffected.
     theta_error_rad -= T(2.0 * kPi) * floor((theta_error_rad + T(kPi)) / T(2.0 * kPi));
     error[1] = theta_error_rad;
@@ -90,7 +100,8 @@ class WallLineCost {
   const WallLineMeasurement& measurement() const { return m_; }
 
   static ceres::CostFunction* Create(const WallLineMeasurement& measurement) {
-    return new ceres::AutoDiffCostFunction<WallLineCost, 2, 3, 2, 2>(new WallLineCost(measurement));
+    return new ceres::AutoDiffCostFunction<WallLineCost, 2, 3, 2, 2, 1>(
+        new WallLineCost(measurement));
   }
 
  private:

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -42,6 +43,18 @@ struct SimSettings {
   double wall_sigma_offset_m = 0.005;
   double wall_sigma_angle_rad = 0.001;
   double outlier_fraction = 0.0;  // share of observations whose rho is off by +0.5 m
+  // Time between stations: 10 min by default, so that their GNSS errors are independent under
+  // the solver's Gauss–Markov model (τ = 60 s).
+  double station_spacing_s = 600.0;
+  // > 0: the stations' GNSS biases follow a first-order Gauss–Markov process of this
+  // correlation time (as a receiver's RTK error does) instead of being drawn independently.
+  double bias_tau_s = 0.0;
+  // Moving data: the vehicle drives at this speed along its heading and turns at this rate
+  // while scanning; the scanner's stamps are `time_offset_s` early (true time = stamp + offset).
+  double speed_mps = 0.0;
+  double yaw_rate_rps = 0.0;
+  double time_offset_s = 0.0;
+  bool alternate_direction = false;  // odd stations drive backwards and turn the other way
 };
 
 struct SimData {
@@ -96,6 +109,7 @@ SimData Simulate(const SimSettings& s, std::mt19937& rng) {
 
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   int scan = 0;
+  Eigen::Vector2d bias = Eigen::Vector2d::Zero();
   for (int k = 0; k < s.stations; ++k) {
     const double t = s.stations > 1 ? static_cast<double>(k) / (s.stations - 1) : 0.5;
     const double heading_true_rad = s.base_heading_rad + s.heading_half_spread_rad * (2 * t - 1);
@@ -103,14 +117,35 @@ SimData Simulate(const SimSettings& s, std::mt19937& rng) {
     const double u =
         s.stations > 1 ? static_cast<double>((k * 7) % s.stations) / (s.stations - 1) : 0.5;
     const Eigen::Vector2d antenna_true(-4.0 + 8.0 * u, 1.5 + 0.5 * (k % 3));
-    const Eigen::Vector2d bias(draw(s.gnss_bias_sigma_m), draw(s.gnss_bias_sigma_m));
+    const Eigen::Vector2d fresh(draw(s.gnss_bias_sigma_m), draw(s.gnss_bias_sigma_m));
+    if (k == 0 || !(s.bias_tau_s > 0.0)) {
+      bias = fresh;
+    } else {
+      const double rho = std::exp(-s.station_spacing_s / s.bias_tau_s);
+      bias = rho * bias + std::sqrt(1.0 - rho * rho) * fresh;
+    }
+    const double direction = s.alternate_direction && k % 2 == 1 ? -1.0 : 1.0;
+    const double speed_mps = direction * s.speed_mps;
+    const double yaw_rate_rps = direction * s.yaw_rate_rps;
     for (int j = 0; j < s.scans_per_station; ++j, ++scan) {
+      // Recorded pose at the stamp t; the scan was taken at t + time_offset_s, when the vehicle
+      // had moved on by v·dt and turned by ω·dt.
+      const double dt_into_run_s = j * 0.1;
+      const double recorded_heading_rad = heading_true_rad + yaw_rate_rps * dt_into_run_s;
+      const Eigen::Vector2d recorded_antenna =
+          antenna_true + speed_mps * dt_into_run_s *
+                             Eigen::Vector2d(std::cos(heading_true_rad), std::sin(heading_true_rad));
+      const double scan_heading_rad = recorded_heading_rad + yaw_rate_rps * s.time_offset_s;
+      const Eigen::Vector2d scan_antenna =
+          recorded_antenna + speed_mps * s.time_offset_s *
+                                 Eigen::Vector2d(std::cos(heading_true_rad),
+                                                 std::sin(heading_true_rad));
       const Eigen::Vector2d antenna_measured =
-          antenna_true + bias +
+          recorded_antenna + bias +
           Eigen::Vector2d(draw(s.gnss_white_sigma_m), draw(s.gnss_white_sigma_m));
-      const double heading_measured_rad = heading_true_rad + draw(s.heading_sigma_rad);
+      const double heading_measured_rad = recorded_heading_rad + draw(s.heading_sigma_rad);
       const Eigen::Vector2d scanner_true =
-          antenna_true + Rotate(heading_true_rad, {s.truth.x_m, s.truth.y_m});
+          scan_antenna + Rotate(scan_heading_rad, {s.truth.x_m, s.truth.y_m});
       for (int w = 0; w < 2; ++w) {
         if ((w == 0 && !s.first_wall) || (w == 1 && !s.second_wall)) continue;
         // Orientation as the solver decides it: from the surveyed wall and the measured antenna.
@@ -123,17 +158,20 @@ SimData Simulate(const SimSettings& s, std::mt19937& rng) {
         o.scan_index = scan;
         o.wall_index = w;
         o.rho_m = d - n.dot(scanner_true) + draw(s.fit_sigma_rho_m);
-        o.theta_rad = WrapAngle(std::atan2(n.y(), n.x()) - heading_true_rad - s.truth.yaw_rad +
+        o.theta_rad = WrapAngle(std::atan2(n.y(), n.x()) - scan_heading_rad - s.truth.yaw_rad +
                                 draw(s.fit_sigma_theta_rad));
         const bool outlier = uniform(rng) < s.outlier_fraction;
         if (outlier) o.rho_m += 0.5;
         o.sigma_rho_m = s.fit_sigma_rho_m;
         o.sigma_theta_rad = s.fit_sigma_theta_rad;
         o.num_inliers = 100;
-        o.pose.stamp_s = 1000.0 + scan * 0.1;
+        o.pose.stamp_s = 1000.0 + k * s.station_spacing_s + j * 0.1;
         o.pose.antenna_local_m = antenna_measured;
         o.pose.yaw_rad = heading_measured_rad;
-        o.pose.stationary = true;
+        o.pose.stationary = speed_mps == 0.0 && yaw_rate_rps == 0.0;
+        o.pose.velocity_local_mps =
+            speed_mps * Eigen::Vector2d(std::cos(heading_true_rad), std::sin(heading_true_rad));
+        o.pose.yaw_rate_rps = yaw_rate_rps;
         o.pose.segment = k;
         data.observations.push_back(o);
         data.is_outlier.push_back(outlier);
@@ -189,7 +227,8 @@ TEST(WallLineCostTest, EvaluatesHandWorkedValue) {
   const double mount[3] = {2.0, 0.5, 0.05};
   const double wall[2] = {0.02, 0.0};
   const double bias[2] = {0.1, -0.2};
-  const double* parameters[3] = {mount, wall, bias};
+  const double time_offset[1] = {0.0};
+  const double* parameters[4] = {mount, wall, bias, time_offset};
   double residual[2];
   ASSERT_TRUE(cost->Evaluate(parameters, residual, nullptr));
   EXPECT_NEAR(residual[0], 82.0, 1e-9);
@@ -224,11 +263,12 @@ TEST(WallLineCostTest, OrientsTheWallTowardsAnAntennaOnItsPositiveSide) {
   const double bias[2] = {0.0, 0.0};
   const double still[2] = {0.0, 0.0};
   const double moved[2] = {0.1, 0.0};
+  const double no_offset[1] = {0.0};
   double error[2];
-  cost.Errors(mount, still, bias, error);
+  cost.Errors(mount, still, bias, no_offset, error);
   EXPECT_NEAR(error[0], 0.0, 1e-12);
   EXPECT_NEAR(error[1], 0.0, 1e-12);
-  cost.Errors(mount, moved, bias, error);
+  cost.Errors(mount, moved, bias, no_offset, error);
   EXPECT_NEAR(error[0], -0.1, 1e-12);
 
   calib::WallObservation observation;
@@ -246,6 +286,8 @@ TEST(WallLineCostTest, JacobiansMatchNumericDifferentiation) {
   m.sign = -1.0;
   m.wall_normal_angle_rad = std::atan2(-0.8, -0.6);
   m.vehicle_yaw_rad = 0.3;
+  m.velocity_local_mps = Eigen::Vector2d(0.8, -0.3);
+  m.yaw_rate_rps = 0.05;
   std::unique_ptr<ceres::CostFunction> cost(WallLineCost::Create(m));
   ceres::NumericDiffOptions numeric_options;
   const std::vector<const ceres::Manifold*>* euclidean = nullptr;
@@ -253,7 +295,8 @@ TEST(WallLineCostTest, JacobiansMatchNumericDifferentiation) {
   const double mount[3] = {2.57, 0.056, 0.0489};
   const double wall[2] = {0.013, -0.004};
   const double bias[2] = {0.011, -0.017};
-  const double* parameters[3] = {mount, wall, bias};
+  const double time_offset[1] = {0.07};
+  const double* parameters[4] = {mount, wall, bias, time_offset};
   ceres::GradientChecker::ProbeResults results;
   EXPECT_TRUE(checker.Probe(parameters, 1e-7, &results)) << results.error_log;
 }
@@ -455,7 +498,7 @@ TEST(SolveMountCeresTest, RefusesNarrowHeadingSpreadAndNamesTheWeakAxis) {
   const MountEstimate a = SolveMountCeres(facing.observations, facing.walls, options, Mount{});
   EXPECT_FALSE(a.usable);
   EXPECT_NE(a.message.find("vehicle-to-wall angles"), std::string::npos) << a.message;
-  EXPECT_NE(a.message.find("y (lateral)"), std::string::npos) << a.message;
+  EXPECT_NE(a.message.find("lateral offset y is not determined"), std::string::npos) << a.message;
   EXPECT_NE(a.message.find("30°"), std::string::npos) << a.message;
   // The same for the closed form (one shared check).
   const MountEstimate closed = SolveMountBarawid(facing.observations, facing.walls, options);
@@ -468,7 +511,7 @@ TEST(SolveMountCeresTest, RefusesNarrowHeadingSpreadAndNamesTheWeakAxis) {
   const MountEstimate b =
       SolveMountCeres(alongside.observations, alongside.walls, options, Mount{});
   EXPECT_FALSE(b.usable);
-  EXPECT_NE(b.message.find("x (forward)"), std::string::npos) << b.message;
+  EXPECT_NE(b.message.find("forward offset x is not determined"), std::string::npos) << b.message;
 }
 
 TEST(SolveMountCeresTest, RefusesTooFewObservationsAndStations) {
@@ -577,6 +620,197 @@ TEST(SolveMountCeresTest, PredictionsMatchNoiseFreeObservations) {
   }
 }
 
+
+
+// ---- Round 2: Gauss–Markov GNSS error, determination checks, clock offset ------------------
+
+TEST(GaussMarkovStepCostTest, EvaluatesAndDifferentiates) {
+  std::unique_ptr<ceres::CostFunction> cost(GaussMarkovStepCost::Create(0.5, 0.02));
+  const double previous[2] = {0.02, -0.01};
+  const double next[2] = {0.03, 0.01};
+  const double* parameters[2] = {previous, next};
+  double residual[2];
+  double d_previous[4], d_next[4];
+  double* jacobians[2] = {d_previous, d_next};
+  ASSERT_TRUE(cost->Evaluate(parameters, residual, jacobians));
+  EXPECT_NEAR(residual[0], (0.03 - 0.01) / 0.02, 1e-12);
+  EXPECT_NEAR(residual[1], (0.01 + 0.005) / 0.02, 1e-12);
+  EXPECT_NEAR(d_previous[0], -0.5 / 0.02, 1e-9);
+  EXPECT_NEAR(d_next[3], 1.0 / 0.02, 1e-9);
+  EXPECT_NEAR(d_next[1], 0.0, 1e-12);
+}
+
+TEST(SolveMountCeresTest, StationsCloseInTimeShareTheirGnssErrorInTheSigma) {
+  SimSettings settings;
+  const io::SolverOptions options = OptionsFor(settings);  // τ = 60 s
+  std::mt19937 rng(21);
+  const SimData apart = Simulate(settings, rng);  // 10 min between stations
+  settings.station_spacing_s = 10.0;
+  const SimData close = Simulate(settings, rng);
+  const MountEstimate a = SolveMountCeres(apart.observations, apart.walls, options, settings.truth);
+  const MountEstimate b = SolveMountCeres(close.observations, close.walls, options, settings.truth);
+  ASSERT_TRUE(a.usable) << a.message;
+  ASSERT_TRUE(b.usable) << b.message;
+  EXPECT_NEAR(a.independent_stations, 10.0, 1e-6);
+  EXPECT_LT(b.independent_stations, 4.0);
+  // Correlated stations average less of the GNSS error away: the forward σ grows.
+  EXPECT_GT(Sigma(b).x(), 1.2 * Sigma(a).x());
+  // τ = 0 turns the chain off: the close stations count as independent again.
+  io::SolverOptions independent = options;
+  independent.gnss_bias_tau_s = 0.0;
+  const MountEstimate c =
+      SolveMountCeres(close.observations, close.walls, independent, settings.truth);
+  ASSERT_TRUE(c.usable) << c.message;
+  EXPECT_NEAR(c.independent_stations, 10.0, 1e-6);
+  EXPECT_LT(Sigma(c).x(), Sigma(b).x());
+}
+
+TEST(SolveMountCeresTest, ReportedSigmaMatchesScatterUnderGaussMarkovGnssError) {
+  // Stations 15 s apart with an RTK error of τ = 60 s (the simulator's): independent priors
+  // per station would report a σ too small by about 1.5×.
+  SimSettings settings;
+  settings.station_spacing_s = 15.0;
+  settings.bias_tau_s = 60.0;
+  const io::SolverOptions options = OptionsFor(settings);
+  std::mt19937 rng(43);
+  const int draws = 100;
+  Eigen::Vector3d sum_sq = Eigen::Vector3d::Zero();
+  for (int draw = 0; draw < draws; ++draw) {
+    const SimData data = Simulate(settings, rng);
+    const MountEstimate estimate =
+        SolveMountCeres(data.observations, data.walls, options, settings.truth);
+    ASSERT_TRUE(estimate.usable) << estimate.message;
+    sum_sq += Error(estimate, settings.truth).cwiseQuotient(Sigma(estimate)).cwiseAbs2();
+  }
+  const Eigen::Vector3d rms = (sum_sq / draws).cwiseSqrt();
+  std::printf("[ sigma    ] RMS(error/sigma) x %.2f  y %.2f  yaw %.2f\n", rms.x(), rms.y(),
+              rms.z());
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_GT(rms[k], 0.75) << "axis " << k;
+    EXPECT_LT(rms[k], 1.3) << "axis " << k;
+  }
+}
+
+TEST(SolveMountCeresTest, ConditioningCheckRefusesAWeakAxisAndNamesIt) {
+  // 8° of heading spread passes a relaxed spread check, but leaves the lateral offset with a
+  // σ of decimetres: the information-matrix check refuses it and says which axis.
+  SimSettings settings;
+  settings.heading_half_spread_rad = 4.0 * kRadPerDeg;
+  std::mt19937 rng(31);
+  const SimData data = Simulate(settings, rng);
+  io::SolverOptions options = OptionsFor(settings);
+  options.min_heading_spread_rad = 0.0;
+  const MountEstimate refused = SolveMountCeres(data.observations, data.walls, options, Mount{});
+  EXPECT_FALSE(refused.usable);
+  EXPECT_EQ(refused.weak_direction.rfind("lateral offset y", 0), 0u) << refused.weak_direction;
+  EXPECT_NE(refused.message.find("lateral offset y"), std::string::npos) << refused.message;
+  EXPECT_NE(refused.message.find("is not determined"), std::string::npos) << refused.message;
+  EXPECT_NE(refused.message.find("headings"), std::string::npos) << refused.message;
+  EXPECT_NE(refused.message.find("turned ≥ 30°"), std::string::npos) << refused.message;
+
+  // Forced: the estimate comes back usable, flagged, with the warning and a σ saying how
+  // little is known sideways.
+  const MountEstimate forced =
+      SolveMountCeres(data.observations, data.walls, options, Mount{}, /*force=*/true);
+  ASSERT_TRUE(forced.usable) << forced.message;
+  EXPECT_TRUE(forced.forced);
+  ASSERT_FALSE(forced.warnings.empty());
+  EXPECT_EQ(forced.warnings.front().rfind("FORCED: ", 0), 0u) << forced.warnings.front();
+  EXPECT_GT(Sigma(forced).y(), options.max_sigma_xy_m);
+  EXPECT_LT(Sigma(forced).x(), options.max_sigma_xy_m);
+
+  // The same data with the wide spread check forced through too.
+  io::SolverOptions strict = OptionsFor(settings);
+  const MountEstimate both =
+      SolveMountCeres(data.observations, data.walls, strict, Mount{}, /*force=*/true);
+  ASSERT_TRUE(both.usable) << both.message;
+  EXPECT_TRUE(both.forced);
+
+  // A healthy session passes both checks untouched.
+  SimSettings wide;
+  const SimData good = Simulate(wide, rng);
+  const MountEstimate fine = SolveMountCeres(good.observations, good.walls, OptionsFor(wide),
+                                             Mount{}, /*force=*/true);
+  ASSERT_TRUE(fine.usable) << fine.message;
+  EXPECT_FALSE(fine.forced);
+  EXPECT_TRUE(fine.weak_direction.empty());
+}
+
+TEST(SolveMountCeresTest, MountInformationMatchesTheCeresCovariance) {
+  SimSettings settings;
+  std::mt19937 rng(17);
+  const SimData data = Simulate(settings, rng);
+  const io::SolverOptions options = OptionsFor(settings);
+  std::string error;
+  auto problem = BuildMountProblem(data.observations, data.walls, options, settings.truth,
+                                   settings.truth, &error);
+  ASSERT_NE(problem, nullptr) << error;
+  const MountEstimate estimate = SolveMountProblem(*problem, options);
+  ASSERT_TRUE(estimate.usable) << estimate.message;
+  const Eigen::Matrix3d from_information = MountInformation(*problem).inverse();
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(std::sqrt(from_information(k, k)), std::sqrt(estimate.covariance(k, k)),
+                0.02 * std::sqrt(estimate.covariance(k, k)))
+        << "axis " << k;
+  }
+}
+
+TEST(SolveMountCeresTest, RecoversAKnownScannerClockOffsetFromMovingScans) {
+  // Stations where the vehicle creeps forward at 1 m/s and turns at 3°/s while scanning; the
+  // scanner's stamps are 80 ms early. The clock offset moves the scanner by 8 cm and 0.24°: a
+  // solver that ignored it would be biased; this one estimates it.
+  SimSettings settings;
+  settings.speed_mps = 1.0;
+  settings.yaw_rate_rps = 3.0 * kRadPerDeg;
+  settings.time_offset_s = 0.08;
+  settings.scans_per_station = 40;
+  // Every other station drives backwards: forward motion alone would trade the offset for x.
+  settings.alternate_direction = true;
+  std::mt19937 rng(9);
+  const SimData data = Simulate(settings, rng);
+  const io::SolverOptions options = OptionsFor(settings);
+  const MountEstimate estimate =
+      SolveMountCeres(data.observations, data.walls, options, settings.truth);
+  ASSERT_TRUE(estimate.usable) << estimate.message;
+  ASSERT_TRUE(estimate.time_offset_estimated);
+  EXPECT_GT(estimate.time_offset_sigma_s, 0.0);
+  EXPECT_LT(estimate.time_offset_sigma_s, 0.02);
+  EXPECT_NEAR(estimate.time_offset_s, settings.time_offset_s,
+              std::max(0.01, 4.0 * estimate.time_offset_sigma_s));
+  const Eigen::Vector3d error = Error(estimate, settings.truth);
+  EXPECT_LT(std::abs(error.x()), 4.0 * Sigma(estimate).x());
+  EXPECT_LT(std::abs(error.z()), 4.0 * Sigma(estimate).z());
+
+  // At stations (no motion) the offset is not in the data and is not estimated.
+  SimSettings still;
+  const SimData stationary = Simulate(still, rng);
+  const MountEstimate held =
+      SolveMountCeres(stationary.observations, stationary.walls, OptionsFor(still), still.truth);
+  ASSERT_TRUE(held.usable) << held.message;
+  EXPECT_FALSE(held.time_offset_estimated);
+  EXPECT_EQ(held.time_offset_s, 0.0);
+}
+
+TEST(RefitMountTest, WeightsSelectStationsAndZeroWeightsDropThem) {
+  SimSettings settings;
+  std::mt19937 rng(4);
+  const SimData data = Simulate(settings, rng);
+  const io::SolverOptions options = OptionsFor(settings);
+  const MountEstimate full = SolveMountCeres(data.observations, data.walls, options, settings.truth);
+  ASSERT_TRUE(full.usable) << full.message;
+  // All weights 1: the full solution again.
+  const Refit same = RefitMount(data.observations, data.walls, options, full.mount,
+                                std::vector<double>(data.observations.size(), 1.0), 20);
+  ASSERT_TRUE(same.converged);
+  EXPECT_TRUE(same.determined);
+  EXPECT_NEAR(same.mount.x_m, full.mount.x_m, 1e-6);
+  EXPECT_NEAR(same.mount.yaw_rad, full.mount.yaw_rad, 1e-7);
+  // Keeping only the observations of one station: that station's data alone cannot tell y.
+  std::vector<double> one(data.observations.size(), 0.0);
+  for (size_t i = 0; i < one.size(); ++i) one[i] = data.observations[i].pose.segment == 3 ? 1.0 : 0.0;
+  const Refit single = RefitMount(data.observations, data.walls, options, full.mount, one, 20);
+  EXPECT_FALSE(single.determined);
+}
 
 }  // namespace
 }  // namespace wallcal::solvers

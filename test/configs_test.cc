@@ -50,6 +50,12 @@ TEST(ShippedConfigTest, CalibrateYamlEqualsBuiltInDefaults) {
   EXPECT_NEAR(file.solver.min_heading_spread_rad, d.solver.min_heading_spread_rad, tol);
   EXPECT_EQ(file.solver.min_observations, d.solver.min_observations);
   EXPECT_EQ(file.solver.min_stations, d.solver.min_stations);
+  EXPECT_NEAR(file.solver.gnss_bias_tau_s, d.solver.gnss_bias_tau_s, tol);
+  EXPECT_NEAR(file.solver.time_offset_sigma_s, d.solver.time_offset_sigma_s, tol);
+  EXPECT_NEAR(file.solver.max_sigma_xy_m, d.solver.max_sigma_xy_m, tol);
+  EXPECT_NEAR(file.solver.max_sigma_yaw_rad, d.solver.max_sigma_yaw_rad, tol);
+  EXPECT_EQ(file.solver.bootstrap_samples, d.solver.bootstrap_samples);
+  EXPECT_EQ(file.alignment.moving_scans_if_few_stations, d.alignment.moving_scans_if_few_stations);
   EXPECT_EQ(file.first_pass_max_scans, d.first_pass_max_scans);
 }
 

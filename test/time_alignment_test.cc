@@ -258,5 +258,29 @@ TEST(TimeAlignmentTest, SegmentsSeparateStationsAndTimeSlices) {
   EXPECT_EQ(pose.segment, 5);
 }
 
+TEST(TimeAlignmentTest, MovingPosesCarryVelocityAndYawRate) {
+  // Phase 1 drives straight at 1 m/s from yaw 2.9 rad; phase 3 turns at 0.15 rad/s at 1 m/s
+  // (9–15 s after the start, after a 4 s stop). The rates are what a clock offset multiplies.
+  const Drive drive = MakeDrive(kStopAndGo, 0.003, 0.0009, 4);
+  const PoseInterpolator poses(drive.positions, drive.yaws, io::AlignmentOptions{});
+  const double start = poses.start_s();
+  VehiclePose pose;
+  ASSERT_EQ(poses.At(start + 2.5, &pose), PoseStatus::kOk);
+  EXPECT_FALSE(pose.stationary);
+  EXPECT_NEAR(pose.velocity_local_mps.x(), std::cos(2.9), 0.03);
+  EXPECT_NEAR(pose.velocity_local_mps.y(), std::sin(2.9), 0.03);
+  EXPECT_NEAR(pose.yaw_rate_rps, 0.0, 0.01);
+  ASSERT_EQ(poses.At(start + 12.0, &pose), PoseStatus::kOk);
+  EXPECT_FALSE(pose.stationary);
+  EXPECT_NEAR(pose.velocity_local_mps.norm(), 1.0, 0.03);
+  EXPECT_NEAR(pose.yaw_rate_rps, 0.15, 0.01);
+  // At a station both are (nearly) zero: only the noise of the samples.
+  const Dwell& dwell = poses.dwells()[0];
+  ASSERT_EQ(poses.At(0.5 * (dwell.start_s + dwell.end_s), &pose), PoseStatus::kOk);
+  EXPECT_TRUE(pose.stationary);
+  EXPECT_LT(pose.velocity_local_mps.norm(), 0.02);
+  EXPECT_LT(std::abs(pose.yaw_rate_rps), 0.005);
+}
+
 }  // namespace
 }  // namespace wallcal::calib

@@ -1,0 +1,34 @@
+#pragma once
+// How much the mount moves when the session is split or resampled ("how do I know it is
+// right?"): the Ceres adjustment re-run on
+//  - the first and second half of the stations (by time), the odd and the even stations;
+//  - `samples` bootstrap resamples of the stations (drawn with replacement; a station drawn m
+//    times counts m times), warm-started from the full solution with few iterations.
+// Stations are the GNSS segments (dwells, or time slices of moving data). Long sessions are
+// thinned to at most kMaxRefitObservations observations per re-solve (every k-th scan, its
+// weight ×k), which keeps the cost bounded; the station-level spread it measures is set by the
+// GNSS and wall errors, not by the scan count.
+
+#include <cstdint>
+#include <vector>
+
+#include "apps/pipeline.h"
+#include "calib/observation.h"
+#include "io/options.h"
+#include "solvers/mount_solver.h"
+
+namespace wallcal::app {
+
+inline constexpr int kMaxRefitObservations = 3000;
+
+// A split is usable when its re-solve converged and passes the solver's determination check
+// (options.max_sigma_*): half the stations may see the wall from one side only. Bootstrap σ
+// is the standard deviation of the resamples that converged and are determined (yaw wrapped
+// about the full solution). Deterministic for a given `seed`. Never throws; with fewer than 4
+// stations it is left not done.
+Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& observations,
+                                  const std::vector<calib::WallGeometry>& walls,
+                                  const io::SolverOptions& options, const solvers::Mount& full,
+                                  int samples, uint64_t seed = 2007);
+
+}  // namespace wallcal::app

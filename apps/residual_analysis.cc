@@ -1,0 +1,233 @@
+#include "apps/residual_analysis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+
+#include "solvers/geometry.h"
+
+namespace wallcal::app {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadToDeg = 180.0 / kPi;
+// Estimated GNSS bias beyond this many prior σ: the station's position jumped.
+constexpr double kJumpSigmas = 3.5;
+// Range span (m) from which the range trend is turned into a corrected k.
+constexpr double kMinRangeSpanForK = 3.0;
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + mid, values.end());
+  double m = values[mid];
+  if (values.size() % 2 == 0) {
+    m = 0.5 * (m + *std::max_element(values.begin(), values.begin() + mid));
+  }
+  return m;
+}
+
+struct Slope {
+  double slope = 0.0;
+  double sigma = 0.0;  // 0 when it cannot be estimated
+  double span = 0.0;   // max − min of the quantity
+};
+
+// Least-squares slope of r against q (equal weights), with the cluster-robust (sandwich)
+// variance Σ_g (Σ_{i∈g} q̃_i e_i)² / (Σ q̃²)², clusters = stations, scaled by G/(G − 1).
+Slope FitSlope(const std::vector<double>& q, const std::vector<double>& r,
+               const std::vector<int>& cluster, const std::vector<bool>& use) {
+  Slope out;
+  double sum_q = 0.0, sum_r = 0.0;
+  int n = 0;
+  double q_min = 0.0, q_max = 0.0;
+  for (size_t i = 0; i < q.size(); ++i) {
+    if (!use[i]) continue;
+    if (n == 0) q_min = q_max = q[i];
+    q_min = std::min(q_min, q[i]);
+    q_max = std::max(q_max, q[i]);
+    sum_q += q[i];
+    sum_r += r[i];
+    ++n;
+  }
+  if (n < 3) return out;
+  out.span = q_max - q_min;
+  const double mean_q = sum_q / n, mean_r = sum_r / n;
+  double sqq = 0.0, sqr = 0.0;
+  for (size_t i = 0; i < q.size(); ++i) {
+    if (!use[i]) continue;
+    sqq += (q[i] - mean_q) * (q[i] - mean_q);
+    sqr += (q[i] - mean_q) * (r[i] - mean_r);
+  }
+  if (!(sqq > 0.0)) return out;
+  out.slope = sqr / sqq;
+  std::map<int, double> score;
+  for (size_t i = 0; i < q.size(); ++i) {
+    if (!use[i]) continue;
+    const double e = (r[i] - mean_r) - out.slope * (q[i] - mean_q);
+    score[cluster[i]] += (q[i] - mean_q) * e;
+  }
+  const double g = static_cast<double>(score.size());
+  if (g < 3) return out;
+  double meat = 0.0;
+  for (const auto& [id, value] : score) meat += value * value;
+  out.sigma = std::sqrt(g / (g - 1.0) * meat) / sqq;
+  return out;
+}
+
+std::string Format(const char* format, double a, double b = 0.0, double c = 0.0) {
+  char buffer[256];
+  std::snprintf(buffer, sizeof buffer, format, a, b, c);
+  return buffer;
+}
+
+}  // namespace
+
+ResidualAnalysis AnalyseResiduals(const std::vector<calib::WallObservation>& observations,
+                                  const std::vector<calib::WallGeometry>& walls,
+                                  const solvers::MountEstimate& estimate,
+                                  const io::ScannerPreset& preset) {
+  ResidualAnalysis analysis;
+  const size_t n = observations.size();
+  if (n < 10 || estimate.residual_rho_m.size() != n) return analysis;
+  const std::vector<double>& r = estimate.residual_rho_m;
+
+  // Robust spread and the 2σ outliers (seed 003).
+  const double median = Median(r);
+  std::vector<double> deviation(n);
+  for (size_t i = 0; i < n; ++i) deviation[i] = std::abs(r[i] - median);
+  analysis.robust_sigma_m = 1.4826 * Median(deviation);
+  const double sigma = std::max(analysis.robust_sigma_m, 1e-6);
+  int outliers = 0;
+  std::vector<bool> use(n, true);
+  for (size_t i = 0; i < n; ++i) {
+    if (deviation[i] > 2.0 * sigma) ++outliers;
+    use[i] = deviation[i] <= 3.0 * sigma;  // trends on the inliers only
+  }
+  analysis.outlier_share = static_cast<double>(outliers) / static_cast<double>(n);
+
+  // Stations in time order (the mean stamp of each segment).
+  std::map<int, std::pair<double, int>> segment_time;
+  double t0 = observations.front().pose.stamp_s;
+  for (const auto& o : observations) {
+    auto& entry = segment_time[o.pose.segment];
+    entry.first += o.pose.stamp_s;
+    entry.second += 1;
+    t0 = std::min(t0, o.pose.stamp_s);
+  }
+  std::vector<std::pair<double, int>> order;
+  for (const auto& [segment, sum] : segment_time) order.emplace_back(sum.first / sum.second, segment);
+  std::sort(order.begin(), order.end());
+  std::map<int, int> rank;
+  for (size_t k = 0; k < order.size(); ++k) rank[order[k].second] = static_cast<int>(k);
+
+  // The quantities. Heading unwrapped about its circular mean.
+  double sx = 0.0, sy = 0.0;
+  for (const auto& o : observations) {
+    sx += std::cos(0.5 * kPi - o.pose.yaw_rad);
+    sy += std::sin(0.5 * kPi - o.pose.yaw_rad);
+  }
+  const double mean_heading = std::atan2(sy, sx);
+  std::vector<double> range(n), incidence(n), bearing(n), heading(n), station(n), time(n);
+  std::vector<int> cluster(n);
+  std::map<int, Eigen::Vector2d> bias_of;
+  for (size_t k = 0; k < estimate.segment_ids.size() && k < estimate.segment_bias_m.size(); ++k) {
+    bias_of[estimate.segment_ids[k]] = estimate.segment_bias_m[k];
+  }
+  std::vector<double> with_bias(r);
+  for (size_t i = 0; i < n; ++i) {
+    const calib::WallObservation& o = observations[i];
+    const auto found = bias_of.find(o.pose.segment);
+    if (found != bias_of.end() && o.wall_index >= 0 &&
+        o.wall_index < static_cast<int>(walls.size())) {
+      const solvers::OrientedWall wall =
+          solvers::OrientWall(walls[o.wall_index], o.pose.antenna_local_m);
+      with_bias[i] = r[i] + wall.normal_local.dot(found->second);
+    }
+    const double mid_m = o.range_max_m > 0.0 ? 0.5 * (o.range_min_m + o.range_max_m) : o.rho_m;
+    range[i] = std::max(mid_m, o.rho_m);
+    incidence[i] = std::acos(std::clamp(o.rho_m / range[i], -1.0, 1.0)) * kRadToDeg;
+    bearing[i] = o.theta_rad * kRadToDeg;
+    const double h = 0.5 * kPi - o.pose.yaw_rad - mean_heading;
+    heading[i] = std::remainder(h, 2.0 * kPi) * kRadToDeg;
+    station[i] = rank[o.pose.segment];
+    time[i] = o.pose.stamp_s - t0;
+    cluster[i] = o.pose.segment;
+  }
+
+  struct Spec {
+    const char* against;
+    const char* unit;
+    const std::vector<double>* values;
+    const char* suggestion;
+  };
+  const Spec specs[] = {
+      {"range", "m/m", &range,
+       "range scale error: the preset's k may be wrong (residuals grow with range)"},
+      {"incidence", "m/deg", &incidence,
+       "residuals change with incidence angle: beam footprint / mixed pixels at grazing angles?"},
+      {"bearing", "m/deg", &bearing,
+       "residuals change with beam bearing: the scanner's angular zero or the mount yaw?"},
+      {"heading", "m/deg", &heading, "a trend with heading: a yaw/heading problem"},
+      {"station", "m/station", &station, "a step between stations: a GNSS jump?"},
+      {"time", "m/s", &time, "residuals drift with time: heading drift or a clock offset?"},
+  };
+  for (const Spec& spec : specs) {
+    const Slope fit = FitSlope(*spec.values, with_bias, cluster, use);
+    ResidualTrend trend;
+    trend.against = spec.against;
+    trend.unit = spec.unit;
+    trend.slope = fit.slope;
+    trend.significance = fit.sigma > 0.0 ? std::abs(fit.slope) / fit.sigma : 0.0;
+    // Flag only what is both significant and material: the trend moves the residuals by at
+    // least one robust σ over the span seen.
+    trend.flagged = fit.sigma > 0.0 && trend.significance >= kTrendFlagSignificance &&
+                    std::abs(fit.slope) * fit.span >= sigma;
+    if (trend.flagged) {
+      trend.message = spec.suggestion;
+      analysis.flags.push_back(std::string(spec.suggestion) + " (slope " +
+                               Format("%.3g ", fit.slope) + spec.unit +
+                               Format(", %.1f sigma)", trend.significance));
+    }
+    analysis.trends.push_back(trend);
+
+    // The range trend as a corrected k: corrected ranges scaled by s give residuals ≈ (s − 1)
+    // rho, so k / s ≈ k (1 − slope) undoes it. b is not separable from the mount's x.
+    if (std::string(spec.against) == "range" && fit.sigma > 0.0 && fit.span >= kMinRangeSpanForK) {
+      analysis.range_model_estimated = true;
+      analysis.range_scale_k = preset.range_scale_k * (1.0 - fit.slope);
+      analysis.sigma_range_scale_k = std::abs(preset.range_scale_k) * fit.sigma;
+      analysis.range_offset_b_m = preset.range_offset_b_m;
+      analysis.sigma_range_offset_b_m = 0.0;
+    }
+  }
+
+  // A GNSS jump is mostly absorbed by the station's bias parameter: look at the estimated
+  // biases against their prior σ as well.
+  for (size_t k = 0; k < estimate.segment_ids.size(); ++k) {
+    const double sigma_b =
+        k < estimate.segment_bias_sigma_m.size() ? estimate.segment_bias_sigma_m[k] : 0.0;
+    if (!(sigma_b > 0.0) || k >= estimate.segment_bias_m.size()) continue;
+    const double ratio = estimate.segment_bias_m[k].norm() / sigma_b;
+    if (ratio > kJumpSigmas) {
+      const auto found = rank.find(estimate.segment_ids[k]);
+      analysis.flags.push_back(
+          "a step between stations: a GNSS jump? (station " +
+          std::to_string(found == rank.end() ? -1 : found->second + 1) +
+          Format(": GNSS bias %.3f m, ", estimate.segment_bias_m[k].norm()) +
+          Format("%.1f prior sigma)", ratio));
+      for (ResidualTrend& trend : analysis.trends) {
+        if (trend.against == "station" && !trend.flagged) {
+          trend.flagged = true;
+          trend.message = "a step between stations: a GNSS jump?";
+        }
+      }
+    }
+  }
+  analysis.done = true;
+  return analysis;
+}
+
+}  // namespace wallcal::app

@@ -1,0 +1,145 @@
+// The calibrate pipeline's round-2 checks on simulated sessions: a degenerate session is
+// refused (and can be forced), a second surveyed wall shrinks σ, moving scans with a clock
+// offset recover it, and the residual analysis and repeatability come with every estimate.
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "apps/pipeline.h"
+#include "io/session_reader.h"
+
+namespace wallcal::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+io::SimulationConfig Sapporo() {
+  return io::ReadSimulationConfig(std::string(WALLCAL_SOURCE_DIR) +
+                                  "/configs/simulate/lms291_sapporo.yaml");
+}
+
+fs::path Simulated(const io::SimulationConfig& config, uint64_t seed, const std::string& name) {
+  const fs::path dir = fs::path(::testing::TempDir()) / ("wallcal_checks_" + name);
+  fs::remove_all(dir);
+  WriteSimulatedSession(config, seed, dir.string());
+  return dir;
+}
+
+CalibrationResult Calibrate(const fs::path& dir, bool force = false,
+                            const std::string& config_yaml = "") {
+  CalibrateRequest request;
+  request.session_path = dir.string();
+  request.force = force;
+  if (!config_yaml.empty()) {
+    request.config_path = (dir / "calibrate.yaml").string();
+    std::ofstream(request.config_path) << config_yaml;
+  }
+  return RunCalibration(request);
+}
+
+double Sigma(const CalibrationResult& result, int axis) {
+  return std::sqrt(result.estimate.covariance(axis, axis));
+}
+
+TEST(PipelineChecksTest, DegenerateSessionIsRefusedAndNamesTheWeakAxis) {
+  io::SimulationConfig config = Sapporo();
+  config.heading_spread_rad = 6.0 * 3.14159265358979323846 / 180.0;  // all stations face north
+  const fs::path dir = Simulated(config, 5, "degenerate");
+  const CalibrationResult refused = Calibrate(dir);
+  EXPECT_FALSE(refused.estimate.usable);
+  EXPECT_NE(refused.estimate.message.find("lateral offset y is not determined"), std::string::npos)
+      << refused.estimate.message;
+  EXPECT_NE(refused.estimate.message.find("headings"), std::string::npos);
+  EXPECT_NE(refused.estimate.message.find("turned ≥ 30°"), std::string::npos);
+  EXPECT_FALSE(refused.forced);
+
+  const CalibrationResult forced = Calibrate(dir, /*force=*/true);
+  ASSERT_TRUE(forced.estimate.usable) << forced.estimate.message;
+  EXPECT_TRUE(forced.forced);
+  const io::OffsetsDocument doc = MakeOffsetsDocument(forced);
+  bool warned = false;
+  for (const std::string& w : doc.warnings) warned = warned || w.rfind("FORCED: ", 0) == 0;
+  EXPECT_TRUE(warned);
+  EXPECT_NE(FormatSummary(forced).find("FORCED"), std::string::npos);
+  // The forced σ says how little is known sideways.
+  EXPECT_GT(Sigma(forced, 1), 0.05);
+}
+
+TEST(PipelineChecksTest, SecondPerpendicularWallShrinksSigma) {
+  io::SimulationConfig config = Sapporo();
+  config.heading_spread_rad = 30.0 * 3.14159265358979323846 / 180.0;
+  const fs::path one_dir = Simulated(config, 7, "one_wall");
+  config.walls[1].code = "WALL2";  // the shed east of the stations, at a right angle
+  const fs::path two_dir = Simulated(config, 7, "two_walls");
+  const CalibrationResult one = Calibrate(one_dir);
+  const CalibrationResult two = Calibrate(two_dir);
+  ASSERT_TRUE(one.estimate.usable) << one.estimate.message;
+  ASSERT_TRUE(two.estimate.usable) << two.estimate.message;
+  ASSERT_EQ(two.walls.size(), 2u);
+  int on_second = 0;
+  for (const auto& o : two.observations) on_second += o.wall_index == 1 ? 1 : 0;
+  EXPECT_GT(on_second, 50);
+  std::printf("[ walls    ] sigma y one wall %.4f m, two walls %.4f m; x %.4f / %.4f m\n",
+              Sigma(one, 1), Sigma(two, 1), Sigma(one, 0), Sigma(two, 0));
+  EXPECT_LT(Sigma(two, 1), 0.8 * Sigma(one, 1));
+  EXPECT_LE(Sigma(two, 0), Sigma(one, 0) * 1.05);
+  // The truth is inside the reported uncertainty.
+  EXPECT_LT(std::abs(two.estimate.mount.y_m - config.mount_y_m), 4.0 * Sigma(two, 1));
+}
+
+TEST(PipelineChecksTest, MovingScansRecoverAKnownScannerClockOffset) {
+  io::SimulationConfig config = Sapporo();
+  config.scanner_time_offset_s = 0.15;  // the scanner stamps 150 ms early
+  const fs::path dir = Simulated(config, 9, "clock_offset");
+  const CalibrationResult result = Calibrate(dir, false, "alignment:\n  use_moving_scans: true\n");
+  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
+  ASSERT_TRUE(result.estimate.time_offset_estimated);
+  std::printf("[ clock    ] time offset %.4f ± %.4f s (true 0.15)\n", result.time_offset_s,
+              result.time_offset_sigma_s);
+  EXPECT_GT(result.time_offset_sigma_s, 0.0);
+  // Within 30 ms (the scans at the ends of drives, where the vehicle accelerates, are only
+  // approximately modelled by p + v·dt: the estimate lands ~15 ms short, more than its σ).
+  EXPECT_NEAR(result.time_offset_s, 0.15, 0.03);
+  EXPECT_LT(std::abs(result.estimate.mount.x_m - config.mount_x_m), 4.0 * Sigma(result, 0));
+
+  // Stations only: the offset is not estimated and says so.
+  const CalibrationResult still = Calibrate(dir);
+  ASSERT_TRUE(still.estimate.usable) << still.estimate.message;
+  EXPECT_FALSE(still.estimate.time_offset_estimated);
+  EXPECT_EQ(still.time_offset_sigma_s, 0.0);
+}
+
+TEST(PipelineChecksTest, ResidualAnalysisAndRepeatabilityComeWithTheEstimate) {
+  const fs::path dir = Simulated(Sapporo(), 3, "analysis");
+  const CalibrationResult result = Calibrate(dir, false, "solver:\n  bootstrap_samples: 20\n");
+  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
+  const ResidualAnalysis& ra = result.residual_analysis;
+  ASSERT_TRUE(ra.done);
+  EXPECT_GT(ra.robust_sigma_m, 0.0);
+  EXPECT_LT(ra.robust_sigma_m, 0.02);
+  EXPECT_EQ(ra.trends.size(), 6u);
+  EXPECT_TRUE(ra.flags.empty()) << ra.flags.front();
+  const Repeatability& rep = result.repeatability;
+  ASSERT_TRUE(rep.done);
+  EXPECT_EQ(rep.splits.size(), 4u);
+  EXPECT_GT(rep.bootstrap_samples, 10);
+  EXPECT_LE(rep.bootstrap_samples, 20);
+  EXPECT_GT(rep.bootstrap_sigma_x_m, 0.0);
+  EXPECT_LT(rep.bootstrap_sigma_x_m, 0.05);
+  const io::OffsetsDocument doc = MakeOffsetsDocument(result);
+  int found = 0;
+  for (const auto& [key, value] : doc.quality_extra) {
+    if (key == "repeatability" || key == "residual_robust_sigma_m" || key == "outlier_share" ||
+        key == "residual_flags" || key == "time_offset_s" || key == "yaw_reference") {
+      ++found;
+    }
+  }
+  EXPECT_EQ(found, 6);
+}
+
+}  // namespace
+}  // namespace wallcal::app
