@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 namespace wallcal::io {
@@ -126,6 +127,32 @@ TEST(CarmenReaderTest, ReadsGzipTransparently) {
   EXPECT_DOUBLE_EQ(scans[49].stamp_s, 59.0);
   EXPECT_EQ(scans[49].ranges_m.size(), 361u);
   EXPECT_EQ(scans[49].line, 50);
+}
+
+// A gzip log whose end was lost (logger killed, copy interrupted): the scans before the cut are
+// read, the cut is counted, nothing is half-used.
+TEST(CarmenReaderTest, TruncatedGzipKeepsTheScansBeforeTheCut) {
+  const std::string whole = TempPath("whole.clf.gz");
+  gzFile file = gzopen(whole.c_str(), "wb");
+  ASSERT_NE(file, nullptr);
+  for (int i = 0; i < 400; ++i) {
+    const std::string line = Rawlaser(181, 10.0 + i) + "\n";
+    gzwrite(file, line.data(), static_cast<unsigned>(line.size()));
+  }
+  gzclose(file);
+  std::ifstream in(whole, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 2000u);
+  const std::string cut = WriteFile("cut.clf.gz", bytes.substr(0, bytes.size() * 2 / 3));
+  CarmenReader reader(cut);
+  const std::vector<ScanRecord> scans = ReadAll(reader);
+  EXPECT_GT(scans.size(), 10u);
+  EXPECT_LT(scans.size(), 400u);
+  for (size_t i = 0; i < scans.size(); ++i) {
+    ASSERT_EQ(scans[i].ranges_m.size(), 181u);
+    EXPECT_DOUBLE_EQ(scans[i].stamp_s, 10.0 + static_cast<double>(i));
+  }
+  EXPECT_GE(reader.skipped().Total(), 1);
 }
 
 TEST(CarmenReaderTest, ReadsLinesLongerThanOneBuffer) {

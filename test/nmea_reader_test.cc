@@ -177,6 +177,31 @@ TEST(NmeaReaderTest, FindsTheSentenceAfterBinaryBytes) {
   EXPECT_DOUBLE_EQ(nmea.headings[0].stamp_s, 100.0);  // time of the last timed sentence
 }
 
+TEST(NmeaReaderTest, DatesAPlainCaptureFromZda) {
+  // 2018-09-07 = 17781 days after 1970-01-01; ZDA carries day, month, year.
+  const std::string log = S("GPZDA,120000.00,07,09,2018,00,00") + "\n" +
+                          S("GPGGA,120000.50,4304.0,N,14120.0,E,4,12,0.8,50.0,M,20.0,M,,") + "\n";
+  const NmeaLog nmea = ReadNmea(WriteFile("zda.nmea", log));
+  ASSERT_EQ(nmea.fixes.size(), 1u);
+  EXPECT_NEAR(nmea.fixes[0].stamp_s, 17781 * 86400.0 + 43200.5, 1e-6);
+}
+
+// A binary message between sentences may contain newlines, '$' and '*': its fragments are
+// skipped and counted, and the sentences on either side are read whole.
+TEST(NmeaReaderTest, BinaryBlobAcrossLinesIsSkipped) {
+  static const char kBlob[] = "\xd3\x00\x13\x3e\xd0$\x01*\x7f\n\x02$GPG\x00\n\xb5\x62\x01\x07*\xff";
+  const std::string blob(kBlob, sizeof(kBlob) - 1);  // with its NUL bytes
+  const std::string log = "1.000 " + S("GPGGA,000001.00,4304.0,N,14120.0,E,4,12,0.8,50.0,M,20.0,M,,") +
+                          "\n" + blob + "\n" + "2.000 " +
+                          S("GPGGA,000002.00,4305.0,N,14120.0,E,4,12,0.8,50.0,M,20.0,M,,") + "\n";
+  const NmeaLog nmea = ReadNmea(WriteFile("blob.nmea", log));
+  ASSERT_EQ(nmea.fixes.size(), 2u);
+  EXPECT_NEAR(nmea.fixes[0].lat_deg, 43.0 + 4.0 / 60.0, 1e-12);
+  EXPECT_NEAR(nmea.fixes[1].lat_deg, 43.0 + 5.0 / 60.0, 1e-12);
+  EXPECT_DOUBLE_EQ(nmea.fixes[1].stamp_s, 2.0);
+  EXPECT_GE(nmea.skipped.Total(), 3);
+}
+
 TEST(NmeaReaderTest, ReadsSouthAndWest) {
   const std::string log =
       "1.0 " + S("GPGGA,120000.00,3352.1234567,S,15112.7654321,W,4,10,1.0,10.0,M,5.0,M,,") + "\n";
@@ -326,7 +351,11 @@ TEST(NmeaReaderTest, RealHemisphereLogMatchesGpsd) {
   // gpsd reports a position for only 6 of the 21 GGA epochs (mode 1 before that).
   ExpectFixesMatchChk("hemi.log", 21, 6);
   const NmeaLog nmea = ReadNmea(kRealNmeaDir + "hemi.log");
-  EXPECT_GT(Count(nmea, "empty field"), 0);  // the many "$GPHDT,,T"
+  // The log has exactly 211 "$GPHDT,,T" lines (grep -c): each one counted, none used.
+  EXPECT_EQ(Count(nmea, "empty field"), 211);
+  // The log is dated by ZDA only (no RMC): the first fix is 2018-09-07 19:40:50 UTC.
+  ASSERT_FALSE(nmea.fixes.empty());
+  EXPECT_NEAR(nmea.fixes.front().stamp_s, 1536349250.0, 1e-6);
 }
 
 }  // namespace
