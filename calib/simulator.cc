@@ -87,10 +87,22 @@ struct Pose {
   bool stationary;
 };
 
+// Continuous driving: one smooth sweep from the first station's pose to the last one's, with a
+// forward/back weave along the wall normal on top (see PlanTrajectory).
+struct Weave {
+  double duration_s = 0.0;
+  Eigen::Vector2d p0_enu_m = Eigen::Vector2d::Zero(), p1_enu_m = Eigen::Vector2d::Zero();
+  double yaw0_rad = 0.0, yaw1_rad = 0.0;
+  Eigen::Vector2d out_normal = Eigen::Vector2d::UnitY();  // away from the wall
+  double amplitude_m = 0.0;
+  double period_s = 1.0;
+};
+
 class Trajectory {
  public:
   explicit Trajectory(std::vector<Segment> segments) : segments_(std::move(segments)) {}
-  double duration_s() const { return segments_.back().t1_s; }
+  explicit Trajectory(const Weave& weave) : weave_(weave) {}
+  double duration_s() const { return weave_ ? weave_->duration_s : segments_.back().t1_s; }
 
   // Pose at true time t (clamped to the run). Drives follow a cosine profile
   // s(τ) = (1 − cos πτ)/2 in both position and yaw, so speed and yaw rate are zero at both
@@ -98,6 +110,7 @@ class Trajectory {
   // stations, which all lie on one line parallel to the wall, so the vehicle never nears it.
   Pose At(double t_s) const {
     const double t = std::clamp(t_s, 0.0, duration_s());
+    if (weave_) return WeaveAt(t);
     auto it = std::upper_bound(segments_.begin(), segments_.end(), t,
                                [](double v, const Segment& s) { return v < s.t0_s; });
     const Segment& seg = it == segments_.begin() ? *it : *std::prev(it);  // t >= 0 = first t0
@@ -111,7 +124,21 @@ class Trajectory {
   }
 
  private:
+  // The sweep follows the same cosine profile as a drive, over the whole run, so heading and
+  // lateral position pass every station's values once; the weave r(t) = A·sin(2πt/T) moves the
+  // vehicle towards and away from the wall (forward/reverse for a vehicle facing it) and never
+  // stops it: the speed along the normal is zero only where the sweep is moving.
+  Pose WeaveAt(double t) const {
+    const Weave& w = *weave_;
+    const double tau = w.duration_s > 0.0 ? t / w.duration_s : 0.0;
+    const double s = 0.5 * (1.0 - std::cos(kPi * tau));
+    const double r_m = w.amplitude_m * std::sin(kTwoPi * t / w.period_s);
+    return {w.p0_enu_m + s * (w.p1_enu_m - w.p0_enu_m) + r_m * w.out_normal,
+            w.yaw0_rad + s * (w.yaw1_rad - w.yaw0_rad), false};
+  }
+
   std::vector<Segment> segments_;
+  std::optional<Weave> weave_;
 };
 
 // Stations in front of the first surveyed wall (see simulator.h / brief): headings spread evenly
@@ -172,13 +199,30 @@ Trajectory PlanTrajectory(const io::SimulationConfig& config, const io::SimWall&
     segments.push_back(drive);
     t = drive.t1_s;
   }
-  return Trajectory(std::move(segments));
+  if (!config.continuous) return Trajectory(std::move(segments));
+
+  // Continuous driving: as long as the stop-and-go plan unless told otherwise; the weave's
+  // period makes its mean speed along the normal (4A per period) drive_speed_mps.
+  Weave weave;
+  weave.duration_s =
+      config.continuous_duration_s > 0.0 ? config.continuous_duration_s : segments.back().t1_s;
+  weave.p0_enu_m = positions.front();
+  weave.p1_enu_m = positions.back();
+  weave.yaw0_rad = yaws.front();
+  weave.yaw1_rad = yaws.back();
+  weave.out_normal = out_normal;
+  weave.amplitude_m = config.weave_amplitude_m;
+  weave.period_s = config.weave_amplitude_m > 0.0
+                       ? 4.0 * config.weave_amplitude_m / config.drive_speed_mps
+                       : 1.0;
+  return Trajectory(weave);
 }
 
 // ---- Scene and ray casting -------------------------------------------------------------------
 struct Hit {
   double range_m;
   double cos_incidence;  // |cos| of the angle between the beam and the surface normal
+  int wall_index;        // into config.walls; -1 for an obstacle
 };
 
 class Scene {
@@ -192,10 +236,12 @@ class Scene {
   std::optional<Hit> Cast(const Eigen::Vector2d& origin, const Eigen::Vector2d& dir) const {
     constexpr double kMinT = 1e-9;
     std::optional<Hit> best;
-    auto offer = [&best](double t, double cos_inc) {
-      if (!best || t < best->range_m) best = Hit{t, cos_inc};
+    auto offer = [&best](double t, double cos_inc, int wall_index) {
+      if (!best || t < best->range_m) best = Hit{t, cos_inc, wall_index};
     };
+    int wall_index = -1;
     for (const auto& [p0, p1] : walls_) {
+      ++wall_index;
       // origin + t·dir = p0 + s·e  =>  t = (w×e)/(dir×e), s = (w×dir)/(dir×e), w = p0 − origin.
       const Eigen::Vector2d e = p1 - p0;
       const double denom = Cross(dir, e);
@@ -204,7 +250,7 @@ class Scene {
       const Eigen::Vector2d w = p0 - origin;
       const double t = Cross(w, e) / denom;
       const double s = Cross(w, dir) / denom;
-      if (t > kMinT && s >= 0.0 && s <= 1.0) offer(t, std::abs(denom) / length);
+      if (t > kMinT && s >= 0.0 && s <= 1.0) offer(t, std::abs(denom) / length, wall_index);
     }
     for (const auto& [centre, radius] : circles_) {
       const Eigen::Vector2d f = origin - centre;
@@ -216,7 +262,7 @@ class Scene {
       if (t <= kMinT) t = -half_b + root;  // the scanner inside the obstacle: its far side
       if (t <= kMinT) continue;
       const Eigen::Vector2d normal = (origin + t * dir - centre) / radius;
-      offer(t, std::abs(normal.dot(dir)));
+      offer(t, std::abs(normal.dot(dir)), -1);
     }
     return best;
   }
@@ -467,11 +513,12 @@ io::SimulationConfig WithDefaultWalls(io::SimulationConfig config) {
   return config;
 }
 
-SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerPreset& preset,
-                          uint64_t seed, const ScanSink& sink) {
+namespace {
+
+// What the trajectory needs beyond config.Validate(); returns the first surveyed wall. Messages
+// in Validate()'s form: the YAML key first, so the user knows what to change.
+const io::SimWall& CheckTrajectoryConfig(const io::SimulationConfig& config) {
   config.Validate();
-  // What this simulator itself needs beyond Validate(). Messages in Validate()'s form: the
-  // YAML key first, so the user knows what to change.
   const auto first_surveyed = std::find_if(config.walls.begin(), config.walls.end(),
                                            [](const io::SimWall& w) { return !w.code.empty(); });
   Require(first_surveyed != config.walls.end(),
@@ -484,13 +531,80 @@ SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerP
           "simulation.num_stations must be >= 3, got " + std::to_string(config.num_stations));
   Require(config.dwell_s >= 0.0 && config.drive_speed_mps > 0.0,
           "simulation.dwell_s must be >= 0 and simulation.drive_speed_mps > 0");
-  Require(config.gnss_rate_hz > 0.0 && config.heading_rate_hz > 0.0,
-          "simulation.gnss_rate_hz and simulation.heading_rate_hz must be > 0");
-  Require(config.station_distance_m > std::hypot(config.mount_x_m, config.mount_y_m) + 0.1,
+  const double reach_m = std::hypot(config.mount_x_m, config.mount_y_m) + 0.1;
+  Require(config.station_distance_m > reach_m,
           "simulation.station_distance_m must exceed the mount's distance from the antenna + 0.1 m "
           "(else the "
           "scanner would stand at or behind the wall), got " +
               std::to_string(config.station_distance_m));
+  if (config.continuous) {
+    Require(std::isfinite(config.weave_amplitude_m) && config.weave_amplitude_m >= 0.0,
+            "simulation.weave_amplitude_m must be >= 0, got " +
+                std::to_string(config.weave_amplitude_m));
+    Require(std::isfinite(config.continuous_duration_s) && config.continuous_duration_s >= 0.0,
+            "simulation.continuous_duration_s must be >= 0 (0: as long as the stop-and-go plan), "
+            "got " + std::to_string(config.continuous_duration_s));
+    Require(config.station_distance_m - config.weave_amplitude_m > reach_m,
+            "simulation.station_distance_m - weave_amplitude_m must exceed the mount's distance "
+            "from the antenna + 0.1 m (else the weave would take the scanner to the wall), got " +
+                std::to_string(config.station_distance_m - config.weave_amplitude_m));
+  }
+  return *first_surveyed;
+}
+
+}  // namespace
+
+double RunDurationS(const io::SimulationConfig& config) {
+  return PlanTrajectory(config, CheckTrajectoryConfig(config)).duration_s();
+}
+
+std::vector<SimTruthPose> TruePosesAt(const io::SimulationConfig& config,
+                                      const std::vector<double>& t_s) {
+  const Trajectory trajectory = PlanTrajectory(config, CheckTrajectoryConfig(config));
+  std::vector<SimTruthPose> poses;
+  poses.reserve(t_s.size());
+  for (double t : t_s) {
+    const Pose pose = trajectory.At(t);
+    poses.push_back({config.start_time_s + t, pose.antenna_enu_m, pose.yaw_rad, pose.stationary});
+  }
+  return poses;
+}
+
+std::vector<SimBeamHit> TrueBeamHits(const io::SimulationConfig& config,
+                                     const io::ScannerPreset& preset, const SimTruthPose& pose) {
+  const Scene scene(config);
+  const Eigen::Vector2d origin =
+      pose.antenna_enu_m + Rotate(pose.yaw_enu_rad, {config.mount_x_m, config.mount_y_m});
+  const double scanner_yaw_rad = pose.yaw_enu_rad + config.mount_yaw_rad;
+  const double cos_max_incidence = std::cos(preset.max_incidence_rad);
+  const double half_rad = 0.4 * preset.angular_step_rad;  // footprint edges, as in ScannerModel
+  std::vector<SimBeamHit> hits;
+  hits.reserve(std::max(0, preset.num_beams));
+  for (int i = 0; i < preset.num_beams; ++i) {
+    SimBeamHit hit;
+    hit.bearing_rad = preset.start_angle_rad + i * preset.angular_step_rad;
+    const double enu_rad = scanner_yaw_rad + hit.bearing_rad;
+    const std::optional<Hit> centre = scene.Cast(origin, Direction(enu_rad));
+    if (centre) {
+      hit.range_m = centre->range_m;
+      hit.wall_index = centre->wall_index;
+      hit.cos_incidence = centre->cos_incidence;
+      hit.returned = centre->cos_incidence >= cos_max_incidence &&
+                     centre->range_m < preset.max_range_m;
+    }
+    const auto lo = scene.Cast(origin, Direction(enu_rad - half_rad));
+    const auto hi = scene.Cast(origin, Direction(enu_rad + half_rad));
+    hit.footprint_edge = lo && hi && std::abs(lo->range_m - hi->range_m) > 0.1;
+    hits.push_back(hit);
+  }
+  return hits;
+}
+
+SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerPreset& preset,
+                          uint64_t seed, const ScanSink& sink) {
+  const io::SimWall* first_surveyed = &CheckTrajectoryConfig(config);
+  Require(config.gnss_rate_hz > 0.0 && config.heading_rate_hz > 0.0,
+          "simulation.gnss_rate_hz and simulation.heading_rate_hz must be > 0");
   Require(preset.num_beams > 0 && preset.rate_hz > 0.0 && preset.angular_step_rad != 0.0,
           "scanner preset '" + preset.name +
               "' must have num_beams > 0, rate_hz > 0 and a non-zero angular step");
@@ -597,7 +711,8 @@ SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerP
     }
     const double t_s = k / preset.rate_hz;
     // The whole scan is taken at one instant: at ≤ 1 m/s and 13 ms per sweep the vehicle moves
-    // ≤ 13 mm during a sweep, and the stations (where the tool uses scans) are dwells anyway.
+    // ≤ 13 mm during a sweep. At the stations that is exact; in continuous mode it leaves out
+    // the sweep's motion skew (the tool treats scans as instantaneous too).
     const io::ScanRecord scan =
         scanner.Scan(trajectory.At(t_s), config.start_time_s + t_s - config.scanner_time_offset_s);
     ++session.scans_written;

@@ -60,11 +60,42 @@ struct SimulatedSession {
 // draws from its own random stream, so changing one setting does not reshuffle the others.
 // Scans are passed to `sink` in time order and not kept (an hour at 75 Hz is 270 000 scans);
 // `sink` may be empty. Each scan is treated as instantaneous (no motion during the sweep).
+// Trajectory: stop-and-go (num_stations dwells of dwell_s joined by smooth drives) or, with
+// config.continuous, one smooth sweep through the same headings and positions with a forward /
+// back weave of ±weave_amplitude_m along the wall normal (mean speed drive_speed_mps), never
+// stopping (every truth pose has stationary == false).
 // Throws io::InputError when the config or preset cannot be simulated (config.Validate()
 // fails, no wall has a survey code, fewer than 3 stations, the scanner would stand at or behind
-// the wall, a preset without beams or rate).
+// the wall or the weave would take it there, a negative weave amplitude or duration, a preset
+// without beams or rate).
 SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerPreset& preset,
                           uint64_t seed, const ScanSink& sink);
+
+// The run's length in seconds of true time (the stop-and-go plan, or continuous_duration_s /
+// the stop-and-go plan's length in continuous mode). Throws io::InputError like Simulate when
+// the trajectory cannot be planned.
+double RunDurationS(const io::SimulationConfig& config);
+
+// The true poses Simulate moves the vehicle through, at true times t_s (seconds since the start
+// of the run, clamped to [0, RunDurationS]); stamp_s = config.start_time_s + t. For benchmarks
+// and tests that need the truth at scan times. Throws like RunDurationS.
+std::vector<SimTruthPose> TruePosesAt(const io::SimulationConfig& config,
+                                      const std::vector<double>& t_s);
+
+// One beam of a noise-free scan: what the beam's centre ray meets first.
+struct SimBeamHit {
+  double bearing_rad = 0.0;     // in the scanner frame (ccw from its x axis)
+  double range_m = 0.0;         // true distance to the surface met; 0 when none
+  int wall_index = -1;          // into config.walls; -1 for an obstacle or nothing
+  double cos_incidence = 0.0;   // |cos| of the incidence angle on that surface
+  bool returned = false;        // within max range and max incidence: the scanner reports it
+  bool footprint_edge = false;  // the footprint straddles a depth jump > 0.1 m (mixed pixel risk)
+};
+
+// The noise-free scan the scanner would take at `pose` (its mount from `config`), beam by beam,
+// occlusions included. Does not check `config` (call RunDurationS or Simulate for that).
+std::vector<SimBeamHit> TrueBeamHits(const io::SimulationConfig& config,
+                                     const io::ScannerPreset& preset, const SimTruthPose& pose);
 
 // `config` unchanged when it has walls; otherwise with one 30 m surveyed wall "north_wall"
 // (code WALL1) 12 m north of the site origin, running east–west from x = −15 m to x = +15 m.

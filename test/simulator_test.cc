@@ -688,5 +688,147 @@ TEST(SimulatorTest, RejectsWhatItCannotSimulate) {
   EXPECT_THROW(Simulate(DefaultConfig(), no_beams, 1, nullptr), io::InputError);
 }
 
+// ---- Continuous driving ------------------------------------------------------------------
+
+TEST(SimulatorTest, ContinuousDrivingNeverStopsAndSweepsTheStationPoses) {
+  io::SimulationConfig stop_and_go = DefaultConfig();
+  stop_and_go.drive_speed_mps = 0.6;
+  io::SimulationConfig config = stop_and_go;
+  config.continuous = true;
+  config.weave_amplitude_m = 1.0;
+  const Collected run = RunSim(config, CheapPreset(), 1);
+  const auto& poses = run.session.truth_poses;
+  ASSERT_GT(poses.size(), 100u);
+
+  // As long as the stop-and-go run of the same config.
+  EXPECT_NEAR(poses.back().stamp_s - poses.front().stamp_s, RunDurationS(stop_and_go), 0.1 + 1e-6);
+  EXPECT_NEAR(RunDurationS(config), RunDurationS(stop_and_go), 1e-9);
+
+  double min_yaw = 1e9, max_yaw = -1e9, min_speed = 1e9, path_m = 0.0;
+  double min_x = 1e9, max_x = -1e9;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    EXPECT_FALSE(poses[k].stationary) << "pose " << k;
+    min_yaw = std::min(min_yaw, poses[k].yaw_enu_rad);
+    max_yaw = std::max(max_yaw, poses[k].yaw_enu_rad);
+    min_x = std::min(min_x, poses[k].antenna_enu_m.x());
+    max_x = std::max(max_x, poses[k].antenna_enu_m.x());
+    // The default wall is y = 12 m: the weave stays within ±A of the stations' distance.
+    const double distance_m = 12.0 - poses[k].antenna_enu_m.y();
+    EXPECT_GE(distance_m, config.station_distance_m - config.weave_amplitude_m - 1e-9);
+    EXPECT_LE(distance_m, config.station_distance_m + config.weave_amplitude_m + 1e-9);
+    if (k > 0) {
+      const double step_m = (poses[k].antenna_enu_m - poses[k - 1].antenna_enu_m).norm();
+      path_m += step_m;
+      min_speed = std::min(min_speed, step_m / 0.1);
+    }
+  }
+  // The stations' headings (centred on facing the wall) and lateral positions, passed once.
+  EXPECT_NEAR(max_yaw - min_yaw, config.heading_spread_rad, 1e-9);
+  EXPECT_NEAR(0.5 * (max_yaw + min_yaw), kPi / 2.0, 1e-9);
+  EXPECT_NEAR(max_x - min_x, config.lateral_spread_m, 1e-6);
+  // Never stopped (every 0.1 s step moves), and the mean speed is about drive_speed_mps: the
+  // weave's 4A per period plus a little from the sweep.
+  EXPECT_GT(min_speed, 0.01);
+  const double mean_speed = path_m / (poses.back().stamp_s - poses.front().stamp_s);
+  EXPECT_GT(mean_speed, 0.9 * config.drive_speed_mps);
+  EXPECT_LT(mean_speed, 1.3 * config.drive_speed_mps);
+}
+
+TEST(SimulatorTest, ContinuousDurationAndTruthHelpersFollowTheConfig) {
+  io::SimulationConfig config = DefaultConfig();
+  config.continuous = true;
+  config.continuous_duration_s = 30.0;
+  const Collected run = RunSim(config, CheapPreset(), 2);
+  EXPECT_NEAR(run.session.truth_poses.back().stamp_s - config.start_time_s, 30.0, 1e-9);
+  EXPECT_NEAR(RunDurationS(config), 30.0, 1e-12);
+  // TruePosesAt reproduces the truth record exactly.
+  std::vector<double> times;
+  for (size_t k = 0; k < run.session.truth_poses.size(); k += 37) times.push_back(k / 10.0);
+  const std::vector<SimTruthPose> poses = TruePosesAt(config, times);
+  ASSERT_EQ(poses.size(), times.size());
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const SimTruthPose& expected = run.session.truth_poses[i * 37];
+    EXPECT_DOUBLE_EQ(poses[i].stamp_s, expected.stamp_s);
+    EXPECT_EQ(poses[i].antenna_enu_m, expected.antenna_enu_m);
+    EXPECT_EQ(poses[i].yaw_enu_rad, expected.yaw_enu_rad);
+  }
+}
+
+TEST(SimulatorTest, ContinuousScansSeeTheWallFromTheMovingPose) {
+  io::SimulationConfig config = NoiseFreeConfig();
+  config.continuous = true;
+  const io::ScannerPreset preset = PerfectPreset();
+  const Collected run = RunSim(config, preset, 4);
+  ASSERT_GT(run.scans.size(), 100u);
+  int checked = 0;
+  for (size_t si = 0; si < run.scans.size(); si += 50) {
+    const io::ScanRecord& scan = run.scans[si];
+    const SimTruthPose truth = TruePosesAt(config, {scan.stamp_s - config.start_time_s}).front();
+    const std::vector<SimBeamHit> hits = TrueBeamHits(config, preset, truth);
+    ASSERT_EQ(hits.size(), scan.ranges_m.size());
+    for (size_t i = 0; i < hits.size(); ++i) {
+      if (!hits[i].returned) continue;
+      EXPECT_EQ(hits[i].wall_index, 0);  // the only wall
+      EXPECT_NEAR(scan.ranges_m[i], hits[i].range_m, 2e-7 * hits[i].range_m + 1e-6);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 1000);
+}
+
+TEST(SimulatorTest, TrueBeamHitsNameTheSurfaceAndSeeOcclusions) {
+  io::SimulationConfig config = NoiseFreeConfig();
+  io::SimWall second;
+  second.id = "east";
+  second.code = "WALL2";
+  second.x0_m = 14.0;
+  second.y0_m = 12.0;
+  second.x1_m = 14.0;
+  second.y1_m = -4.0;
+  config.walls.push_back(second);
+  // A post right in front of the scanner when facing the wall (heading north).
+  config.obstacles.push_back({0.0, 11.0, 0.3});
+  const io::ScannerPreset preset = PerfectPreset();
+  // The scanner at (0, 6.5) facing due north: the vehicle turned back by the mount yaw, the
+  // antenna behind the scanner by the rotated lever arm.
+  const double yaw = kPi / 2.0 - config.mount_yaw_rad;
+  const Eigen::Vector2d lever(std::cos(yaw) * config.mount_x_m - std::sin(yaw) * config.mount_y_m,
+                              std::sin(yaw) * config.mount_x_m + std::cos(yaw) * config.mount_y_m);
+  const SimTruthPose pose{config.start_time_s, Eigen::Vector2d(0.0, 6.5) - lever, yaw, false};
+  const std::vector<SimBeamHit> hits = TrueBeamHits(config, preset, pose);
+  ASSERT_EQ(hits.size(), 181u);
+  const SimBeamHit& ahead = hits[90];  // bearing 0: the post's near side
+  EXPECT_NEAR(ahead.bearing_rad, 0.0, 1e-12);
+  EXPECT_EQ(ahead.wall_index, -1);
+  EXPECT_NEAR(ahead.range_m, 11.0 - 0.3 - 6.5, 1e-9);
+  const SimBeamHit& left = hits[90 + 30];  // bearing +30°: the first wall, 5.5 m north
+  EXPECT_EQ(left.wall_index, 0);
+  EXPECT_NEAR(left.range_m, 5.5 / std::cos(30.0 * kDeg), 1e-9);
+  EXPECT_TRUE(left.returned);
+  const SimBeamHit& right = hits[90 - 80];  // bearing −80°: the second wall, 14 m east
+  EXPECT_EQ(right.wall_index, 1);
+  EXPECT_NEAR(right.range_m, 14.0 / std::cos(10.0 * kDeg), 1e-9);
+  // The post's silhouette edges are mixed-pixel candidates, the middle of a wall is not.
+  int edges = 0;
+  for (const SimBeamHit& h : hits) edges += h.footprint_edge;
+  EXPECT_GE(edges, 2);
+  EXPECT_FALSE(left.footprint_edge);
+}
+
+TEST(SimulatorTest, RejectsAWeaveThatReachesTheWall) {
+  io::SimulationConfig config = DefaultConfig();
+  config.continuous = true;
+  config.weave_amplitude_m = config.station_distance_m - 2.0;  // scanner 2.57 m ahead
+  EXPECT_THROW(RunSim(config, CheapPreset(), 1), io::InputError);
+  EXPECT_THROW(RunDurationS(config), io::InputError);
+  config.weave_amplitude_m = -1.0;
+  EXPECT_THROW(RunSim(config, CheapPreset(), 1), io::InputError);
+  config.weave_amplitude_m = 1.0;
+  config.continuous_duration_s = -5.0;
+  EXPECT_THROW(RunSim(config, CheapPreset(), 1), io::InputError);
+  config.continuous = false;  // the weave settings only matter when driving continuously
+  EXPECT_NO_THROW(RunSim(config, CheapPreset(), 1));
+}
+
 }  // namespace
 }  // namespace wallcal::calib

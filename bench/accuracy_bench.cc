@@ -1,0 +1,412 @@
+// accuracy_bench: issue 3 §1 and §4. For each scenario, simulates N sessions (seeds first..
+// first+N−1), calibrates each with --method ceres and --method barawid through the public
+// pipeline (apps::WriteSimulatedSession, apps::RunCalibration), and compares per axis (x, y,
+// yaw): the RMS error, the mean reported σ, RMS(error/σ) and the Cramér–Rao bound of the
+// simulator's noise model (bench/crb.h). Prints Markdown tables (docs/results.md) and, with
+// --csv, one line per run and method.
+//
+//   accuracy_bench [--runs N] [--scenario NAME] [--first-seed S] [--csv FILE] [--breakdown]
+//                  [--max-crb-obs M] [--options FILE] [--keep] [--list]
+//
+// --options FILE: calibrate options for every scenario (default: bench/calibrate_matched.yaml,
+// bench/calibrate_matched_moving.yaml for continuous driving); for experiments.
+// Not a test: no assertions, no ctest registration. Its numbers go into docs/results.md.
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "apps/pipeline.h"
+#include "bench/crb.h"
+#include "calib/simulator.h"
+#include "io/session_reader.h"
+#include "solvers/mount_solver.h"
+
+#ifndef WALLCAL_SOURCE_DIR
+#define WALLCAL_SOURCE_DIR "."
+#endif
+
+namespace wallcal::bench {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadToDeg = 180.0 / kPi;
+
+struct Scenario {
+  std::string name;
+  std::string label;         // (a) ... (f) of the issue / brief
+  std::string sim_file;      // configs/simulate/...
+  std::string options_file;  // bench/...
+  bool moving = false;       // uses moving scans: the CRB gets a clock-offset unknown too
+};
+
+std::vector<Scenario> Scenarios() {
+  const std::string src = WALLCAL_SOURCE_DIR;
+  const std::string sim = src + "/configs/simulate/";
+  const std::string matched = src + "/bench/calibrate_matched.yaml";
+  const std::string moving = src + "/bench/calibrate_matched_moving.yaml";
+  return {
+      {"lms291_stopgo", "(a) LMS 291 stop-and-go", sim + "bench_lms291_stopgo.yaml", matched, false},
+      {"lms291_continuous", "(b) LMS 291 continuous driving", sim + "bench_lms291_continuous.yaml",
+       moving, true},
+      {"urg04lx", "(c) URG-04LX", sim + "bench_urg04lx.yaml", matched, false},
+      {"high_latitude", "(d) convergence 2.7 deg", sim + "bench_lms291_high_latitude.yaml", matched,
+       false},
+      {"clutter", "(e) clutter", sim + "bench_lms291_clutter.yaml", matched, false},
+      {"two_walls", "(f) second perpendicular surveyed wall", sim + "bench_lms291_two_walls.yaml",
+       matched, false},
+  };
+}
+
+// Per method and axis: errors and reported σ of the usable runs.
+struct AxisStats {
+  std::vector<double> errors, sigmas;
+};
+struct MethodStats {
+  int runs = 0, usable = 0;
+  AxisStats axis[3];
+  std::map<std::string, int> failures;  // message -> count
+  double seconds = 0.0;
+  std::vector<double> time_offsets_s, time_offset_sigmas_s;
+  double observations = 0.0;
+};
+
+double Rms(const std::vector<double>& v) {
+  if (v.empty()) return std::nan("");
+  double s = 0.0;
+  for (double x : v) s += x * x;
+  return std::sqrt(s / v.size());
+}
+double Mean(const std::vector<double>& v) {
+  if (v.empty()) return std::nan("");
+  double s = 0.0;
+  for (double x : v) s += x;
+  return s / v.size();
+}
+
+// χ²_ν quantile by Wilson–Hilferty (good to < 1 % for ν ≥ 20).
+double ChiSquareQuantile(double nu, double z) {
+  const double a = 2.0 / (9.0 * nu);
+  return nu * std::pow(1.0 - a + z * std::sqrt(a), 3);
+}
+
+struct Args {
+  int runs = 50;
+  int first_seed = 1;
+  std::string scenario;  // empty: all
+  std::string csv;
+  bool breakdown = false;
+  bool keep = false;
+  int max_crb_obs = 1600;
+  std::string options;  // calibrate options for every scenario instead of bench/calibrate_*.yaml
+};
+
+[[noreturn]] void Usage(const std::string& why) {
+  std::fprintf(stderr,
+               "accuracy_bench: %s\nusage: accuracy_bench [--runs N] [--scenario NAME] "
+               "[--first-seed S] [--csv FILE] [--breakdown] [--max-crb-obs M] [--options FILE] "
+               "[--keep] [--list]\n",
+               why.c_str());
+  std::exit(2);
+}
+
+Args ParseArgs(int argc, char** argv) {
+  Args args;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) Usage(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--runs") {
+      args.runs = std::atoi(value().c_str());
+      if (args.runs < 1) Usage("--runs must be >= 1");
+    } else if (a == "--first-seed") {
+      args.first_seed = std::atoi(value().c_str());
+    } else if (a == "--scenario") {
+      args.scenario = value();
+    } else if (a == "--csv") {
+      args.csv = value();
+    } else if (a == "--max-crb-obs") {
+      args.max_crb_obs = std::atoi(value().c_str());
+    } else if (a == "--options") {
+      args.options = value();
+    } else if (a == "--breakdown") {
+      args.breakdown = true;
+    } else if (a == "--keep") {
+      args.keep = true;
+    } else if (a == "--list") {
+      for (const Scenario& s : Scenarios()) {
+        std::printf("%-18s %s  (%s)\n", s.name.c_str(), s.label.c_str(), s.sim_file.c_str());
+      }
+      std::exit(0);
+    } else {
+      Usage("unknown argument " + a);
+    }
+  }
+  return args;
+}
+
+std::vector<CrbObservation> CrbObservationsOf(const app::CalibrationResult& result,
+                                              const io::SimulationConfig& config) {
+  solvers::Mount truth;
+  truth.x_m = config.mount_x_m;
+  truth.y_m = config.mount_y_m;
+  truth.yaw_rad = config.mount_yaw_rad;
+  std::vector<CrbObservation> out;
+  for (const calib::WallObservation& o : result.observations) {
+    CrbObservation c;
+    // pose.stamp_s = logged scan stamp + session time offset (0 in simulated sessions); the
+    // logger stamps a scan scanner_time_offset_s early.
+    c.t_s = o.pose.stamp_s - config.start_time_s + config.scanner_time_offset_s;
+    c.surveyed_wall = o.wall_index;
+    if (o.wall_index >= 0 && o.wall_index < static_cast<int>(result.walls.size())) {
+      const calib::WallGeometry& wall = result.walls[o.wall_index];
+      c.residual = Eigen::Vector2d(
+          o.rho_m - solvers::PredictRho(o, wall, truth),
+          std::remainder(o.theta_rad - solvers::PredictTheta(o, wall, truth), 2.0 * kPi));
+      c.has_residual = true;
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+const char* kAxisName[3] = {"x", "y", "yaw"};
+// Display units: mm for x, y; degrees for yaw.
+double Show(int axis, double value) { return axis < 2 ? value * 1000.0 : value * kRadToDeg; }
+const char* Unit(int axis) { return axis < 2 ? "mm" : "deg"; }
+
+void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
+  const io::SimulationConfig config =
+      calib::WithDefaultWalls(io::ReadSimulationConfig(scenario.sim_file));
+  const io::ScannerPreset preset =
+      io::LoadScannerPreset(config.scanner_model, app::PresetDirs());
+  const double truth[3] = {config.mount_x_m, config.mount_y_m, config.mount_yaw_rad};
+  const fs::path root = fs::temp_directory_path() /
+                        ("wallcal_bench_" + std::to_string(::getpid()) + "_" + scenario.name);
+
+  MethodStats stats[2];
+  const char* methods[2] = {"ceres", "barawid"};
+  std::vector<Eigen::Matrix3d> crbs, crbs_offset;
+  AxisStats oracle[3];
+  int crb_failures = 0, crb_subsampled = 0;
+  double crb_obs = 0.0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int r = 0; r < args.runs; ++r) {
+    const uint64_t seed = static_cast<uint64_t>(args.first_seed + r);
+    const fs::path dir = root / ("seed" + std::to_string(seed));
+    app::WriteSimulatedSession(config, seed, dir.string());
+    for (int m = 0; m < 2; ++m) {
+      app::CalibrateRequest request;
+      request.session_path = dir.string();
+      request.config_path = args.options.empty() ? scenario.options_file : args.options;
+      request.method = methods[m];
+      MethodStats& s = stats[m];
+      ++s.runs;
+      app::CalibrationResult result;
+      try {
+        result = app::RunCalibration(request);
+      } catch (const std::exception& e) {
+        ++s.failures[std::string("threw: ") + e.what()];
+        continue;
+      }
+      s.seconds += result.seconds;
+      s.observations += static_cast<double>(result.observations.size());
+      const solvers::MountEstimate& e = result.estimate;
+      const double est[3] = {e.mount.x_m, e.mount.y_m, e.mount.yaw_rad};
+      double err[3], sig[3];
+      for (int a = 0; a < 3; ++a) {
+        err[a] = est[a] - truth[a];
+        if (a == 2) err[a] = std::remainder(err[a], 2.0 * kPi);
+        sig[a] = std::sqrt(std::max(0.0, e.covariance(a, a)));
+      }
+      if (csv != nullptr) {
+        std::fprintf(csv, "%s,%llu,%s,%d,%d,%.6f,%.6f,%.8f,%.6f,%.6f,%.8f,%.6f,%.3f\n",
+                     scenario.name.c_str(), static_cast<unsigned long long>(seed), methods[m],
+                     e.usable ? 1 : 0, static_cast<int>(result.observations.size()), err[0],
+                     err[1], err[2], sig[0], sig[1], sig[2], result.time_offset_s,
+                     result.seconds);
+      }
+      if (!e.usable) {
+        ++s.failures[e.message.substr(0, 160)];
+        continue;
+      }
+      ++s.usable;
+      for (int a = 0; a < 3; ++a) {
+        s.axis[a].errors.push_back(err[a]);
+        s.axis[a].sigmas.push_back(sig[a]);
+      }
+      if (result.time_offset_sigma_s > 0.0) {
+        s.time_offsets_s.push_back(result.time_offset_s);
+        s.time_offset_sigmas_s.push_back(result.time_offset_sigma_s);
+      }
+      if (m == 0) {
+        // The bound for the observations calibrate extracted in this run, at the truth.
+        const std::vector<CrbObservation> obs = CrbObservationsOf(result, config);
+        const CrbResult crb = ComputeCrb(config, preset, obs, kAllSources, false, args.max_crb_obs);
+        if (!crb.ok) {
+          ++crb_failures;
+        } else {
+          crbs.push_back(crb.crb);
+          if (crb.has_oracle) {
+            for (int a = 0; a < 3; ++a) oracle[a].errors.push_back(crb.oracle_error[a]);
+          }
+          crb_obs += crb.observations_used;
+          crb_subsampled += crb.subsampled;
+          if (scenario.moving) {
+            const CrbResult with_offset =
+                ComputeCrb(config, preset, obs, kAllSources, true, args.max_crb_obs);
+            if (with_offset.ok) crbs_offset.push_back(with_offset.crb);
+          }
+        }
+        if (args.breakdown && r == 0) {
+          std::printf("\nCRB breakdown, %s, seed %llu (%zu observations; sources on top of the "
+                      "line fit):\n",
+                      scenario.name.c_str(), static_cast<unsigned long long>(seed), obs.size());
+          const std::pair<const char*, unsigned> parts[] = {
+              {"line fit only", kLineFit},
+              {"+ GNSS bias", kLineFit | kGnssBias},
+              {"+ GNSS white", kLineFit | kGnssWhite},
+              {"+ heading white", kLineFit | kHeadingWhite},
+              {"+ heading drift", kLineFit | kHeadingDrift},
+              {"+ survey (TS + control RTK)", kLineFit | kSurvey},
+              {"all sources", kAllSources},
+          };
+          for (const auto& [label, mask] : parts) {
+            const CrbResult b = ComputeCrb(config, preset, obs, mask, false, args.max_crb_obs);
+            if (!b.ok) {
+              std::printf("  %-30s %s\n", label, b.message.c_str());
+              continue;
+            }
+            std::printf("  %-30s x %7.2f mm   y %7.2f mm   yaw %.4f deg\n", label,
+                        1000.0 * std::sqrt(b.crb(0, 0)), 1000.0 * std::sqrt(b.crb(1, 1)),
+                        kRadToDeg * std::sqrt(b.crb(2, 2)));
+          }
+        }
+      }
+    }
+    if (!args.keep) {
+      std::error_code ignored;
+      fs::remove_all(dir, ignored);
+    }
+    std::fprintf(stderr, "\r%s: %d/%d runs", scenario.name.c_str(), r + 1, args.runs);
+  }
+  std::fprintf(stderr, "\n");
+  if (!args.keep) {
+    std::error_code ignored;
+    fs::remove_all(root, ignored);
+  }
+  const double elapsed_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // CRB: the mean bound variance over the runs (the observation sets differ a little).
+  Eigen::Matrix3d crb = Eigen::Matrix3d::Zero(), crb_offset = Eigen::Matrix3d::Zero();
+  for (const auto& c : crbs) crb += c / static_cast<double>(crbs.size());
+  for (const auto& c : crbs_offset) crb_offset += c / static_cast<double>(crbs_offset.size());
+
+  // Sampling spread of an RMS over n runs if the errors were N(0, bound²): 90 % interval.
+  const MethodStats& c = stats[0];
+  const MethodStats& b = stats[1];
+  const double n = c.usable;
+  const double lo = n > 0 ? std::sqrt(ChiSquareQuantile(n, -1.6449) / n) : 0.0;
+  const double hi = n > 0 ? std::sqrt(ChiSquareQuantile(n, 1.6449) / n) : 0.0;
+
+  std::printf("\n### %s  (`--scenario %s --runs %d --first-seed %d`)\n\n", scenario.label.c_str(),
+              scenario.name.c_str(), args.runs, args.first_seed);
+  std::printf("ceres usable %d/%d, barawid usable %d/%d; mean observations per run %.0f "
+              "(ceres); CRB from %zu runs (mean %.0f observations%s); %.0f s\n\n",
+              c.usable, c.runs, b.usable, b.runs, c.runs ? c.observations / c.runs : 0.0,
+              crbs.size(), crbs.empty() ? 0.0 : crb_obs / crbs.size(),
+              crb_subsampled ? ", subsampled evenly" : "", elapsed_s);
+  std::printf("| axis | RMS err ceres | mean σ ceres | RMS(err/σ) | CRB | RMS/CRB | RMS err "
+              "barawid | barawid/CRB | RMS ≤ 1.1 CRB | 0.8 ≤ RMS(err/σ) ≤ 1.25 |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  for (int a = 0; a < 3; ++a) {
+    const double rms = Rms(c.axis[a].errors);
+    const double mean_sigma = Mean(c.axis[a].sigmas);
+    std::vector<double> z;
+    for (size_t i = 0; i < c.axis[a].errors.size(); ++i) {
+      if (c.axis[a].sigmas[i] > 0.0) z.push_back(c.axis[a].errors[i] / c.axis[a].sigmas[i]);
+    }
+    const double rms_z = Rms(z);
+    const double bound = std::sqrt(crb(a, a));
+    const double rms_b = Rms(b.axis[a].errors);
+    const int prec = a < 2 ? 2 : 4;
+    std::printf("| %s (%s) | %.*f | %.*f | %.2f | %.*f | %.2f | %.*f | %.2f | %s | %s |\n",
+                kAxisName[a], Unit(a), prec, Show(a, rms), prec, Show(a, mean_sigma), rms_z, prec,
+                Show(a, bound), rms / bound, prec, Show(a, rms_b), rms_b / bound,
+                rms <= 1.1 * bound ? "met" : "NOT met",
+                (rms_z >= 0.8 && rms_z <= 1.25) ? "met" : "NOT met");
+  }
+  if (!oracle[0].errors.empty()) {
+    std::printf("\nCheck of the bound: the linear GLS estimate with the bound's own C from the "
+                "same observations (truth known): RMS x %.2f mm, y %.2f mm, yaw %.4f deg over "
+                "%zu runs.\n",
+                1000.0 * Rms(oracle[0].errors), 1000.0 * Rms(oracle[1].errors),
+                kRadToDeg * Rms(oracle[2].errors), oracle[0].errors.size());
+  }
+  std::printf("\n90 %% sampling interval of RMS/CRB for an efficient estimator over %d runs: "
+              "%.2f–%.2f (same for RMS(err/σ) with an exact σ).\n",
+              c.usable, lo, hi);
+  if (scenario.moving && !crbs_offset.empty()) {
+    std::printf("CRB with the scanner clock offset estimated too: x %.2f mm, y %.2f mm, yaw "
+                "%.4f deg.\n",
+                1000.0 * std::sqrt(crb_offset(0, 0)), 1000.0 * std::sqrt(crb_offset(1, 1)),
+                kRadToDeg * std::sqrt(crb_offset(2, 2)));
+  }
+  if (!c.time_offsets_s.empty()) {
+    std::printf("ceres time offset: RMS %.2f ms, mean σ %.2f ms over %zu runs (truth %.1f ms).\n",
+                1000.0 * Rms(c.time_offsets_s), 1000.0 * Mean(c.time_offset_sigmas_s),
+                c.time_offsets_s.size(), 1000.0 * config.scanner_time_offset_s);
+  }
+  for (int m = 0; m < 2; ++m) {
+    for (const auto& [message, count] : stats[m].failures) {
+      std::printf("%s not usable in %d run(s): %s\n", methods[m], count, message.c_str());
+    }
+  }
+  if (crb_failures > 0) std::printf("CRB failed in %d run(s)\n", crb_failures);
+  std::printf("mean calibrate time: ceres %.2f s, barawid %.2f s\n",
+              c.runs ? c.seconds / c.runs : 0.0, b.runs ? b.seconds / b.runs : 0.0);
+  std::fflush(stdout);
+}
+
+}  // namespace
+}  // namespace wallcal::bench
+
+int main(int argc, char** argv) {
+  using namespace wallcal::bench;
+  const Args args = ParseArgs(argc, argv);
+  std::FILE* csv = nullptr;
+  if (!args.csv.empty()) {
+    csv = std::fopen(args.csv.c_str(), "w");
+    if (csv == nullptr) Usage("cannot write " + args.csv);
+    std::fprintf(csv, "scenario,seed,method,usable,observations,err_x_m,err_y_m,err_yaw_rad,"
+                      "sigma_x_m,sigma_y_m,sigma_yaw_rad,time_offset_s,seconds\n");
+  }
+  bool any = false;
+  try {
+    for (const Scenario& s : Scenarios()) {
+      if (!args.scenario.empty() && args.scenario != s.name) continue;
+      any = true;
+      RunScenario(s, args, csv);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "accuracy_bench: %s\n", e.what());
+    if (csv != nullptr) std::fclose(csv);
+    return 1;
+  }
+  if (csv != nullptr) std::fclose(csv);
+  if (!any) Usage("unknown scenario '" + args.scenario + "' (see --list)");
+  return 0;
+}

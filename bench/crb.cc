@@ -1,0 +1,358 @@
+#include "bench/crb.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+
+#include "calib/simulator.h"
+
+namespace wallcal::bench {
+namespace {
+
+Eigen::Matrix2d Rotation(double angle_rad) {
+  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
+  Eigen::Matrix2d r;
+  r << c, -s, s, c;
+  return r;
+}
+
+const Eigen::Matrix2d kQuarterTurn = Rotation(0.5 * 3.14159265358979323846);
+
+// ---- Survey: the wall lines as a function of the survey noise -------------------------------
+// The same set-up as calib::Simulate (control points C1, C2 2 m in front of the first surveyed
+// wall at 5 % and 95 % of it; wall points every survey_spacing_m, two heights each) and the
+// same estimation as calibrate (calib/survey_tie.cc: rigid two-point tie, total least squares
+// per wall), so that the numerical Jacobian of the lines with respect to the noise is the
+// linear propagation of the survey's errors.
+struct SurveyModel {
+  Eigen::Vector2d frame_origin_enu_m;
+  double frame_rotation_rad = 0.0;
+  std::vector<Eigen::Vector2d> control_enu_m;              // true positions
+  std::vector<std::vector<Eigen::Vector2d>> wall_points_enu_m;  // per surveyed wall, true
+  // Noise vector layout: [total station on control (2 each), RTK on control (2 each),
+  // total station on every wall point (2 each)].
+  int NoiseSize() const {
+    int n = 4 * static_cast<int>(control_enu_m.size());
+    for (const auto& w : wall_points_enu_m) n += 2 * static_cast<int>(w.size());
+    return n;
+  }
+};
+
+SurveyModel MakeSurveyModel(const io::SimulationConfig& config) {
+  SurveyModel model;
+  model.frame_origin_enu_m = {config.survey_origin_x_m, config.survey_origin_y_m};
+  model.frame_rotation_rad = config.survey_rotation_rad;
+  const io::SimWall* first = nullptr;
+  for (const auto& w : config.walls) {
+    if (w.code.empty()) continue;
+    if (first == nullptr) first = &w;
+    const Eigen::Vector2d w0(w.x0_m, w.y0_m), w1(w.x1_m, w.y1_m);
+    const double length_m = (w1 - w0).norm();
+    const double spacing_m = w.survey_spacing_m > 0.0 ? w.survey_spacing_m : 1.0;
+    const int steps = static_cast<int>(std::floor(length_m / spacing_m + 1e-9));
+    std::vector<Eigen::Vector2d> points;
+    for (int k = 0; k <= steps; ++k) {
+      const Eigen::Vector2d p = w0 + (k * spacing_m / length_m) * (w1 - w0);
+      points.push_back(p);  // two heights: two independent measurements of the same x, y
+      points.push_back(p);
+    }
+    model.wall_points_enu_m.push_back(points);
+  }
+  const Eigen::Vector2d a(first->x0_m, first->y0_m), b(first->x1_m, first->y1_m);
+  const Eigen::Vector2d along = (b - a).normalized();
+  Eigen::Vector2d out(-along.y(), along.x());
+  if (-out.dot(a) < 0.0) out = -out;
+  for (double f : {0.05, 0.95}) model.control_enu_m.push_back(a + f * (b - a) + 2.0 * out);
+  return model;
+}
+
+// [α_0, d_0, α_1, d_1, ...]: wall w is {q : (cos α_w, sin α_w) · q = d_w} (local ENU), its
+// normal oriented as calib::FitWalls orients it (direction first -> last point, turned +90°).
+Eigen::VectorXd WallLines(const SurveyModel& model, const Eigen::VectorXd& noise) {
+  const Eigen::Matrix2d to_station = Rotation(-model.frame_rotation_rad);
+  auto station = [&](const Eigen::Vector2d& p_enu) {
+    return Eigen::Vector2d(to_station * (p_enu - model.frame_origin_enu_m));
+  };
+  const int nc = static_cast<int>(model.control_enu_m.size());
+  int at = 0;
+  std::vector<Eigen::Vector2d> a(nc), b(nc);
+  for (int i = 0; i < nc; ++i, at += 2) a[i] = station(model.control_enu_m[i]) + noise.segment<2>(at);
+  for (int i = 0; i < nc; ++i, at += 2) b[i] = model.control_enu_m[i] + noise.segment<2>(at);
+  Eigen::Vector2d a_mean = Eigen::Vector2d::Zero(), b_mean = Eigen::Vector2d::Zero();
+  for (int i = 0; i < nc; ++i) {
+    a_mean += a[i] / nc;
+    b_mean += b[i] / nc;
+  }
+  double sum_dot = 0.0, sum_cross = 0.0;
+  for (int i = 0; i < nc; ++i) {
+    const Eigen::Vector2d u = a[i] - a_mean, v = b[i] - b_mean;
+    sum_dot += u.dot(v);
+    sum_cross += u.x() * v.y() - u.y() * v.x();
+  }
+  const Eigen::Matrix2d R = Rotation(std::atan2(sum_cross, sum_dot));
+  const Eigen::Vector2d t = b_mean - R * a_mean;
+
+  Eigen::VectorXd lines(2 * model.wall_points_enu_m.size());
+  for (size_t w = 0; w < model.wall_points_enu_m.size(); ++w) {
+    const auto& truth = model.wall_points_enu_m[w];
+    std::vector<Eigen::Vector2d> p(truth.size());
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+    for (size_t i = 0; i < truth.size(); ++i, at += 2) {
+      p[i] = R * (station(truth[i]) + noise.segment<2>(at)) + t;
+      centroid += p[i];
+    }
+    centroid /= static_cast<double>(p.size());
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    for (const auto& q : p) scatter += (q - centroid) * (q - centroid).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(scatter);
+    Eigen::Vector2d direction = eigen.eigenvectors().col(1);
+    if (direction.dot(p.back() - p.front()) < 0.0) direction = -direction;
+    const Eigen::Vector2d normal(-direction.y(), direction.x());
+    lines[2 * w] = std::atan2(normal.y(), normal.x());
+    lines[2 * w + 1] = normal.dot(centroid);
+  }
+  return lines;
+}
+
+// Covariance of WallLines from the noise σs, by central differences (the map is smooth and
+// nearly linear at the centimetre scale).
+Eigen::MatrixXd WallLineCovariance(const SurveyModel& model, const io::SimulationConfig& config,
+                                   Eigen::VectorXd* truth) {
+  const int n = model.NoiseSize();
+  const int nc = static_cast<int>(model.control_enu_m.size());
+  Eigen::VectorXd sigma(n);
+  sigma.setConstant(config.total_station_sigma_m);
+  sigma.segment(2 * nc, 2 * nc).setConstant(config.control_sigma_m);
+  *truth = WallLines(model, Eigen::VectorXd::Zero(n));
+  const int m = static_cast<int>(truth->size());
+  Eigen::MatrixXd jacobian(m, n);
+  constexpr double kStepM = 1e-5;
+  for (int j = 0; j < n; ++j) {
+    Eigen::VectorXd plus = Eigen::VectorXd::Zero(n), minus = Eigen::VectorXd::Zero(n);
+    plus[j] = kStepM;
+    minus[j] = -kStepM;
+    Eigen::VectorXd diff = WallLines(model, plus) - WallLines(model, minus);
+    for (int r = 0; r < m; r += 2) diff[r] = std::remainder(diff[r], 2.0 * 3.14159265358979323846);
+    jacobian.col(j) = diff / (2.0 * kStepM);
+  }
+  return jacobian * sigma.array().square().matrix().asDiagonal() * jacobian.transpose();
+}
+
+// Linear interpolation weights of a sampled stream (samples at j / rate_hz, j >= 0) at t.
+struct Interp {
+  int64_t j0 = 0;
+  double w0 = 1.0, w1 = 0.0;  // weights of samples j0 and j0 + 1
+};
+Interp Weights(double t_s, double rate_hz) {
+  Interp w;
+  const double x = std::max(0.0, t_s * rate_hz);
+  w.j0 = static_cast<int64_t>(std::floor(x + 1e-9));
+  const double f = std::clamp(x - w.j0, 0.0, 1.0);
+  w.w0 = 1.0 - f;
+  w.w1 = f;
+  return w;
+}
+// Σ_j w_kj w_lj for two interpolations of the same white stream.
+double Overlap(const Interp& a, const Interp& b) {
+  double s = 0.0;
+  const int64_t a_idx[2] = {a.j0, a.j0 + 1}, b_idx[2] = {b.j0, b.j0 + 1};
+  const double a_w[2] = {a.w0, a.w1}, b_w[2] = {b.w0, b.w1};
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 2; ++j) {
+      if (a_idx[i] == b_idx[j]) s += a_w[i] * b_w[j];
+    }
+  }
+  return s;
+}
+
+// Everything per observation that C and J need.
+struct Row {
+  double t_s = 0.0;
+  int wall = 0;  // surveyed wall index
+  Eigen::Vector2d n = Eigen::Vector2d::Zero();  // oriented normal (scanner -> wall), ENU
+  double sign = 1.0;                             // n = sign · (cos α_w, sin α_w)
+  Eigen::Vector2d scanner_enu_m = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d fit_cov = Eigen::Matrix2d::Zero();
+  Eigen::Matrix<double, 2, 4> J = Eigen::Matrix<double, 2, 4>::Zero();  // x, y, yaw, clock
+  Eigen::Vector2d B = Eigen::Vector2d::Zero();       // d(rho, theta)/d heading error
+  Eigen::Matrix2d W = Eigen::Matrix2d::Zero();       // d(rho, theta)/d(α_w, d_w)
+  Interp gnss, heading;
+  bool has_residual = false;
+  Eigen::Vector2d residual = Eigen::Vector2d::Zero();
+};
+
+}  // namespace
+
+CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset& preset,
+                     const std::vector<CrbObservation>& observations, unsigned sources,
+                     bool estimate_time_offset, int max_observations) {
+  CrbResult result;
+  result.observations_given = static_cast<int>(observations.size());
+  if (observations.empty()) {
+    result.message = "no observations";
+    return result;
+  }
+  std::vector<CrbObservation> obs = observations;
+  std::sort(obs.begin(), obs.end(), [](const CrbObservation& a, const CrbObservation& b) {
+    return a.t_s < b.t_s || (a.t_s == b.t_s && a.surveyed_wall < b.surveyed_wall);
+  });
+  if (max_observations > 0 && static_cast<int>(obs.size()) > max_observations) {
+    std::vector<CrbObservation> kept;
+    const double stride = static_cast<double>(obs.size()) / max_observations;
+    for (int i = 0; i < max_observations; ++i) kept.push_back(obs[static_cast<size_t>(i * stride)]);
+    obs = kept;
+    result.subsampled = true;
+  }
+
+  std::vector<int> config_wall_of;  // surveyed index -> config.walls index
+  for (size_t i = 0; i < config.walls.size(); ++i) {
+    if (!config.walls[i].code.empty()) config_wall_of.push_back(static_cast<int>(i));
+  }
+  const SurveyModel survey = MakeSurveyModel(config);
+  Eigen::VectorXd lines;
+  const Eigen::MatrixXd wall_cov = WallLineCovariance(survey, config, &lines);
+
+  // Range noise after calibrate's correction (corrected = k · raw + b): the simulator's ξ and
+  // the quantisation (uniform over one resolution step), both scaled by k.
+  const double k = preset.range_scale_k;
+  const double range_var_m2 =
+      k * k * (preset.range_sigma_m * preset.range_sigma_m +
+               preset.range_resolution_m * preset.range_resolution_m / 12.0);
+  constexpr double kMinRangeM = 0.5;  // io::DetectorOptions::min_range_m default
+
+  std::vector<double> times;
+  for (const auto& o : obs) times.push_back(o.t_s);
+  std::vector<double> before, after;
+  constexpr double kDt = 0.01;
+  for (double t : times) {
+    before.push_back(t - kDt);
+    after.push_back(t + kDt);
+  }
+  const auto poses = calib::TruePosesAt(config, times);
+  const auto poses_before = calib::TruePosesAt(config, before);
+  const auto poses_after = calib::TruePosesAt(config, after);
+  const Eigen::Vector2d lever(config.mount_x_m, config.mount_y_m);
+
+  std::vector<Row> rows;
+  for (size_t i = 0; i < obs.size(); ++i) {
+    Row row;
+    row.t_s = obs[i].t_s;
+    row.wall = obs[i].surveyed_wall;
+    if (row.wall < 0 || row.wall >= static_cast<int>(config_wall_of.size())) continue;
+    const double alpha = lines[2 * row.wall], offset = lines[2 * row.wall + 1];
+    const Eigen::Vector2d n_wall(std::cos(alpha), std::sin(alpha));
+    const double psi = poses[i].yaw_enu_rad;
+    const Eigen::Matrix2d R = Rotation(psi);
+    row.scanner_enu_m = poses[i].antenna_enu_m + R * lever;
+    row.sign = offset - n_wall.dot(row.scanner_enu_m) >= 0.0 ? 1.0 : -1.0;
+    row.n = row.sign * n_wall;
+    const double theta = std::atan2(row.n.y(), row.n.x()) - psi - config.mount_yaw_rad;
+
+    // Line fit information from the beams on this wall.
+    const auto hits = calib::TrueBeamHits(config, preset, poses[i]);
+    Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
+    int beams = 0;
+    const Eigen::Vector2d n_s(std::cos(theta), std::sin(theta));
+    const Eigen::Vector2d along_s(-std::sin(theta), std::cos(theta));
+    for (const auto& h : hits) {
+      if (!h.returned || h.footprint_edge || h.wall_index != config_wall_of[row.wall] ||
+          h.range_m < kMinRangeM) {
+        continue;
+      }
+      const Eigen::Vector2d u(std::cos(h.bearing_rad), std::sin(h.bearing_rad));
+      const double cos_inc = n_s.dot(u);
+      const Eigen::Vector2d g(-1.0, along_s.dot(h.range_m * u));
+      info += g * g.transpose() / (range_var_m2 * cos_inc * cos_inc);
+      ++beams;
+    }
+    if (beams < 2) continue;
+    row.fit_cov = info.inverse();
+
+    // Mount Jacobian: rho = d − n·(a + R m), theta = angle(n) − ψ − yaw.
+    row.J.block<1, 2>(0, 0) = -row.n.transpose() * R;
+    row.J(1, 2) = -1.0;
+    // Clock offset: the pose at t + δ: d rho/dδ = −n·ṡ, d theta/dδ = −ψ̇.
+    const Eigen::Vector2d s_before =
+        poses_before[i].antenna_enu_m + Rotation(poses_before[i].yaw_enu_rad) * lever;
+    const Eigen::Vector2d s_after =
+        poses_after[i].antenna_enu_m + Rotation(poses_after[i].yaw_enu_rad) * lever;
+    row.J(0, 3) = -row.n.dot(s_after - s_before) / (2.0 * kDt);
+    row.J(1, 3) = -(poses_after[i].yaw_enu_rad - poses_before[i].yaw_enu_rad) / (2.0 * kDt);
+    // Heading error turns the lever arm and the scanner.
+    row.B << -row.n.dot(kQuarterTurn * R * lever), -1.0;
+    // Wall line: rho = sign·(d_w − n_w·s), theta = angle(sign·n_w) − φ.
+    const Eigen::Vector2d n_wall_turned(-std::sin(alpha), std::cos(alpha));
+    row.W << -row.sign * n_wall_turned.dot(row.scanner_enu_m), row.sign, 1.0, 0.0;
+    row.gnss = Weights(row.t_s, config.gnss_rate_hz);
+    row.heading = Weights(row.t_s, config.heading_rate_hz);
+    row.has_residual = obs[i].has_residual;
+    row.residual = obs[i].residual;
+    rows.push_back(row);
+  }
+  const int n = static_cast<int>(rows.size());
+  result.observations_used = n;
+  if (n < 3) {
+    result.message = "fewer than 3 observations with a wall line";
+    return result;
+  }
+
+  const double var_b = std::pow(config.gnss_bias_sigma_m, 2);
+  const double var_gw = std::pow(config.gnss_white_sigma_m, 2);
+  const double var_hw = std::pow(config.heading_white_sigma_rad, 2);
+  const double var_drift = std::pow(config.heading_drift_rad_per_s, 2);
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  for (int a = 0; a < n; ++a) {
+    const Row& ra = rows[a];
+    for (int b = a; b < n; ++b) {
+      const Row& rb = rows[b];
+      Eigen::Matrix2d block = Eigen::Matrix2d::Zero();
+      double g = 0.0;  // per-axis covariance of the two antenna errors
+      if (sources & kGnssBias) {
+        const double dt = std::abs(ra.t_s - rb.t_s);
+        g += config.gnss_bias_tau_s > 0.0 ? var_b * std::exp(-dt / config.gnss_bias_tau_s)
+                                          : (dt == 0.0 ? var_b : 0.0);
+      }
+      if (sources & kGnssWhite) g += var_gw * Overlap(ra.gnss, rb.gnss);
+      block(0, 0) += g * ra.n.dot(rb.n);
+      double h = 0.0;  // covariance of the two heading errors
+      if (sources & kHeadingWhite) h += var_hw * Overlap(ra.heading, rb.heading);
+      if (sources & kHeadingDrift) h += var_drift * ra.t_s * rb.t_s;
+      block += h * ra.B * rb.B.transpose();
+      if (sources & kSurvey) {
+        block += ra.W * wall_cov.block<2, 2>(2 * ra.wall, 2 * rb.wall) * rb.W.transpose();
+      }
+      if (a == b && (sources & kLineFit)) block += ra.fit_cov;
+      C.block<2, 2>(2 * a, 2 * b) = block;
+      C.block<2, 2>(2 * b, 2 * a) = block.transpose();
+    }
+  }
+  const int p = estimate_time_offset ? 4 : 3;
+  Eigen::MatrixXd J(2 * n, p);
+  for (int a = 0; a < n; ++a) J.block(2 * a, 0, 2, p) = rows[a].J.leftCols(p);
+  const Eigen::LLT<Eigen::MatrixXd> llt(C);
+  if (llt.info() != Eigen::Success) {
+    result.message = "the observation covariance is not positive definite";
+    return result;
+  }
+  const Eigen::MatrixXd fisher = J.transpose() * llt.solve(J);
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(fisher);
+  if (!lu.isInvertible()) {
+    result.message = "the Fisher information is singular (the mount is not observable)";
+    return result;
+  }
+  const Eigen::MatrixXd bound = lu.inverse();
+  result.crb = bound.topLeftCorner<3, 3>();
+  result.ok = true;
+  if (std::all_of(rows.begin(), rows.end(), [](const Row& r) { return r.has_residual; })) {
+    Eigen::VectorXd r(2 * n);
+    for (int a = 0; a < n; ++a) r.segment<2>(2 * a) = rows[a].residual;
+    // r ≈ J δm + ε, J = ∂(rho, theta)/∂m as above.
+    result.oracle_error = (bound * (J.transpose() * llt.solve(r))).head<3>();
+    result.has_oracle = true;
+  }
+  return result;
+}
+
+}  // namespace wallcal::bench
