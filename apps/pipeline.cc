@@ -129,6 +129,9 @@ struct PassOutcome {
   io::SkipCounts line_skips;
   calib::RangeCounts range_counts;
   int64_t beam_count_mismatch = 0;
+  int64_t not_increasing = 0;        // scans stamped at or before the scan before them
+  int first_not_increasing_line = 0;
+  double first_stamp_s = 0.0, last_stamp_s = 0.0;  // the scan log's time span (all scans)
   int first_mismatch_beams = 0;
 };
 
@@ -153,6 +156,19 @@ PassOutcome DetectionPass(const PassContext& context, const solvers::Mount& moun
   const bool use_moving = context.use_moving;
   while (reader.Next(&scan)) {
     ++scan_index;
+    {
+      // Every scan, sampled or not: the log's time span and its order.
+      const double t = scan.stamp_s + context.session->scanner_time_offset_s;
+      if (scan_index == 0) {
+        outcome.first_stamp_s = outcome.last_stamp_s = t;
+      } else {
+        if (!(t > outcome.last_stamp_s) && outcome.not_increasing++ == 0) {
+          outcome.first_not_increasing_line = scan.line;
+        }
+        outcome.first_stamp_s = std::min(outcome.first_stamp_s, t);
+        outcome.last_stamp_s = std::max(outcome.last_stamp_s, t);
+      }
+    }
     if (progress && scan_index % 2000 == 0) progress(Progress{stage, scan_index, expected_scans});
     const double stamp_s = scan.stamp_s + context.session->scanner_time_offset_s;
     if (min_interval_s > 0.0) {
@@ -457,6 +473,22 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
                                    "; expected CARMEN RAWLASER1/ROBOTLASER1/FLASER lines"));
   }
   if (first.observations.empty()) {
+    // A scan log that lies wholly outside the GNSS/heading time span is bad input (wrong file,
+    // wrong clock), not a geometry the data cannot decide.
+    bool only_outside = !first.skipped.empty();
+    for (const auto& [reason, count] : first.skipped) {
+      only_outside = only_outside && (reason.find("before the GNSS") != std::string::npos ||
+                                      reason.find("after the GNSS") != std::string::npos);
+    }
+    if (only_outside) {
+      char span[256];
+      std::snprintf(span, sizeof(span),
+                    "the scans (%.3f..%.3f s) do not overlap the GNSS and heading logs "
+                    "(%.3f..%.3f s); expected logs from the same run on the same clock "
+                    "(check scanner.time_offset_s)",
+                    first.first_stamp_s, first.last_stamp_s, poses.start_s(), poses.end_s());
+      throw io::InputError(io::Where(session.scanner_log, 0, span));
+    }
     std::ostringstream why;
     why << "the wall was not detected in any of " << first.scans_examined << " sampled scans (";
     bool first_reason = true;
@@ -512,6 +544,13 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
     for (const auto& [reason, count] : second.line_skips.by_reason) {
       if (!IsInformational(reason)) result.scans_skipped["malformed line: " + reason] += count;
     }
+  }
+  if (second.not_increasing > 0) {
+    result.warnings.push_back(fs::path(session.scanner_log).filename().string() + ": " +
+                              std::to_string(second.not_increasing) +
+                              " scans not later than the scan before them (first at line " +
+                              std::to_string(second.first_not_increasing_line) +
+                              "); each was used at its own time");
   }
   if (second.beam_count_mismatch > 0) {
     result.warnings.push_back(std::to_string(second.beam_count_mismatch) + " scans have " +
@@ -682,9 +721,17 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result) {
     }
     add("repeatability", text + "]}");
   }
+  if (e.heading_drift_estimated) {
+    // deg/h at the file edge; the rate is estimated with the prior solver.heading_drift_sigma.
+    add("heading_drift_deg_per_h", Fmt("%.4f", e.heading_drift_rad_per_s * kRadToDeg * 3600.0));
+    add("heading_drift_sigma_deg_per_h",
+        Fmt("%.4f", e.heading_drift_sigma_rad_per_s * kRadToDeg * 3600.0));
+  }
   add("yaw_reference",
-      "\"relative to the heading sensor's zero: a constant heading bias is indistinguishable "
-      "from mount yaw\"");
+      "\"relative to the heading sensor's zero at the first scan used (t = " +
+          Fmt("%.3f", e.heading_reference_s) +
+          " s): a constant heading bias is indistinguishable from mount yaw; the heading drift "
+          "after that time is estimated (heading_drift_deg_per_h)\"");
   doc.warnings = result.warnings;
   doc.session = result.session.file;
   doc.tool_version = io::kToolVersion;

@@ -2,8 +2,13 @@
 // number of wall observations grows, up to an hour of LMS 291 scans at 75 Hz (270 000
 // observations) in 100 GNSS segments. Synthetic observations (no scans, no files): stations
 // along a wall, headings spread ±35°, per-station GNSS bias, white pose noise, line-fit noise.
+// Headings as the pipeline builds them: 20 Hz heading samples with white noise; each scan's
+// pose.yaw_rad is the true yaw plus one sample's noise, and the dwell fields (dwell_yaw_rad,
+// dwell_yaw_samples, dwell_mid_s) hold the mean of the dwell's samples, as PoseInterpolator
+// fills them. --per-scan-only leaves the dwell fields empty (the solver then averages the
+// scans' own yaws).
 //
-//   solver_scaling [--observations N] [--segments S] [--heading-sigma-deg D]
+//   solver_scaling [--observations N] [--segments S] [--heading-sigma-deg D] [--per-scan-only]
 //   (default: 27 000, 90 000 and 270 000 observations in 100 segments, heading noise 0.05°)
 //
 // The solve starts from seed 002's closed form (SolveMountBarawid), as calibrate's does. Prints
@@ -35,7 +40,8 @@ struct Synthetic {
 
 // One wall y = 10 m (x from −10 to 10); `segments` stations 7.5–8.5 m from it, headings spread
 // evenly over 90° ± 35°, positions along it in a shuffled order; `per_segment` scans each.
-Synthetic Make(int segments, int per_segment, double heading_rad, uint32_t seed) {
+Synthetic Make(int segments, int per_segment, double heading_rad, bool dwell_fields,
+               uint32_t seed) {
   const double mount_x_m = 2.57, mount_y_m = 0.056, mount_yaw_rad = 2.8 * kDeg;
   std::mt19937 rng(seed);
   std::normal_distribution<double> unit(0.0, 1.0);
@@ -60,6 +66,11 @@ Synthetic Make(int segments, int per_segment, double heading_rad, uint32_t seed)
     const double u = segments > 1 ? static_cast<double>((k * 7) % segments) / (segments - 1) : 0.5;
     const Eigen::Vector2d antenna_true(-4.0 + 8.0 * u, 1.5 + 0.5 * (k % 3));
     const Eigen::Vector2d bias(bias_m * unit(rng), bias_m * unit(rng));
+    // The dwell's heading samples at 20 Hz over the scans' 75 Hz span: their mean error.
+    const int heading_samples = std::max(1, static_cast<int>(per_segment * 20.0 / 75.0));
+    double heading_error_sum_rad = 0.0;
+    for (int j = 0; j < heading_samples; ++j) heading_error_sum_rad += heading_rad * unit(rng);
+    const double dwell_yaw_rad = yaw_true + heading_error_sum_rad / heading_samples;
     for (int j = 0; j < per_segment; ++j, ++scan) {
       const double c = std::cos(yaw_true), s = std::sin(yaw_true);
       const Eigen::Vector2d scanner =
@@ -83,6 +94,11 @@ Synthetic Make(int segments, int per_segment, double heading_rad, uint32_t seed)
       o.pose.gnss_sigma_m = std::hypot(bias_m, white_m);
       o.pose.stationary = true;
       o.pose.segment = k;
+      if (dwell_fields) {
+        o.pose.dwell_yaw_rad = dwell_yaw_rad;
+        o.pose.dwell_yaw_samples = heading_samples;
+        o.pose.dwell_mid_s = 1000.0 + k * 40.0 + 0.5 * (per_segment - 1) / 75.0;
+      }
       data.observations.push_back(o);
     }
   }
@@ -101,6 +117,7 @@ int main(int argc, char** argv) {
   std::vector<int> sizes = {27000, 90000, 270000};
   int segments = 100;
   double heading_rad = 0.05 * kDeg;
+  bool dwell_fields = true;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--observations" && i + 1 < argc) {
@@ -109,10 +126,12 @@ int main(int argc, char** argv) {
       segments = std::atoi(argv[++i]);
     } else if (a == "--heading-sigma-deg" && i + 1 < argc) {
       heading_rad = std::atof(argv[++i]) * kDeg;
+    } else if (a == "--per-scan-only") {
+      dwell_fields = false;
     } else {
       std::fprintf(stderr,
                    "usage: solver_scaling [--observations N] [--segments S] "
-                   "[--heading-sigma-deg D]\n");
+                   "[--heading-sigma-deg D] [--per-scan-only]\n");
       return 2;
     }
   }
@@ -128,7 +147,8 @@ int main(int argc, char** argv) {
   for (int n : sizes) {
     const int per_segment = std::max(1, n / segments);
     const Synthetic data =
-        Make(segments, per_segment, heading_rad, 270000u + static_cast<uint32_t>(n));
+        Make(segments, per_segment, heading_rad, dwell_fields,
+             270000u + static_cast<uint32_t>(n));
     const auto start = std::chrono::steady_clock::now();
     const wallcal::solvers::MountEstimate first =
         wallcal::solvers::SolveMountBarawid(data.observations, data.walls, options);

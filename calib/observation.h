@@ -49,6 +49,15 @@ struct VehiclePose {
   // slightly different time: p(t + dt) ≈ p + v·dt, ψ(t + dt) ≈ ψ + ω·dt (scanner clock offset).
   Eigen::Vector2d velocity_local_mps = Eigen::Vector2d::Zero();  // antenna, local frame
   double yaw_rate_rps = 0.0;  // ccw
+  // Inside a dwell (stationary): the circular mean of the heading samples over the whole dwell
+  // (rad, same frame as yaw_rad), how many samples it averages, and the dwell's middle time (s).
+  // The vehicle's true yaw is constant over a dwell, so the solver uses this mean instead of the
+  // noisy per-scan yaw (see docs/method.md, "Heading errors"). dwell_yaw_samples = 0: not
+  // filled (moving, or observations not built by PoseInterpolator); the solver then averages
+  // the yaws of the segment's observations itself.
+  double dwell_yaw_rad = 0.0;
+  int dwell_yaw_samples = 0;
+  double dwell_mid_s = 0.0;
 };
 
 // The wall line one scan saw: {p_scanner : cos(theta)·px + sin(theta)·py = rho}, rho > 0,

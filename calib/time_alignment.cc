@@ -159,7 +159,14 @@ PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
   if (it != dwells_.begin() && stamp_s <= std::prev(it)->end_s) {
     pose->stationary = true;
     pose->segment = static_cast<int>(std::prev(it) - dwells_.begin());
+    const Dwell& dwell = *std::prev(it);
+    pose->dwell_yaw_rad = dwell.mean_yaw_rad;
+    pose->dwell_yaw_samples = dwell.num_yaw_samples;
+    pose->dwell_mid_s = 0.5 * (dwell.start_s + dwell.end_s);
   } else {
+    pose->dwell_yaw_rad = 0.0;
+    pose->dwell_yaw_samples = 0;
+    pose->dwell_mid_s = 0.0;
     const int slice =
         options_.segment_max_s > 0.0
             ? static_cast<int>(std::floor((stamp_s - start_s_) / options_.segment_max_s))
@@ -366,6 +373,7 @@ void PoseInterpolator::FindDwells() {
       dwell_yaws.push_back(it->yaw_rad);
     }
     dwell.mean_yaw_rad = dwell_yaws.empty() ? final_run.mean_yaw : CircularMean(dwell_yaws);
+    dwell.num_yaw_samples = static_cast<int>(dwell_yaws.size());
     dwells_.push_back(dwell);
   }
 }

@@ -30,6 +30,7 @@ struct Dwell {
   double start_s = 0, end_s = 0;  // stamps of its first and last GNSS sample
   Eigen::Vector2d mean_p_local_m = Eigen::Vector2d::Zero();  // mean GNSS position over it
   double mean_yaw_rad = 0;  // circular mean of the yaw samples within it, (-π, π]
+  int num_yaw_samples = 0;  // how many yaw samples that mean averages (0: none, run mean used)
 };
 
 enum class PoseStatus { kOk, kBeforeStart, kAfterEnd, kGnssGap, kHeadingGap };
@@ -62,7 +63,8 @@ class PoseInterpolator {
   // the dwell's index inside one, otherwise dwells().size() + floor((t − start_s()) /
   // segment_max_s) so that moving scans in one time slice share a GNSS-error segment;
   // velocity_local_mps and yaw_rate_rps = central differences over ±half the stationary
-  // window (clipped to the streams; a few mm/s of noise inside a dwell).
+  // window (clipped to the streams; a few mm/s of noise inside a dwell). Inside a dwell also
+  // dwell_yaw_rad / dwell_yaw_samples / dwell_mid_s from the Dwell; outside them 0.
   // On any other status *pose is left unchanged. O(log n).
   PoseStatus At(double stamp_s, VehiclePose* pose) const;
 

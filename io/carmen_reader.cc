@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace wallcal::io {
 namespace {
@@ -216,7 +217,9 @@ bool CarmenReader::ParseLine(ScanRecord* scan) {
     if (!ParseDouble(tokens_[first_range + static_cast<size_t>(i)], &range_m)) {
       return malformed("non-numeric field");
     }
-    if (!(std::isfinite(range_m) && range_m >= 0.0)) {
+    // Ranges are kept as float: one beyond float's range (1e300) would become infinity.
+    if (!(std::isfinite(range_m) && range_m >= 0.0 &&
+          range_m <= std::numeric_limits<float>::max())) {
       return malformed("negative or non-finite range");
     }
     scan->ranges_m[static_cast<size_t>(i)] = static_cast<float>(range_m);

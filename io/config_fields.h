@@ -49,6 +49,8 @@ void VisitSolver(V& v, SolverOptions& o) {
   v.Number("gnss_bias_sigma_m", o.gnss_bias_sigma_m);
   v.Boolean("use_gst_sigma", o.use_gst_sigma);
   v.Scaled("heading_sigma_deg", o.heading_sigma_rad, kDegPerRad);
+  v.Scaled("heading_drift_sigma_deg_per_h", o.heading_drift_sigma_rad_per_s,
+           kDegPerHourPerRadPerS);
   v.Number("control_sigma_m", o.control_sigma_m);
   v.Number("total_station_sigma_m", o.total_station_sigma_m);
   v.Scaled("rotation_sigma_deg", o.rotation_sigma_rad, kDegPerRad);

@@ -167,7 +167,7 @@ std::string_view TrimLineEnd(const std::string& line) {
 }
 
 // The first RMC/ZDA date in the file, for plain sentences logged before it.
-std::optional<int64_t> FirstDate(std::ifstream& in) {
+std::optional<int64_t> FirstDate(std::istream& in) {
   std::string line;
   Fields fields;
   while (std::getline(in, line)) {
@@ -318,6 +318,10 @@ class NmeaParser {
       return;
     }
     fix.height_m += separation_m;
+    if (!std::isfinite(fix.height_m)) {  // two huge finite fields can sum to infinity
+      Skip("bad field", line);
+      return;
+    }
     fix.stamp_s = Stamp(prefix_s, tod_s);
     fix.line = line;
     ++log_->fixes_by_quality[fix.quality];
@@ -437,7 +441,12 @@ NmeaLog ReadNmea(const std::string& path) {
     throw InputError(
         Where(path, 0, std::string("cannot open the NMEA log: ") + std::strerror(errno)));
   }
+  return ParseNmea(in, path);
+}
+
+NmeaLog ParseNmea(std::istream& in, const std::string& name) {
   const std::optional<int64_t> first_date = FirstDate(in);
+  if (in.bad()) throw InputError(Where(name, 0, "read error"));
   in.clear();
   in.seekg(0);
 
@@ -448,7 +457,7 @@ NmeaLog ReadNmea(const std::string& path) {
     ++log.lines_read;
     parser.Line(TrimLineEnd(line), static_cast<int>(log.lines_read));
   }
-  if (in.bad()) throw InputError(Where(path, 0, "read error"));
+  if (in.bad()) throw InputError(Where(name, 0, "read error"));
   parser.Finish();
   return log;
 }

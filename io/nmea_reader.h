@@ -21,6 +21,7 @@
 // previous one of its kind; a GGA dropped so is still counted in fixes_by_quality),
 // "other sentence (GSV)" by type, "GST without its GGA".
 
+#include <istream>
 #include <string>
 
 #include "io/types.h"
@@ -29,5 +30,10 @@ namespace wallcal::io {
 
 // Reads the whole log. Throws InputError if the file cannot be opened.
 NmeaLog ReadNmea(const std::string& path);
+
+// Reads a log already open as a stream (read twice: it must be seekable, as a file or a string
+// stream is). `name` stands for the file in messages. Throws InputError on a read error.
+// This is what ReadNmea does after opening the file; the fuzz target calls it directly.
+NmeaLog ParseNmea(std::istream& in, const std::string& name);
 
 }  // namespace wallcal::io

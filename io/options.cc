@@ -89,6 +89,7 @@ void SolverOptions::Validate() const {
   CheckAtLeast("solver.min_stations", min_stations, 1);
   CheckNonNegative("solver.gnss_bias_tau_s", gnss_bias_tau_s);
   CheckNonNegative("solver.time_offset_sigma_s", time_offset_sigma_s);
+  CheckNonNegative("solver.heading_drift_sigma_deg_per_h", heading_drift_sigma_rad_per_s);
   CheckPositive("solver.max_sigma_xy_m", max_sigma_xy_m);
   CheckAnglePositive("solver.max_sigma_yaw_deg", max_sigma_yaw_rad, 180.0);
   CheckAtLeast("solver.bootstrap_samples", bootstrap_samples, 0);

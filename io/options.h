@@ -65,6 +65,9 @@ struct SolverOptions {
   // Prior σ of the scanner-clock offset to the GNSS/heading clocks, estimated when moving scans
   // are used (0: never estimated).
   double time_offset_sigma_s = 0.1;
+  // Prior σ of the heading sensor's drift rate (rad/s; a FOG drifts linearly, seed 002: ±0.5°/h),
+  // estimated as one rate over the session (0: no drift modelled).
+  double heading_drift_sigma_rad_per_s = 2.4240684e-6;  // 0.5 deg/h
   // Largest 1σ accepted for the mount: beyond these (in any combination of x, y, yaw) the mount
   // is "not determined" and calibrate refuses unless forced.
   double max_sigma_xy_m = 0.05;

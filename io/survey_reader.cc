@@ -70,6 +70,10 @@ int FindColumn(const std::vector<std::string>& header, const std::vector<std::st
 std::vector<SurveyPoint> ReadSurvey(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(Where(path, 0, "cannot open the survey CSV"));
+  return ParseSurvey(in, path);
+}
+
+std::vector<SurveyPoint> ParseSurvey(std::istream& in, const std::string& path) {
 
   std::vector<std::string> header;
   int id_col = -1, code_col = -1, x_col = -1, y_col = -1, z_col = -1;

@@ -1,8 +1,17 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages wallcal builds with, if any is missing. Needs root (or sudo).
+# Usage: install-deps.sh [fuzz]   fuzz: also clang with its libFuzzer/sanitizer runtimes
+# (scripts/fuzz.sh). The sanitizer build (scripts/sanitize.sh) needs nothing more: g++'s
+# AddressSanitizer and UBSan runtimes come with build-essential.
 set -euo pipefail
 packages=(build-essential cmake pkg-config libeigen3-dev libceres-dev libopencv-dev
           libgeographiclib-dev libyaml-cpp-dev libgtest-dev zlib1g-dev)
+for extra in "$@"; do
+  case "$extra" in
+    fuzz) packages+=(clang libclang-rt-dev) ;;
+    *) echo "install-deps: unknown option '$extra'; expected fuzz" >&2; exit 2 ;;
+  esac
+done
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

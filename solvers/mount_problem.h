@@ -42,6 +42,21 @@ struct MountProblem {
   // Scanner clock offset [dt_s]; constant at 0 unless time_offset_estimated.
   std::array<double, 1> time_offset{};
   bool time_offset_estimated = false;
+  // Heading errors (docs/method.md, "Heading errors"). Per segment (same index as segment_ids):
+  // the heading offset h [rad] common to a dwell's scans (true yaw = dwell mean yaw − h − r·τ),
+  // starting at 0, and its prior σ (σ_heading / √(heading samples averaged)); 0 for a moving
+  // segment, whose scans use their own interpolated yaw and keep the white heading noise in
+  // their covariance (they share the constant zero block no_heading_offset).
+  std::vector<std::array<double, 1>> heading_offsets;
+  std::vector<double> heading_offset_sigma_rad;
+  // The heading drift rate r [rad/s], one for the session, with the prior
+  // options.heading_drift_sigma_rad_per_s (held at 0 when that is 0), and the reference time
+  // t_ref [s] (the earliest observation's stamp) at which the heading error is taken as the
+  // zero of the mount yaw.
+  std::array<double, 1> heading_drift{};
+  bool heading_drift_estimated = false;
+  double heading_reference_s = 0.0;
+  std::array<double, 1> no_heading_offset{};
   // Held constant at 0: the bias of observations without a segment (their GNSS error is in
   // their white noise instead).
   std::array<double, 2> no_bias{};
@@ -50,6 +65,7 @@ struct MountProblem {
   std::vector<double> weights;       // information multiplier (0: no residual block)
   std::vector<double*> wall_block;  // the wall block each observation uses
   std::vector<double*> bias_block;  // the bias block each observation uses (maybe no_bias)
+  std::vector<double*> heading_block;  // the heading-offset block (maybe no_heading_offset)
   std::vector<ceres::ResidualBlockId> residual_blocks;  // nullptr for weight 0
   // Declared last so that it goes first, while the values it points into still exist.
   ceres::Problem problem;
@@ -65,6 +81,13 @@ struct MountProblem {
 // options.time_offset_sigma_s) when at least kMinMovingObservations observations are not
 // stationary.
 inline constexpr int kMinMovingObservations = 20;
+
+// True when the observation was taken at a station (stationary, segment >= 0): the solver then
+// uses the dwell's mean heading (pose.dwell_yaw_rad, or the mean of the segment's observed yaws
+// when that is not filled) instead of the scan's own noisy yaw.
+inline bool UsesDwellHeading(const calib::WallObservation& observation) {
+  return observation.pose.stationary && observation.pose.segment >= 0;
+}
 std::unique_ptr<MountProblem> BuildMountProblem(
     const std::vector<calib::WallObservation>& observations,
     const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
@@ -79,12 +102,16 @@ Eigen::Matrix3d MountInformation(MountProblem& problem);
 
 // The 2x2 covariance (m², m·rad, rad²) of one observation's [rho; theta] error before the
 // nuisance parameters: line fit + GNSS white noise along the normal (plus the bias σ when the
-// observation has no segment) + heading noise through the lever arm. `bias_sigma_m` is the σ
-// that goes into the white part for segment −1 (ignored otherwise).
+// observation has no segment) + heading white noise through the lever arm, the last only for
+// an observation that uses its own per-scan yaw (moving, see UsesDwellHeading): a dwell's
+// scans use the dwell's mean heading, whose error is the segment's heading-offset parameter.
+// `bias_sigma_m` is the σ that goes into the white part for segment −1 (ignored otherwise).
+// dwell_heading_model false: every observation uses its own yaw (the model when the clock
+// offset is estimated from moving scans, see BuildMountProblem).
 Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       const calib::WallGeometry& wall,
                                       const io::SolverOptions& options, const Mount& lever_mount,
-                                      double bias_sigma_m);
+                                      double bias_sigma_m, bool dwell_heading_model = true);
 
 // Solves and fills the estimate (mount, covariance from ceres::Covariance with every nuisance
 // block free, residuals, report). Never throws; failures come back as usable = false.

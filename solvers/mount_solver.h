@@ -45,6 +45,13 @@ struct MountEstimate {
   bool time_offset_estimated = false;
   double time_offset_s = 0.0;
   double time_offset_sigma_s = 0.0;
+  // Heading drift rate (rad/s, true yaw = used yaw − r·(t − t_ref)) and the reference time t_ref
+  // (s, the earliest observation) at which the mount yaw is relative to the heading sensor's
+  // zero. Estimated (ceres) when options.heading_drift_sigma_rad_per_s > 0.
+  bool heading_drift_estimated = false;
+  double heading_drift_rad_per_s = 0.0;
+  double heading_drift_sigma_rad_per_s = 0.0;
+  double heading_reference_s = 0.0;
   // Estimated GNSS bias per segment (ceres): pose.segment id, bias [east, north] (m) and its
   // prior σ (m), in time order.
   std::vector<int> segment_ids;

@@ -9,9 +9,15 @@
 //                                           the surveyed line) and shifted by δd along n'
 //   n = σ n',  d = σ d'                     σ = ±1, fixed per observation so that the measured
 //                                           antenna is on the negative side of the line
-//   p' = p + v·dt,  ψ' = ψ + ω·dt           the pose at the scan's true time: the scan stamp is
-//                                           dt early on the GNSS/heading clock (v, ω the
-//                                           vehicle's velocity and yaw rate; 0 at a station)
+//   p' = p + v·dt                           the antenna at the scan's true time: the scan stamp
+//                                           is dt early on the GNSS/heading clock (v, ω the
+//                                           vehicle's velocity and yaw rate; ~0 at a station)
+//   ψ' = ψ − h − r·τ + ω·dt                 the true vehicle yaw: ψ the yaw used (a dwell's mean
+//                                           heading at a station, the interpolated heading
+//                                           while moving), h the heading error common to the
+//                                           segment (0 for moving scans), r the heading drift
+//                                           rate, τ = t − t_ref the scan's (dwell's) time from
+//                                           the session's reference time
 //   s = p' − b + R(ψ')·(x, y)               scanner origin: the true antenna is the measured
 //                                           one minus the segment's GNSS bias b
 //   rho_pred   = d − n·s                    [m], > 0 when the scanner is in front of the wall
@@ -21,7 +27,9 @@
 //
 // Parameter blocks: mount [x_m, y_m, yaw_rad] (vehicle frame: x forward, y left, yaw ccw),
 // wall [δd_m, δα_rad], GNSS bias [b_east_m, b_north_m] (measured = true + b), time offset
-// [dt_s] (true scan time = stamped time + dt; held constant at 0 unless moving scans are used).
+// [dt_s] (true scan time = stamped time + dt; held constant at 0 unless moving scans are used),
+// heading offset [h_rad] of the segment (a constant zero block for moving scans), heading drift
+// [r_rad_per_s] (one for the session; constant 0 when not modelled).
 // The robust loss is chosen where the block is added (HuberLoss on these whitened units).
 
 #include <ceres/autodiff_cost_function.h>
@@ -38,6 +46,7 @@ struct WallLineMeasurement {
   double vehicle_yaw_rad = 0.0;                                    // ψ
   Eigen::Vector2d velocity_local_mps = Eigen::Vector2d::Zero();    // v
   double yaw_rate_rps = 0.0;                                       // ω
+  double drift_time_s = 0.0;                                       // τ = t − t_ref
   double sign = 1.0;                                               // σ = ±1
   Eigen::Vector2d wall_normal_local = Eigen::Vector2d::UnitX();    // n_w (unit, as surveyed)
   Eigen::Vector2d wall_centre_local_m = Eigen::Vector2d::Zero();   // c_w, on the surveyed line
@@ -53,9 +62,10 @@ class WallLineCost {
 
   template <typename T>
   bool operator()(const T* const mount, const T* const wall_delta, const T* const bias,
-                  const T* const time_offset, T* residual) const {
+                  const T* const time_offset, const T* const heading_offset,
+                  const T* const heading_drift, T* residual) const {
     T error[2];
-    Errors(mount, wall_delta, bias, time_offset, error);
+    Errors(mount, wall_delta, bias, time_offset, heading_offset, heading_drift, error);
     const Eigen::Matrix2d& w = m_.sqrt_information;
     residual[0] = w(0, 0) * error[0] + w(0, 1) * error[1];
     residual[1] = w(1, 0) * error[0] + w(1, 1) * error[1];
@@ -66,7 +76,8 @@ class WallLineCost {
   // theta_rad) (rad, in [−π, π)).
   template <typename T>
   void Errors(const T* const mount, const T* const wall_delta, const T* const bias,
-              const T* const time_offset, T* error) const {
+              const T* const time_offset, const T* const heading_offset,
+              const T* const heading_drift, T* error) const {
     using std::cos;
     using std::floor;
     using std::sin;
@@ -82,7 +93,8 @@ class WallLineCost {
         nx * m_.wall_centre_local_m.x() + ny * m_.wall_centre_local_m.y() + m_.sign * delta_d_m;
     // Scanner origin in the local frame.
     const T& dt_s = time_offset[0];
-    const T psi = m_.vehicle_yaw_rad + m_.yaw_rate_rps * dt_s;
+    const T psi = m_.vehicle_yaw_rad - heading_offset[0] - heading_drift[0] * m_.drift_time_s +
+                  m_.yaw_rate_rps * dt_s;
     const T cpsi = cos(psi);
     const T spsi = sin(psi);
     const T sx = m_.antenna_local_m.x() + m_.velocity_local_mps.x() * dt_s - bias[0] +
@@ -100,7 +112,7 @@ class WallLineCost {
   const WallLineMeasurement& measurement() const { return m_; }
 
   static ceres::CostFunction* Create(const WallLineMeasurement& measurement) {
-    return new ceres::AutoDiffCostFunction<WallLineCost, 2, 3, 2, 2, 1>(
+    return new ceres::AutoDiffCostFunction<WallLineCost, 2, 3, 2, 2, 1, 1, 1>(
         new WallLineCost(measurement));
   }
 

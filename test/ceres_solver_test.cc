@@ -228,11 +228,42 @@ TEST(WallLineCostTest, EvaluatesHandWorkedValue) {
   const double wall[2] = {0.02, 0.0};
   const double bias[2] = {0.1, -0.2};
   const double time_offset[1] = {0.0};
-  const double* parameters[4] = {mount, wall, bias, time_offset};
+  const double heading_offset[1] = {0.0};
+  const double heading_drift[1] = {0.0};
+  const double* parameters[6] = {mount, wall, bias, time_offset, heading_offset, heading_drift};
   double residual[2];
   ASSERT_TRUE(cost->Evaluate(parameters, residual, nullptr));
   EXPECT_NEAR(residual[0], 82.0, 1e-9);
   EXPECT_NEAR(residual[1], -50.4, 1e-9);
+}
+
+TEST(WallLineCostTest, HeadingOffsetAndDriftTurnTheLeverArmAndTheta) {
+  // The same scan with a heading offset h = 0.01 and a drift r = 1e-4 rad/s at τ = 100 s: the
+  // true yaw is ψ − h − r·τ = π/2 − 0.02. The lever arm turns with it:
+  //   s = (0.9, 2.2) + R(π/2 − 0.02)(2, 0.5),  rho_pred = 10.02 − s_y
+  //   theta_pred = π/2 − (π/2 − 0.02) − 0.05 = −0.03 → theta error −0.13
+  WallLineMeasurement m = HandMeasurement();
+  m.drift_time_s = 100.0;
+  const WallLineCost cost(m);
+  const double mount[3] = {2.0, 0.5, 0.05};
+  const double wall[2] = {0.02, 0.0};
+  const double bias[2] = {0.1, -0.2};
+  const double time_offset[1] = {0.0};
+  const double heading_offset[1] = {0.01};
+  const double heading_drift[1] = {1e-4};
+  double error[2];
+  cost.Errors(mount, wall, bias, time_offset, heading_offset, heading_drift, error);
+  const double yaw = 0.5 * kPi - 0.02;
+  const double s_y = 2.2 + std::sin(yaw) * 2.0 + std::cos(yaw) * 0.5;
+  EXPECT_NEAR(error[0], 10.02 - s_y - 5.0, 1e-12);
+  EXPECT_NEAR(error[1], -0.13, 1e-12);
+  // A heading offset and the same drift contribution are one and the same thing.
+  const double only_offset[1] = {0.02};
+  const double no_drift[1] = {0.0};
+  double same[2];
+  cost.Errors(mount, wall, bias, time_offset, only_offset, no_drift, same);
+  EXPECT_NEAR(same[0], error[0], 1e-12);
+  EXPECT_NEAR(same[1], error[1], 1e-12);
 }
 
 TEST(WallLineCostTest, OrientsTheWallTowardsAnAntennaOnItsPositiveSide) {
@@ -265,10 +296,10 @@ TEST(WallLineCostTest, OrientsTheWallTowardsAnAntennaOnItsPositiveSide) {
   const double moved[2] = {0.1, 0.0};
   const double no_offset[1] = {0.0};
   double error[2];
-  cost.Errors(mount, still, bias, no_offset, error);
+  cost.Errors(mount, still, bias, no_offset, no_offset, no_offset, error);
   EXPECT_NEAR(error[0], 0.0, 1e-12);
   EXPECT_NEAR(error[1], 0.0, 1e-12);
-  cost.Errors(mount, moved, bias, no_offset, error);
+  cost.Errors(mount, moved, bias, no_offset, no_offset, no_offset, error);
   EXPECT_NEAR(error[0], -0.1, 1e-12);
 
   calib::WallObservation observation;
@@ -295,8 +326,11 @@ TEST(WallLineCostTest, JacobiansMatchNumericDifferentiation) {
   const double mount[3] = {2.57, 0.056, 0.0489};
   const double wall[2] = {0.013, -0.004};
   const double bias[2] = {0.011, -0.017};
+  m.drift_time_s = 250.0;
   const double time_offset[1] = {0.07};
-  const double* parameters[4] = {mount, wall, bias, time_offset};
+  const double heading_offset[1] = {0.003};
+  const double heading_drift[1] = {2e-6};
+  const double* parameters[6] = {mount, wall, bias, time_offset, heading_offset, heading_drift};
   ceres::GradientChecker::ProbeResults results;
   EXPECT_TRUE(checker.Probe(parameters, 1e-7, &results)) << results.error_log;
 }
@@ -343,6 +377,15 @@ TEST(ObservationCovarianceTest, CouplesHeadingNoiseThroughTheLeverArm) {
   observation.pose.segment = -1;
   EXPECT_NEAR(ObservationCovariance(observation, wall, options, Mount{2.5, 0.0, 0.0}, 0.02)(0, 0),
               4e-6 + 16e-6 + 6.25e-4 + 4e-4, 1e-15);
+  // At a station the scan uses the dwell's mean heading: its error is the dwell's heading
+  // offset parameter, not white noise of this scan, so no heading term.
+  observation.pose.segment = 4;
+  observation.pose.stationary = true;
+  const Eigen::Matrix2d at_station =
+      ObservationCovariance(observation, wall, options, Mount{2.5, 0.0, 0.0}, 0.02);
+  EXPECT_NEAR(at_station(0, 0), 4e-6 + 16e-6, 1e-15);
+  EXPECT_NEAR(at_station(0, 1), 1e-6, 1e-15);
+  EXPECT_NEAR(at_station(1, 1), 9e-6, 1e-15);
 }
 
 // ---- The solver -----------------------------------------------------------------------------

@@ -42,6 +42,8 @@ TEST(ShippedConfigTest, CalibrateYamlEqualsBuiltInDefaults) {
   EXPECT_NEAR(file.solver.gnss_bias_sigma_m, d.solver.gnss_bias_sigma_m, tol);
   EXPECT_EQ(file.solver.use_gst_sigma, d.solver.use_gst_sigma);
   EXPECT_NEAR(file.solver.heading_sigma_rad, d.solver.heading_sigma_rad, tol);
+  EXPECT_NEAR(file.solver.heading_drift_sigma_rad_per_s, d.solver.heading_drift_sigma_rad_per_s,
+              1e-12);
   EXPECT_NEAR(file.solver.control_sigma_m, d.solver.control_sigma_m, tol);
   EXPECT_NEAR(file.solver.total_station_sigma_m, d.solver.total_station_sigma_m, tol);
   EXPECT_NEAR(file.solver.rotation_sigma_rad, d.solver.rotation_sigma_rad, tol);

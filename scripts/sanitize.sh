@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Builds everything with AddressSanitizer + UndefinedBehaviorSanitizer (g++, -DWALLCAL_SANITIZE=ON)
+# into build-asan/ and runs the whole ctest suite under it. Any sanitizer report fails the run:
+# UBSan halts on the first error (-fno-sanitize-recover), LeakSanitizer reports leaks at exit.
+# Usage: bash scripts/sanitize.sh [extra ctest arguments, e.g. -R bad_sessions]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${SANITIZE_BUILD_DIR:-build-asan}
+jobs=${SANITIZE_BUILD_JOBS:-2}
+
+bash scripts/install-deps.sh
+
+# Also in effect while building: gtest_discover_tests runs each test binary to list its tests.
+export ASAN_OPTIONS=detect_leaks=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWALLCAL_SANITIZE=ON -DWALLCAL_WERROR=ON >/dev/null
+cmake --build "$build" -j"$jobs"
+ctest --test-dir "$build" --output-on-failure -j"$jobs" "$@"
