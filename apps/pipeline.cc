@@ -594,7 +594,7 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
   std::vector<double> grid_headings, wall_angles;
   for (const calib::WallObservation& o : result.observations) {
     used_scans.insert(o.scan_index);
-    used_segments.insert(o.pose.segment);
+    used_segments.insert(calib::GnssSegment(o));
     grid_headings.push_back(kPi / 2.0 - o.pose.yaw_rad);
     const calib::WallGeometry& wall = result.walls[o.wall_index];
     // φ of seed 002 Eq. 8: the wall normal (towards the wall) in the vehicle frame.

@@ -139,7 +139,7 @@ ResidualAnalysis AnalyseResiduals(const std::vector<calib::WallObservation>& obs
   std::vector<double> with_bias(r);
   for (size_t i = 0; i < n; ++i) {
     const calib::WallObservation& o = observations[i];
-    const auto found = bias_of.find(o.pose.segment);
+    const auto found = bias_of.find(calib::GnssSegment(o));
     if (found != bias_of.end() && o.wall_index >= 0 &&
         o.wall_index < static_cast<int>(walls.size())) {
       const solvers::OrientedWall wall =

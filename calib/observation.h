@@ -44,7 +44,13 @@ struct VehiclePose {
   double yaw_rad = 0.0;  // ccw from grid east (ψ = 90° − grid heading)
   double gnss_sigma_m = 0.0;     // per-axis 1σ of the GNSS position (GST or default), 0 if unknown
   bool stationary = false;
-  int segment = -1;  // index of the dwell/segment sharing correlated GNSS error; -1 none
+  int segment = -1;  // the station (dwell index) or, moving, the time slice; -1 none
+  // The slice of time sharing one value of the correlated GNSS error (one 2-D bias in the
+  // solver, chained to its neighbours by the Gauss–Markov prior). Moving: the same as segment.
+  // In a dwell: a slice of at most alignment.segment_max_s of it, since the RTK error wanders
+  // within a long dwell (τ ≈ 1 min). -1: use `segment` (observations not built by the
+  // pose interpolator).
+  int gnss_segment = -1;
   // Rates at that instant (from the GNSS and heading samples around it), for the pose at a
   // slightly different time: p(t + dt) ≈ p + v·dt, ψ(t + dt) ≈ ψ + ω·dt (scanner clock offset).
   Eigen::Vector2d velocity_local_mps = Eigen::Vector2d::Zero();  // antenna, local frame
@@ -77,5 +83,11 @@ struct WallObservation {
   double residual_rms_m = 0.0;  // RMS of the inliers about the fitted line
   VehiclePose pose;             // the vehicle at the scan's time
 };
+
+// The key of the GNSS-error slice an observation belongs to (see VehiclePose::gnss_segment).
+inline int GnssSegment(const WallObservation& observation) {
+  return observation.pose.gnss_segment >= 0 ? observation.pose.gnss_segment
+                                            : observation.pose.segment;
+}
 
 }  // namespace wallcal::calib

@@ -163,6 +163,17 @@ PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
     pose->dwell_yaw_rad = dwell.mean_yaw_rad;
     pose->dwell_yaw_samples = dwell.num_yaw_samples;
     pose->dwell_mid_s = 0.5 * (dwell.start_s + dwell.end_s);
+    // GNSS-error slices within the dwell: keys above every moving slice's, kSlicesPerDwell
+    // apart per dwell (a dwell of up to 1024 slices, 85 min at 5 s).
+    constexpr int kDwellSliceBase = 1 << 20;
+    constexpr int kSlicesPerDwell = 1 << 10;
+    const int slice =
+        options_.segment_max_s > 0.0
+            ? std::min(kSlicesPerDwell - 1,
+                       static_cast<int>(std::floor((stamp_s - dwell.start_s) /
+                                                   options_.segment_max_s)))
+            : 0;
+    pose->gnss_segment = kDwellSliceBase + pose->segment * kSlicesPerDwell + std::max(0, slice);
   } else {
     pose->dwell_yaw_rad = 0.0;
     pose->dwell_yaw_samples = 0;
@@ -172,6 +183,7 @@ PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
             ? static_cast<int>(std::floor((stamp_s - start_s_) / options_.segment_max_s))
             : 0;
     pose->segment = static_cast<int>(dwells_.size()) + slice;
+    pose->gnss_segment = pose->segment;
   }
   // Rates by central differences over a window (half the stationary window each side, at
   // least one sample period): a single GNSS period would turn 3 mm of white noise into cm/s.

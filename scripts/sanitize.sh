@@ -14,8 +14,10 @@ bash scripts/install-deps.sh
 export ASAN_OPTIONS=detect_leaks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # -O1 -g1: quicker to compile than RelWithDebInfo, still with file:line in sanitizer reports.
-# The benchmarks are not tests: not built here.
+# The benchmarks are not tests: not built here. No -Werror here: GCC 12 gives false
+# maybe-uninitialized warnings inside std::regex under ASan at -O1; the main build (scripts/test.sh)
+# enforces warnings as errors.
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -g1" \
-  -DWALLCAL_BENCH=OFF -DWALLCAL_SANITIZE=ON -DWALLCAL_WERROR=ON >/dev/null
+  -DWALLCAL_BENCH=OFF -DWALLCAL_SANITIZE=ON -DWALLCAL_WERROR=OFF >/dev/null
 cmake --build "$build" -j"$jobs"
 ctest --test-dir "$build" --output-on-failure -j"$jobs" "$@"

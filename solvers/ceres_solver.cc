@@ -77,7 +77,9 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
   // (optimistic for that observation, but such observations are rare: moving scans outside
   // any segment).
   double position_variance_m2 = options.gnss_white_sigma_m * options.gnss_white_sigma_m;
-  if (observation.pose.segment < 0) position_variance_m2 += bias_sigma_m * bias_sigma_m;
+  if (calib::GnssSegment(observation) < 0) {
+    position_variance_m2 += bias_sigma_m * bias_sigma_m;
+  }
 
   // Heading noise δψ turns the lever arm R(ψ)(x, y): d rho_pred/dψ = −n·(J R(ψ)(x, y)) = −ℓ,
   // with J the 90° rotation, i.e. ℓ is the along-wall component of the lever arm; and
@@ -171,7 +173,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     const auto& observation = observations[i];
     if (!(weight_of(i) > 0.0)) continue;
     if (!observation.pose.stationary) ++moving;
-    const int segment = observation.pose.segment;
+    const int segment = calib::GnssSegment(observation);
     if (segment < 0) continue;
     SegmentSums& entry = sums[segment];
     if (options.use_gst_sigma && observation.pose.gnss_sigma_m > 0.0) {
@@ -193,14 +195,14 @@ std::unique_ptr<MountProblem> BuildMountProblem(
   // Heading offsets: a dwell's mean heading is off by the mean of its samples' white errors,
   // σ_h / √n (seed 002's FOG: 0.05° white at 20 Hz, 60 s dwell -> 0.002°). Moving segments get
   // none (σ 0: the zero block): their scans' heading errors are white and in their covariance.
-  mp->heading_offsets.assign(mp->segment_ids.size(), {0.0});
-  mp->heading_offset_sigma_rad.assign(mp->segment_ids.size(), 0.0);
-  for (size_t k = 0; k < mp->segment_ids.size(); ++k) {
-    const auto found = dwell_headings.find(mp->segment_ids[k]);
-    if (found == dwell_headings.end()) continue;
-    const DwellHeading& entry = found->second;
+  // One per station (pose.segment), whatever its GNSS-error slices.
+  std::map<int, int> heading_index;
+  for (const auto& [station, entry] : dwell_headings) {
+    heading_index[station] = static_cast<int>(mp->heading_offsets.size());
+    mp->heading_offsets.push_back({0.0});
     const int samples = entry.pose_samples > 0 ? entry.pose_samples : entry.count;
-    mp->heading_offset_sigma_rad[k] = options.heading_sigma_rad / std::sqrt(std::max(1, samples));
+    mp->heading_offset_sigma_rad.push_back(options.heading_sigma_rad /
+                                           std::sqrt(std::max(1, samples)));
   }
   mp->heading_drift_estimated = options.heading_drift_sigma_rad_per_s > 0.0;
   // Time order and the correlation with the previous segment in it: ρ = exp(−Δt/τ).
@@ -286,7 +288,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
 
     mp->wall_block.push_back(mp->wall_deltas[observation.wall_index].data());
     double* bias = mp->no_bias.data();
-    const int segment = observation.pose.segment;
+    const int segment = calib::GnssSegment(observation);
     const auto found = segment_index.find(segment);
     if (segment >= 0 && found != segment_index.end()) {
       // A segment whose σ_b is 0 has no error to estimate: it shares the constant zero block.
@@ -295,9 +297,10 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     if (weight > 0.0) uses_no_bias = uses_no_bias || bias == mp->no_bias.data();
     mp->bias_block.push_back(bias);
     double* heading = mp->no_heading_offset.data();
-    if (uses_dwell(observation) && found != segment_index.end() &&
-        mp->heading_offset_sigma_rad[found->second] > 0.0) {
-      heading = mp->heading_offsets[found->second].data();
+    const auto station = heading_index.find(observation.pose.segment);
+    if (uses_dwell(observation) && station != heading_index.end() &&
+        mp->heading_offset_sigma_rad[station->second] > 0.0) {
+      heading = mp->heading_offsets[station->second].data();
     }
     mp->heading_block.push_back(heading);
   }

@@ -3,6 +3,8 @@
 
 #include "apps/report.h"
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -189,7 +191,10 @@ std::string ScenarioPath(const std::string& name) {
 }
 
 fs::path FreshDir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("wallcal_report_" + name);
+  // One folder per process: ctest runs each test of this suite in its own process, each
+  // building the suite's fixture; a shared folder would be rebuilt under the others' feet.
+  const fs::path dir = fs::path(::testing::TempDir()) /
+                       ("wallcal_report_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
