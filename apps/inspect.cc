@@ -56,41 +56,6 @@ std::string FormatStamp(double stamp_s) {
   return buffer;
 }
 
-std::string QualityName(int quality) {
-  switch (quality) {
-    case 0: return "invalid";
-    case 1: return "GPS";
-    case 2: return "DGPS";
-    case 3: return "PPS";
-    case 4: return "RTK fixed";
-    case 5: return "RTK float";
-    case 6: return "dead reckoning";
-    case 7: return "manual";
-    case 8: return "simulator";
-    case 9: return "SBAS";
-    default: return "unknown";
-  }
-}
-
-// The pipeline's ranking of GGA qualities (apps/pipeline.cc, QualityAccepted): RTK fixed >
-// RTK float > DGPS/SBAS > PPS > GPS; 0, 6, 7, 8 never accepted. Kept identical so that the
-// stations found here are the ones calibrate finds.
-int QualityRank(int quality) {
-  switch (quality) {
-    case 4: return 6;
-    case 5: return 5;
-    case 2: case 9: return 4;
-    case 3: return 3;
-    case 1: return 2;
-    default: return 0;
-  }
-}
-
-bool QualityAccepted(int quality, int min_fix_quality) {
-  const int rank = QualityRank(quality);
-  return rank > 0 && rank >= QualityRank(min_fix_quality);
-}
-
 double Median(std::vector<double> values) {
   if (values.empty()) return io::kNaN;
   const size_t mid = values.size() / 2;
@@ -387,7 +352,7 @@ StreamStats HeadingStats(const std::string& path, const io::NmeaLog& log) {
 std::string FormatQualities(const io::NmeaLog& log) {
   std::ostringstream out;
   for (const auto& [quality, count] : log.fixes_by_quality) {
-    out << "    quality   " << quality << " (" << QualityName(quality) << "): " << count << "\n";
+    out << "    quality   " << quality << " (" << io::FixQualityName(quality) << "): " << count << "\n";
   }
   return out.str();
 }
@@ -669,7 +634,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     out << FormatStream(*fix_stats);
     out << FormatQualities(*gnss);
     for (const io::GnssFix& fix : gnss->fixes) {
-      if (QualityAccepted(fix.quality, spec.min_fix_quality)) ++accepted_fixes;
+      if (io::FixQualityAccepted(fix.quality, spec.min_fix_quality)) ++accepted_fixes;
     }
     const double max_step_s = std::isfinite(fix_stats->median_period_s)
                                   ? fix_stats->gap_periods * fix_stats->median_period_s
@@ -692,7 +657,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     }
     const std::string mostly =
         dominant >= 0 ? "; mostly quality " + std::to_string(dominant) + " (" +
-                            QualityName(dominant) + ")"
+                            io::FixQualityName(dominant) + ")"
                       : std::string();
     if (n_fixes == 0) {
       block(spec.gnss_log + ": no GGA fixes; expected NMEA GGA sentences");
@@ -829,7 +794,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     if (!frame) {
       const io::GnssFix* first = nullptr;
       for (const io::GnssFix& fix : gnss->fixes) {
-        if (QualityAccepted(fix.quality, spec.min_fix_quality)) {
+        if (io::FixQualityAccepted(fix.quality, spec.min_fix_quality)) {
           first = &fix;
           break;
         }
@@ -837,7 +802,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
       frame = calib::MakeLocalFrame(first->lat_deg, first->lon_deg, spec.utm_zone);
     }
     for (const io::GnssFix& fix : gnss->fixes) {
-      if (!QualityAccepted(fix.quality, spec.min_fix_quality)) continue;
+      if (!io::FixQualityAccepted(fix.quality, spec.min_fix_quality)) continue;
       if (!positions.empty() && fix.stamp_s <= positions.back().stamp_s) continue;
       calib::PositionSample sample;
       sample.stamp_s = fix.stamp_s;

@@ -53,25 +53,6 @@ std::string ExecutableDir() {
   return error ? std::string() : exe.parent_path().string();
 }
 
-// GGA fix qualities ranked from best to worst: RTK fixed (4), RTK float (5), DGPS/SBAS (2, 9),
-// PPS (3), autonomous (1). min_fix_quality q accepts every quality ranked at least as high as q.
-// 0 (invalid), 6 (dead reckoning), 7 (manual) and 8 (simulator) are never accepted.
-int QualityRank(int quality) {
-  switch (quality) {
-    case 4: return 6;
-    case 5: return 5;
-    case 2: case 9: return 4;
-    case 3: return 3;
-    case 1: return 2;
-    default: return 0;
-  }
-}
-
-bool QualityAccepted(int quality, int min_fix_quality) {
-  const int rank = QualityRank(quality);
-  return rank > 0 && rank >= QualityRank(min_fix_quality);
-}
-
 // Lines a healthy log has too (other NMEA sentences, comments, CARMEN PARAM/ODOM lines): they
 // are counted but are no reason for a warning.
 bool IsInformational(const std::string& reason) {
@@ -372,7 +353,7 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
   std::vector<calib::PositionSample> positions;
   std::vector<const io::GnssFix*> used_fixes;
   for (const io::GnssFix& fix : gnss.fixes) {
-    if (!QualityAccepted(fix.quality, session.min_fix_quality)) continue;
+    if (!io::FixQualityAccepted(fix.quality, session.min_fix_quality)) continue;
     if (!positions.empty() && fix.stamp_s <= positions.back().stamp_s) continue;
     calib::PositionSample sample;
     sample.stamp_s = fix.stamp_s;

@@ -74,22 +74,6 @@ double SigmaOf(const Eigen::Matrix3d& covariance, int i) {
 // from grid east): the sessions circle a wall, so headings straddle north as often as not.
 double GridHeadingDeg(double yaw_rad) { return calib::WrapAngle(kPi / 2.0 - yaw_rad) * kRadToDeg; }
 
-std::string QualityName(int quality) {
-  switch (quality) {
-    case 0: return "invalid";
-    case 1: return "GPS";
-    case 2: return "DGPS";
-    case 3: return "PPS";
-    case 4: return "RTK fixed";
-    case 5: return "RTK float";
-    case 6: return "dead reckoning";
-    case 7: return "manual";
-    case 8: return "simulator";
-    case 9: return "SBAS";
-    default: return "other";
-  }
-}
-
 // ---- SVG plots ---------------------------------------------------------------------------------
 
 // One plot: a data rectangle mapped onto a pixel box with margins for the axes. Everything drawn
@@ -1244,7 +1228,7 @@ class ReportBuilder {
     s << "</table>\n";
     s << "<table>\n<tr><th colspan=\"2\">GNSS and heading</th></tr>\n";
     for (const auto& [q, count] : r_.fixes_by_quality) {
-      s << Row("GGA quality " + N(q) + " (" + QualityName(q) + ")", N(count));
+      s << Row("GGA quality " + N(q) + " (" + io::FixQualityName(q) + ")", N(count));
     }
     s << Row("fixes used (quality \xe2\x89\xa5 " + N(r_.session.min_fix_quality) + ", in time order)", N(r_.fixes_used));
     for (const auto& [reason, count] : r_.gnss_skipped.by_reason) s << Row("GNSS line skipped: " + reason, N(count));

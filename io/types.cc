@@ -10,4 +10,38 @@ std::string Where(const std::string& file, int line, const std::string& message)
   return text;
 }
 
+const char* FixQualityName(int quality) {
+  switch (quality) {
+    case 0: return "invalid";
+    case 1: return "GPS";
+    case 2: return "DGPS";
+    case 3: return "PPS";
+    case 4: return "RTK fixed";
+    case 5: return "RTK float";
+    case 6: return "dead reckoning";
+    case 7: return "manual";
+    case 8: return "simulator";
+    case 9: return "SBAS";
+    default: return "unknown";
+  }
+}
+
+namespace {
+int FixQualityRank(int quality) {
+  switch (quality) {
+    case 4: return 6;
+    case 5: return 5;
+    case 2: case 9: return 4;
+    case 3: return 3;
+    case 1: return 2;
+    default: return 0;
+  }
+}
+}  // namespace
+
+bool FixQualityAccepted(int quality, int min_fix_quality) {
+  const int rank = FixQualityRank(quality);
+  return rank > 0 && rank >= FixQualityRank(min_fix_quality);
+}
+
 }  // namespace wallcal::io

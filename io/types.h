@@ -24,6 +24,14 @@ class InputError : public std::runtime_error {
 // Builds the "file:line: message" text of an InputError. line <= 0 omits the line.
 std::string Where(const std::string& file, int line, const std::string& message);
 
+// GGA fix quality (NMEA 0183): its name ("RTK fixed", "RTK float", ...; "unknown" otherwise).
+const char* FixQualityName(int quality);
+// gnss.min_fix_quality's rule. Qualities ranked from best to worst: RTK fixed (4), RTK float
+// (5), DGPS/SBAS (2, 9), PPS (3), autonomous (1); min_fix_quality q accepts every quality
+// ranked at least as high as q. 0 (invalid), 6 (dead reckoning), 7 (manual) and 8 (simulator)
+// are never accepted.
+bool FixQualityAccepted(int quality, int min_fix_quality);
+
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // One scan as logged (CARMEN RAWLASER1 / ROBOTLASER1 / FLASER). Ranges are raw: no range
