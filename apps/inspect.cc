@@ -801,37 +801,10 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
       }
       frame = calib::MakeLocalFrame(first->lat_deg, first->lon_deg, spec.utm_zone);
     }
-    for (const io::GnssFix& fix : gnss->fixes) {
-      if (!io::FixQualityAccepted(fix.quality, spec.min_fix_quality)) continue;
-      if (!positions.empty() && fix.stamp_s <= positions.back().stamp_s) continue;
-      calib::PositionSample sample;
-      sample.stamp_s = fix.stamp_s;
-      sample.p_local_m = calib::ToLocal(*frame, fix.lat_deg, fix.lon_deg);
-      const bool has_gst = std::isfinite(fix.sigma_lat_m) && std::isfinite(fix.sigma_lon_m);
-      sample.sigma_m = has_gst ? std::max(fix.sigma_lat_m, fix.sigma_lon_m) : 0.0;
-      positions.push_back(sample);
-      used.push_back(&fix);
-    }
-    std::vector<calib::YawSample> yaws;
-    for (const io::HeadingSample& h : heading_log->headings) {
-      if (!yaws.empty() && h.stamp_s <= yaws.back().stamp_s) continue;
-      calib::YawSample sample;
-      sample.stamp_s = h.stamp_s;
-      if (spec.heading_reference == io::HeadingReference::kGridNorth) {
-        sample.yaw_rad = calib::YawFromGridHeading(h.heading_rad);
-      } else {
-        const auto it = std::lower_bound(
-            used.begin(), used.end(), h.stamp_s,
-            [](const io::GnssFix* fix, double t) { return fix->stamp_s < t; });
-        const io::GnssFix* nearest = it == used.end() ? used.back() : *it;
-        if (it != used.begin() && it != used.end() &&
-            h.stamp_s - (*(it - 1))->stamp_s < (*it)->stamp_s - h.stamp_s) {
-          nearest = *(it - 1);
-        }
-        sample.yaw_rad =
-            calib::YawFromTrueHeading(*frame, h.heading_rad, nearest->lat_deg, nearest->lon_deg);
-      }
-      yaws.push_back(sample);
+    positions = PositionSamples(*gnss, spec.min_fix_quality, *frame, &used);
+    const std::vector<calib::YawSample> yaws =
+        YawSamples(*heading_log, spec.heading_reference, *frame, used);
+    for (const calib::YawSample& sample : yaws) {
       logged_grid_headings_rad.push_back(kPi / 2.0 - sample.yaw_rad);
     }
     if (positions.size() >= 2 && yaws.size() >= 2) {

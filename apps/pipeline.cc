@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -295,6 +296,54 @@ std::string DefaultOutputPath(const io::SessionSpec& session) {
   return (fs::path(session.dir) / "offsets.yaml").string();
 }
 
+std::vector<calib::PositionSample> PositionSamples(const io::NmeaLog& gnss, int min_fix_quality,
+                                                   const calib::LocalFrame& frame,
+                                                   std::vector<const io::GnssFix*>* used) {
+  std::vector<calib::PositionSample> positions;
+  for (const io::GnssFix& fix : gnss.fixes) {
+    if (!io::FixQualityAccepted(fix.quality, min_fix_quality)) continue;
+    if (!positions.empty() && fix.stamp_s <= positions.back().stamp_s) continue;
+    calib::PositionSample sample;
+    sample.stamp_s = fix.stamp_s;
+    sample.p_local_m = calib::ToLocal(frame, fix.lat_deg, fix.lon_deg);
+    const bool has_gst = std::isfinite(fix.sigma_lat_m) && std::isfinite(fix.sigma_lon_m);
+    sample.sigma_m = has_gst ? std::max(fix.sigma_lat_m, fix.sigma_lon_m) : 0.0;
+    positions.push_back(sample);
+    if (used != nullptr) used->push_back(&fix);
+  }
+  return positions;
+}
+
+std::vector<calib::YawSample> YawSamples(const io::NmeaLog& headings,
+                                         io::HeadingReference reference,
+                                         const calib::LocalFrame& frame,
+                                         const std::vector<const io::GnssFix*>& used) {
+  std::vector<calib::YawSample> yaws;
+  for (const io::HeadingSample& heading : headings.headings) {
+    if (!yaws.empty() && heading.stamp_s <= yaws.back().stamp_s) continue;
+    calib::YawSample sample;
+    sample.stamp_s = heading.stamp_s;
+    if (reference == io::HeadingReference::kGridNorth) {
+      sample.yaw_rad = calib::YawFromGridHeading(heading.heading_rad);
+    } else {
+      assert(!used.empty());
+      // Convergence at the vehicle: take the nearest used fix in time.
+      const auto it = std::lower_bound(
+          used.begin(), used.end(), heading.stamp_s,
+          [](const io::GnssFix* fix, double t) { return fix->stamp_s < t; });
+      const io::GnssFix* nearest = it == used.end() ? used.back() : *it;
+      if (it != used.begin() && it != used.end() &&
+          heading.stamp_s - (*(it - 1))->stamp_s < (*it)->stamp_s - heading.stamp_s) {
+        nearest = *(it - 1);
+      }
+      sample.yaw_rad = calib::YawFromTrueHeading(frame, heading.heading_rad, nearest->lat_deg,
+                                                 nearest->lon_deg);
+    }
+    yaws.push_back(sample);
+  }
+  return yaws;
+}
+
 CalibrationResult RunCalibration(const CalibrateRequest& request, const ProgressFn& progress) {
   const auto t_start = std::chrono::steady_clock::now();
   auto say = [&](const std::string& stage) {
@@ -350,19 +399,9 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
     }
   }
 
-  std::vector<calib::PositionSample> positions;
   std::vector<const io::GnssFix*> used_fixes;
-  for (const io::GnssFix& fix : gnss.fixes) {
-    if (!io::FixQualityAccepted(fix.quality, session.min_fix_quality)) continue;
-    if (!positions.empty() && fix.stamp_s <= positions.back().stamp_s) continue;
-    calib::PositionSample sample;
-    sample.stamp_s = fix.stamp_s;
-    sample.p_local_m = calib::ToLocal(result.frame, fix.lat_deg, fix.lon_deg);
-    const bool has_gst = std::isfinite(fix.sigma_lat_m) && std::isfinite(fix.sigma_lon_m);
-    sample.sigma_m = has_gst ? std::max(fix.sigma_lat_m, fix.sigma_lon_m) : 0.0;
-    positions.push_back(sample);
-    used_fixes.push_back(&fix);
-  }
+  const std::vector<calib::PositionSample> positions =
+      PositionSamples(gnss, session.min_fix_quality, result.frame, &used_fixes);
   result.fixes_used = static_cast<int64_t>(positions.size());
   if (positions.size() < 2) {
     std::ostringstream found;
@@ -380,28 +419,8 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
                               " GGA fixes below gnss.min_fix_quality (or out of time order) not used");
   }
 
-  std::vector<calib::YawSample> yaws;
-  for (const io::HeadingSample& heading : heading_log.headings) {
-    if (!yaws.empty() && heading.stamp_s <= yaws.back().stamp_s) continue;
-    calib::YawSample sample;
-    sample.stamp_s = heading.stamp_s;
-    if (session.heading_reference == io::HeadingReference::kGridNorth) {
-      sample.yaw_rad = calib::YawFromGridHeading(heading.heading_rad);
-    } else {
-      // Convergence at the vehicle: take the nearest used fix in time.
-      const auto it = std::lower_bound(
-          used_fixes.begin(), used_fixes.end(), heading.stamp_s,
-          [](const io::GnssFix* fix, double t) { return fix->stamp_s < t; });
-      const io::GnssFix* nearest = it == used_fixes.end() ? used_fixes.back() : *it;
-      if (it != used_fixes.begin() && it != used_fixes.end() &&
-          heading.stamp_s - (*(it - 1))->stamp_s < (*it)->stamp_s - heading.stamp_s) {
-        nearest = *(it - 1);
-      }
-      sample.yaw_rad = calib::YawFromTrueHeading(result.frame, heading.heading_rad,
-                                                 nearest->lat_deg, nearest->lon_deg);
-    }
-    yaws.push_back(sample);
-  }
+  const std::vector<calib::YawSample> yaws =
+      YawSamples(heading_log, session.heading_reference, result.frame, used_fixes);
   result.headings_used = static_cast<int64_t>(yaws.size());
   if (yaws.size() < 2) {
     throw io::InputError(io::Where(session.heading_log, 0,

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "calib/observation.h"
+#include "calib/time_alignment.h"
 #include "io/options.h"
 #include "io/types.h"
 #include "solvers/mount_solver.h"
@@ -104,6 +105,21 @@ struct CalibrationResult {
   std::vector<std::string> warnings;
   double seconds = 0.0;  // wall-clock run time, for the summary
 };
+
+// The GNSS fixes calibrate uses, as local positions: qualities gnss.min_fix_quality accepts,
+// strictly increasing in time, σ from GST (0 without). `used` (may be null) receives the fix of
+// each sample, in the same order.
+std::vector<calib::PositionSample> PositionSamples(const io::NmeaLog& gnss, int min_fix_quality,
+                                                   const calib::LocalFrame& frame,
+                                                   std::vector<const io::GnssFix*>* used);
+
+// The headings as vehicle yaws in the local frame (strictly increasing in time). True headings
+// are turned into grid headings with the meridian convergence at the vehicle: at the used fix
+// nearest in time (`used` must not be empty then). Grid headings are taken as they are.
+std::vector<calib::YawSample> YawSamples(const io::NmeaLog& headings,
+                                         io::HeadingReference reference,
+                                         const calib::LocalFrame& frame,
+                                         const std::vector<const io::GnssFix*>& used);
 
 // Runs the whole calibration. Writes nothing. Throws io::InputError for bad input; an
 // estimate the data cannot support comes back with estimate.usable == false and a message.
