@@ -1,4 +1,5 @@
 #include "calib/range_model.h"
+#include "test/shipped_presets.h"
 
 #include <gtest/gtest.h>
 
@@ -10,44 +11,6 @@ namespace wallcal::calib {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
-
-// configs/scanners/hokuyo_urg04lx.yaml (seed 000), built directly.
-io::ScannerPreset UrgPreset() {
-  io::ScannerPreset p;
-  p.name = "hokuyo_urg04lx";
-  p.num_beams = 682;
-  p.start_angle_rad = -119.70703125 * kDeg;
-  p.angular_step_rad = 0.3515625 * kDeg;
-  p.rate_hz = 10.0;
-  p.min_range_m = 0.020;
-  p.max_range_m = 4.095;
-  p.error_codes_below_m = 0.020;
-  p.max_range_is_no_return = false;
-  p.range_resolution_m = 0.001;
-  p.range_scale_k = 1.0102;
-  p.range_offset_b_m = -0.0070;
-  p.range_sigma_m = 0.0029;
-  return p;
-}
-
-// configs/scanners/sick_lms291.yaml (seed 002), built directly.
-io::ScannerPreset Lms291Preset() {
-  io::ScannerPreset p;
-  p.name = "sick_lms291";
-  p.num_beams = 181;
-  p.start_angle_rad = -90.0 * kDeg;
-  p.angular_step_rad = 1.0 * kDeg;
-  p.rate_hz = 75.0;
-  p.min_range_m = 0.0;
-  p.max_range_m = 80.0;
-  p.error_codes_below_m = 0.0;
-  p.max_range_is_no_return = true;
-  p.range_resolution_m = 0.01;
-  p.range_scale_k = 1.0;
-  p.range_offset_b_m = 0.0;
-  p.range_sigma_m = 0.010;
-  return p;
-}
 
 io::ScanRecord ScanFor(const io::ScannerPreset& preset, std::vector<float> ranges) {
   io::ScanRecord scan;
@@ -68,7 +31,7 @@ int IndexOfBeam(const ScanPoints& pts, int beam) {
 }
 
 TEST(RangeModelTest, UrgErrorCodesAreDroppedAndCounted) {
-  const io::ScannerPreset urg = UrgPreset();
+  const io::ScannerPreset urg = testing_support::ShippedPreset("hokuyo_urg04lx");
   std::vector<float> r(urg.num_beams, 2.0f);
   r[10] = 0.0f;  // URG error codes are small integers in mm (seed 000)
   r[11] = 0.006f;
@@ -86,7 +49,7 @@ TEST(RangeModelTest, UrgErrorCodesAreDroppedAndCounted) {
 }
 
 TEST(RangeModelTest, SickNoReturnsAtMaximumAreDroppedAndCounted) {
-  const io::ScannerPreset sick = Lms291Preset();
+  const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   std::vector<float> r(sick.num_beams, 8.0f);
   r[0] = 80.0f;  // the LMS reports "no echo" as its maximum
   r[1] = 81.9f;
@@ -110,7 +73,7 @@ TEST(RangeModelTest, SickNoReturnsAtMaximumAreDroppedAndCounted) {
 }
 
 TEST(RangeModelTest, AppliesRangeCorrectionAndLogBearings) {
-  const io::ScannerPreset urg = UrgPreset();
+  const io::ScannerPreset urg = testing_support::ShippedPreset("hokuyo_urg04lx");
   std::vector<float> r(urg.num_beams, 1.0f);
   io::ScanRecord scan = ScanFor(urg, r);
   // Bearings come from the record, not the preset.
@@ -131,7 +94,7 @@ TEST(RangeModelTest, AppliesRangeCorrectionAndLogBearings) {
 }
 
 TEST(RangeModelTest, NonFiniteNegativeAndTooCloseAreDroppedAndCounted) {
-  const io::ScannerPreset sick = Lms291Preset();
+  const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   std::vector<float> r(sick.num_beams, 6.0f);
   r[3] = std::numeric_limits<float>::quiet_NaN();
   r[4] = std::numeric_limits<float>::infinity();
@@ -147,7 +110,7 @@ TEST(RangeModelTest, NonFiniteNegativeAndTooCloseAreDroppedAndCounted) {
 }
 
 TEST(RangeModelTest, CountsAccumulateOverScans) {
-  const io::ScannerPreset sick = Lms291Preset();
+  const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   std::vector<float> r(sick.num_beams, 6.0f);
   r[0] = 80.0f;
   RangeCounts counts;
@@ -158,7 +121,7 @@ TEST(RangeModelTest, CountsAccumulateOverScans) {
 }
 
 TEST(RangeModelTest, FlagsBothSidesOfARangeJumpAndAMixedPixel) {
-  const io::ScannerPreset sick = Lms291Preset();
+  const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   std::vector<float> r(sick.num_beams, 8.0f);
   // A trunk at 5 m on beams 60..63 in front of the 8 m wall, and a mixed pixel (seed 001 §4.5)
   // between trunk and wall on beam 64.
@@ -192,7 +155,7 @@ TEST(RangeModelTest, FlagsBothSidesOfARangeJumpAndAMixedPixel) {
 TEST(RangeModelTest, SmoothWallIsNotFlaggedEvenAtHighIncidence) {
   // A flat wall 8 m ahead seen from −65° to +65°: the range grows by up to 0.7 m a beam at the
   // sides, yet there is no depth edge. Noise as the LMS 291 (1 cm, cm mode).
-  const io::ScannerPreset sick = Lms291Preset();
+  const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, sick.range_sigma_m);
   std::vector<float> r(sick.num_beams, 80.0f);
@@ -211,7 +174,7 @@ TEST(RangeModelTest, SmoothWallIsNotFlaggedEvenAtHighIncidence) {
 }
 
 TEST(RangeModelTest, EmptyScanGivesNoPoints) {
-  const io::ScannerPreset sick = Lms291Preset();
+  const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   RangeCounts counts;
   const ScanPoints pts = ToScanPoints(ScanFor(sick, {}), sick, 0.5, 0.15, &counts);
   EXPECT_TRUE(pts.p_scanner_m.empty());

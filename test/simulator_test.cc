@@ -1,4 +1,5 @@
 #include "calib/simulator.h"
+#include "test/shipped_presets.h"
 
 #include <gtest/gtest.h>
 
@@ -15,60 +16,10 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
-// ---- Presets as in configs/scanners/*.yaml ---------------------------------------------------
-io::ScannerPreset SickLms291() {
-  io::ScannerPreset p;
-  p.name = "sick_lms291";
-  p.num_beams = 181;
-  p.start_angle_rad = -90.0 * kDeg;
-  p.angular_step_rad = 1.0 * kDeg;
-  p.rate_hz = 75.0;
-  p.min_range_m = 0.0;
-  p.max_range_m = 80.0;
-  p.error_codes_below_m = 0.0;
-  p.max_range_is_no_return = true;
-  p.range_resolution_m = 0.01;
-  p.sim_scale_n = 1.0;
-  p.sim_offset_c_m = 0.0;
-  p.range_sigma_m = 0.010;
-  p.max_incidence_rad = 75.0 * kDeg;
-  return p;
-}
-
-io::ScannerPreset SickLms200() {
-  io::ScannerPreset p = SickLms291();
-  p.name = "sick_lms200";
-  p.max_range_m = 8.183;
-  p.range_resolution_m = 0.001;
-  p.range_scale_k = 1.0002;
-  p.range_offset_b_m = -0.0036;
-  p.sim_scale_n = 0.9998;
-  p.sim_offset_c_m = 0.0036;
-  p.range_sigma_m = 0.0053;
-  p.max_incidence_rad = 70.0 * kDeg;
-  return p;
-}
-
-io::ScannerPreset HokuyoUrg04lx() {
-  io::ScannerPreset p;
-  p.name = "hokuyo_urg04lx";
-  p.num_beams = 682;
-  p.start_angle_rad = -119.70703125 * kDeg;
-  p.angular_step_rad = 0.3515625 * kDeg;
-  p.rate_hz = 10.0;
-  p.min_range_m = 0.020;
-  p.max_range_m = 4.095;
-  p.error_codes_below_m = 0.020;
-  p.max_range_is_no_return = false;
-  p.range_resolution_m = 0.001;
-  p.range_scale_k = 1.0102;
-  p.range_offset_b_m = -0.0070;
-  p.sim_scale_n = 0.9899;
-  p.sim_offset_c_m = 0.0070;
-  p.range_sigma_m = 0.0029;
-  p.max_incidence_rad = 70.0 * kDeg;
-  return p;
-}
+// ---- The shipped presets (configs/scanners/*.yaml) -------------------------------------------
+io::ScannerPreset SickLms291() { return testing_support::ShippedPreset("sick_lms291"); }
+io::ScannerPreset SickLms200() { return testing_support::ShippedPreset("sick_lms200"); }
+io::ScannerPreset HokuyoUrg04lx() { return testing_support::ShippedPreset("hokuyo_urg04lx"); }
 
 // A few beams at 1 Hz: for long runs where only GNSS, heading or scan counts matter.
 io::ScannerPreset CheapPreset(double rate_hz = 1.0) {

@@ -1,4 +1,5 @@
 #include "calib/wall_detector.h"
+#include "test/shipped_presets.h"
 
 #include <gtest/gtest.h>
 
@@ -63,40 +64,6 @@ double Cast(const Scene& scene, const Eigen::Vector2d& u) {
     if (t > 0.0) best = std::min(best, t);
   }
   return best;
-}
-
-io::ScannerPreset Lms291Preset() {
-  io::ScannerPreset p;
-  p.name = "sick_lms291";
-  p.num_beams = 181;
-  p.start_angle_rad = -90.0 * kDeg;
-  p.angular_step_rad = 1.0 * kDeg;
-  p.min_range_m = 0.0;
-  p.max_range_m = 80.0;
-  p.error_codes_below_m = 0.0;
-  p.max_range_is_no_return = true;
-  p.range_resolution_m = 0.01;
-  p.range_sigma_m = 0.010;
-  return p;
-}
-
-io::ScannerPreset UrgPreset() {
-  io::ScannerPreset p;
-  p.name = "hokuyo_urg04lx";
-  p.num_beams = 682;
-  p.start_angle_rad = -119.70703125 * kDeg;
-  p.angular_step_rad = 0.3515625 * kDeg;
-  p.min_range_m = 0.020;
-  p.max_range_m = 4.095;
-  p.error_codes_below_m = 0.020;
-  p.max_range_is_no_return = false;
-  p.range_resolution_m = 0.001;
-  p.range_scale_k = 1.0102;
-  p.range_offset_b_m = -0.0070;
-  p.sim_scale_n = 0.9899;
-  p.sim_offset_c_m = 0.0070;
-  p.range_sigma_m = 0.0029;
-  return p;
 }
 
 // True ranges of every beam (+inf: nothing hit).
@@ -169,7 +136,7 @@ void ExpectNearTruth(const WallDetection& det, double theta_rad, double rho_m, d
 // ---- Tests ------------------------------------------------------------------------------------
 
 TEST(WallDetectorTest, FindsCleanWall) {
-  const io::ScannerPreset sick = Lms291Preset();
+  const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   const io::DetectorOptions opt;
   const double theta = 0.3, rho = 7.5;
   Scene scene;
@@ -190,7 +157,7 @@ TEST(WallDetectorTest, FindsCleanWall) {
 }
 
 TEST(WallDetectorTest, ReportedSigmaMatchesScatterOverManyScans) {
-  const io::ScannerPreset sick = Lms291Preset();
+  const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   const io::DetectorOptions opt;
   const double theta = 0.3, rho = 7.5;
   Scene scene;
@@ -241,7 +208,7 @@ TEST(WallDetectorTest, ReportedSigmaMatchesScatterOverManyScans) {
 }
 
 TEST(WallDetectorTest, FindsWallBehindTrees) {
-  const io::ScannerPreset sick = Lms291Preset();
+  const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   const io::DetectorOptions opt;
   const double theta = -0.15, rho = 9.0;
   Scene scene;
@@ -261,7 +228,7 @@ TEST(WallDetectorTest, FindsWallBehindTrees) {
 }
 
 TEST(WallDetectorTest, IgnoresSecondWallOutsideGate) {
-  const io::ScannerPreset sick = Lms291Preset();
+  const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   const io::DetectorOptions opt;
   const double theta = 0.0, rho = 10.0;
   Scene scene;
@@ -293,7 +260,7 @@ TEST(WallDetectorTest, IgnoresSecondWallOutsideGate) {
 }
 
 TEST(WallDetectorTest, StrongLineJustOutsideAngleGateIsNotChosen) {
-  const io::ScannerPreset sick = Lms291Preset();
+  const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   io::DetectorOptions opt;
   const double theta = 0.0, rho = 8.0;
   const LineGate gate = Gate(theta, 10.0 * kDeg, rho, 6.0);
@@ -330,7 +297,7 @@ TEST(WallDetectorTest, StrongLineJustOutsideAngleGateIsNotChosen) {
 }
 
 TEST(WallDetectorTest, MixedPixelsDoNotBiasTheLine) {
-  const io::ScannerPreset sick = Lms291Preset();
+  const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   const io::DetectorOptions opt;
   const double theta = 0.05, rho = 8.0;
   Scene scene;
@@ -386,7 +353,7 @@ TEST(WallDetectorTest, MixedPixelsDoNotBiasTheLine) {
 }
 
 TEST(WallDetectorTest, RejectsWhenTooFewInliers) {
-  const io::ScannerPreset sick = Lms291Preset();
+  const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   io::DetectorOptions opt;
   const double theta = 0.0, rho = 8.0;
   Scene scene;
@@ -411,7 +378,7 @@ TEST(WallDetectorTest, RejectsWhenTooFewInliers) {
 }
 
 TEST(WallDetectorTest, SegmentGateDropsPointsBeyondWallEnds) {
-  const io::ScannerPreset sick = Lms291Preset();
+  const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   const io::DetectorOptions opt;
   const double theta = 0.0, rho = 8.0;
   Scene scene;
@@ -441,7 +408,7 @@ TEST(WallDetectorTest, SegmentGateDropsPointsBeyondWallEnds) {
 TEST(WallDetectorTest, HandlesUrgGeometry) {
   // Hokuyo URG-04LX (seed 000): 682 beams over 240°, 4 m range, error codes for no return,
   // range correction k = 1.0102, b = −7 mm undoing the simulation model n, c. A room corner.
-  const io::ScannerPreset urg = UrgPreset();
+  const io::ScannerPreset urg = testing_support::ShippedPreset("hokuyo_urg04lx");
   io::DetectorOptions opt;
   opt.min_range_m = 0.1;
   const double theta = 0.1, rho = 2.0;
