@@ -785,8 +785,8 @@ std::string FormatSummary(const CalibrationResult& result) {
                   "  residuals  RMS %.4f m over %d observations, %d outliers (> 3 sigma)\n",
                   e.residual_rms_m, e.observations_used, e.observations_rejected);
     out << line;
-    out << "  yaw        relative to the heading sensor's zero (a constant heading bias is "
-           "indistinguishable from mount yaw)\n";
+    out << "  yaw        relative to the heading sensor's zero at the first scan used (a "
+           "constant heading bias is indistinguishable from mount yaw)\n";
     if (e.independent_stations > 0.0) {
       std::snprintf(line, sizeof(line),
                     "  gnss error %.1f independent realisations over the stations (RTK error "
