@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -61,7 +62,9 @@ struct ProgramRun {
 // Runs the inspect program; stdout and stderr captured separately.
 ProgramRun RunInspectProgram(const std::string& args) {
   ProgramRun run;
-  const fs::path err_file = fs::path(::testing::TempDir()) / "inspect_test_stderr.txt";
+  // One file per process: ctest runs the tests of this file in parallel processes.
+  const fs::path err_file = fs::path(::testing::TempDir()) /
+                            ("inspect_test_stderr_" + std::to_string(::getpid()) + ".txt");
   const std::string command = kInspect + " " + args + " 2>" + err_file.string();
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return run;
