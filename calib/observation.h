@@ -33,6 +33,18 @@ struct WallGeometry {
   // at the wall's centre, and direction. Used as priors on the wall nuisance parameters.
   double sigma_offset_m = 0.0;
   double sigma_angle_rad = 0.0;
+  // The covariance of the two (m·rad; the rotation error of the tie moves the offset at the
+  // centre when the centre is not abreast of the control centroid).
+  double cov_offset_angle = 0.0;
+  // The part every wall of a session shares: all of them are moved by the same survey tie
+  // (calib/survey_tie.h), a translation error of tie_sigma_translation_m per axis and a
+  // rotation error of tie_sigma_rotation_rad about the control centroid, which moves this
+  // wall's offset by tie_lever_m (m, the centre's distance along the wall from the control
+  // centroid) per radian. Zero for walls made without a tie: the solver then takes the walls'
+  // errors as independent.
+  double tie_sigma_translation_m = 0.0;
+  double tie_sigma_rotation_rad = 0.0;
+  double tie_lever_m = 0.0;
   int num_points = 0;
   double rms_m = 0.0;  // total-least-squares residual RMS of the surveyed points
 };
@@ -46,10 +58,10 @@ struct VehiclePose {
   bool stationary = false;
   int segment = -1;  // the station (dwell index) or, moving, the time slice; -1 none
   // The slice of time sharing one value of the correlated GNSS error (one 2-D bias in the
-  // solver, chained to its neighbours by the Gauss–Markov prior). Moving: the same as segment.
-  // In a dwell: a slice of at most alignment.segment_max_s of it, since the RTK error wanders
-  // within a long dwell (τ ≈ 1 min). -1: use `segment` (observations not built by the
-  // pose interpolator).
+  // solver, chained to its neighbours by the Gauss–Markov prior): floor((t − start) /
+  // alignment.segment_max_s), one time grid whether the vehicle stands or drives, since the
+  // RTK error wanders within a dwell (τ ≈ 1 min). -1: use `segment` (observations not built
+  // by the pose interpolator).
   int gnss_segment = -1;
   // Rates at that instant (from the GNSS and heading samples around it), for the pose at a
   // slightly different time: p(t + dt) ≈ p + v·dt, ψ(t + dt) ≈ ψ + ω·dt (scanner clock offset).

@@ -236,6 +236,11 @@ std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
     wall.sigma_offset_m = std::sqrt(var_offset_fit + var_offset_tie);
     wall.sigma_angle_rad =
         std::sqrt(var_angle_fit + tie.sigma_rotation_rad * tie.sigma_rotation_rad);
+    wall.cov_offset_angle = centre_along_m * var_angle_fit +
+                            tie.sigma_rotation_rad * tie.sigma_rotation_rad * lever_m;
+    wall.tie_sigma_translation_m = tie.sigma_translation_m;
+    wall.tie_sigma_rotation_rad = tie.sigma_rotation_rad;
+    wall.tie_lever_m = lever_m;
     walls.push_back(wall);
   }
   return walls;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -10,6 +11,18 @@
 
 namespace wallcal::calib {
 namespace {
+
+// Moving data: the length of the stretches that count as one "station" (pose.segment).
+constexpr double kMovingStretchS = 5.0;
+
+// floor(elapsed_s / length_s) as an int, 0 for a non-positive length or elapsed time, clamped
+// below INT_MAX (a slice key must never overflow, whatever the stamps).
+int SliceIndex(double elapsed_s, double length_s) {
+  if (!(length_s > 0.0) || !(elapsed_s > 0.0)) return 0;
+  const double slice = std::floor(elapsed_s / length_s);
+  constexpr double kMax = static_cast<double>(std::numeric_limits<int>::max() - (1 << 20));
+  return static_cast<int>(std::min(slice, kMax));
+}
 
 template <typename Sample>
 void CheckStream(const std::vector<Sample>& samples, const char* what) {
@@ -163,28 +176,17 @@ PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
     pose->dwell_yaw_rad = dwell.mean_yaw_rad;
     pose->dwell_yaw_samples = dwell.num_yaw_samples;
     pose->dwell_mid_s = 0.5 * (dwell.start_s + dwell.end_s);
-    // GNSS-error slices within the dwell: keys above every moving slice's, kSlicesPerDwell
-    // apart per dwell (a dwell of up to 1024 slices, 85 min at 5 s).
-    constexpr int kDwellSliceBase = 1 << 20;
-    constexpr int kSlicesPerDwell = 1 << 10;
-    const int slice =
-        options_.segment_max_s > 0.0
-            ? std::min(kSlicesPerDwell - 1,
-                       static_cast<int>(std::floor((stamp_s - dwell.start_s) /
-                                                   options_.segment_max_s)))
-            : 0;
-    pose->gnss_segment = kDwellSliceBase + pose->segment * kSlicesPerDwell + std::max(0, slice);
   } else {
     pose->dwell_yaw_rad = 0.0;
     pose->dwell_yaw_samples = 0;
     pose->dwell_mid_s = 0.0;
-    const int slice =
-        options_.segment_max_s > 0.0
-            ? static_cast<int>(std::floor((stamp_s - start_s_) / options_.segment_max_s))
-            : 0;
-    pose->segment = static_cast<int>(dwells_.size()) + slice;
-    pose->gnss_segment = pose->segment;
+    // Moving scans count in stretches of kMovingStretchS as "stations" (geometry checks,
+    // bootstrap by station); their GNSS error is sliced finer, below.
+    pose->segment = static_cast<int>(dwells_.size()) + SliceIndex(stamp_s - start_s_, kMovingStretchS);
   }
+  // The GNSS-error slice: the RTK error is a function of time, so the slices are one grid of
+  // segment_max_s over the log, whether the vehicle stands or drives (a dwell spans many).
+  pose->gnss_segment = SliceIndex(stamp_s - start_s_, options_.segment_max_s);
   // Rates by central differences over a window (half the stationary window each side, at
   // least one sample period): a single GNSS period would turn 3 mm of white noise into cm/s.
   // The window is clipped to the span where both streams interpolate. Computed inside dwells

@@ -60,8 +60,10 @@ class PoseInterpolator {
   // Never extrapolates: outside [start_s(), end_s()] -> kBeforeStart / kAfterEnd; a bracketing
   // pair of samples further apart than the stream's max gap -> kGnssGap / kHeadingGap (GNSS
   // checked first). On kOk fills every field of *pose: stationary = inside a dwell; segment =
-  // the dwell's index inside one, otherwise dwells().size() + floor((t − start_s()) /
-  // segment_max_s) so that moving scans in one time slice share a GNSS-error segment;
+  // the dwell's index inside one, otherwise dwells().size() + floor((t − start_s()) / 5 s)
+  // (a 5 s stretch of driving counts as one station for the geometry checks and the
+  // bootstrap); gnss_segment = floor((t − start_s()) / segment_max_s), the GNSS-error slice
+  // on one time grid for standing and moving scans alike;
   // velocity_local_mps and yaw_rate_rps = central differences over ±half the stationary
   // window (clipped to the streams; a few mm/s of noise inside a dwell). Inside a dwell also
   // dwell_yaw_rad / dwell_yaw_samples / dwell_mid_s from the Dwell; outside them 0.

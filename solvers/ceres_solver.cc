@@ -9,6 +9,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
@@ -39,9 +40,10 @@ constexpr double kRejectWhitenedNorm = 3.0;
 // computed with, the problem is rebuilt with the solution's lever arms and solved once more.
 constexpr double kLeverRebuildDistanceM = 0.05;
 
-// Segments closer in time than ~τ/2000 are one GNSS error: ρ is capped so that the chain step's
-// σ (σ_b √(1 − ρ²)) stays a usable weight.
-constexpr double kMaxSegmentCorrelation = 0.999;
+// Slices closer in time than ~τ/10⁵ are one GNSS error: ρ is capped so that the chain step's
+// σ (σ_b √(1 − ρ²) ≥ 0.0045 σ_b) stays a usable weight. Slices are 0.5 s by default, so
+// ρ = 0.99917 at τ = 600 s must pass uncapped.
+constexpr double kMaxSegmentCorrelation = 0.99999;
 
 // Fewer independent GNSS-error realisations than this (all stations within about one τ): warn.
 constexpr double kMinIndependentStations = 1.5;
@@ -102,6 +104,33 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
   covariance(0, 1) += ell_m * heading_variance;
   covariance(1, 0) += ell_m * heading_variance;
   covariance(1, 1) += heading_variance;
+  return covariance;
+}
+
+Eigen::MatrixXd WallPriorCovariance(const std::vector<calib::WallGeometry>& walls,
+                                    const std::vector<int>& indices) {
+  const int n = static_cast<int>(indices.size());
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  for (int i = 0; i < n; ++i) {
+    const calib::WallGeometry& a = walls[indices[i]];
+    covariance(2 * i, 2 * i) = a.sigma_offset_m * a.sigma_offset_m;
+    covariance(2 * i + 1, 2 * i + 1) = a.sigma_angle_rad * a.sigma_angle_rad;
+    covariance(2 * i, 2 * i + 1) = covariance(2 * i + 1, 2 * i) = a.cov_offset_angle;
+    for (int j = 0; j < n; ++j) {
+      if (j == i) continue;
+      const calib::WallGeometry& b = walls[indices[j]];
+      // The shared tie: translation t (σ_t per axis) and rotation r (σ_r) about the control
+      // centroid; δd = n·t + ℓ r, δα = r. Walls without tie information share nothing.
+      const double st = std::min(a.tie_sigma_translation_m, b.tie_sigma_translation_m);
+      const double sr = std::min(a.tie_sigma_rotation_rad, b.tie_sigma_rotation_rad);
+      const double sr2 = sr * sr;
+      covariance(2 * i, 2 * j) =
+          st * st * a.normal_local.dot(b.normal_local) + sr2 * a.tie_lever_m * b.tie_lever_m;
+      covariance(2 * i, 2 * j + 1) = sr2 * a.tie_lever_m;
+      covariance(2 * i + 1, 2 * j) = sr2 * b.tie_lever_m;
+      covariance(2 * i + 1, 2 * j + 1) = sr2;
+    }
+  }
   return covariance;
 }
 
@@ -324,23 +353,51 @@ std::unique_ptr<MountProblem> BuildMountProblem(
   }
   if (!loss_used) delete loss;
 
-  // Wall priors. A σ of 0 means the survey is taken as exact in that coordinate: the coordinate
-  // is held constant (the whole block when both are 0) rather than given an infinite weight.
+  // Wall priors, joint over the walls in the problem (they share the survey tie, see
+  // WallPriorCovariance). A σ of 0 means the survey is taken as exact in that coordinate: the
+  // coordinate is held constant (the whole block when both are 0) rather than given an
+  // infinite weight, and is left out of the prior.
+  std::vector<int> prior_walls;
+  std::vector<std::pair<int, int>> prior_coordinates;  // (index into prior_walls, 0 d / 1 α)
   for (int w : walls_used) {
     double* block = mp->wall_deltas[w].data();
-    const double sigma_offset_m = walls[w].sigma_offset_m;
-    const double sigma_angle_rad = walls[w].sigma_angle_rad;
-    if (!(sigma_offset_m > 0.0) && !(sigma_angle_rad > 0.0)) {
+    const bool offset_free = walls[w].sigma_offset_m > 0.0;
+    const bool angle_free = walls[w].sigma_angle_rad > 0.0;
+    if (!offset_free && !angle_free) {
       mp->problem.SetParameterBlockConstant(block);
       continue;
     }
-    Eigen::Vector2d prior_sigma(sigma_offset_m, sigma_angle_rad);
-    if (!(sigma_offset_m > 0.0) || !(sigma_angle_rad > 0.0)) {
-      const int fixed = sigma_offset_m > 0.0 ? 1 : 0;
-      prior_sigma[fixed] = 1.0;  // the coordinate stays 0, so its prior residual stays 0
-      mp->problem.SetManifold(block, new ceres::SubsetManifold(2, {fixed}));
+    if (!offset_free || !angle_free) {
+      mp->problem.SetManifold(block, new ceres::SubsetManifold(2, {offset_free ? 1 : 0}));
     }
-    mp->problem.AddResidualBlock(ZeroMeanPriorCost::Create(prior_sigma), nullptr, block);
+    const int index = static_cast<int>(prior_walls.size());
+    prior_walls.push_back(w);
+    if (offset_free) prior_coordinates.emplace_back(index, 0);
+    if (angle_free) prior_coordinates.emplace_back(index, 1);
+  }
+  if (!prior_coordinates.empty()) {
+    const Eigen::MatrixXd full = WallPriorCovariance(walls, prior_walls);
+    const int k = static_cast<int>(prior_coordinates.size());
+    Eigen::MatrixXd covariance(k, k);
+    for (int r = 0; r < k; ++r) {
+      for (int c = 0; c < k; ++c) {
+        covariance(r, c) = full(2 * prior_coordinates[r].first + prior_coordinates[r].second,
+                                2 * prior_coordinates[c].first + prior_coordinates[c].second);
+      }
+    }
+    Eigen::LLT<Eigen::MatrixXd> llt(covariance);
+    if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().minCoeff() > 0.0)) {
+      // Not positive definite (inconsistent σ's of hand-made walls): the marginals alone.
+      covariance = Eigen::MatrixXd(covariance.diagonal().asDiagonal());
+      llt.compute(covariance);
+    }
+    const Eigen::MatrixXd whitening =
+        llt.matrixL().solve(Eigen::MatrixXd::Identity(k, k));
+    std::vector<double*> blocks;
+    for (int w : prior_walls) blocks.push_back(mp->wall_deltas[w].data());
+    mp->problem.AddResidualBlock(
+        new JointPriorCost(whitening, prior_coordinates, std::vector<int>(blocks.size(), 2)),
+        nullptr, blocks);
   }
   // GNSS bias priors: a first-order Gauss–Markov chain in time (the RTK error is correlated
   // over τ, and stations are often closer in time than that: independent priors per station
@@ -424,20 +481,31 @@ Eigen::Matrix3d MountInformation(MountProblem& mp) {
       jacobian.num_rows, jacobian.num_cols, static_cast<int>(jacobian.values.size()),
       jacobian.rows.data(), jacobian.cols.data(), jacobian.values.data());
   const Eigen::SparseMatrix<double> jc = j;  // column major for the product
-  const Eigen::MatrixXd h = Eigen::MatrixXd(jc.transpose() * jc);
+  const Eigen::SparseMatrix<double> jt = jc.transpose();
+  const Eigen::SparseMatrix<double> h = jt * jc;
   const int n = static_cast<int>(h.rows()) - 3;
-  Eigen::Matrix3d information = h.topLeftCorner<3, 3>();
+  Eigen::Matrix3d information = Eigen::Matrix3d(h.topLeftCorner(3, 3));
   if (n > 0) {
     // Schur complement: the nuisance block has priors on every coordinate, so it is positive
-    // definite. Its scales differ by many orders of magnitude (a drift rate in rad/s with a
-    // prior of 2.4e-6 has information ~1e11, a GNSS bias ~1e4): factor it Jacobi-scaled to a
-    // unit diagonal, with a tiny ridge against round-off only.
-    Eigen::MatrixXd hnn = h.bottomRightCorner(n, n);
-    Eigen::VectorXd scale = hnn.diagonal().cwiseAbs().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+    // definite. It is sparse (a GNSS-error slice touches its neighbours in the Gauss–Markov
+    // chain and the few session-wide blocks: walls, drift, clock offset) and large for long
+    // sessions (two unknowns per 0.5 s slice): factored as a sparse LDLᵀ. Its scales differ by
+    // many orders of magnitude (a drift rate in rad/s with a prior of 2.4e-6 has information
+    // ~1e11, a GNSS bias ~1e4): Jacobi-scaled to a unit diagonal, with a tiny ridge against
+    // round-off only.
+    Eigen::SparseMatrix<double> hnn = h.bottomRightCorner(n, n);
+    Eigen::VectorXd scale(n);
+    for (int k = 0; k < n; ++k) {
+      scale[k] = 1.0 / std::sqrt(std::max(std::abs(hnn.coeff(k, k)), 1e-300));
+    }
     hnn = scale.asDiagonal() * hnn * scale.asDiagonal();
-    hnn.diagonal().array() += 1e-12;
-    const Eigen::LDLT<Eigen::MatrixXd> ldlt(hnn);
-    const Eigen::MatrixXd hnm = scale.asDiagonal() * h.bottomLeftCorner(n, 3);
+    Eigen::SparseMatrix<double> ridge(n, n);
+    ridge.setIdentity();
+    hnn += 1e-12 * ridge;
+    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(hnn);
+    if (ldlt.info() != Eigen::Success) return Eigen::Matrix3d::Zero();
+    const Eigen::MatrixXd hnm =
+        scale.asDiagonal() * Eigen::MatrixXd(h.bottomLeftCorner(n, 3));
     information -= hnm.transpose() * ldlt.solve(hnm);
   }
   return 0.5 * (information + information.transpose());

@@ -71,6 +71,14 @@ struct MountProblem {
   ceres::Problem problem;
 };
 
+// The joint prior covariance of the wall nuisance parameters [δd_0, δα_0, δd_1, δα_1, ...]
+// (m², m·rad, rad²) of walls[indices[0]], walls[indices[1]], ...: each wall's own σ's and
+// cov_offset_angle on the diagonal blocks; between two walls the part of the survey tie they
+// share (WallGeometry::tie_*: the same translation, seen along each wall's normal, and the same
+// rotation about the control centroid). Walls made without a tie share nothing.
+Eigen::MatrixXd WallPriorCovariance(const std::vector<calib::WallGeometry>& walls,
+                                    const std::vector<int>& indices);
+
 // Builds the problem (see wall_line_cost.h and prior_cost.h for the residuals). The noise model
 // of each observation uses `lever_mount` for the lever arm that turns heading noise into rho
 // noise; the parameters start at `initial`. Assumes CheckObservability passed (wall indices in

@@ -11,8 +11,11 @@
 // No robust loss: the prior is the model, not a measurement that can be an outlier.
 
 #include <ceres/autodiff_cost_function.h>
+#include <ceres/cost_function.h>
 
 #include <Eigen/Core>
+#include <utility>
+#include <vector>
 
 namespace wallcal::solvers {
 
@@ -80,6 +83,50 @@ class ScalarPriorCost {
 
  private:
   double inverse_sigma_;
+};
+
+// A zero-mean Gaussian prior on several coordinates spread over several parameter blocks,
+// with a full covariance Σ (k × k): r = W x, W = L⁻¹ with L Lᵀ = Σ (dimensionless). Used for
+// the walls' [δd_m, δα_rad] jointly: every wall of a session hangs on the same survey tie, so
+// their errors are correlated (calib::WallGeometry, solvers/ceres_solver.cc). `coordinates`
+// names, for each of the k entries of x in order, (parameter block index, coordinate in it);
+// `block_sizes` gives each block's size. Coordinates of a block not named are not in the prior
+// (their Jacobian column is 0). Linear, so the Jacobian is W itself, scattered into the blocks.
+class JointPriorCost : public ceres::CostFunction {
+ public:
+  JointPriorCost(const Eigen::MatrixXd& whitening, std::vector<std::pair<int, int>> coordinates,
+                 const std::vector<int>& block_sizes)
+      : whitening_(whitening), coordinates_(std::move(coordinates)) {
+    set_num_residuals(static_cast<int>(whitening_.rows()));
+    for (int size : block_sizes) mutable_parameter_block_sizes()->push_back(size);
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const int k = static_cast<int>(coordinates_.size());
+    Eigen::VectorXd x(k);
+    for (int j = 0; j < k; ++j) x[j] = parameters[coordinates_[j].first][coordinates_[j].second];
+    Eigen::Map<Eigen::VectorXd>(residuals, k) = whitening_ * x;
+    if (jacobians == nullptr) return true;
+    const std::vector<int32_t>& sizes = parameter_block_sizes();
+    for (size_t b = 0; b < sizes.size(); ++b) {
+      if (jacobians[b] == nullptr) continue;
+      // Row-major k × sizes[b].
+      std::fill(jacobians[b], jacobians[b] + k * sizes[b], 0.0);
+    }
+    for (int j = 0; j < k; ++j) {
+      const auto [block, coordinate] = coordinates_[j];
+      if (jacobians[block] == nullptr) continue;
+      for (int r = 0; r < k; ++r) {
+        jacobians[block][r * sizes[block] + coordinate] = whitening_(r, j);
+      }
+    }
+    return true;
+  }
+
+ private:
+  Eigen::MatrixXd whitening_;
+  std::vector<std::pair<int, int>> coordinates_;
 };
 
 }  // namespace wallcal::solvers

@@ -229,33 +229,38 @@ TEST(TimeAlignmentTest, NoiseFreeStopsAreExactToOneSample) {
 TEST(TimeAlignmentTest, SegmentsSeparateStationsAndTimeSlices) {
   const Drive drive = MakeDrive(kStopAndGo, 0.003, 0.0009, 9);
   io::AlignmentOptions options;
-  options.segment_max_s = 10.0;
+  options.segment_max_s = 2.0;
   const PoseInterpolator poses(drive.positions, drive.yaws, options);
   ASSERT_EQ(poses.dwells().size(), 3u);
   const double start = poses.start_s();
   VehiclePose pose;
-  // Inside each dwell: stationary, segment = dwell index.
+  // Inside each dwell: stationary, segment = dwell index; the GNSS slice is on the time grid.
   for (int i = 0; i < 3; ++i) {
     const Dwell& dwell = poses.dwells()[i];
-    ASSERT_EQ(poses.At(0.5 * (dwell.start_s + dwell.end_s), &pose), PoseStatus::kOk);
+    const double t = 0.5 * (dwell.start_s + dwell.end_s);
+    ASSERT_EQ(poses.At(t, &pose), PoseStatus::kOk);
     EXPECT_TRUE(pose.stationary);
     EXPECT_EQ(pose.segment, i);
+    EXPECT_EQ(pose.gnss_segment, static_cast<int>(std::floor((t - start) / 2.0)));
   }
-  // Moving: 3 + floor((t − start) / 10). Driving from 0–5 s and 9–15 s (slices 0 and 1).
-  ASSERT_EQ(poses.At(start + 2.0, &pose), PoseStatus::kOk);
+  // Moving: station stretches of 5 s, 3 + floor((t − start) / 5), whatever segment_max_s;
+  // GNSS slices of segment_max_s. Driving from 0–5 s and 9–15 s.
+  ASSERT_EQ(poses.At(start + 1.0, &pose), PoseStatus::kOk);
   EXPECT_FALSE(pose.stationary);
   EXPECT_EQ(pose.segment, 3);
-  int segment_a = -1;
+  EXPECT_EQ(pose.gnss_segment, 0);
   ASSERT_EQ(poses.At(start + 4.0, &pose), PoseStatus::kOk);
-  segment_a = pose.segment;
-  EXPECT_EQ(segment_a, 3);  // same slice as t = 2 s
+  EXPECT_EQ(pose.segment, 3);       // same stretch as t = 1 s
+  EXPECT_EQ(pose.gnss_segment, 2);  // a later GNSS slice
   ASSERT_EQ(poses.At(start + 12.0, &pose), PoseStatus::kOk);
   EXPECT_FALSE(pose.stationary);
-  EXPECT_EQ(pose.segment, 4);
+  EXPECT_EQ(pose.segment, 5);
+  EXPECT_EQ(pose.gnss_segment, 6);
   // Turning on the spot (20–23 s) is not a station.
   ASSERT_EQ(poses.At(start + 21.5, &pose), PoseStatus::kOk);
   EXPECT_FALSE(pose.stationary);
-  EXPECT_EQ(pose.segment, 5);
+  EXPECT_EQ(pose.segment, 7);
+  EXPECT_EQ(pose.gnss_segment, 10);
 }
 
 TEST(TimeAlignmentTest, MovingPosesCarryVelocityAndYawRate) {
