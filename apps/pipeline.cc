@@ -427,6 +427,17 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
                                    "fewer than 2 usable HDT/THS headings; expected a heading log"));
   }
   const calib::PoseInterpolator poses(positions, yaws, options.alignment);
+  if (options.solver.gnss_bias_tau_s > 0.0 &&
+      options.alignment.segment_max_s > options.solver.gnss_bias_tau_s / 20.0) {
+    // The solver holds the RTK error constant within a slice; over a long slice it wanders and
+    // the σ is no longer honest (docs/method.md, "GNSS error").
+    result.warnings.push_back(
+        "alignment.segment_max_s = " + Fmt("%.2f", options.alignment.segment_max_s) +
+        " s is long against the RTK error's correlation time (solver.gnss_bias_tau_s = " +
+        Fmt("%.0f", options.solver.gnss_bias_tau_s) +
+        " s): the error wanders within a slice and the σ may be too small; use at most " +
+        Fmt("%.2f", options.solver.gnss_bias_tau_s / 100.0) + " s");
+  }
   if (!(poses.start_s() < poses.end_s())) {
     throw io::InputError(session.gnss_log + " and " + session.heading_log +
                          ": the GNSS and heading logs do not overlap in time");

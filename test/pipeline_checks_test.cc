@@ -113,6 +113,27 @@ TEST(PipelineChecksTest, MovingScansRecoverAKnownScannerClockOffset) {
   EXPECT_EQ(still.time_offset_sigma_s, 0.0);
 }
 
+TEST(PipelineChecksTest, LongGnssErrorSlicesAreWarnedAbout) {
+  const fs::path dir = Simulated(Sapporo(), 4, "long_slices");
+  const auto warned = [](const CalibrationResult& result) {
+    for (const std::string& w : result.warnings) {
+      if (w.find("alignment.segment_max_s") != std::string::npos) return true;
+    }
+    return false;
+  };
+  // The default (0.5 s against τ = 60 s) is not warned about; 5 s is, with the length to use.
+  const CalibrationResult normal = Calibrate(dir);
+  ASSERT_TRUE(normal.estimate.usable) << normal.estimate.message;
+  EXPECT_FALSE(warned(normal));
+  const CalibrationResult coarse = Calibrate(dir, false, "alignment:\n  segment_max_s: 5.0\n");
+  EXPECT_TRUE(warned(coarse));
+  for (const std::string& w : coarse.warnings) {
+    if (w.find("alignment.segment_max_s") != std::string::npos) {
+      EXPECT_NE(w.find("use at most 0.60 s"), std::string::npos) << w;
+    }
+  }
+}
+
 TEST(PipelineChecksTest, ResidualAnalysisAndRepeatabilityComeWithTheEstimate) {
   const fs::path dir = Simulated(Sapporo(), 3, "analysis");
   const CalibrationResult result = Calibrate(dir, false, "solver:\n  bootstrap_samples: 20\n");
