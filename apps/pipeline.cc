@@ -428,7 +428,7 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
   }
   const calib::PoseInterpolator poses(positions, yaws, options.alignment);
   if (options.solver.gnss_bias_tau_s > 0.0 &&
-      options.alignment.segment_max_s > options.solver.gnss_bias_tau_s / 20.0) {
+      options.alignment.segment_max_s > options.solver.gnss_bias_tau_s / 60.0) {
     // The solver holds the RTK error constant within a slice; over a long slice it wanders and
     // the σ is no longer honest (docs/method.md, "GNSS error").
     result.warnings.push_back(
@@ -436,7 +436,7 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
         " s is long against the RTK error's correlation time (solver.gnss_bias_tau_s = " +
         Fmt("%.0f", options.solver.gnss_bias_tau_s) +
         " s): the error wanders within a slice and the σ may be too small; use at most " +
-        Fmt("%.2f", options.solver.gnss_bias_tau_s / 100.0) + " s");
+        Fmt("%.2f", options.solver.gnss_bias_tau_s / 240.0) + " s");
   }
   if (!(poses.start_s() < poses.end_s())) {
     throw io::InputError(session.gnss_log + " and " + session.heading_log +
@@ -773,7 +773,7 @@ std::string FormatSummary(const CalibrationResult& result) {
                 result.frame.scale_k0);
   out << line;
   std::snprintf(line, sizeof(line),
-                "  geometry   %d stations, %d GNSS segments, grid headings %.1f..%.1f deg, "
+                "  geometry   %d stations, %d GNSS-error slices, grid headings %.1f..%.1f deg, "
                 "vehicle-to-wall angles %.1f..%.1f deg\n",
                 result.num_dwells, result.num_segments_used, result.heading_min_deg,
                 result.heading_max_deg, result.wall_angle_min_deg, result.wall_angle_max_deg);

@@ -1208,7 +1208,7 @@ class ReportBuilder {
     s << "<table>\n" << Row("grid headings used", F("%.1f", r_.heading_min_deg) + "&#176; .. " + F("%.1f", r_.heading_max_deg) + "&#176;")
       << Row("vehicle-to-wall angles", F("%.1f", r_.wall_angle_min_deg) + "&#176; .. " + F("%.1f", r_.wall_angle_max_deg) + "&#176;")
       << Row("stations", N(r_.num_dwells) + " found, " + N(static_cast<int64_t>(stations_.size())) + " with observations")
-      << Row("GNSS segments used", N(r_.num_segments_used)) << "</table>\n</div>\n</section>\n";
+      << Row("GNSS-error slices used", N(r_.num_segments_used)) << "</table>\n</div>\n</section>\n";
     return s.str();
   }
 

@@ -204,25 +204,31 @@ ResidualAnalysis AnalyseResiduals(const std::vector<calib::WallObservation>& obs
     }
   }
 
-  // A GNSS jump is mostly absorbed by the station's bias parameter: look at the estimated
-  // biases against their prior σ as well.
+  // A GNSS jump is mostly absorbed by the GNSS-error slices' bias parameters: look at the
+  // estimated biases against their prior σ as well, one flag per station (its largest slice).
+  std::map<int, int> station_of_slice;  // GNSS-error slice key -> station (pose.segment)
+  for (const auto& o : observations) station_of_slice.emplace(calib::GnssSegment(o), o.pose.segment);
+  std::map<int, std::pair<double, double>> worst;  // station rank -> (ratio, |bias| m)
   for (size_t k = 0; k < estimate.segment_ids.size(); ++k) {
     const double sigma_b =
         k < estimate.segment_bias_sigma_m.size() ? estimate.segment_bias_sigma_m[k] : 0.0;
     if (!(sigma_b > 0.0) || k >= estimate.segment_bias_m.size()) continue;
     const double ratio = estimate.segment_bias_m[k].norm() / sigma_b;
-    if (ratio > kJumpSigmas) {
-      const auto found = rank.find(estimate.segment_ids[k]);
-      analysis.flags.push_back(
-          "a step between stations: a GNSS jump? (station " +
-          std::to_string(found == rank.end() ? -1 : found->second + 1) +
-          Format(": GNSS bias %.3f m, ", estimate.segment_bias_m[k].norm()) +
-          Format("%.1f prior sigma)", ratio));
-      for (ResidualTrend& trend : analysis.trends) {
-        if (trend.against == "station" && !trend.flagged) {
-          trend.flagged = true;
-          trend.message = "a step between stations: a GNSS jump?";
-        }
+    if (!(ratio > kJumpSigmas)) continue;
+    const auto slice = station_of_slice.find(estimate.segment_ids[k]);
+    const auto found = slice == station_of_slice.end() ? rank.end() : rank.find(slice->second);
+    const int station_rank = found == rank.end() ? -1 : found->second;
+    auto& entry = worst[station_rank];
+    if (ratio > entry.first) entry = {ratio, estimate.segment_bias_m[k].norm()};
+  }
+  for (const auto& [station_rank, entry] : worst) {
+    analysis.flags.push_back(
+        "a step between stations: a GNSS jump? (station " + std::to_string(station_rank + 1) +
+        Format(": GNSS bias %.3f m, ", entry.second) + Format("%.1f prior sigma)", entry.first));
+    for (ResidualTrend& trend : analysis.trends) {
+      if (trend.against == "station" && !trend.flagged) {
+        trend.flagged = true;
+        trend.message = "a step between stations: a GNSS jump?";
       }
     }
   }

@@ -38,9 +38,10 @@ struct AlignmentOptions {
   bool use_moving_scans = false;           // scans taken while moving are skipped by default
   // Length of the GNSS-error slices (one 2-D RTK bias each, chained by the Gauss–Markov prior),
   // in dwells and in moving data. The RTK error wanders within a slice; keep it well below the
-  // correlation time τ (about τ/100): with 5 s slices at τ = 60 s the simulated benchmark's y
-  // error was 1.65× the Cramér–Rao bound, with 0.5 s it is at the bound (docs/results.md).
-  double segment_max_s = 0.5;
+  // correlation time τ (about τ/240): with 5 s slices at τ = 60 s the simulated benchmark's y
+  // error was 1.65× the Cramér–Rao bound, with 0.25 s it and its σ are at the bound
+  // (docs/results.md). calibrate warns above τ/60.
+  double segment_max_s = 0.25;
   // Use moving scans anyway when the session has fewer dwells than solver.min_stations (an
   // engineer drove continuously): the solver then also estimates the scanner clock offset.
   bool moving_scans_if_few_stations = true;

@@ -41,8 +41,8 @@ constexpr double kRejectWhitenedNorm = 3.0;
 constexpr double kLeverRebuildDistanceM = 0.05;
 
 // Slices closer in time than ~τ/10⁵ are one GNSS error: ρ is capped so that the chain step's
-// σ (σ_b √(1 − ρ²) ≥ 0.0045 σ_b) stays a usable weight. Slices are 0.5 s by default, so
-// ρ = 0.99917 at τ = 600 s must pass uncapped.
+// σ (σ_b √(1 − ρ²) ≥ 0.0045 σ_b) stays a usable weight. Slices are 0.25 s by default, so
+// ρ = 0.99958 at τ = 600 s must pass uncapped.
 constexpr double kMaxSegmentCorrelation = 0.99999;
 
 // Fewer independent GNSS-error realisations than this (all stations within about one τ): warn.
@@ -489,7 +489,7 @@ Eigen::Matrix3d MountInformation(MountProblem& mp) {
     // Schur complement: the nuisance block has priors on every coordinate, so it is positive
     // definite. It is sparse (a GNSS-error slice touches its neighbours in the Gauss–Markov
     // chain and the few session-wide blocks: walls, drift, clock offset) and large for long
-    // sessions (two unknowns per 0.5 s slice): factored as a sparse LDLᵀ. Its scales differ by
+    // sessions (two unknowns per 0.25 s slice): factored as a sparse LDLᵀ. Its scales differ by
     // many orders of magnitude (a drift rate in rad/s with a prior of 2.4e-6 has information
     // ~1e11, a GNSS bias ~1e4): Jacobi-scaled to a unit diagonal, with a tiny ridge against
     // round-off only.

@@ -121,7 +121,7 @@ TEST(PipelineChecksTest, LongGnssErrorSlicesAreWarnedAbout) {
     }
     return false;
   };
-  // The default (0.5 s against τ = 60 s) is not warned about; 5 s is, with the length to use.
+  // The default (0.25 s against τ = 60 s) is not warned about; 5 s is, with the length to use.
   const CalibrationResult normal = Calibrate(dir);
   ASSERT_TRUE(normal.estimate.usable) << normal.estimate.message;
   EXPECT_FALSE(warned(normal));
@@ -129,7 +129,7 @@ TEST(PipelineChecksTest, LongGnssErrorSlicesAreWarnedAbout) {
   EXPECT_TRUE(warned(coarse));
   for (const std::string& w : coarse.warnings) {
     if (w.find("alignment.segment_max_s") != std::string::npos) {
-      EXPECT_NE(w.find("use at most 0.60 s"), std::string::npos) << w;
+      EXPECT_NE(w.find("use at most 0.25 s"), std::string::npos) << w;
     }
   }
 }

@@ -129,8 +129,16 @@ TEST(ResidualAnalysisTest, GnssJumpAtOneStationIsFlagged) {
   const ResidualAnalysis a = Analyse(Make(1.0, 6, 0.12, 7));  // 12 cm jump at station 7
   ASSERT_TRUE(a.done);
   bool flagged = false;
-  for (const std::string& f : a.flags) flagged = flagged || f.find("GNSS jump") != std::string::npos;
+  int jump_flags = 0;
+  for (const std::string& f : a.flags) {
+    if (f.find("GNSS jump") == std::string::npos) continue;
+    flagged = true;
+    ++jump_flags;
+    // Stations are numbered from 1 in time order: index 6 is the seventh.
+    EXPECT_NE(f.find("(station 7:"), std::string::npos) << f;
+  }
   EXPECT_TRUE(flagged);
+  EXPECT_EQ(jump_flags, 1);  // one flag per station, however many GNSS-error slices it has
   ASSERT_NE(Trend(a, "station"), nullptr);
   EXPECT_TRUE(Trend(a, "station")->flagged);
 }
