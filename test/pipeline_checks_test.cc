@@ -101,9 +101,10 @@ TEST(PipelineChecksTest, MovingScansRecoverAKnownScannerClockOffset) {
   std::printf("[ clock    ] time offset %.4f ± %.4f s (true 0.15)\n", result.time_offset_s,
               result.time_offset_sigma_s);
   EXPECT_GT(result.time_offset_sigma_s, 0.0);
-  // Within 30 ms (the scans at the ends of drives, where the vehicle accelerates, are only
-  // approximately modelled by p + v·dt: the estimate lands ~15 ms short, more than its σ).
-  EXPECT_NEAR(result.time_offset_s, 0.15, 0.03);
+  // The poses are re-interpolated at the estimated scan times (the solver's p + v·dt alone,
+  // poor where the vehicle accelerates, gave 0.135 ± 0.002 s): the truth is within 4σ.
+  EXPECT_LT(std::abs(result.time_offset_s - 0.15), 4.0 * result.time_offset_sigma_s);
+  EXPECT_LT(std::abs(result.time_offset_s - 0.15), 0.005);
   EXPECT_LT(std::abs(result.estimate.mount.x_m - config.mount_x_m), 4.0 * Sigma(result, 0));
 
   // Stations only: the offset is not estimated and says so.
