@@ -369,8 +369,16 @@ void PoseInterpolator::FindDwells() {
   grow_all(&merged);
   merged = merge_all(merged);
 
-  // 5. Long enough runs are the dwells.
-  for (const Run& run : merged) {
+  // 5. Each run loses options_.dwell_guard_s at both ends (the growth of step 3 admits samples
+  // up to its tolerances away from the mean pose: the last moments of a turn); long enough
+  // runs are the dwells.
+  for (const Run& grown : merged) {
+    Run run = grown;
+    const double guard_s = options_.dwell_guard_s;
+    const double first_s = positions_[grown.first].stamp_s + guard_s;
+    const double last_s = positions_[grown.last].stamp_s - guard_s;
+    while (run.first < run.last && positions_[run.first].stamp_s < first_s) ++run.first;
+    while (run.last > run.first && positions_[run.last].stamp_s > last_s) --run.last;
     Dwell dwell;
     dwell.start_s = positions_[run.first].stamp_s;
     dwell.end_s = positions_[run.last].stamp_s;

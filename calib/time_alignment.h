@@ -51,8 +51,9 @@ class PoseInterpolator {
   // still samples are then grown outwards sample by sample while position and yaw stay at the
   // run's mean (the window test alone trims about half a window off each end of a stop), and
   // neighbouring runs at the same pose are merged (one noisy heading pair fails a window and
-  // would cut a station in two); grow and merge are done twice. Runs lasting at least
-  // min_dwell_s are dwells.
+  // would cut a station in two); grow and merge are done twice. Each run then loses
+  // dwell_guard_s at both ends (the growth admits the last moments of a turn, which the dwell's
+  // mean heading would misdescribe); runs still lasting at least min_dwell_s are dwells.
   PoseInterpolator(std::vector<PositionSample> positions, std::vector<YawSample> yaws,
                    const io::AlignmentOptions& options);
 

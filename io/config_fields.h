@@ -38,6 +38,7 @@ void VisitAlignment(V& v, AlignmentOptions& o) {
   v.Scaled("stationary_yaw_rate_deg_per_s", o.stationary_yaw_rate_rps, kDegPerRad);
   v.Number("stationary_window_s", o.stationary_window_s);
   v.Number("min_dwell_s", o.min_dwell_s);
+  v.Number("dwell_guard_s", o.dwell_guard_s);
   v.Boolean("use_moving_scans", o.use_moving_scans);
   v.Number("segment_max_s", o.segment_max_s);
   v.Boolean("moving_scans_if_few_stations", o.moving_scans_if_few_stations);

@@ -72,6 +72,7 @@ void AlignmentOptions::Validate() const {
   }
   CheckPositive("alignment.stationary_window_s", stationary_window_s);
   CheckNonNegative("alignment.min_dwell_s", min_dwell_s);
+  CheckNonNegative("alignment.dwell_guard_s", dwell_guard_s);
   CheckPositive("alignment.segment_max_s", segment_max_s);
 }
 

@@ -36,6 +36,7 @@ TEST(ShippedConfigTest, CalibrateYamlEqualsBuiltInDefaults) {
   EXPECT_NEAR(file.alignment.stationary_yaw_rate_rps, d.alignment.stationary_yaw_rate_rps, tol);
   EXPECT_NEAR(file.alignment.stationary_window_s, d.alignment.stationary_window_s, tol);
   EXPECT_NEAR(file.alignment.min_dwell_s, d.alignment.min_dwell_s, tol);
+  EXPECT_NEAR(file.alignment.dwell_guard_s, d.alignment.dwell_guard_s, tol);
   EXPECT_EQ(file.alignment.use_moving_scans, d.alignment.use_moving_scans);
   EXPECT_NEAR(file.alignment.segment_max_s, d.alignment.segment_max_s, tol);
   EXPECT_NEAR(file.solver.gnss_white_sigma_m, d.solver.gnss_white_sigma_m, tol);
