@@ -44,7 +44,7 @@ constexpr double kRadToDeg = 180.0 / kPi;
 
 struct Scenario {
   std::string name;
-  std::string label;         // (a) ... (f) of the issue / brief
+  std::string label;         // (a) ... (h) of docs/results.md
   std::string sim_file;      // configs/simulate/...
   std::string options_file;  // bench/...
   bool moving = false;       // uses moving scans: the CRB gets a clock-offset unknown too
@@ -67,6 +67,8 @@ std::vector<Scenario> Scenarios() {
        matched, false},
       {"continuous_clock", "(g) (b) with the scanner clock 150 ms behind",
        sim + "bench_lms291_continuous_clock.yaml", moving, true},
+      {"stopgo_moving_clock", "(h) (a) with moving scans and the scanner clock 150 ms behind",
+       sim + "bench_lms291_stopgo_moving_clock.yaml", moving, true},
   };
 }
 

@@ -68,7 +68,7 @@ Mount MountFromArray(const std::array<double, 3>& values) {
 Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       const calib::WallGeometry& wall,
                                       const io::SolverOptions& options, const Mount& lever_mount,
-                                      double bias_sigma_m, bool dwell_heading_model) {
+                                      double bias_sigma_m) {
   const OrientedWall oriented = OrientWall(wall, observation.pose.antenna_local_m);
   Eigen::Matrix2d covariance;
   covariance << observation.sigma_rho_m * observation.sigma_rho_m, observation.cov_rho_theta,
@@ -96,7 +96,7 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
   // A dwell's scans use the dwell's mean heading: its error is common to the dwell and lives
   // in the segment's heading-offset parameter (which turns the lever arm in the cost itself),
   // not in each scan's covariance.
-  const double heading_variance = dwell_heading_model && UsesDwellHeading(observation)
+  const double heading_variance = UsesDwellHeading(observation)
                                       ? 0.0
                                       : options.heading_sigma_rad * options.heading_sigma_rad;
 
@@ -166,18 +166,12 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     int pose_samples = 0;
   };
   std::map<int, DwellHeading> dwell_headings;
-  // When the clock offset is estimated from moving scans, every scan keeps its own yaw (the
-  // per-scan heading model): with dwell-averaged station headings pinning the mount yaw, the
-  // offset came out biased on simulated sessions (0.27 s for a true 0.15 s; open problem,
-  // docs/results.md). Stop-and-go sessions, the default and the long ones, use dwell headings.
-  int moving_count = 0;
-  for (size_t i = 0; i < observations.size(); ++i) {
-    if (weight_of(i) > 0.0 && !observations[i].pose.stationary) ++moving_count;
-  }
-  const bool dwell_heading_model =
-      !(options.time_offset_sigma_s > 0.0 && moving_count >= kMinMovingObservations);
-  const auto uses_dwell = [dwell_heading_model](const calib::WallObservation& observation) {
-    return dwell_heading_model && UsesDwellHeading(observation);
+  // Every dwell's scans use the dwell's heading, also when moving scans and a clock offset are
+  // in the problem. (Until the dwells got their end guard, alignment.dwell_guard_s, the scans
+  // of a turn's last moments sat in the dwells, and with this model the offset came out 0.093 s
+  // for a true 0.15 s; a per-scan heading model was used for such sessions then.)
+  const auto uses_dwell = [](const calib::WallObservation& observation) {
+    return UsesDwellHeading(observation);
   };
   double reference_s = std::numeric_limits<double>::infinity();
   for (const auto& observation : observations) {
@@ -264,7 +258,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     const OrientedWall oriented = OrientWall(wall, observation.pose.antenna_local_m);
     const Eigen::Matrix2d covariance =
         ObservationCovariance(observation, wall, options, lever_mount,
-                              PoseBiasSigma(observation.pose, options), dwell_heading_model);
+                              PoseBiasSigma(observation.pose, options));
     const Eigen::LLT<Eigen::Matrix2d> llt(covariance);
     if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().minCoeff() > 0.0)) {
       if (error != nullptr) {

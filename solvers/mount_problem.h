@@ -114,12 +114,10 @@ Eigen::Matrix3d MountInformation(MountProblem& problem);
 // an observation that uses its own per-scan yaw (moving, see UsesDwellHeading): a dwell's
 // scans use the dwell's mean heading, whose error is the segment's heading-offset parameter.
 // `bias_sigma_m` is the σ that goes into the white part for segment −1 (ignored otherwise).
-// dwell_heading_model false: every observation uses its own yaw (the model when the clock
-// offset is estimated from moving scans, see BuildMountProblem).
 Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       const calib::WallGeometry& wall,
                                       const io::SolverOptions& options, const Mount& lever_mount,
-                                      double bias_sigma_m, bool dwell_heading_model = true);
+                                      double bias_sigma_m);
 
 // Solves and fills the estimate (mount, covariance from ceres::Covariance with every nuisance
 // block free, residuals, report). Never throws; failures come back as usable = false.
