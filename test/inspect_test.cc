@@ -73,10 +73,14 @@ ProgramRun RunInspectProgram(const std::string& args) {
   while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) run.out.append(buffer, n);
   const int raw = ::pclose(pipe);
   run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  std::ifstream in(err_file);
-  std::stringstream text;
-  text << in.rdbuf();
-  run.err = text.str();
+  {
+    std::ifstream in(err_file);
+    std::stringstream text;
+    text << in.rdbuf();
+    run.err = text.str();
+  }
+  std::error_code ignored;
+  fs::remove(err_file, ignored);  // one per process: do not leave them in the temp folder
   return run;
 }
 
