@@ -170,13 +170,10 @@ std::unique_ptr<MountProblem> BuildMountProblem(
   // in the problem. (Until the dwells got their end guard, alignment.dwell_guard_s, the scans
   // of a turn's last moments sat in the dwells, and with this model the offset came out 0.093 s
   // for a true 0.15 s; a per-scan heading model was used for such sessions then.)
-  const auto uses_dwell = [](const calib::WallObservation& observation) {
-    return UsesDwellHeading(observation);
-  };
   double reference_s = std::numeric_limits<double>::infinity();
   for (const auto& observation : observations) {
     reference_s = std::min(reference_s, observation.pose.stamp_s);
-    if (!uses_dwell(observation)) continue;
+    if (!UsesDwellHeading(observation)) continue;
     DwellHeading& entry = dwell_headings[observation.pose.segment];
     entry.sin_sum += std::sin(observation.pose.yaw_rad);
     entry.cos_sum += std::cos(observation.pose.yaw_rad);
@@ -276,7 +273,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     m.drift_time_s = observation.pose.stamp_s - reference_s;
     m.velocity_local_mps = observation.pose.velocity_local_mps;
     m.yaw_rate_rps = observation.pose.yaw_rate_rps;
-    if (uses_dwell(observation)) {
+    if (UsesDwellHeading(observation)) {
       // The true yaw is constant over a dwell: use the dwell's mean heading (and its time for
       // the drift), not this scan's noisy sample. A per-scan heading in the lever-arm rotation
       // would correlate the mount's Jacobian with the residual (errors in variables) and bias
@@ -321,7 +318,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     mp->bias_block.push_back(bias);
     double* heading = mp->no_heading_offset.data();
     const auto station = heading_index.find(observation.pose.segment);
-    if (uses_dwell(observation) && station != heading_index.end() &&
+    if (UsesDwellHeading(observation) && station != heading_index.end() &&
         mp->heading_offset_sigma_rad[station->second] > 0.0) {
       heading = mp->heading_offsets[station->second].data();
     }
