@@ -11,12 +11,13 @@
 #include <optional>
 #include <string>
 
-#include "apps/emit.h"
-#include "apps/pipeline.h"
-#include "apps/report.h"
-#include "io/session_reader.h"
 #include "io/version.h"
 #include "io/writers.h"
+#include "outputs/emit.h"
+#include "outputs/offsets_document.h"
+#include "outputs/report.h"
+#include "outputs/summary.h"
+#include "pipeline/calibration.h"
 
 namespace {
 
@@ -32,7 +33,7 @@ surveyed wall, and writes offsets.yaml.
   --output FILE      where to write the offsets (default: offsets.yaml beside session.yaml)
   --method M         ceres   (default) joint least squares with a robust loss; the sigma includes
                              the survey, control-point and correlated GNSS errors
-                     barawid the closed form of Barawid et al. 2007 (seed 002, Eq. 8-16), for
+                     barawid the closed form of Barawid et al. 2007 (Eq. 8-16), for
                              comparison; its sigma treats every scan as independent
   --config FILE      calibration options (YAML; defaults: configs/calibrate.yaml)
   --report DIR       also write DIR/report.html: one self-contained page (inline SVG plots, no
@@ -57,7 +58,8 @@ On a terminal (stderr is a tty) progress is shown on stderr: scans read / total,
 left, updated in place. When stderr is not a terminal, nothing but the summary and warnings.
 
 Exit status: 0 offsets written; 1 the data cannot determine the mount (nothing written but the
-report); 2 bad input or usage (nothing written). The reason is one line on stderr.
+report); 2 bad input or usage (nothing written); 3 an internal error (a bug: please report it).
+The reason is one line on stderr.
 )";
 
 int Usage(const std::string& message) {
@@ -69,21 +71,18 @@ int Usage(const std::string& message) {
 // progress within a stage is rewritten in place with '\r' at most five times a second.
 class ProgressLine {
  public:
-  void Update(const wallcal::app::Progress& p) {
+  void Update(const wallcal::pipeline::Progress& p) {
     const auto now = Clock::now();
-    if (p.done == 0 && p.total == 0) {
-      // The first counted call of a stage of unknown length looks like an announcement; it
-      // repeats the start of the announcement just made ("first pass" after "first pass: ...").
-      if (!announced_.empty() && announced_.rfind(p.stage, 0) == 0) return;
+    if (!p.counted) {
       Close();
-      std::cerr << "calibrate: " << p.stage << "\n";
-      announced_ = p.stage;
-      stage_.clear();
+      std::cerr << "calibrate: " << p.text << "\n";
+      counting_ = false;
       return;
     }
-    const bool new_stage = p.stage != stage_;
+    const bool new_stage = !counting_ || p.stage != stage_;
     if (new_stage) {
       Close();
+      counting_ = true;
       stage_ = p.stage;
       stage_start_ = now;
       stage_start_done_ = p.done;
@@ -94,7 +93,7 @@ class ProgressLine {
     const double elapsed_s = std::chrono::duration<double>(now - stage_start_).count();
     const double rate = elapsed_s > 0.05 ? (p.done - stage_start_done_) / elapsed_s : 0.0;
     char line[256];
-    int n = std::snprintf(line, sizeof(line), "\rcalibrate:   %s: %lld", p.stage.c_str(),
+    int n = std::snprintf(line, sizeof(line), "\rcalibrate:   %s: %lld", p.text.c_str(),
                           static_cast<long long>(p.done));
     if (p.total > 0 && n > 0 && n < static_cast<int>(sizeof(line))) {
       n += std::snprintf(line + n, sizeof(line) - n, " / %lld scans",
@@ -122,7 +121,8 @@ class ProgressLine {
 
  private:
   using Clock = std::chrono::steady_clock;
-  std::string stage_, announced_;
+  wallcal::pipeline::Stage stage_ = wallcal::pipeline::Stage::kReadingInputs;
+  bool counting_ = false;
   Clock::time_point stage_start_{}, last_draw_{};
   long long stage_start_done_ = 0;
   bool open_ = false;
@@ -131,11 +131,12 @@ class ProgressLine {
 }  // namespace
 
 int main(int argc, char** argv) {
-  namespace app = wallcal::app;
-  app::CalibrateRequest request;
+  namespace pipeline = wallcal::pipeline;
+  namespace outputs = wallcal::outputs;
+  pipeline::CalibrateRequest request;
   std::string output, report_dir;
-  std::optional<app::EmitFormat> emit;
-  app::EmitFrames frames;
+  std::optional<outputs::EmitFormat> emit;
+  outputs::EmitFrames frames;
   bool quiet = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -146,7 +147,7 @@ int main(int argc, char** argv) {
     auto frame = [&](const char* option, std::string* name) -> int {
       const char* v = value();
       if (v == nullptr) return Usage(std::string(option) + " needs a frame name");
-      if (!app::IsValidFrameName(v)) {
+      if (!outputs::IsValidFrameName(v)) {
         return Usage(std::string(option) + ": invalid frame name '" + v +
                      "'; expected letters, digits, '_', '.', '/', '-' (not first)");
       }
@@ -166,9 +167,13 @@ int main(int argc, char** argv) {
     } else if (arg == "--method") {
       const char* v = value();
       if (v == nullptr) return Usage("--method needs ceres or barawid");
-      request.method = v;
-      if (request.method != "ceres" && request.method != "barawid") {
-        return Usage("--method: unknown method '" + request.method + "'; expected ceres or barawid");
+      const std::string method = v;
+      if (method == "ceres") {
+        request.method = wallcal::solvers::Method::kCeres;
+      } else if (method == "barawid") {
+        request.method = wallcal::solvers::Method::kBarawid;
+      } else {
+        return Usage("--method: unknown method '" + method + "'; expected ceres or barawid");
       }
     } else if (arg == "--config") {
       const char* v = value();
@@ -180,8 +185,8 @@ int main(int argc, char** argv) {
       report_dir = v;
     } else if (arg == "--emit") {
       const char* v = value();
-      app::EmitFormat format;
-      if (v == nullptr || !app::ParseEmitFormat(v, &format)) {
+      outputs::EmitFormat format;
+      if (v == nullptr || !outputs::ParseEmitFormat(v, &format)) {
         return Usage(std::string("--emit: ") + (v ? "unknown format '" + std::string(v) + "'" : "no format") +
                      "; expected ros2-static-tf, urdf or json");
       }
@@ -211,19 +216,17 @@ int main(int argc, char** argv) {
   ProgressLine progress_line;
   try {
     const bool show_progress = !quiet && isatty(STDERR_FILENO);
-    app::ProgressFn progress;
+    pipeline::ProgressFn progress;
     if (show_progress) {
-      progress = [&progress_line](const app::Progress& p) { progress_line.Update(p); };
+      progress = [&progress_line](const pipeline::Progress& p) { progress_line.Update(p); };
     }
-    const app::CalibrationResult result = app::RunCalibration(request, progress);
+    request.collect_report_data = !report_dir.empty();
+    const pipeline::CalibrationResult result = pipeline::RunCalibration(request, progress);
     progress_line.Close();
-    summary_out << app::FormatSummary(result);
+    summary_out << outputs::FormatSummary(result);
     if (!report_dir.empty()) {
-      // The same options the run used: the report re-detects a few scans with them.
-      wallcal::io::CalibrateOptions options;
-      if (!request.config_path.empty()) options = wallcal::io::ReadCalibrateOptions(request.config_path);
       if (show_progress) std::cerr << "calibrate: writing the report\n";
-      const std::string path = app::WriteReport(result, options, report_dir);
+      const std::string path = outputs::WriteReport(result, report_dir);
       summary_out << "  report     " << path << "\n";
     }
     if (!result.estimate.usable) {
@@ -231,13 +234,13 @@ int main(int argc, char** argv) {
                 << ": mount not determined: " << result.estimate.message << "\n";
       return 1;
     }
-    if (output.empty()) output = app::DefaultOutputPath(result.session);
+    if (output.empty()) output = pipeline::DefaultOutputPath(result.session);
     wallcal::io::WriteFileAtomically(
-        output, wallcal::io::FormatOffsetsYaml(app::MakeOffsetsDocument(result)));
+        output, wallcal::io::FormatOffsetsYaml(outputs::MakeOffsetsDocument(result)));
     summary_out << "  wrote      " << output << "\n";
     if (emit) {
       summary_out << std::flush;
-      std::cout << app::FormatEmit(*emit, result.estimate, result.session.antenna_in_base, frames)
+      std::cout << outputs::FormatEmit(*emit, result.estimate, result.session.antenna_in_base, frames)
                 << std::flush;
     }
     return 0;

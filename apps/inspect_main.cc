@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "apps/inspect.h"
+#include "preflight/inspect.h"
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
-  return wallcal::app::RunInspect(args, std::cout, std::cerr);
+  return wallcal::preflight::RunInspect(args, std::cout, std::cerr);
 }

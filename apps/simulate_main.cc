@@ -6,7 +6,7 @@
 #include <iostream>
 #include <string>
 
-#include "apps/pipeline.h"
+#include "sim/simulated_session.h"
 #include "io/session_reader.h"
 #include "io/version.h"
 
@@ -17,13 +17,15 @@ constexpr const char* kUsage = R"(usage: simulate [--config FILE] [--seed N] --o
 Writes a synthetic session folder in the format calibrate reads (session.yaml, scans.clf,
 gnss.nmea, heading.nmea, survey.csv) plus truth.yaml: the true mount and every noise setting
 used. The vehicle stops at several headings in front of a surveyed wall and drives between
-them; ranges follow the scanner preset's error model (seeds 000/001), GNSS has time-correlated
+them; ranges follow the scanner preset's error model (Ye & Borenstein 2002; Okubo, Ye & Borenstein 2009), GNSS has time-correlated
 RTK noise, heading a FOG-class drift, the survey total-station noise.
 
   --config FILE   simulation settings (YAML; examples in configs/simulate/; default: built-in)
   --seed N        random seed (default 1); the same config and seed give the same files
   --output DIR    the session folder to write (created if missing; files in it are replaced)
-  --help          this text
+  --help          this text;  --version  the tool version
+
+Exit status: 0 written; 2 bad input or usage; 3 an internal error (a bug: please report it).
 )";
 
 int Usage(const std::string& message) {
@@ -40,6 +42,9 @@ int main(int argc, char** argv) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
       std::cout << kUsage;
+      return 0;
+    } else if (arg == "--version") {
+      std::cout << "wallcal simulate " << wallcal::io::kToolVersion << "\n";
       return 0;
     } else if (arg == "--config" || arg == "--seed" || arg == "--output") {
       if (i + 1 >= argc) return Usage(arg + " needs a value");
@@ -64,7 +69,7 @@ int main(int argc, char** argv) {
   try {
     wallcal::io::SimulationConfig config;
     if (!config_path.empty()) config = wallcal::io::ReadSimulationConfig(config_path);
-    const wallcal::app::SimulateSummary s = wallcal::app::WriteSimulatedSession(config, seed, output);
+    const wallcal::sim::SimulateSummary s = wallcal::sim::WriteSimulatedSession(config, seed, output);
     std::cout << "simulate: wrote " << output << ": " << s.scans_written << " scans ("
               << s.scans_lost << " lost), " << s.fixes << " GNSS fixes, " << s.headings
               << " headings, " << s.survey_points << " survey points, " << s.duration_s

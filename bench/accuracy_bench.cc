@@ -25,11 +25,19 @@
 #include <string>
 #include <vector>
 
-#include "apps/pipeline.h"
+#include "pipeline/calibration.h"
+#include "calib/wall_geometry.h"
+#include "pipeline/config_dirs.h"
+#include "calib/pose_samples.h"
+#include "outputs/offsets_document.h"
+#include "outputs/summary.h"
+#include "sim/simulated_session.h"
+#include "sim/simulator.h"
 #include "bench/crb.h"
-#include "calib/simulator.h"
+#include "sim/simulator.h"
 #include "io/session_reader.h"
 #include "solvers/mount_solver.h"
+#include "common/angles.h"
 
 #ifndef WALLCAL_SOURCE_DIR
 #define WALLCAL_SOURCE_DIR "."
@@ -39,9 +47,6 @@ namespace wallcal::bench {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadToDeg = 180.0 / kPi;
-
 struct Scenario {
   std::string name;
   std::string label;         // (a) ... (h) of docs/results.md
@@ -161,7 +166,7 @@ Args ParseArgs(int argc, char** argv) {
   return args;
 }
 
-std::vector<CrbObservation> CrbObservationsOf(const app::CalibrationResult& result,
+std::vector<CrbObservation> CrbObservationsOf(const pipeline::CalibrationResult& result,
                                               const io::SimulationConfig& config) {
   solvers::Mount truth;
   truth.x_m = config.mount_x_m;
@@ -177,8 +182,8 @@ std::vector<CrbObservation> CrbObservationsOf(const app::CalibrationResult& resu
     if (o.wall_index >= 0 && o.wall_index < static_cast<int>(result.walls.size())) {
       const calib::WallGeometry& wall = result.walls[o.wall_index];
       c.residual = Eigen::Vector2d(
-          o.rho_m - solvers::PredictRho(o, wall, truth),
-          std::remainder(o.theta_rad - solvers::PredictTheta(o, wall, truth), 2.0 * kPi));
+          o.rho_m - calib::PredictRho(o, wall, truth),
+          std::remainder(o.theta_rad - calib::PredictTheta(o, wall, truth), 2.0 * kPi));
       c.has_residual = true;
     }
     out.push_back(c);
@@ -193,9 +198,9 @@ const char* Unit(int axis) { return axis < 2 ? "mm" : "deg"; }
 
 void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
   const io::SimulationConfig config =
-      calib::WithDefaultWalls(io::ReadSimulationConfig(scenario.sim_file));
+      sim::WithDefaultWalls(io::ReadSimulationConfig(scenario.sim_file));
   const io::ScannerPreset preset =
-      io::LoadScannerPreset(config.scanner_model, app::PresetDirs());
+      io::LoadScannerPreset(config.scanner_model, pipeline::PresetDirs());
   const double truth[3] = {config.mount_x_m, config.mount_y_m, config.mount_yaw_rad};
   const fs::path root = fs::temp_directory_path() /
                         ("wallcal_bench_" + std::to_string(::getpid()) + "_" + scenario.name);
@@ -210,17 +215,17 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
   for (int r = 0; r < args.runs; ++r) {
     const uint64_t seed = static_cast<uint64_t>(args.first_seed + r);
     const fs::path dir = root / ("seed" + std::to_string(seed));
-    app::WriteSimulatedSession(config, seed, dir.string());
+    sim::WriteSimulatedSession(config, seed, dir.string());
     for (int m = 0; m < 2; ++m) {
-      app::CalibrateRequest request;
+      pipeline::CalibrateRequest request;
       request.session_path = dir.string();
       request.config_path = args.options.empty() ? scenario.options_file : args.options;
-      request.method = methods[m];
+      request.method = m == 1 ? solvers::Method::kBarawid : solvers::Method::kCeres;
       MethodStats& s = stats[m];
       ++s.runs;
-      app::CalibrationResult result;
+      pipeline::CalibrationResult result;
       try {
-        result = app::RunCalibration(request);
+        result = pipeline::RunCalibration(request);
       } catch (const std::exception& e) {
         ++s.failures[std::string("threw: ") + e.what()];
         continue;

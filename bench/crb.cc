@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "calib/simulator.h"
+#include "sim/simulator.h"
 
 namespace wallcal::bench {
 namespace {
@@ -21,7 +21,7 @@ Eigen::Matrix2d Rotation(double angle_rad) {
 const Eigen::Matrix2d kQuarterTurn = Rotation(0.5 * 3.14159265358979323846);
 
 // ---- Survey: the wall lines as a function of the survey noise -------------------------------
-// The same set-up as calib::Simulate (control points C1, C2 2 m in front of the first surveyed
+// The same set-up as sim::Simulate (control points C1, C2 2 m in front of the first surveyed
 // wall at 5 % and 95 % of it; wall points every survey_spacing_m, two heights each) and the
 // same estimation as calibrate (calib/survey_tie.cc: rigid two-point tie, total least squares
 // per wall), so that the numerical Jacobian of the lines with respect to the noise is the
@@ -230,9 +230,9 @@ CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset
     before.push_back(t - kDt);
     after.push_back(t + kDt);
   }
-  const auto poses = calib::TruePosesAt(config, times);
-  const auto poses_before = calib::TruePosesAt(config, before);
-  const auto poses_after = calib::TruePosesAt(config, after);
+  const auto poses = sim::TruePosesAt(config, times);
+  const auto poses_before = sim::TruePosesAt(config, before);
+  const auto poses_after = sim::TruePosesAt(config, after);
   const Eigen::Vector2d lever(config.mount_x_m, config.mount_y_m);
 
   std::vector<Row> rows;
@@ -251,7 +251,7 @@ CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset
     const double theta = std::atan2(row.n.y(), row.n.x()) - psi - config.mount_yaw_rad;
 
     // Line fit information from the beams on this wall.
-    const auto hits = calib::TrueBeamHits(config, preset, poses[i]);
+    const auto hits = sim::TrueBeamHits(config, preset, poses[i]);
     Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
     int beams = 0;
     const Eigen::Vector2d n_s(std::cos(theta), std::sin(theta));

@@ -7,7 +7,7 @@
 // is random in the simulation is marginalised into their covariance C, propagated linearly at
 // the truth:
 //   - the line fit: Fisher information of (rho, theta) from the beams that hit the wall
-//     (noise-free ray cast, calib::TrueBeamHits), each with the range σ of the preset (after
+//     (noise-free ray cast, sim::TrueBeamHits), each with the range σ of the preset (after
 //     the range correction, quantisation included) projected on the wall normal;
 //   - the GNSS antenna error: Gauss–Markov bias (σ_b, τ: covariance σ_b² exp(−|Δt|/τ) between
 //     scans) plus white noise at the GNSS epochs, interpolated linearly to the scan times;
@@ -45,7 +45,7 @@ struct CrbObservation {
   double t_s = 0.0;
   int surveyed_wall = 0;
   // Optional, for the oracle check: observed minus predicted (rho m, theta rad) at the TRUE
-  // mount from the measured pose and surveyed wall (solvers::PredictRho/PredictTheta).
+  // mount from the measured pose and surveyed wall (calib::PredictRho/PredictTheta).
   bool has_residual = false;
   Eigen::Vector2d residual = Eigen::Vector2d::Zero();
 };

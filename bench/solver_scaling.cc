@@ -27,12 +27,11 @@
 
 #include "io/options.h"
 #include "solvers/mount_solver.h"
+#include "common/angles.h"
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
-
+using wallcal::kDegToRad;
+using wallcal::kPi;
 struct Synthetic {
   std::vector<wallcal::calib::WallGeometry> walls;
   std::vector<wallcal::calib::WallObservation> observations;
@@ -42,7 +41,7 @@ struct Synthetic {
 // evenly over 90° ± 35°, positions along it in a shuffled order; `per_segment` scans each.
 Synthetic Make(int segments, int per_segment, double heading_rad, bool dwell_fields,
                uint32_t seed) {
-  const double mount_x_m = 2.57, mount_y_m = 0.056, mount_yaw_rad = 2.8 * kDeg;
+  const double mount_x_m = 2.57, mount_y_m = 0.056, mount_yaw_rad = 2.8 * kDegToRad;
   std::mt19937 rng(seed);
   std::normal_distribution<double> unit(0.0, 1.0);
   Synthetic data;
@@ -62,7 +61,7 @@ Synthetic Make(int segments, int per_segment, double heading_rad, bool dwell_fie
   int scan = 0;
   for (int k = 0; k < segments; ++k) {
     const double f = segments > 1 ? static_cast<double>(k) / (segments - 1) : 0.5;
-    const double yaw_true = 0.5 * kPi + 35.0 * kDeg * (2.0 * f - 1.0);
+    const double yaw_true = 0.5 * kPi + 35.0 * kDegToRad * (2.0 * f - 1.0);
     const double u = segments > 1 ? static_cast<double>((k * 7) % segments) / (segments - 1) : 0.5;
     const Eigen::Vector2d antenna_true(-4.0 + 8.0 * u, 1.5 + 0.5 * (k % 3));
     const Eigen::Vector2d bias(bias_m * unit(rng), bias_m * unit(rng));
@@ -116,7 +115,7 @@ double PeakRssMb() {
 int main(int argc, char** argv) {
   std::vector<int> sizes = {27000, 90000, 270000};
   int segments = 100;
-  double heading_rad = 0.05 * kDeg;
+  double heading_rad = 0.05 * kDegToRad;
   bool dwell_fields = true;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -125,7 +124,7 @@ int main(int argc, char** argv) {
     } else if (a == "--segments" && i + 1 < argc) {
       segments = std::atoi(argv[++i]);
     } else if (a == "--heading-sigma-deg" && i + 1 < argc) {
-      heading_rad = std::atof(argv[++i]) * kDeg;
+      heading_rad = std::atof(argv[++i]) * kDegToRad;
     } else if (a == "--per-scan-only") {
       dwell_fields = false;
     } else {

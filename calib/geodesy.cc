@@ -7,12 +7,10 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include "common/angles.h"
 
 namespace wallcal::calib {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegToRad = kPi / 180.0;
 constexpr double kFalseEastingM = 500000.0;
 constexpr double kFalseNorthingSouthM = 10000000.0;
 // A forced zone must be at most a neighbour: beyond a zone and a half the transverse Mercator
@@ -118,12 +116,6 @@ double YawFromTrueHeading(const LocalFrame& frame, double heading_true_rad, doub
 
 double YawFromGridHeading(double heading_grid_rad) {
   return WrapAngle(0.5 * kPi - heading_grid_rad);
-}
-
-double WrapAngle(double angle_rad) {
-  double wrapped = std::remainder(angle_rad, 2.0 * kPi);  // [-π, π]
-  if (wrapped <= -kPi) wrapped += 2.0 * kPi;
-  return wrapped;
 }
 
 }  // namespace wallcal::calib

@@ -56,7 +56,4 @@ double YawFromTrueHeading(const LocalFrame& frame, double heading_true_rad, doub
 // Grid heading (rad, clockwise from grid north) -> yaw = π/2 − grid heading, in (-π, π].
 double YawFromGridHeading(double heading_grid_rad);
 
-// Any angle (rad) to (-π, π].
-double WrapAngle(double angle_rad);
-
 }  // namespace wallcal::calib

@@ -49,6 +49,14 @@ struct WallGeometry {
   double rms_m = 0.0;  // total-least-squares residual RMS of the surveyed points
 };
 
+// The scanner mount: vehicle_T_scanner, the scanner's origin and x axis in the vehicle frame
+// (x forward, y left, yaw ccw), which the calibration estimates.
+struct Mount {
+  double x_m = 0.0;    // scanner origin in the vehicle frame, forward
+  double y_m = 0.0;    // left
+  double yaw_rad = 0.0;  // scanner x axis from vehicle x axis, ccw
+};
+
 // The vehicle at one instant, interpolated from GNSS and heading.
 struct VehiclePose {
   double stamp_s = 0.0;

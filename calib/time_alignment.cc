@@ -8,6 +8,8 @@
 #include <utility>
 
 #include "calib/geodesy.h"
+#include "common/circular.h"
+#include "common/angles.h"
 
 namespace wallcal::calib {
 namespace {
@@ -61,16 +63,6 @@ size_t Bracket(const std::vector<Sample>& samples, double stamp_s) {
   size_t hi = static_cast<size_t>(it - samples.begin());
   if (hi >= samples.size()) hi = samples.size() - 1;  // stamp_s == back
   return hi - 1;
-}
-
-// Circular mean of angles (rad), in (-π, π].
-double CircularMean(const std::vector<double>& angles_rad) {
-  double sum_sin = 0.0, sum_cos = 0.0;
-  for (double a : angles_rad) {
-    sum_sin += std::sin(a);
-    sum_cos += std::cos(a);
-  }
-  return WrapAngle(std::atan2(sum_sin, sum_cos));
 }
 
 }  // namespace
@@ -256,7 +248,7 @@ void PoseInterpolator::FindDwells() {
     }
     run->mean_p /= static_cast<double>(run->last - run->first + 1);
     run->yaw_known = !run_yaws.empty();
-    run->mean_yaw = run->yaw_known ? CircularMean(run_yaws) : 0.0;
+    run->mean_yaw = run->yaw_known ? WrapAngle(CircularMean(run_yaws)) : 0.0;
   };
   const auto gap_free = [&](size_t from, size_t to) {
     for (size_t i = from + 1; i <= to; ++i) {
@@ -394,7 +386,7 @@ void PoseInterpolator::FindDwells() {
     for (auto it = first; it != yaws_.end() && it->stamp_s <= dwell.end_s; ++it) {
       dwell_yaws.push_back(it->yaw_rad);
     }
-    dwell.mean_yaw_rad = dwell_yaws.empty() ? final_run.mean_yaw : CircularMean(dwell_yaws);
+    dwell.mean_yaw_rad = dwell_yaws.empty() ? final_run.mean_yaw : WrapAngle(CircularMean(dwell_yaws));
     dwell.num_yaw_samples = static_cast<int>(dwell_yaws.size());
     dwells_.push_back(dwell);
   }

@@ -6,12 +6,10 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include "common/angles.h"
 
 namespace wallcal::calib {
 namespace {
-
-constexpr double kPi = M_PI;
-
 // Floor on the per-point σ used for trimming: about a 1 cm quantisation step / √12 plus the
 // flatness of a real wall. Keeps a preset with a tiny σ from trimming a wall to nothing.
 constexpr double kMinPointSigmaM = 0.003;

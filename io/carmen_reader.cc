@@ -8,11 +8,10 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include "common/angles.h"
 
 namespace wallcal::io {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 constexpr size_t kChunkBytes = 1 << 16;
 constexpr int kMaxBeams = 100000;  // far above any 2-D scanner; guards the allocation
 
@@ -113,8 +112,8 @@ bool CarmenReader::ReadLine() {
   }
 }
 
-void CarmenReader::Skip(const std::string& reason) {
-  skipped_.Add(reason, static_cast<int>(lines_read_));
+void CarmenReader::Skip(const std::string& reason, SkipSeverity how) {
+  skipped_.Add(reason, static_cast<int>(lines_read_), 1, how);
 }
 
 bool CarmenReader::Next(ScanRecord* scan) {
@@ -131,12 +130,12 @@ bool CarmenReader::Next(ScanRecord* scan) {
 bool CarmenReader::ParseLine(ScanRecord* scan) {
   Tokenize(line_, &tokens_);
   if (tokens_.empty()) {
-    Skip("blank line");
+    Skip("blank line", SkipSeverity::kInformational);
     return false;
   }
   const std::string_view keyword = tokens_[0];
   if (keyword[0] == '#') {
-    Skip("comment");
+    Skip("comment", SkipSeverity::kInformational);
     return false;
   }
   const bool raw = keyword == "RAWLASER1";
@@ -147,7 +146,8 @@ bool CarmenReader::ParseLine(ScanRecord* scan) {
     for (char c : keyword) {
       word = word && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
     }
-    Skip("not a scan: " + (word ? std::string(keyword) : std::string("unreadable line")));
+    Skip("not a scan: " + (word ? std::string(keyword) : std::string("unreadable line")),
+         SkipSeverity::kInformational);
     return false;
   }
   const std::string name(keyword);

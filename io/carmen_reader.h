@@ -20,34 +20,35 @@
 #include <string_view>
 #include <vector>
 
+#include "io/scan_source.h"
 #include "io/types.h"
 
 namespace wallcal::io {
 
-class CarmenReader {
+class CarmenReader : public ScanSource {
  public:
   // Opens the log. Throws InputError naming `path` if it cannot be opened.
   explicit CarmenReader(const std::string& path);
-  ~CarmenReader();
+  ~CarmenReader() override;
   CarmenReader(const CarmenReader&) = delete;
   CarmenReader& operator=(const CarmenReader&) = delete;
 
   // Reads up to the next valid scan line and fills *scan (stamp = logger_timestamp, line =
   // 1-based line number). Returns false at the end of the file. Throws InputError on a read
   // error of the file itself (corrupt gzip stream).
-  bool Next(ScanRecord* scan);
+  bool Next(ScanRecord* scan) override;
 
-  const SkipCounts& skipped() const { return skipped_; }
+  const SkipCounts& skipped() const override { return skipped_; }
   int64_t lines_read() const { return lines_read_; }
-  int64_t scans_read() const { return scans_read_; }
-  const std::string& path() const { return path_; }
+  int64_t scans_read() const override { return scans_read_; }
+  const std::string& path() const override { return path_; }
 
  private:
   // Reads one line into line_ (without its newline). Returns false at end of file.
   bool ReadLine();
   // Parses line_ as a scan; false (and counted) when it is not a usable one.
   bool ParseLine(ScanRecord* scan);
-  void Skip(const std::string& reason);
+  void Skip(const std::string& reason, SkipSeverity how = SkipSeverity::kProblem);
 
   std::string path_;
   void* gz_ = nullptr;  // gzFile (kept opaque: zlib stays out of this header)

@@ -9,11 +9,10 @@
 #include <optional>
 #include <string_view>
 #include <vector>
+#include "common/angles.h"
 
 namespace wallcal::io {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kSecondsPerDay = 86400.0;
 constexpr size_t kGstMatchWindow = 16;  // GGA/GST pairs are adjacent; a few epochs suffice
 
@@ -29,8 +28,10 @@ int HexValue(char c) {
 // Finds the sentence in a line: the first '$' whose text up to the next '*' matches the two hex
 // digits after it. Receivers interleave binary messages with NMEA, so bytes before a '$' (or a
 // '$' inside binary data) are not trusted. On failure *reason says why.
-bool ExtractSentence(std::string_view text, std::string_view* body, const char** reason) {
-  *reason = "not NMEA";
+bool ExtractSentence(std::string_view text, std::string_view* body, const char** reason,
+                     SkipSeverity* severity = nullptr) {
+  *reason = "not NMEA";  // no '$' at all: comments, other protocols
+  if (severity != nullptr) *severity = SkipSeverity::kInformational;
   bool saw_checksum = false;
   for (size_t dollar = text.find('$'); dollar != std::string_view::npos;
        dollar = text.find('$', dollar + 1)) {
@@ -38,10 +39,12 @@ bool ExtractSentence(std::string_view text, std::string_view* body, const char**
     if (star == std::string_view::npos || star + 2 >= text.size() || HexValue(text[star + 1]) < 0 ||
         HexValue(text[star + 2]) < 0) {
       if (!saw_checksum) *reason = "no checksum";
+      if (severity != nullptr) *severity = SkipSeverity::kProblem;
       continue;
     }
     saw_checksum = true;
     *reason = "bad checksum";
+    if (severity != nullptr) *severity = SkipSeverity::kProblem;
     unsigned sum = 0;
     for (size_t i = dollar + 1; i < star; ++i) sum ^= static_cast<unsigned char>(text[i]);
     const unsigned expected =
@@ -207,8 +210,9 @@ class NmeaParser {
     const std::optional<double> prefix_s = TakePrefix(&text);
     std::string_view body;
     const char* reason = nullptr;
-    if (!ExtractSentence(text, &body, &reason)) {
-      Skip(reason, line);
+    SkipSeverity severity = SkipSeverity::kProblem;
+    if (!ExtractSentence(text, &body, &reason, &severity)) {
+      Skip(reason, line, severity);
       return;
     }
     Split(body, &fields_);
@@ -222,7 +226,7 @@ class NmeaParser {
     } else if (type == "RMC" || type == "ZDA") {
       DateAndTime(type, prefix_s);
     } else {
-      Skip("other sentence (" + std::string(type) + ")", line);
+      Skip("other sentence (" + std::string(type) + ")", line, SkipSeverity::kInformational);
     }
   }
 
@@ -239,7 +243,9 @@ class NmeaParser {
     int line;
   };
 
-  void Skip(const std::string& reason, int line) { log_->skipped.Add(reason, line); }
+  void Skip(const std::string& reason, int line, SkipSeverity how = SkipSeverity::kProblem) {
+    log_->skipped.Add(reason, line, 1, how);
+  }
 
   bool Field(size_t index, std::string_view* value) const {
     if (index >= fields_.size() || fields_[index].empty()) return false;

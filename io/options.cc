@@ -2,13 +2,10 @@
 
 #include <cmath>
 #include <sstream>
+#include "common/angles.h"
 
 namespace wallcal::io {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegPerRad = 180.0 / kPi;
-
 // Messages name the YAML key (angles in degrees there), so the user can find what to change.
 std::string Number(double value) {
   std::ostringstream out;
@@ -40,7 +37,7 @@ void CheckAtLeast(const std::string& key, int value, int lo) {
 }
 // Angles are checked in the unit the user wrote them in.
 void CheckAnglePositive(const std::string& key_deg, double rad, double max_deg) {
-  const double deg = rad * kDegPerRad;
+  const double deg = rad * kRadToDeg;
   if (!(std::isfinite(deg) && deg > 0.0 && deg <= max_deg)) {
     Fail(key_deg, "in (0, " + Number(max_deg) + "]", Number(deg));
   }
@@ -68,7 +65,7 @@ void AlignmentOptions::Validate() const {
   CheckPositive("alignment.stationary_speed_mps", stationary_speed_mps);
   if (!(std::isfinite(stationary_yaw_rate_rps) && stationary_yaw_rate_rps > 0.0)) {
     Fail("alignment.stationary_yaw_rate_deg_per_s", "> 0",
-         Number(stationary_yaw_rate_rps * kDegPerRad));
+         Number(stationary_yaw_rate_rps * kRadToDeg));
   }
   CheckPositive("alignment.stationary_window_s", stationary_window_s);
   CheckNonNegative("alignment.min_dwell_s", min_dwell_s);
@@ -85,7 +82,7 @@ void SolverOptions::Validate() const {
   CheckAnglePositive("solver.rotation_sigma_deg", rotation_sigma_rad, 90.0);
   CheckPositive("solver.huber_scale", huber_scale);
   CheckAtLeast("solver.max_iterations", max_iterations, 1);
-  CheckRange("solver.min_heading_spread_deg", min_heading_spread_rad * kDegPerRad, 0.0, 360.0);
+  CheckRange("solver.min_heading_spread_deg", min_heading_spread_rad * kRadToDeg, 0.0, 360.0);
   CheckAtLeast("solver.min_observations", min_observations, 1);
   CheckAtLeast("solver.min_stations", min_stations, 1);
   CheckNonNegative("solver.gnss_bias_tau_s", gnss_bias_tau_s);
@@ -116,7 +113,7 @@ void SimulationConfig::Validate() const {
   CheckFinite(s + "scanner_time_offset_s", scanner_time_offset_s);
   CheckFinite(s + "mount_x_m", mount_x_m);
   CheckFinite(s + "mount_y_m", mount_y_m);
-  CheckRange(s + "mount_yaw_deg", mount_yaw_rad * kDegPerRad, -180.0, 180.0);
+  CheckRange(s + "mount_yaw_deg", mount_yaw_rad * kRadToDeg, -180.0, 180.0);
   for (size_t i = 0; i < walls.size(); ++i) {
     const SimWall& wall = walls[i];
     const std::string w = s + "walls[" + std::to_string(i) + "].";
@@ -138,7 +135,7 @@ void SimulationConfig::Validate() const {
   }
   CheckAtLeast(s + "num_stations", num_stations, 1);
   CheckPositive(s + "station_distance_m", station_distance_m);
-  CheckRange(s + "heading_spread_deg", heading_spread_rad * kDegPerRad, 0.0, 360.0);
+  CheckRange(s + "heading_spread_deg", heading_spread_rad * kRadToDeg, 0.0, 360.0);
   CheckNonNegative(s + "dwell_s", dwell_s);
   CheckPositive(s + "drive_speed_mps", drive_speed_mps);
   CheckNonNegative(s + "lateral_spread_m", lateral_spread_m);
@@ -148,12 +145,12 @@ void SimulationConfig::Validate() const {
   CheckNonNegative(s + "gnss_white_sigma_m", gnss_white_sigma_m);
   CheckRange(s + "float_fraction", float_fraction, 0.0, 1.0);
   CheckPositive(s + "heading_rate_hz", heading_rate_hz);
-  CheckNonNegative(s + "heading_white_sigma_deg", heading_white_sigma_rad * kDegPerRad);
-  CheckFinite(s + "heading_drift_deg_per_h", heading_drift_rad_per_s * kDegPerRad * 3600.0);
-  CheckFinite(s + "heading_bias_deg", heading_bias_rad * kDegPerRad);
+  CheckNonNegative(s + "heading_white_sigma_deg", heading_white_sigma_rad * kRadToDeg);
+  CheckFinite(s + "heading_drift_deg_per_h", heading_drift_rad_per_s * kRadToDeg * 3600.0);
+  CheckFinite(s + "heading_bias_deg", heading_bias_rad * kRadToDeg);
   CheckNonNegative(s + "total_station_sigma_m", total_station_sigma_m);
   CheckNonNegative(s + "control_sigma_m", control_sigma_m);
-  CheckFinite(s + "survey_rotation_deg", survey_rotation_rad * kDegPerRad);
+  CheckFinite(s + "survey_rotation_deg", survey_rotation_rad * kRadToDeg);
   CheckFinite(s + "survey_origin_x_m", survey_origin_x_m);
   CheckFinite(s + "survey_origin_y_m", survey_origin_y_m);
   if (!(lost_scan_fraction >= 0.0 && lost_scan_fraction < 1.0)) {

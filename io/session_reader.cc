@@ -12,14 +12,12 @@
 #include <sstream>
 
 #include "io/config_fields.h"
+#include "common/angles.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr double kDegPerRad = fields::kDegPerRad;
-
 // yaml-cpp marks are 0-based; files are read by people counting from 1.
 int LineOf(const YAML::Node& node) { return node.Mark().line >= 0 ? node.Mark().line + 1 : 0; }
 
@@ -302,7 +300,7 @@ SessionSpec ReadSession(const std::string& path) {
       MountGuess mount;
       g.Number("x", mount.x_m);
       g.Number("y", mount.y_m);
-      g.Scaled("yaw_deg", mount.yaw_rad, kDegPerRad);
+      g.Scaled("yaw_deg", mount.yaw_rad, kRadToDeg);
       g.Finish();
       spec.mount_guess = mount;
     }
@@ -365,7 +363,7 @@ SessionSpec ReadSession(const std::string& path) {
       spec.control.push_back(std::move(point));
     }
     if (const YAML::Node rotation = survey.Find("rotation_deg"); rotation.IsDefined()) {
-      spec.survey_rotation_rad = survey.ToNumber(rotation, "rotation_deg") / kDegPerRad;
+      spec.survey_rotation_rad = survey.ToNumber(rotation, "rotation_deg") / kRadToDeg;
     }
     if (spec.control.size() == 1 && !spec.survey_rotation_rad) {
       throw InputError(Where(f, survey.line(),
@@ -424,11 +422,11 @@ ScannerPreset ReadScannerPreset(const std::string& file) {
   preset.start_angle_rad =
       top.ToNumber(top.Require("start_angle_deg", "the bearing of beam 0 in degrees"),
                    "start_angle_deg") /
-      kDegPerRad;
+      kRadToDeg;
   preset.angular_step_rad =
       top.ToNumber(top.Require("angular_step_deg", "the step between beams in degrees"),
                    "angular_step_deg") /
-      kDegPerRad;
+      kRadToDeg;
   top.Number("rate_hz", preset.rate_hz);
   top.Number("min_range_m", preset.min_range_m);
   preset.max_range_m =
@@ -449,7 +447,7 @@ ScannerPreset ReadScannerPreset(const std::string& file) {
     sim.Number("sigma_m", preset.range_sigma_m);
     sim.Finish();
   }
-  top.Scaled("max_incidence_deg", preset.max_incidence_rad, kDegPerRad);
+  top.Scaled("max_incidence_deg", preset.max_incidence_rad, kRadToDeg);
   top.Finish();
 
   auto fail = [&file](const std::string& message) { throw InputError(Where(file, 0, message)); };
@@ -463,7 +461,7 @@ ScannerPreset ReadScannerPreset(const std::string& file) {
   if (!(preset.range_scale_k > 0.0)) fail("range_correction.k must be > 0");
   if (!(preset.sim_scale_n > 0.0)) fail("simulation.n must be > 0");
   if (preset.range_sigma_m < 0.0) fail("simulation.sigma_m must be >= 0");
-  if (!(preset.max_incidence_rad > 0.0 && preset.max_incidence_rad * kDegPerRad <= 90.0)) {
+  if (!(preset.max_incidence_rad > 0.0 && preset.max_incidence_rad * kRadToDeg <= 90.0)) {
     fail("max_incidence_deg must be in (0, 90]");
   }
   return preset;

@@ -66,17 +66,37 @@ struct HeadingSample {
   int line = 0;
 };
 
-// What a reader passed over, by reason, so nothing is silently dropped.
+// How a skipped line counts: lines a healthy log has too (comments, blank lines, other NMEA
+// sentences, CARMEN PARAM/ODOM lines) are informational; the rest are problems worth a warning.
+enum class SkipSeverity { kInformational, kProblem };
+
+// What a reader passed over, by reason, so nothing is silently dropped. The reason text is for
+// people; decisions use the severity recorded with it.
 struct SkipCounts {
   std::map<std::string, int64_t> by_reason;  // e.g. "bad checksum" -> 3
   std::map<std::string, int> first_line;     // first line skipped for each reason (0: none)
+  std::map<std::string, SkipSeverity> severity;
   int64_t Total() const {
     int64_t n = 0;
     for (const auto& kv : by_reason) n += kv.second;
     return n;
   }
-  void Add(const std::string& reason, int line = 0, int64_t n = 1) {
+  // Lines skipped for a reason of severity kProblem.
+  int64_t Problems() const {
+    int64_t n = 0;
+    for (const auto& kv : by_reason) {
+      if (!IsInformational(kv.first)) n += kv.second;
+    }
+    return n;
+  }
+  bool IsInformational(const std::string& reason) const {
+    const auto it = severity.find(reason);
+    return it != severity.end() && it->second == SkipSeverity::kInformational;
+  }
+  void Add(const std::string& reason, int line = 0, int64_t n = 1,
+           SkipSeverity how = SkipSeverity::kProblem) {
     by_reason[reason] += n;
+    severity.emplace(reason, how);
     if (line > 0 && first_line.find(reason) == first_line.end()) first_line[reason] = line;
   }
 };

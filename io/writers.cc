@@ -14,14 +14,12 @@
 #include <filesystem>
 
 #include "io/config_fields.h"
+#include "common/angles.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr double kDegPerRad = fields::kDegPerRad;
-
 // printf into a std::string; YAML spells non-finite numbers .nan / .inf.
 template <class... Args>
 std::string Format(const char* format, Args... args) {
@@ -259,7 +257,7 @@ void WriteFileAtomically(const std::string& path, const std::string& content) {
 std::string FormatOffsetsYaml(const OffsetsDocument& doc) {
   const double* c = doc.covariance;
   auto stddev = [](double variance) { return variance >= 0.0 ? std::sqrt(variance) : kNaN; };
-  const double yaw_deg = doc.yaw_rad * kDegPerRad;
+  const double yaw_deg = doc.yaw_rad * kRadToDeg;
   std::string out;
   out +=
       "# Mount of the scanner in the vehicle (GNSS antenna) frame: x forward, y left, yaw ccw.\n";
@@ -272,7 +270,7 @@ std::string FormatOffsetsYaml(const OffsetsDocument& doc) {
   out += "  yaw_deg: " + YamlNumber("%.4f", yaw_deg) + "\n";
   out += "  stddev: {x: " + YamlNumber("%.6f", stddev(c[0])) +
          ", y: " + YamlNumber("%.6f", stddev(c[4])) +
-         ", yaw_deg: " + YamlNumber("%.4f", stddev(c[8]) * kDegPerRad) + "}\n";
+         ", yaw_deg: " + YamlNumber("%.4f", stddev(c[8]) * kRadToDeg) + "}\n";
   out += "  covariance: [";
   for (int i = 0; i < 9; ++i) {
     if (i > 0) out += ", ";
@@ -353,7 +351,7 @@ std::string FormatGstLine(const GnssFix& fix) {
 }
 
 std::string FormatHdtLine(double stamp_s, double heading_rad) {
-  double heading_deg = std::fmod(heading_rad * kDegPerRad, 360.0);
+  double heading_deg = std::fmod(heading_rad * kRadToDeg, 360.0);
   if (heading_deg < 0.0) heading_deg += 360.0;
   std::string value = Format("%.4f", heading_deg);
   if (value == "360.0000") value = "0.0000";
@@ -383,7 +381,7 @@ std::string FormatSessionYaml(const SessionSpec& spec) {
   if (spec.mount_guess) {
     out += "  mount_guess: {x: " + ShortestNumber(spec.mount_guess->x_m) +
            ", y: " + ShortestNumber(spec.mount_guess->y_m) +
-           ", yaw_deg: " + ShortestNumber(spec.mount_guess->yaw_rad * kDegPerRad) + "}\n";
+           ", yaw_deg: " + ShortestNumber(spec.mount_guess->yaw_rad * kRadToDeg) + "}\n";
   }
   out += "gnss:\n";
   out += "  log: " + YamlText(RelativeTo(spec.dir, spec.gnss_log)) + "\n";
@@ -401,7 +399,7 @@ std::string FormatSessionYaml(const SessionSpec& spec) {
            ", lon: " + ShortestNumber(point.lon_deg) + ", h: " + ShortestNumber(point.h_m) + "}\n";
   }
   if (spec.survey_rotation_rad) {
-    out += "  rotation_deg: " + ShortestNumber(*spec.survey_rotation_rad * kDegPerRad) + "\n";
+    out += "  rotation_deg: " + ShortestNumber(*spec.survey_rotation_rad * kRadToDeg) + "\n";
   }
   out += "walls:\n";
   for (const WallSpec& wall : spec.walls) {
@@ -425,7 +423,7 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
   out += "  x: " + ShortestNumber(config.mount_x_m) + "\n";
   out += "  y: " + ShortestNumber(config.mount_y_m) + "\n";
   out += "  yaw: " + ShortestNumber(config.mount_yaw_rad) + "\n";
-  out += "  yaw_deg: " + ShortestNumber(config.mount_yaw_rad * kDegPerRad) + "\n";
+  out += "  yaw_deg: " + ShortestNumber(config.mount_yaw_rad * kRadToDeg) + "\n";
   out += "seed: " + std::to_string(seed) + "\n";
   out += "simulation:\n";
   out += simulation.Block(2);

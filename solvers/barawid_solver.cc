@@ -8,7 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "solvers/geometry.h"
+#include "calib/wall_geometry.h"
+#include "common/angles.h"
 #include "solvers/mount_solver.h"
 #include "solvers/observability.h"
 
@@ -22,6 +23,7 @@ MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& obser
   const ObservabilityReport observability = CheckObservability(observations, walls, options);
   if (!observability.ok) {
     if (!force || !observability.solvable) {
+      estimate.failure = EstimateFailure::kNotDetermined;
       estimate.message = observability.message;
       return estimate;
     }
@@ -49,14 +51,14 @@ MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& obser
   std::vector<double> rhs_m(n);
   for (int i = 0; i < n; ++i) {
     const calib::WallObservation& observation = observations[i];
-    const OrientedWall wall =
-        OrientWall(walls[observation.wall_index], observation.pose.antenna_local_m);
+    const calib::OrientedWall wall =
+        calib::OrientWall(walls[observation.wall_index], observation.pose.antenna_local_m);
     yaw_rad[i] =
         WrapAngle(wall.normal_angle_rad - observation.pose.yaw_rad - observation.theta_rad);
     sum_sin += std::sin(yaw_rad[i]);
     sum_cos += std::cos(yaw_rad[i]);
 
-    rows[i] = NormalInVehicle(wall, observation.pose.yaw_rad);
+    rows[i] = calib::NormalInVehicle(wall, observation.pose.yaw_rad);
     const double antenna_to_wall_m =
         wall.offset_m - wall.normal_local.dot(observation.pose.antenna_local_m);  // D
     rhs_m[i] = antenna_to_wall_m - observation.rho_m;                             // D − E
@@ -69,6 +71,7 @@ MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& obser
   // arithmetic (a 2x2 with a vanishing eigenvalue) in case the options allowed none.
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(normal_matrix);
   if (!(eigen.eigenvalues().minCoeff() > 1e-9 * n)) {
+    estimate.failure = EstimateFailure::kNotDetermined;
     estimate.message =
         "the wall normals seen from the vehicle all point one way: the offset along the wall is "
         "not determined";

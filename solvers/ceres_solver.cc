@@ -21,7 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "solvers/geometry.h"
+#include "calib/wall_geometry.h"
+#include "common/angles.h"
 #include "solvers/mount_problem.h"
 #include "solvers/mount_solver.h"
 #include "solvers/observability.h"
@@ -69,7 +70,7 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       const calib::WallGeometry& wall,
                                       const io::SolverOptions& options, const Mount& lever_mount,
                                       double bias_sigma_m) {
-  const OrientedWall oriented = OrientWall(wall, observation.pose.antenna_local_m);
+  const calib::OrientedWall oriented = calib::OrientWall(wall, observation.pose.antenna_local_m);
   Eigen::Matrix2d covariance;
   covariance << observation.sigma_rho_m * observation.sigma_rho_m, observation.cov_rho_theta,
       observation.cov_rho_theta, observation.sigma_theta_rad * observation.sigma_theta_rad;
@@ -252,7 +253,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
   for (size_t i = 0; i < observations.size(); ++i) {
     const calib::WallObservation& observation = observations[i];
     const calib::WallGeometry& wall = walls[observation.wall_index];
-    const OrientedWall oriented = OrientWall(wall, observation.pose.antenna_local_m);
+    const calib::OrientedWall oriented = calib::OrientWall(wall, observation.pose.antenna_local_m);
     const Eigen::Matrix2d covariance =
         ObservationCovariance(observation, wall, options, lever_mount,
                               PoseBiasSigma(observation.pose, options));
@@ -573,6 +574,7 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
       estimate.observations_used > 0 ? std::sqrt(sum_sq_m2 / estimate.observations_used) : 0.0;
 
   if (!summary.IsSolutionUsable()) {
+    estimate.failure = EstimateFailure::kSolveFailed;
     estimate.message = "the least-squares solve failed: " + summary.message;
     return estimate;
   }
@@ -583,6 +585,7 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
   if (summary.termination_type != ceres::CONVERGENCE) {
     // NO_CONVERGENCE is "usable" to Ceres, but an offset written from a solve that ran out of
     // iterations would be a silent guess.
+    estimate.failure = EstimateFailure::kNotConverged;
     estimate.message = "the least-squares solve did not converge within " +
                        std::to_string(options.max_iterations) + " iterations (" + summary.message +
                        ")";
@@ -609,6 +612,7 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
                           !mp.problem.IsParameterBlockConstant(mp.heading_drift.data());
   if (drift_free) blocks.emplace_back(mp.heading_drift.data(), mp.heading_drift.data());
   if (!covariance.Compute(blocks, &mp.problem)) {
+    estimate.failure = EstimateFailure::kCovariance;
     estimate.message =
         "the mount covariance could not be computed: the Jacobian is rank deficient (a mount or "
         "nuisance direction is determined neither by the observations nor by the priors)";
@@ -616,6 +620,7 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
   }
   double values[9];
   if (!covariance.GetCovarianceBlock(mp.mount.data(), mp.mount.data(), values)) {
+    estimate.failure = EstimateFailure::kCovariance;
     estimate.message = "the mount covariance could not be read back from Ceres";
     return estimate;
   }
@@ -637,6 +642,7 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
     }
   }
   if (!estimate.covariance.allFinite() || !(estimate.covariance.diagonal().minCoeff() > 0.0)) {
+    estimate.failure = EstimateFailure::kCovariance;
     estimate.message = "the mount covariance is not finite and positive";
     return estimate;
   }
@@ -657,8 +663,9 @@ Eigen::Matrix3d CovarianceFromInformation(const Eigen::Matrix3d& information) {
   return eigen.eigenvectors() * inverse.asDiagonal() * eigen.eigenvectors().transpose();
 }
 
-MountEstimate Refused(const Mount& initial, const std::string& message) {
+MountEstimate Refused(const Mount& initial, EstimateFailure failure, const std::string& message) {
   MountEstimate refused;
+  refused.failure = failure;
   refused.method = "ceres";
   refused.mount = initial;
   refused.message = message;
@@ -674,19 +681,19 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
   std::vector<std::string> forced_warnings;
   const ObservabilityReport observability = CheckObservability(observations, walls, options);
   if (!observability.ok) {
-    if (!force || !observability.solvable) return Refused(initial, observability.message);
+    if (!force || !observability.solvable) return Refused(initial, EstimateFailure::kNotDetermined, observability.message);
     forced_warnings.push_back("FORCED: " + observability.message);
   }
   std::string error;
   auto mp = BuildMountProblem(observations, walls, options, initial, initial, &error);
-  if (!mp) return Refused(initial, error);
+  if (!mp) return Refused(initial, EstimateFailure::kBadInput, error);
 
   // Before solving: is every mount direction determined by this geometry and noise model?
   const DeterminationReport before =
       CheckDetermination(MountInformation(*mp), observations, walls, options);
   if (!before.ok) {
     if (!force) {
-      MountEstimate refused = Refused(initial, before.message);
+      MountEstimate refused = Refused(initial, EstimateFailure::kNotDetermined, before.message);
       refused.weak_direction = before.weak_direction;
       return refused;
     }
@@ -716,17 +723,19 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
     estimate.weak_direction = after.weak_direction;
     if (!force) {
       estimate.usable = false;
+      estimate.failure = EstimateFailure::kNotDetermined;
       estimate.message = after.message;
       return estimate;
     }
     if (observability.ok && before.ok) forced_warnings.push_back("FORCED: " + after.message);
   }
   if (!estimate.usable && force && !forced_warnings.empty() &&
-      estimate.message.rfind("the mount covariance", 0) == 0) {
+      estimate.failure == EstimateFailure::kCovariance) {
     // Forced through a direction the data cannot tell: the solution exists (the priors hold the
     // nuisance parameters), its σ along that direction is huge.
     estimate.covariance = CovarianceFromInformation(information);
     estimate.usable = true;
+    estimate.failure = EstimateFailure::kNone;
     estimate.message.clear();
   }
   if (!forced_warnings.empty()) {

@@ -15,16 +15,26 @@
 
 namespace wallcal::solvers {
 
-struct Mount {
-  double x_m = 0.0;    // scanner origin in the vehicle frame, forward
-  double y_m = 0.0;    // left
-  double yaw_rad = 0.0;  // scanner x axis from vehicle x axis, ccw
+// The mount estimated: vehicle_T_scanner (calib/observation.h).
+using calib::Mount;
+
+
+// Why an estimate is not usable: typed, for the callers' decisions (the message is for people).
+enum class EstimateFailure {
+  kNone,
+  kWallNotDetected,  // no wall observation at all (set by the caller that looked for them)
+  kNotDetermined,    // an observability check refused: too few stations, headings, ...
+  kBadInput,         // observations that cannot form a problem (bad wall index, ...)
+  kSolveFailed,      // Ceres could not solve
+  kNotConverged,     // ran out of iterations
+  kCovariance,       // the mount covariance could not be computed or is not positive
 };
 
 struct MountEstimate {
   Mount mount;
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // x, y, yaw (m, m, rad)
-  bool usable = false;  // false: do not write offsets; `message` says why
+  bool usable = false;  // false: do not write offsets; `failure` and `message` say why
+  EstimateFailure failure = EstimateFailure::kNone;
   std::string message;
   std::string method;   // "ceres" or "barawid"
   int observations_used = 0;
@@ -86,15 +96,5 @@ struct Refit {
 Refit RefitMount(const std::vector<calib::WallObservation>& observations,
                  const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
                  const Mount& initial, const std::vector<double>& weights, int max_iterations);
-
-// The wall line `observation` should show for `mount`, from the nominal surveyed wall and the
-// measured pose (no nuisance parameters): the scanner-frame line parameters that the
-// observation's rho_m (m, > 0 when the scanner is in front of the wall) and theta_rad (rad, in
-// (−π, π]) estimate. The wall normal is oriented so that the antenna is on its negative side.
-// `wall` must be walls[observation.wall_index]. Used to gate the wall detector's second pass.
-double PredictRho(const calib::WallObservation& observation, const calib::WallGeometry& wall,
-                  const Mount& mount);
-double PredictTheta(const calib::WallObservation& observation, const calib::WallGeometry& wall,
-                    const Mount& mount);
 
 }  // namespace wallcal::solvers

@@ -9,15 +9,13 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "solvers/geometry.h"
+#include "calib/wall_geometry.h"
+#include "common/angles.h"
+#include "common/angles.h"
 
 namespace wallcal::solvers {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegPerRad = 180.0 / kPi;
-
 std::string Format(const char* format, double a, double b, double c, double d) {
   char buffer[128];
   std::snprintf(buffer, sizeof buffer, format, a, b, c, d);
@@ -70,9 +68,9 @@ ObservabilityReport CheckObservability(const std::vector<calib::WallObservation>
   phi_rad.reserve(observations.size());
   doubled_rad.reserve(observations.size());
   for (const auto& observation : observations) {
-    const OrientedWall wall =
-        OrientWall(walls[observation.wall_index], observation.pose.antenna_local_m);
-    const double phi = VehicleToWallAngle(wall, observation.pose.yaw_rad);
+    const calib::OrientedWall wall =
+        calib::OrientWall(walls[observation.wall_index], observation.pose.antenna_local_m);
+    const double phi = calib::VehicleToWallAngle(wall, observation.pose.yaw_rad);
     phi_rad.push_back(phi);
     doubled_rad.push_back(WrapAngle(2.0 * phi));
   }
@@ -115,8 +113,8 @@ ObservabilityReport CheckObservability(const std::vector<calib::WallObservation>
         std::string(axis) + " is not determined: the wall was seen only at headings " +
         HeadingArc(observations) +
         Format(" (vehicle-to-wall angles %.1f°–%.1f°, spread %.1f°, need %.1f°)",
-               report.angle_min_rad * kDegPerRad, report.angle_max_rad * kDegPerRad,
-               report.angle_spread_rad * kDegPerRad, options.min_heading_spread_rad * kDegPerRad) +
+               report.angle_min_rad * kRadToDeg, report.angle_max_rad * kRadToDeg,
+               report.angle_spread_rad * kRadToDeg, options.min_heading_spread_rad * kRadToDeg) +
         "; add stations turned ≥ 30° to each side, or survey a second wall at a right angle";
     return report;
   }
@@ -147,7 +145,7 @@ std::string HeadingArc(const std::vector<calib::WallObservation>& observations) 
     }
   }
   char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.0f°–%.0f°", start * kDegPerRad, end * kDegPerRad);
+  std::snprintf(buffer, sizeof buffer, "%.0f°–%.0f°", start * kRadToDeg, end * kRadToDeg);
   return buffer;
 }
 
@@ -198,9 +196,9 @@ DeterminationReport CheckDetermination(const Eigen::Matrix3d& information,
                 "y %.3f m, yaw %.3f°): the wall was seen only at headings %s (vehicle-to-wall "
                 "angles %.1f°–%.1f°, %d stations); ",
                 name.c_str(), sigma_along, options.max_sigma_xy_m,
-                options.max_sigma_yaw_rad * kDegPerRad, report.sigma[0], report.sigma[1],
-                report.sigma[2] * kDegPerRad, HeadingArc(observations).c_str(),
-                spread.angle_min_rad * kDegPerRad, spread.angle_max_rad * kDegPerRad,
+                options.max_sigma_yaw_rad * kRadToDeg, report.sigma[0], report.sigma[1],
+                report.sigma[2] * kRadToDeg, HeadingArc(observations).c_str(),
+                spread.angle_min_rad * kRadToDeg, spread.angle_max_rad * kRadToDeg,
                 spread.num_stations);
   report.message = buffer;
   if (order[0] == 2) {

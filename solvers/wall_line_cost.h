@@ -37,6 +37,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include "common/angles.h"
 
 namespace wallcal::solvers {
 
@@ -73,15 +74,13 @@ class WallLineCost {
   }
 
   // The errors before whitening: error[0] = rho_pred − rho_m (m), error[1] = wrap(theta_pred −
-  // theta_rad) (rad, in [−π, π)).
+  // theta_rad) (rad, in (−π, π]).
   template <typename T>
   void Errors(const T* const mount, const T* const wall_delta, const T* const bias,
               const T* const time_offset, const T* const heading_offset,
               const T* const heading_drift, T* error) const {
     using std::cos;
-    using std::floor;
     using std::sin;
-    constexpr double kPi = 3.14159265358979323846;
     const T& delta_d_m = wall_delta[0];
     const T& delta_alpha_rad = wall_delta[1];
     // Moved wall line, oriented towards the vehicle.
@@ -104,9 +103,8 @@ class WallLineCost {
     error[0] = d_m - (nx * sx + ny * sy) - m_.rho_m;
     T theta_error_rad =
         m_.wall_normal_angle_rad + delta_alpha_rad - psi - mount[2] - m_.theta_rad;
-    // Wrap into [−π, π); floor has a zero derivative, so the Jacobian is unaffected.
-    theta_error_rad -= T(2.0 * kPi) * floor((theta_error_rad + T(kPi)) / T(2.0 * kPi));
-    error[1] = theta_error_rad;
+    // Wrapped into (−π, π]; the wrap's ceil has a zero derivative, so the Jacobian is unaffected.
+    error[1] = WrapAngle(theta_error_rad);
   }
 
   const WallLineMeasurement& measurement() const { return m_; }

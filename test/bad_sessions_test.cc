@@ -24,7 +24,13 @@
 #include <string>
 #include <vector>
 
-#include "apps/pipeline.h"
+#include "pipeline/calibration.h"
+#include "pipeline/config_dirs.h"
+#include "calib/pose_samples.h"
+#include "outputs/offsets_document.h"
+#include "outputs/summary.h"
+#include "sim/simulated_session.h"
+#include "sim/simulator.h"
 #include "io/session_reader.h"
 #include "io/writers.h"
 
@@ -173,11 +179,11 @@ class BadSessionsTest : public ::testing::TestWithParam<BadCase> {
     root_ = pattern;
     io::SimulationConfig config =
         io::ReadSimulationConfig(kSourceDir + "/configs/simulate/lms291_sapporo.yaml");
-    app::WriteSimulatedSession(config, 3, (root_ / "base").string());
+    sim::WriteSimulatedSession(config, 3, (root_ / "base").string());
     // One heading only: every station faces the wall square on.
     config.heading_spread_rad = 0.0;
     config.num_stations = 4;
-    app::WriteSimulatedSession(config, 3, (root_ / "one_heading").string());
+    sim::WriteSimulatedSession(config, 3, (root_ / "one_heading").string());
   }
   static void TearDownTestSuite() {
     std::error_code ignored;

@@ -7,16 +7,13 @@
 #include <random>
 #include <vector>
 
-#include "solvers/geometry.h"
+#include "calib/wall_geometry.h"
 #include "solvers/mount_solver.h"
+#include "common/angles.h"
 
 namespace wallcal::solvers {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadPerDeg = kPi / 180.0;
-
-const Mount kTruth{2.57, 0.056, 2.8 * kRadPerDeg};  // seed 002: a = −0.056, b = 2.57, δ = 2.8°
+const Mount kTruth{2.57, 0.056, 2.8 * kDegToRad};  // seed 002: a = −0.056, b = 2.57, δ = 2.8°
 
 struct Noise {
   double rho_m = 0.0;
@@ -53,7 +50,7 @@ std::vector<calib::WallObservation> Simulate(int stations, int scans, const Nois
   std::vector<calib::WallObservation> observations;
   for (int k = 0; k < stations; ++k) {
     const double t = static_cast<double>(k) / (stations - 1);
-    const double heading_rad = 0.5 * kPi + 35.0 * kRadPerDeg * (2 * t - 1);
+    const double heading_rad = 0.5 * kPi + 35.0 * kDegToRad * (2 * t - 1);
     const double u = static_cast<double>((k * 7) % stations) / (stations - 1);
     const Eigen::Vector2d antenna(-4.0 + 8.0 * u, 1.5 + 0.5 * (k % 3));
     const Eigen::Vector2d bias = noise.gnss_bias_m * Eigen::Vector2d(unit(rng), unit(rng));
@@ -110,7 +107,7 @@ TEST(SolveMountBarawidTest, RecoversMountWithinToleranceOnNoisyData) {
   // 1.5 cm of GNSS error per station over 10 stations, seen at ±35°: a few cm at most sideways.
   EXPECT_NEAR(estimate.mount.x_m, kTruth.x_m, 0.03);
   EXPECT_NEAR(estimate.mount.y_m, kTruth.y_m, 0.05);
-  EXPECT_NEAR(estimate.mount.yaw_rad, kTruth.yaw_rad, 0.2 * kRadPerDeg);
+  EXPECT_NEAR(estimate.mount.yaw_rad, kTruth.yaw_rad, 0.2 * kDegToRad);
   EXPECT_GT(estimate.residual_rms_m, 0.002);
   EXPECT_LT(estimate.residual_rms_m, 0.03);
   EXPECT_GT(estimate.covariance(0, 0), 0.0);

@@ -8,13 +8,12 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include "common/angles.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
-
 std::string TempPath(const std::string& name) {
   const fs::path dir = fs::path(::testing::TempDir()) / "carmen_reader_test";
   fs::create_directories(dir);

@@ -13,26 +13,23 @@
 #include <string>
 #include <vector>
 
-#include "solvers/geometry.h"
+#include "calib/wall_geometry.h"
 #include "solvers/mount_problem.h"
 #include "solvers/mount_solver.h"
 #include "solvers/prior_cost.h"
 #include "solvers/wall_line_cost.h"
+#include "common/angles.h"
 
 namespace wallcal::solvers {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadPerDeg = kPi / 180.0;
-
 // ---- Synthetic observations -----------------------------------------------------------------
 
 struct SimSettings {
-  Mount truth{2.57, 0.056, 2.8 * kRadPerDeg};  // seed 002's result
+  Mount truth{2.57, 0.056, 2.8 * kDegToRad};  // seed 002's result
   int stations = 10;
   int scans_per_station = 20;
   double base_heading_rad = 0.5 * kPi;  // facing the first wall (north)
-  double heading_half_spread_rad = 35.0 * kRadPerDeg;
+  double heading_half_spread_rad = 35.0 * kDegToRad;
   bool second_wall = false;  // a wall perpendicular to the first, east of the stations
   bool first_wall = true;
   bool noise = true;
@@ -297,7 +294,7 @@ TEST(WallLineCostTest, OrientsTheWallTowardsAnAntennaOnItsPositiveSide) {
   wall.offset_m = 10.0;
   wall.end_a_local = Eigen::Vector2d(-5.0, 10.0);
   wall.end_b_local = Eigen::Vector2d(5.0, 10.0);
-  const OrientedWall oriented = OrientWall(wall, Eigen::Vector2d(0.0, 15.0));
+  const calib::OrientedWall oriented = calib::OrientWall(wall, Eigen::Vector2d(0.0, 15.0));
   EXPECT_EQ(oriented.sign, -1.0);
   EXPECT_NEAR(oriented.normal_angle_rad, -0.5 * kPi, 1e-12);
 
@@ -326,9 +323,9 @@ TEST(WallLineCostTest, OrientsTheWallTowardsAnAntennaOnItsPositiveSide) {
   calib::WallObservation observation;
   observation.pose.antenna_local_m = m.antenna_local_m;
   observation.pose.yaw_rad = m.vehicle_yaw_rad;
-  EXPECT_NEAR(PredictRho(observation, wall, Mount{2.0, 0.0, 0.0}), 3.0, 1e-12);
-  EXPECT_NEAR(PredictTheta(observation, wall, Mount{2.0, 0.0, 0.0}), 0.0, 1e-12);
-  EXPECT_NEAR(PredictTheta(observation, wall, Mount{2.0, 0.0, 0.3}), -0.3, 1e-12);
+  EXPECT_NEAR(calib::PredictRho(observation, wall, Mount{2.0, 0.0, 0.0}), 3.0, 1e-12);
+  EXPECT_NEAR(calib::PredictTheta(observation, wall, Mount{2.0, 0.0, 0.0}), 0.0, 1e-12);
+  EXPECT_NEAR(calib::PredictTheta(observation, wall, Mount{2.0, 0.0, 0.3}), -0.3, 1e-12);
 }
 
 TEST(WallLineCostTest, JacobiansMatchNumericDifferentiation) {
@@ -417,7 +414,7 @@ TEST(SolveMountCeresTest, RecoversKnownMountFromSeveralStarts) {
   const SimData data = Simulate(settings, rng);
   const io::SolverOptions options = OptionsFor(settings);
   const Mount& t = settings.truth;
-  const double d_yaw = 10.0 * kRadPerDeg;
+  const double d_yaw = 10.0 * kDegToRad;
   const std::vector<Mount> starts = {{0.0, 0.0, 0.0},
                                      {t.x_m + 0.5, t.y_m + 0.5, t.yaw_rad + d_yaw},
                                      {t.x_m - 0.5, t.y_m - 0.5, t.yaw_rad - d_yaw},
@@ -480,7 +477,7 @@ TEST(SolveMountCeresTest, SigmaDoesNotShrinkWithMoreScansPerStation) {
 
 TEST(SolveMountCeresTest, SecondPerpendicularWallShrinksSigma) {
   SimSettings settings;
-  settings.heading_half_spread_rad = 12.0 * kRadPerDeg;  // 24°: allowed, but weak sideways
+  settings.heading_half_spread_rad = 12.0 * kDegToRad;  // 24°: allowed, but weak sideways
   const io::SolverOptions options = OptionsFor(settings);
   std::mt19937 rng(11);
   const SimData one = Simulate(settings, rng);
@@ -606,7 +603,7 @@ TEST(SolveMountCeresTest, OutliersDoNotMoveTheEstimate) {
 
 TEST(SolveMountCeresTest, RefusesNarrowHeadingSpreadAndNamesTheWeakAxis) {
   SimSettings settings;
-  settings.heading_half_spread_rad = 5.0 * kRadPerDeg;
+  settings.heading_half_spread_rad = 5.0 * kDegToRad;
   std::mt19937 rng(3);
   const SimData facing = Simulate(settings, rng);
   const io::SolverOptions options = OptionsFor(settings);
@@ -729,8 +726,8 @@ TEST(SolveMountCeresTest, PredictionsMatchNoiseFreeObservations) {
   const SimData data = Simulate(settings, rng);
   for (const auto& observation : data.observations) {
     const auto& wall = data.walls[observation.wall_index];
-    EXPECT_NEAR(PredictRho(observation, wall, settings.truth), observation.rho_m, 1e-12);
-    EXPECT_NEAR(WrapAngle(PredictTheta(observation, wall, settings.truth) - observation.theta_rad),
+    EXPECT_NEAR(calib::PredictRho(observation, wall, settings.truth), observation.rho_m, 1e-12);
+    EXPECT_NEAR(WrapAngle(calib::PredictTheta(observation, wall, settings.truth) - observation.theta_rad),
                 0.0, 1e-12);
   }
 }
@@ -799,7 +796,7 @@ TEST(SolveMountCeresTest, ConditioningCheckRefusesAWeakAxisAndNamesIt) {
   // 8° of heading spread passes a relaxed spread check, but leaves the lateral offset with a
   // σ of decimetres: the information-matrix check refuses it and says which axis.
   SimSettings settings;
-  settings.heading_half_spread_rad = 4.0 * kRadPerDeg;
+  settings.heading_half_spread_rad = 4.0 * kDegToRad;
   std::mt19937 rng(31);
   const SimData data = Simulate(settings, rng);
   io::SolverOptions options = OptionsFor(settings);
@@ -865,7 +862,7 @@ TEST(SolveMountCeresTest, RecoversAKnownScannerClockOffsetFromMovingScans) {
   // solver that ignored it would be biased; this one estimates it.
   SimSettings settings;
   settings.speed_mps = 1.0;
-  settings.yaw_rate_rps = 3.0 * kRadPerDeg;
+  settings.yaw_rate_rps = 3.0 * kDegToRad;
   settings.time_offset_s = 0.08;
   settings.scans_per_station = 40;
   // Every other station drives backwards: forward motion alone would trade the offset for x.

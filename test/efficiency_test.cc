@@ -19,18 +19,36 @@
 #include <string>
 #include <vector>
 
-#include "apps/pipeline.h"
+#include "pipeline/calibration.h"
+#include "pipeline/config_dirs.h"
+#include "calib/pose_samples.h"
+#include "outputs/offsets_document.h"
+#include "outputs/summary.h"
+#include "sim/simulated_session.h"
+#include "sim/simulator.h"
 #include "bench/crb.h"
-#include "calib/simulator.h"
+#include "sim/simulator.h"
 #include "io/session_reader.h"
 #include "solvers/mount_solver.h"
+#include "common/angles.h"
 
-namespace wallcal::app {
+namespace wallcal {
+
+// The test reaches every library of the flow by its short names.
+namespace pipeline {}
+namespace outputs {}
+namespace analysis {}
+namespace preflight {}
+namespace sim {}
+using namespace wallcal::pipeline;  // NOLINT
+using namespace wallcal::outputs;   // NOLINT
+using namespace wallcal::analysis;  // NOLINT
+using namespace wallcal::preflight;   // NOLINT
+using namespace wallcal::sim;       // NOLINT
+
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
-
 struct Case {
   std::string scenario;  // configs/simulate/bench_<scenario>.yaml
   std::string options;   // bench/<options>.yaml: calibrate's defaults with the simulator's σ
@@ -38,7 +56,7 @@ struct Case {
 };
 
 void CheckSigmaAgainstBound(const Case& c, uint64_t seed) {
-  const io::SimulationConfig config = calib::WithDefaultWalls(io::ReadSimulationConfig(
+  const io::SimulationConfig config = sim::WithDefaultWalls(io::ReadSimulationConfig(
       std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_" + c.scenario + ".yaml"));
   const io::ScannerPreset preset = io::LoadScannerPreset(config.scanner_model, PresetDirs());
   const fs::path dir = fs::path(::testing::TempDir()) /
@@ -96,4 +114,4 @@ TEST(EfficiencyTest, UrgSigmaEqualsTheBound) {
 }
 
 }  // namespace
-}  // namespace wallcal::app
+}  // namespace wallcal

@@ -1,6 +1,6 @@
 // The emitters of calibrate --emit: each form is parsed back and compared with the estimate.
 
-#include "apps/emit.h"
+#include "outputs/emit.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -15,15 +15,33 @@
 #include <string>
 #include <vector>
 
-#include "apps/pipeline.h"
+#include "pipeline/calibration.h"
+#include "pipeline/config_dirs.h"
+#include "calib/pose_samples.h"
+#include "outputs/offsets_document.h"
+#include "outputs/summary.h"
+#include "sim/simulated_session.h"
+#include "sim/simulator.h"
 #include "io/session_reader.h"
+#include "common/angles.h"
 
-namespace wallcal::app {
+namespace wallcal {
+
+// The test reaches every library of the flow by its short names.
+namespace pipeline {}
+namespace outputs {}
+namespace analysis {}
+namespace preflight {}
+namespace sim {}
+using namespace wallcal::pipeline;  // NOLINT
+using namespace wallcal::outputs;   // NOLINT
+using namespace wallcal::analysis;  // NOLINT
+using namespace wallcal::preflight;   // NOLINT
+using namespace wallcal::sim;       // NOLINT
+
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
-
 solvers::MountEstimate Estimate() {
   solvers::MountEstimate e;
   e.mount.x_m = 2.5398529;
@@ -532,4 +550,4 @@ TEST(EmitProgramTest, EmitJsonPrintsOnlyJsonOnStdout) {
 }
 
 }  // namespace
-}  // namespace wallcal::app
+}  // namespace wallcal

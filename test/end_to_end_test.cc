@@ -24,15 +24,33 @@
 
 #include <gtest/gtest.h>
 
-#include "apps/pipeline.h"
+#include "pipeline/calibration.h"
+#include "pipeline/config_dirs.h"
+#include "calib/pose_samples.h"
+#include "outputs/offsets_document.h"
+#include "outputs/summary.h"
+#include "sim/simulated_session.h"
+#include "sim/simulator.h"
 #include "io/session_reader.h"
+#include "common/angles.h"
 
-namespace wallcal::app {
+namespace wallcal {
+
+// The test reaches every library of the flow by its short names.
+namespace pipeline {}
+namespace outputs {}
+namespace analysis {}
+namespace preflight {}
+namespace sim {}
+using namespace wallcal::pipeline;  // NOLINT
+using namespace wallcal::outputs;   // NOLINT
+using namespace wallcal::analysis;  // NOLINT
+using namespace wallcal::preflight;   // NOLINT
+using namespace wallcal::sim;       // NOLINT
+
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
-
 std::string ScenarioPath(const std::string& name) {
   return std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/" + name + ".yaml";
 }
@@ -53,17 +71,17 @@ Errors CalibrateAndCompare(const fs::path& session, const io::SimulationConfig& 
                            const std::string& method) {
   CalibrateRequest request;
   request.session_path = session.string();
-  request.method = method;
+  request.method = method == "barawid" ? solvers::Method::kBarawid : solvers::Method::kCeres;
   const CalibrationResult result = RunCalibration(request, nullptr);
   EXPECT_TRUE(result.estimate.usable) << result.estimate.message;
   const solvers::MountEstimate& e = result.estimate;
   Errors errors;
   errors.dx_m = e.mount.x_m - truth.mount_x_m;
   errors.dy_m = e.mount.y_m - truth.mount_y_m;
-  errors.dyaw_deg = (e.mount.yaw_rad - truth.mount_yaw_rad) / kDeg;
+  errors.dyaw_deg = (e.mount.yaw_rad - truth.mount_yaw_rad) / kDegToRad;
   errors.sx_m = std::sqrt(e.covariance(0, 0));
   errors.sy_m = std::sqrt(e.covariance(1, 1));
-  errors.syaw_deg = std::sqrt(e.covariance(2, 2)) / kDeg;
+  errors.syaw_deg = std::sqrt(e.covariance(2, 2)) / kDegToRad;
   std::printf("[ e2e      ] %-28s %-8s dx %+.4f m (σ %.4f)  dy %+.4f m (σ %.4f)  dyaw %+.4f deg "
               "(σ %.4f)  obs %d  %.2f s\n",
               truth.name.c_str(), method.c_str(), errors.dx_m, errors.sx_m, errors.dy_m,
@@ -139,7 +157,7 @@ TEST(CalibrateProgramTest, SampleSessionPrintsTheTrueMount) {
   // Printed with 4 decimals; same tolerances as the end-to-end tests above.
   EXPECT_NEAR(Printed(run.out, "x = "), truth.mount_x_m, 0.06) << run.out;
   EXPECT_NEAR(Printed(run.out, "y = "), truth.mount_y_m, 0.06) << run.out;
-  EXPECT_NEAR(Printed(run.out, "yaw = ") * kDeg, truth.mount_yaw_rad, 0.25 * kDeg) << run.out;
+  EXPECT_NEAR(Printed(run.out, "yaw = ") * kDegToRad, truth.mount_yaw_rad, 0.25 * kDegToRad) << run.out;
   EXPECT_TRUE(fs::exists(out));
 }
 
@@ -169,7 +187,7 @@ TEST(CalibrateProgramTest, HelpExplainsTheProgram) {
 TEST(CalibrateProgramTest, NarrowHeadingsAreRefusedAndOldOffsetsKept) {
   const fs::path dir = FreshDir("narrow");
   io::SimulationConfig config = io::ReadSimulationConfig(ScenarioPath("lms291_sapporo"));
-  config.heading_spread_rad = 4.0 * kDeg;
+  config.heading_spread_rad = 4.0 * kDegToRad;
   config.num_stations = 8;
   WriteSimulatedSession(config, 21, dir.string());
   const fs::path out = dir / "offsets.yaml";
@@ -207,4 +225,4 @@ TEST(SimulateProgramTest, BadSeedIsAUsageError) {
 }
 
 }  // namespace
-}  // namespace wallcal::app
+}  // namespace wallcal

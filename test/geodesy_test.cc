@@ -6,13 +6,10 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include "common/angles.h"
 
 namespace wallcal::calib {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
-
 // An independent UTM forward projection for reference values: the Krüger n-series to third
 // order as given in "Universal Transverse Mercator coordinate system", Wikipedia, section
 // "From latitude, longitude to UTM coordinates" (after Karney 2011, J. Geodesy 85:475). Its
@@ -27,7 +24,7 @@ Reference KruegerUtm(double lat_deg, double lon_deg, double lon0_deg, bool north
   const double big_a = a / (1.0 + n) * (1.0 + n * n / 4.0 + n * n * n * n / 64.0);
   const double alpha[3] = {n / 2.0 - 2.0 * n * n / 3.0 + 5.0 * n * n * n / 16.0,
                            13.0 * n * n / 48.0 - 3.0 * n * n * n / 5.0, 61.0 * n * n * n / 240.0};
-  const double phi = lat_deg * kDeg, dlambda = (lon_deg - lon0_deg) * kDeg;
+  const double phi = lat_deg * kDegToRad, dlambda = (lon_deg - lon0_deg) * kDegToRad;
   const double e = 2.0 * std::sqrt(n) / (1.0 + n);
   const double t = std::sinh(std::atanh(std::sin(phi)) - e * std::atanh(e * std::sin(phi)));
   const double xi = std::atan2(t, std::cos(dlambda));
@@ -115,7 +112,7 @@ TEST(GeodesyTest, ConvergenceSignFollowsQuadrant) {
   for (double lat_deg : {-60.0, -43.0, 10.0, 43.0, 70.0}) {
     for (double dlon_deg : {-2.5, -1.0, 1.0, 2.5}) {
       const double gamma = ToUtm(lat_deg, 141.0 + dlon_deg).convergence_rad;
-      EXPECT_NEAR(gamma, dlon_deg * kDeg * std::sin(lat_deg * kDeg), 0.01 * std::abs(gamma))
+      EXPECT_NEAR(gamma, dlon_deg * kDegToRad * std::sin(lat_deg * kDegToRad), 0.01 * std::abs(gamma))
           << lat_deg << " " << dlon_deg;
     }
   }
@@ -229,7 +226,7 @@ TEST(GeodesyTest, LocalFrameKeepsGroundDistancesFarFromMeridian) {
     // A vehicle driving along the geodesic with that true heading: its yaw is the direction
     // of the displacement in the local frame (the projection is conformal).
     const double mean_heading_rad =
-        (azimuth_deg + 0.5 * std::remainder(azimuth2_deg - azimuth_deg, 360.0)) * kDeg;
+        (azimuth_deg + 0.5 * std::remainder(azimuth2_deg - azimuth_deg, 360.0)) * kDegToRad;
     const double lat_mid = 0.5 * (lat1 + lat2), lon_mid = 0.5 * (lon1 + lon2);
     const double yaw = YawFromTrueHeading(frame, mean_heading_rad, lat_mid, lon_mid);
     EXPECT_NEAR(WrapAngle(yaw - std::atan2(d.y(), d.x())), 0.0, 2e-6);

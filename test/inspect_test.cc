@@ -1,4 +1,4 @@
-#include "apps/inspect.h"
+#include "preflight/inspect.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -16,18 +16,36 @@
 #include <string>
 #include <vector>
 
-#include "apps/pipeline.h"
+#include "pipeline/calibration.h"
+#include "pipeline/config_dirs.h"
+#include "calib/pose_samples.h"
+#include "outputs/offsets_document.h"
+#include "outputs/summary.h"
+#include "sim/simulated_session.h"
+#include "sim/simulator.h"
 #include "io/carmen_reader.h"
 #include "io/nmea_reader.h"
 #include "io/session_reader.h"
 #include "io/writers.h"
+#include "common/angles.h"
 
-namespace wallcal::app {
+namespace wallcal {
+
+// The test reaches every library of the flow by its short names.
+namespace pipeline {}
+namespace outputs {}
+namespace analysis {}
+namespace preflight {}
+namespace sim {}
+using namespace wallcal::pipeline;  // NOLINT
+using namespace wallcal::outputs;   // NOLINT
+using namespace wallcal::analysis;  // NOLINT
+using namespace wallcal::preflight;   // NOLINT
+using namespace wallcal::sim;       // NOLINT
+
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadToDeg = 180.0 / kPi;
 const std::string kInspect = WALLCAL_BINARY_DIR "/inspect";
 const std::string kRealDir = WALLCAL_SOURCE_DIR "/../shared/testdata/real/";
 
@@ -425,4 +443,4 @@ TEST(InspectTest, StreamStatsFindGapsAndStepsBack) {
 }
 
 }  // namespace
-}  // namespace wallcal::app
+}  // namespace wallcal

@@ -11,14 +11,12 @@
 #include <vector>
 
 #include "io/writers.h"
+#include "common/angles.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegToRad = kPi / 180.0;
-
 std::string WriteFile(const std::string& name, const std::string& content) {
   const fs::path dir = fs::path(::testing::TempDir()) / "nmea_reader_test";
   fs::create_directories(dir);

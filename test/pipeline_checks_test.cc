@@ -11,11 +11,31 @@
 
 #include <gtest/gtest.h>
 
-#include "apps/pipeline.h"
+#include "pipeline/calibration.h"
+#include "calib/wall_geometry.h"
+#include "pipeline/config_dirs.h"
+#include "calib/pose_samples.h"
+#include "outputs/offsets_document.h"
+#include "outputs/summary.h"
+#include "sim/simulated_session.h"
+#include "sim/simulator.h"
 #include "io/session_reader.h"
 #include "solvers/mount_problem.h"
 
-namespace wallcal::app {
+namespace wallcal {
+
+// The test reaches every library of the flow by its short names.
+namespace pipeline {}
+namespace outputs {}
+namespace analysis {}
+namespace preflight {}
+namespace sim {}
+using namespace wallcal::pipeline;  // NOLINT
+using namespace wallcal::outputs;   // NOLINT
+using namespace wallcal::analysis;  // NOLINT
+using namespace wallcal::preflight;   // NOLINT
+using namespace wallcal::sim;       // NOLINT
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -171,8 +191,8 @@ solvers::Mount SolvePerfectObservations(const fs::path& dir, const io::Simulatio
   const solvers::Mount truth{config.mount_x_m, config.mount_y_m, config.mount_yaw_rad};
   std::vector<calib::WallObservation> perfect = result.observations;
   for (calib::WallObservation& o : perfect) {
-    o.rho_m = solvers::PredictRho(o, result.walls[o.wall_index], truth);
-    o.theta_rad = solvers::PredictTheta(o, result.walls[o.wall_index], truth);
+    o.rho_m = calib::PredictRho(o, result.walls[o.wall_index], truth);
+    o.theta_rad = calib::PredictTheta(o, result.walls[o.wall_index], truth);
   }
   const io::SolverOptions solver = io::ReadCalibrateOptions((dir / "calibrate.yaml").string()).solver;
   std::string error;
@@ -233,4 +253,4 @@ TEST(PipelineChecksTest, ResidualAnalysisAndRepeatabilityComeWithTheEstimate) {
 }
 
 }  // namespace
-}  // namespace wallcal::app
+}  // namespace wallcal

@@ -6,12 +6,10 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include "common/angles.h"
 
 namespace wallcal::calib {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
-
 io::ScanRecord ScanFor(const io::ScannerPreset& preset, std::vector<float> ranges) {
   io::ScanRecord scan;
   scan.stamp_s = 100.0;
@@ -77,15 +75,15 @@ TEST(RangeModelTest, AppliesRangeCorrectionAndLogBearings) {
   std::vector<float> r(urg.num_beams, 1.0f);
   io::ScanRecord scan = ScanFor(urg, r);
   // Bearings come from the record, not the preset.
-  scan.start_angle_rad = -100.0 * kDeg;
-  scan.angular_step_rad = 0.25 * kDeg;
+  scan.start_angle_rad = -100.0 * kDegToRad;
+  scan.angular_step_rad = 0.25 * kDegToRad;
   const ScanPoints pts = ToScanPoints(scan, urg, 0.1, 0.15, nullptr);
   ASSERT_EQ(static_cast<int>(pts.range_m.size()), urg.num_beams);
   // Seed 000: ŷ = 1.0102 μ − 7.0 mm.
   const double expected = 1.0102 * 1.0 - 0.007;
   for (int i : {0, 200, 681}) {
     EXPECT_NEAR(pts.range_m[i], expected, 1e-6);
-    const double bearing = (-100.0 + 0.25 * i) * kDeg;
+    const double bearing = (-100.0 + 0.25 * i) * kDegToRad;
     EXPECT_NEAR(pts.bearing_rad[i], bearing, 1e-6);
     EXPECT_NEAR(pts.p_scanner_m[i].x(), expected * std::cos(bearing), 1e-6);
     EXPECT_NEAR(pts.p_scanner_m[i].y(), expected * std::sin(bearing), 1e-6);
@@ -161,7 +159,7 @@ TEST(RangeModelTest, SmoothWallIsNotFlaggedEvenAtHighIncidence) {
   std::vector<float> r(sick.num_beams, 80.0f);
   for (int i = 0; i < sick.num_beams; ++i) {
     const double bearing = sick.start_angle_rad + i * sick.angular_step_rad;
-    if (std::abs(bearing) > 65.0 * kDeg + 1e-9) continue;
+    if (std::abs(bearing) > 65.0 * kDegToRad + 1e-9) continue;
     const double range = 8.0 / std::cos(bearing) + noise(rng);
     r[i] = static_cast<float>(std::round(range / 0.01) * 0.01);
   }

@@ -1,7 +1,7 @@
 // calibrate --report: the page is well-formed (XML-strict), self-contained, and has its sections
 // and plots, for a real calibration of a simulated session.
 
-#include "apps/report.h"
+#include "outputs/report.h"
 
 #include <unistd.h>
 
@@ -20,8 +20,23 @@
 #include <vector>
 
 #include "io/session_reader.h"
+#include "pipeline/calibration.h"
+#include "sim/simulated_session.h"
 
-namespace wallcal::app {
+namespace wallcal {
+
+// The test reaches every library of the flow by its short names.
+namespace pipeline {}
+namespace outputs {}
+namespace analysis {}
+namespace preflight {}
+namespace sim {}
+using namespace wallcal::pipeline;  // NOLINT
+using namespace wallcal::outputs;   // NOLINT
+using namespace wallcal::analysis;  // NOLINT
+using namespace wallcal::preflight;   // NOLINT
+using namespace wallcal::sim;       // NOLINT
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -209,8 +224,9 @@ class ReportTest : public ::testing::Test {
     WriteSimulatedSession(io::ReadSimulationConfig(ScenarioPath("lms291_sapporo")), 7, dir.string());
     CalibrateRequest request;
     request.session_path = dir.string();
+    request.collect_report_data = true;
     result_ = std::make_unique<CalibrationResult>(RunCalibration(request));
-    html_ = std::make_unique<std::string>(FormatReportHtml(*result_, io::CalibrateOptions()));
+    html_ = std::make_unique<std::string>(FormatReportHtml(*result_));
   }
   static void TearDownTestSuite() {
     result_.reset();
@@ -326,7 +342,7 @@ TEST_F(ReportTest, ResidualAnalysisRepeatabilityAndForceAreShownWhenPresent) {
   r.repeatability.splits.push_back(split);
   r.time_offset_s = 0.0123;
   r.time_offset_sigma_s = 0.0011;
-  const std::string html = FormatReportHtml(r, io::CalibrateOptions());
+  const std::string html = FormatReportHtml(r);
   EXPECT_EQ(XmlProblem(html), "");
   EXPECT_NE(html.find("TREND FLAGGED"), std::string::npos);
   EXPECT_NE(html.find("range scale error: check k"), std::string::npos);
@@ -340,7 +356,7 @@ TEST_F(ReportTest, ResidualAnalysisRepeatabilityAndForceAreShownWhenPresent) {
 
 TEST_F(ReportTest, WriteReportCreatesTheFolderAndTheFile) {
   const fs::path dir = FreshDir("write") / "nested" / "out";
-  const std::string path = WriteReport(*result_, io::CalibrateOptions(), dir.string());
+  const std::string path = WriteReport(*result_, dir.string());
   EXPECT_EQ(fs::path(path), dir / "report.html");
   std::ifstream in(path);
   std::stringstream text;
@@ -356,9 +372,10 @@ TEST(ReportUnusableTest, ARefusedEstimateStillGivesAWellFormedReport) {
   WriteSimulatedSession(config, 21, dir.string());
   CalibrateRequest request;
   request.session_path = dir.string();
+  request.collect_report_data = true;
   const CalibrationResult result = RunCalibration(request);
   ASSERT_FALSE(result.estimate.usable);
-  const std::string html = FormatReportHtml(result, io::CalibrateOptions());
+  const std::string html = FormatReportHtml(result);
   EXPECT_EQ(XmlProblem(html), "");
   EXPECT_EQ(SelfContainedProblem(html), "");
   EXPECT_NE(html.find("NOT DETERMINED"), std::string::npos);
@@ -366,4 +383,4 @@ TEST(ReportUnusableTest, ARefusedEstimateStillGivesAWellFormedReport) {
 }
 
 }  // namespace
-}  // namespace wallcal::app
+}  // namespace wallcal

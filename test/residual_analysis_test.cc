@@ -9,15 +9,26 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "apps/residual_analysis.h"
-#include "solvers/geometry.h"
+#include "analysis/residual_analysis.h"
+#include "calib/wall_geometry.h"
 #include "solvers/mount_solver.h"
+#include "common/angles.h"
 
-namespace wallcal::app {
+namespace wallcal {
+
+// The test reaches every library of the flow by its short names.
+namespace pipeline {}
+namespace outputs {}
+namespace analysis {}
+namespace preflight {}
+namespace sim {}
+using namespace wallcal::pipeline;  // NOLINT
+using namespace wallcal::outputs;   // NOLINT
+using namespace wallcal::analysis;  // NOLINT
+using namespace wallcal::preflight;   // NOLINT
+using namespace wallcal::sim;       // NOLINT
+
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
 struct Session {
   std::vector<calib::WallGeometry> walls;
   std::vector<calib::WallObservation> observations;
@@ -58,7 +69,7 @@ Session Make(double range_scale, int jump_station, double jump_m, unsigned seed)
       o.wall_index = 0;
       const double rho = wall.offset_m - scanner.y();
       o.rho_m = range_scale * rho + 0.003 * unit(rng);
-      o.theta_rad = solvers::WrapAngle(0.5 * kPi - heading - truth.yaw_rad + 0.001 * unit(rng));
+      o.theta_rad = WrapAngle(0.5 * kPi - heading - truth.yaw_rad + 0.001 * unit(rng));
       o.sigma_rho_m = 0.003;
       o.sigma_theta_rad = 0.001;
       o.num_inliers = 100;
@@ -144,4 +155,4 @@ TEST(ResidualAnalysisTest, GnssJumpAtOneStationIsFlagged) {
 }
 
 }  // namespace
-}  // namespace wallcal::app
+}  // namespace wallcal

@@ -8,13 +8,12 @@
 #include <string>
 
 #include "io/writers.h"
+#include "common/angles.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
-
 std::string Dir(const std::string& name) {
   const fs::path dir = fs::path(::testing::TempDir()) / "session_reader_test" / name;
   fs::create_directories(dir);

@@ -1,4 +1,4 @@
-#include "calib/simulator.h"
+#include "sim/simulator.h"
 #include "test/shipped_presets.h"
 
 #include <gtest/gtest.h>
@@ -9,13 +9,12 @@
 #include <set>
 #include <string>
 #include <vector>
+#include "common/angles.h"
 
-namespace wallcal::calib {
+namespace wallcal::calib {}
+namespace wallcal::sim {
+using namespace wallcal::calib;  // NOLINT: the simulator is checked against calib's geometry
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
-
 // ---- The shipped presets (configs/scanners/*.yaml) -------------------------------------------
 io::ScannerPreset SickLms291() { return testing_support::ShippedPreset("sick_lms291"); }
 io::ScannerPreset SickLms200() { return testing_support::ShippedPreset("sick_lms200"); }
@@ -26,8 +25,8 @@ io::ScannerPreset CheapPreset(double rate_hz = 1.0) {
   io::ScannerPreset p = SickLms291();
   p.name = "cheap";
   p.num_beams = 3;
-  p.start_angle_rad = -10.0 * kDeg;
-  p.angular_step_rad = 10.0 * kDeg;
+  p.start_angle_rad = -10.0 * kDegToRad;
+  p.angular_step_rad = 10.0 * kDegToRad;
   p.rate_hz = rate_hz;
   return p;
 }
@@ -227,7 +226,7 @@ TEST(SimulatorTest, NoiseFreeRangesEqualGeometricDistanceToTheWall) {
       const double incidence = std::acos(std::min(1.0, std::abs(sin_a)));
       if (t > 0.0 && std::abs(x_hit) <= 15.0 - 1e-6 &&
           incidence < preset.max_incidence_rad - 1e-6) {
-        if (incidence < 30.0 * kDeg) {
+        if (incidence < 30.0 * kDegToRad) {
           EXPECT_NEAR(range, t, 1e-6) << "scan " << si << " beam " << i;
           ++checked_perpendicular;
         } else {
@@ -506,8 +505,8 @@ TEST(SimulatorTest, ScanStampsRunEarlyByTheTimeOffset) {
   EXPECT_NEAR(run.scans[75].stamp_s, config.start_time_s + 1.0 - 0.25, 1e-6);
   EXPECT_EQ(run.session.fixes.front().stamp_s, config.start_time_s);
   EXPECT_EQ(run.session.headings.front().stamp_s, config.start_time_s);
-  EXPECT_NEAR(run.scans.front().start_angle_rad, -90.0 * kDeg, 1e-12);
-  EXPECT_NEAR(run.scans.front().angular_step_rad, 1.0 * kDeg, 1e-12);
+  EXPECT_NEAR(run.scans.front().start_angle_rad, -90.0 * kDegToRad, 1e-12);
+  EXPECT_NEAR(run.scans.front().angular_step_rad, 1.0 * kDegToRad, 1e-12);
   EXPECT_EQ(run.scans.front().max_range_m, 80.0);
 }
 
@@ -754,11 +753,11 @@ TEST(SimulatorTest, TrueBeamHitsNameTheSurfaceAndSeeOcclusions) {
   EXPECT_NEAR(ahead.range_m, 11.0 - 0.3 - 6.5, 1e-9);
   const SimBeamHit& left = hits[90 + 30];  // bearing +30°: the first wall, 5.5 m north
   EXPECT_EQ(left.wall_index, 0);
-  EXPECT_NEAR(left.range_m, 5.5 / std::cos(30.0 * kDeg), 1e-9);
+  EXPECT_NEAR(left.range_m, 5.5 / std::cos(30.0 * kDegToRad), 1e-9);
   EXPECT_TRUE(left.returned);
   const SimBeamHit& right = hits[90 - 80];  // bearing −80°: the second wall, 14 m east
   EXPECT_EQ(right.wall_index, 1);
-  EXPECT_NEAR(right.range_m, 14.0 / std::cos(10.0 * kDeg), 1e-9);
+  EXPECT_NEAR(right.range_m, 14.0 / std::cos(10.0 * kDegToRad), 1e-9);
   // The post's silhouette edges are mixed-pixel candidates, the middle of a wall is not.
   int edges = 0;
   for (const SimBeamHit& h : hits) edges += h.footprint_edge;
@@ -782,4 +781,4 @@ TEST(SimulatorTest, RejectsAWeaveThatReachesTheWall) {
 }
 
 }  // namespace
-}  // namespace wallcal::calib
+}  // namespace wallcal::sim

@@ -8,12 +8,10 @@
 #include <vector>
 
 #include "calib/geodesy.h"
+#include "common/angles.h"
 
 namespace wallcal::calib {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
 std::vector<PositionSample> Positions(double t0, double t1, double rate_hz,
                                       Eigen::Vector2d (*at)(double)) {
   std::vector<PositionSample> out;

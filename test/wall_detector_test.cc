@@ -12,11 +12,10 @@
 
 #include "calib/range_model.h"
 #include "io/options.h"
+#include "common/angles.h"
 
 namespace wallcal::calib {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // ---- A small 2-D ray caster: the scanner at the origin, walls as segments, trunks as circles.
@@ -116,11 +115,11 @@ LineGate Gate(double theta_rad, double theta_hw_rad, double rho_m, double rho_hw
 // rough mount would place them.
 LineGate WideGate(double theta_rad, double rho_m) {
   const io::DetectorOptions o;
-  return Gate(theta_rad + 8.0 * kDeg, o.wide_angle_gate_rad, rho_m - 2.0, o.wide_offset_gate_m);
+  return Gate(theta_rad + 8.0 * kDegToRad, o.wide_angle_gate_rad, rho_m - 2.0, o.wide_offset_gate_m);
 }
 LineGate TightGate(double theta_rad, double rho_m) {
   const io::DetectorOptions o;
-  return Gate(theta_rad - 0.8 * kDeg, o.tight_angle_gate_rad, rho_m + 0.1, o.tight_offset_gate_m);
+  return Gate(theta_rad - 0.8 * kDegToRad, o.tight_angle_gate_rad, rho_m + 0.1, o.tight_offset_gate_m);
 }
 
 // Within k reported σ of the truth (3σ for single scans; 4σ where a test runs many seeds, so
@@ -203,8 +202,8 @@ TEST(WallDetectorTest, ReportedSigmaMatchesScatterOverManyScans) {
   std::printf(
       "sigma rho reported %.2f mm, empirical %.2f mm; sigma theta %.4f / %.4f deg; "
       "corr %.2f / %.2f\n",
-      1e3 * std::sqrt(rep_var_r), 1e3 * std::sqrt(emp_var_r), std::sqrt(rep_var_t) / kDeg,
-      std::sqrt(emp_var_t) / kDeg, rep_corr, emp_corr);
+      1e3 * std::sqrt(rep_var_r), 1e3 * std::sqrt(emp_var_r), std::sqrt(rep_var_t) / kDegToRad,
+      std::sqrt(emp_var_t) / kDegToRad, rep_corr, emp_corr);
 }
 
 TEST(WallDetectorTest, FindsWallBehindTrees) {
@@ -244,7 +243,7 @@ TEST(WallDetectorTest, IgnoresSecondWallOutsideGate) {
   // Without a gate the biggest line wins, and it is not the wall: the scene is a real trap.
   const WallDetection ungated = DetectWall(pts, LineGate(), opt, sick.range_sigma_m);
   ASSERT_TRUE(ungated.found);
-  EXPECT_GT(std::abs(ungated.theta_rad - theta), 10.0 * kDeg);
+  EXPECT_GT(std::abs(ungated.theta_rad - theta), 10.0 * kDegToRad);
   EXPECT_GT(ungated.num_inliers, 30);
 
   for (const LineGate& gate : {WideGate(theta, rho), TightGate(theta, rho)}) {
@@ -263,7 +262,7 @@ TEST(WallDetectorTest, StrongLineJustOutsideAngleGateIsNotChosen) {
   const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   io::DetectorOptions opt;
   const double theta = 0.0, rho = 8.0;
-  const LineGate gate = Gate(theta, 10.0 * kDeg, rho, 6.0);
+  const LineGate gate = Gate(theta, 10.0 * kDegToRad, rho, 6.0);
   // A dense wall close by whose normal lies two or four accumulator cells (0.5°, 1°) beyond the
   // gate's edge: its flank spills into the gate's edge rows.
   // (One cell out is within the noise of its own fit, 0.07° here: the gate's edge is that fuzzy.)

@@ -13,13 +13,12 @@
 #include "io/nmea_reader.h"
 #include "io/session_reader.h"
 #include "io/survey_reader.h"
+#include "common/angles.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
-
 std::string Dir(const std::string& name) {
   const fs::path dir = fs::path(::testing::TempDir()) / "writers_test" / name;
   fs::remove_all(dir);

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "io/nmea_reader.h"
+#include "common/angles.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
@@ -19,7 +20,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   // The header's promises: sorted by time, finite values in range, a line for every record.
-  constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
   for (size_t i = 0; i < log.fixes.size(); ++i) {
     const wallcal::io::GnssFix& fix = log.fixes[i];
     if (!std::isfinite(fix.stamp_s) || !std::isfinite(fix.lat_deg) || !std::isfinite(fix.lon_deg) ||

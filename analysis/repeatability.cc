@@ -1,13 +1,14 @@
-#include "apps/repeatability.h"
+#include "analysis/repeatability.h"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
 
-#include "solvers/geometry.h"
+#include "calib/wall_geometry.h"
+#include "common/angles.h"
 
-namespace wallcal::app {
+namespace wallcal::analysis {
 namespace {
 
 // Iterations of a warm-started re-solve: the problem is nearly linear about the full solution.
@@ -73,7 +74,7 @@ Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& obs
       out.max_split_shift_y_m = std::max(out.max_split_shift_y_m, std::abs(refit.mount.y_m - full.y_m));
       out.max_split_shift_yaw_rad =
           std::max(out.max_split_shift_yaw_rad,
-                   std::abs(solvers::WrapAngle(refit.mount.yaw_rad - full.yaw_rad)));
+                   std::abs(WrapAngle(refit.mount.yaw_rad - full.yaw_rad)));
     }
     out.splits.push_back(split);
   }
@@ -91,7 +92,7 @@ Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& obs
                                                      weights_for(station_weight), kRefitIterations);
     if (!refit.converged || !refit.determined) continue;
     const double d[3] = {refit.mount.x_m - full.x_m, refit.mount.y_m - full.y_m,
-                         solvers::WrapAngle(refit.mount.yaw_rad - full.yaw_rad)};
+                         WrapAngle(refit.mount.yaw_rad - full.yaw_rad)};
     for (int a = 0; a < 3; ++a) {
       sum[a] += d[a];
       sum_sq[a] += d[a] * d[a];
@@ -113,4 +114,4 @@ Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& obs
   return out;
 }
 
-}  // namespace wallcal::app
+}  // namespace wallcal::analysis

@@ -1,17 +1,13 @@
 #pragma once
-// The geometry shared by both mount solvers: a surveyed wall line seen from one vehicle pose.
-// All in the session's local ground frame (metres, radians ccw from grid east); see
-// calib/observation.h. Nothing here touches Ceres.
+// A surveyed wall line seen from one vehicle pose and a scanner mount: what the wall detector's
+// gates predict and what both mount solvers compare observations with. All in the session's
+// local ground frame (metres, radians ccw from grid east); see calib/observation.h.
 
 #include <Eigen/Core>
 
 #include "calib/observation.h"
-#include "solvers/mount_solver.h"
 
-namespace wallcal::solvers {
-
-// Wraps an angle into (−π, π].
-double WrapAngle(double angle_rad);
+namespace wallcal::calib {
 
 // A wall line {q : normal_local · q = offset_m} with its normal turned so that the vehicle's
 // antenna lies on the negative side (offset_m − normal_local · antenna > 0): the normal then
@@ -25,10 +21,10 @@ struct OrientedWall {
 
 // Orients `wall` for an antenna at `antenna_local_m` (the measured one: the sign is decided once
 // from the input and then kept, so that it cannot flip while a solver moves the estimate).
-OrientedWall OrientWall(const calib::WallGeometry& wall, const Eigen::Vector2d& antenna_local_m);
+OrientedWall OrientWall(const WallGeometry& wall, const Eigen::Vector2d& antenna_local_m);
 
 // Scanner origin in the local frame: s = p_antenna + R(ψ) · (x_m, y_m).
-Eigen::Vector2d ScannerPositionLocal(const calib::VehiclePose& pose, const Mount& mount);
+Eigen::Vector2d ScannerPositionLocal(const VehiclePose& pose, const Mount& mount);
 
 // The wall normal in vehicle coordinates, n_v = R(−ψ) n (seed 002's cos φ, sin φ; Eq. 8, 10).
 Eigen::Vector2d NormalInVehicle(const OrientedWall& wall, double vehicle_yaw_rad);
@@ -36,4 +32,14 @@ Eigen::Vector2d NormalInVehicle(const OrientedWall& wall, double vehicle_yaw_rad
 // The vehicle-to-wall angle φ = atan2(n) − ψ (seed 002, Eq. 8), wrapped into (−π, π].
 double VehicleToWallAngle(const OrientedWall& wall, double vehicle_yaw_rad);
 
-}  // namespace wallcal::solvers
+// The wall line `observation` should show for `mount`, from the nominal surveyed wall and the
+// measured pose (no nuisance parameters): the scanner-frame line parameters that the
+// observation's rho_m (m, > 0 when the scanner is in front of the wall) and theta_rad (rad, in
+// (−π, π]) estimate. The wall normal is oriented so that the antenna is on its negative side.
+// `wall` must be walls[observation.wall_index]. Used to gate the wall detector's second pass.
+double PredictRho(const WallObservation& observation, const WallGeometry& wall,
+                  const Mount& mount);
+double PredictTheta(const WallObservation& observation, const WallGeometry& wall,
+                    const Mount& mount);
+
+}  // namespace wallcal::calib

@@ -1,4 +1,6 @@
-#include "apps/inspect.h"
+#include "preflight/inspect.h"
+
+#include <zlib.h>
 
 #include <algorithm>
 #include <cctype>
@@ -14,7 +16,9 @@
 #include <set>
 #include <sstream>
 
-#include "apps/pipeline.h"
+#include "pipeline/calibration.h"
+#include "pipeline/config_dirs.h"
+#include "calib/pose_samples.h"
 #include "calib/geodesy.h"
 #include "calib/range_model.h"
 #include "calib/survey_tie.h"
@@ -24,14 +28,12 @@
 #include "io/session_reader.h"
 #include "io/survey_reader.h"
 #include "io/version.h"
+#include "common/angles.h"
 
-namespace wallcal::app {
+namespace wallcal::preflight {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadToDeg = 180.0 / kPi;
-
 std::string Fmt(const char* format, double value) {
   char buffer[64];
   std::snprintf(buffer, sizeof(buffer), format, value);
@@ -80,7 +82,7 @@ AngleExtent Extent(const std::vector<double>& angles_rad) {
   const double mean = std::atan2(sy, sx);
   double lo = 0.0, hi = 0.0;
   for (double a : angles_rad) {
-    const double d = calib::WrapAngle(a - mean);
+    const double d = WrapAngle(a - mean);
     lo = std::min(lo, d);
     hi = std::max(hi, d);
   }
@@ -154,19 +156,7 @@ std::string DescribeSkips(const io::SkipCounts& skips) {
   return first ? std::string("none") : out.str();
 }
 
-// Lines every healthy log has (other sentences, comments, PARAM/ODOM): not worth a warning.
-bool IsInformational(const std::string& reason) {
-  return reason == "not NMEA" || reason == "comment" || reason == "blank line" ||
-         reason.rfind("other sentence", 0) == 0 || reason.rfind("not a scan", 0) == 0;
-}
-
-int64_t WorrisomeSkips(const io::SkipCounts& skips) {
-  int64_t n = 0;
-  for (const auto& [reason, count] : skips.by_reason) {
-    if (!IsInformational(reason)) n += count;
-  }
-  return n;
-}
+int64_t WorrisomeSkips(const io::SkipCounts& skips) { return skips.Problems(); }
 
 std::string FormatStream(const StreamStats& s) {
   std::ostringstream out;
@@ -437,29 +427,15 @@ StreamStats ComputeStreamStats(const std::string& name, const std::string& file,
 
 LogKind SniffLogKind(const std::string& path) {
   RequireReadableFile(path);
-  if (IsGzip(path)) {
-    // Only CARMEN logs are read compressed: look for CARMEN lines through the reader.
-    io::CarmenReader reader(path);
-    io::ScanRecord scan;
-    const bool any_scan = reader.Next(&scan);
-    bool carmen = any_scan;
-    for (const auto& [reason, count] : reader.skipped().by_reason) {
-      const size_t colon = reason.find(':');
-      const std::string word =
-          reason.rfind("not a scan: ", 0) == 0 ? reason.substr(12) : reason.substr(0, colon);
-      if (IsCarmenKeyword(word)) carmen = true;
-    }
-    if (carmen) return LogKind::kCarmen;
-    throw io::InputError(io::Where(
-        path, 0,
-        "gzip-compressed, but holds no CARMEN lines; expected a CARMEN scan log "
-        "(RAWLASER1/ROBOTLASER1/FLASER; an NMEA log must be decompressed first)"));
-  }
-  // Look at the first 256 KiB only: a binary file without newlines must not be read whole.
-  std::ifstream in(path, std::ios::binary);
+  // Look at the first 256 KiB only (decompressed when the file is gzip): a binary file without
+  // newlines must not be read whole.
+  const bool gzip = IsGzip(path);
   std::string head(256 * 1024, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<size_t>(in.gcount()));
+  gzFile file = gzopen(path.c_str(), "rb");
+  if (file == nullptr) throw io::InputError(io::Where(path, 0, "cannot open"));
+  const int got = gzread(file, head.data(), static_cast<unsigned>(head.size()));
+  gzclose(file);
+  head.resize(got > 0 ? static_cast<size_t>(got) : 0);
   if (head.empty()) throw io::InputError(io::Where(path, 0, "empty file; expected an NMEA or CARMEN log"));
   std::istringstream lines(head);
   std::string line;
@@ -478,7 +454,14 @@ LogKind SniffLogKind(const std::string& path) {
     std::string word;
     words >> word;
     if (IsCarmenKeyword(word)) return LogKind::kCarmen;
-    if (HasNmeaSentence(line)) return LogKind::kNmea;
+    if (HasNmeaSentence(line)) {
+      if (gzip) {
+        throw io::InputError(io::Where(path, 0,
+                                       "gzip-compressed NMEA; expected a plain NMEA log (decompress "
+                                       "it first)"));
+      }
+      return LogKind::kNmea;
+    }
   }
   throw io::InputError(io::Where(
       path, first_content_line,
@@ -565,7 +548,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
   // --- Scanner preset ------------------------------------------------------------------
   std::optional<io::ScannerPreset> preset;
   try {
-    preset = io::LoadScannerPreset(spec.scanner_model, PresetDirs());
+    preset = io::LoadScannerPreset(spec.scanner_model, pipeline::PresetDirs());
     out << "  scanner   " << preset->name << ": " << preset->num_beams << " beams, "
         << Fmt("%.2f", preset->rate_hz) << " Hz, max range " << Fmt("%.1f", preset->max_range_m)
         << " m\n";
@@ -801,9 +784,9 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
       }
       frame = calib::MakeLocalFrame(first->lat_deg, first->lon_deg, spec.utm_zone);
     }
-    positions = PositionSamples(*gnss, spec.min_fix_quality, *frame, &used);
+    positions = calib::PositionSamples(*gnss, spec.min_fix_quality, *frame, &used);
     const std::vector<calib::YawSample> yaws =
-        YawSamples(*heading_log, spec.heading_reference, *frame, used);
+        calib::YawSamples(*heading_log, spec.heading_reference, *frame, used);
     for (const calib::YawSample& sample : yaws) {
       logged_grid_headings_rad.push_back(kPi / 2.0 - sample.yaw_rad);
     }
@@ -823,14 +806,14 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
   }
 
   // --- Wall detection: the calibrate pipeline itself -------------------------------------
-  std::optional<CalibrationResult> calibration;
+  std::optional<pipeline::CalibrationResult> calibration;
   std::string detection_note;
   if (result.blockers.empty()) {
     try {
-      CalibrateRequest request;
+      pipeline::CalibrateRequest request;
       request.session_path = session_path;
       request.config_path = config_path;
-      calibration = RunCalibration(request);
+      calibration = pipeline::RunCalibration(request);
     } catch (const io::InputError& e) {
       block(e.what());
       detection_note = "not run to the end: " + std::string(e.what());
@@ -845,8 +828,8 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
   bool wall_never_seen = false;
   if (calibration) {
     const bool first_pass_refused = !calibration->first_pass.usable;
-    wall_never_seen = first_pass_refused && calibration->first_pass.message.rfind(
-                                                "the wall was not detected", 0) == 0;
+    wall_never_seen = first_pass_refused && calibration->first_pass.failure ==
+                                                solvers::EstimateFailure::kWallNotDetected;
     detections_complete = !first_pass_refused || wall_never_seen;
     if (!detections_complete) {
       detection_note = "stopped after the first pass (estimate refused: " +
@@ -923,9 +906,11 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
   // --- Wall detection and heading coverage ------------------------------------------------
   out << "\nwall detection\n";
   if (calibration && detections_complete) {
-    const CalibrationResult& c = *calibration;
+    const pipeline::CalibrationResult& c = *calibration;
     out << "  scans     " << c.scans_total << " in the log, wall seen in " << c.scans_used;
-    for (const auto& [reason, count] : c.scans_skipped) out << "; " << count << " " << reason;
+    for (const auto& [reason, count] : c.scans_skipped) {
+      out << "; " << count << " " << calib::ScanSkipName(reason);
+    }
     out << "\n";
     out << "  observations " << c.observations.size();
     if (!c.observations.empty()) {
@@ -981,7 +966,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     geometry_named = true;
   }
   if (calibration) {
-    const CalibrationResult& c = *calibration;
+    const pipeline::CalibrationResult& c = *calibration;
     if (wall_never_seen) {
       block("wall never detected: " + c.first_pass.message);
       geometry_named = true;
@@ -1049,7 +1034,7 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out) {
     log_path = kind == DumpKind::kGnss      ? spec->gnss_log
                : kind == DumpKind::kHeading ? spec->heading_log
                                             : spec->scanner_log;
-    if (kind == DumpKind::kScans) preset = io::LoadScannerPreset(spec->scanner_model, PresetDirs());
+    if (kind == DumpKind::kScans) preset = io::LoadScannerPreset(spec->scanner_model, pipeline::PresetDirs());
   }
   const LogKind found = SniffLogKind(log_path);
   const LogKind wanted = kind == DumpKind::kScans ? LogKind::kCarmen : LogKind::kNmea;
@@ -1206,4 +1191,4 @@ Exit status: 0 report or dump written (whatever the verdict); 2 unusable input o
   }
 }
 
-}  // namespace wallcal::app
+}  // namespace wallcal::preflight

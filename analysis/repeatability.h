@@ -12,12 +12,28 @@
 #include <cstdint>
 #include <vector>
 
-#include "apps/pipeline.h"
+#include <string>
 #include "calib/observation.h"
 #include "io/options.h"
 #include "solvers/mount_solver.h"
 
-namespace wallcal::app {
+namespace wallcal::analysis {
+
+// How much the mount moves when the session is split or resampled.
+struct RepeatabilitySplit {
+  std::string name;          // "first half", "second half", "odd stations", ...
+  solvers::Mount mount;
+  bool usable = false;
+};
+struct Repeatability {
+  bool done = false;
+  std::vector<RepeatabilitySplit> splits;
+  int bootstrap_samples = 0;
+  double bootstrap_sigma_x_m = 0.0, bootstrap_sigma_y_m = 0.0, bootstrap_sigma_yaw_rad = 0.0;
+  double max_split_shift_x_m = 0.0, max_split_shift_y_m = 0.0, max_split_shift_yaw_rad = 0.0;
+};
+
+
 
 inline constexpr int kMaxRefitObservations = 3000;
 
@@ -31,4 +47,4 @@ Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& obs
                                   const io::SolverOptions& options, const solvers::Mount& full,
                                   int samples, uint64_t seed = 2007);
 
-}  // namespace wallcal::app
+}  // namespace wallcal::analysis

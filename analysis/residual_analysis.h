@@ -1,5 +1,5 @@
 #pragma once
-// Seed 003's residual analysis applied to the mount adjustment: after the solve, the distance
+// The residual analysis of an adjustment against surveyed surfaces applied to the mount adjustment: after the solve, the distance
 // residuals (observed − predicted rho, metres) are examined for their robust spread, their
 // outliers, and for trends against the quantities a systematic error would follow.
 //
@@ -19,12 +19,35 @@
 
 #include <vector>
 
-#include "apps/pipeline.h"
+#include <string>
 #include "calib/observation.h"
 #include "io/types.h"
 #include "solvers/mount_solver.h"
 
-namespace wallcal::app {
+namespace wallcal::analysis {
+
+// Residuals examined after the solve (Hartzell, Glennie et al.'s residual analysis): robust spread, outliers,
+// and trends against what a systematic error would show up in.
+struct ResidualTrend {
+  std::string against;   // "range", "incidence", "bearing", "heading", "station", "time"
+  std::string unit;      // unit of the slope, e.g. "m/m", "m/deg", "m/station"
+  double slope = 0.0;    // least-squares slope of the distance residual against that quantity
+  double significance = 0.0;  // |slope| / σ(slope)
+  bool flagged = false;
+  std::string message;   // what a flagged trend suggests (e.g. "range scale error: check k")
+};
+struct ResidualAnalysis {
+  bool done = false;
+  double robust_sigma_m = 0.0;  // 1.4826 × median absolute deviation of the distance residuals
+  double outlier_share = 0.0;   // share of observations beyond 2 robust σ (Hartzell, Glennie et al.: 2σ rule)
+  std::vector<ResidualTrend> trends;
+  std::vector<std::string> flags;  // human-readable summaries of the flagged trends
+  bool range_model_estimated = false;  // k, b re-estimated jointly when ranges span enough
+  double range_scale_k = 1.0, range_offset_b_m = 0.0;
+  double sigma_range_scale_k = 0.0, sigma_range_offset_b_m = 0.0;
+};
+
+
 
 // Significance (|slope| / σ(slope)) from which a trend is flagged, provided it also moves the
 // residuals by at least one robust σ over the observed span.
@@ -38,4 +61,4 @@ ResidualAnalysis AnalyseResiduals(const std::vector<calib::WallObservation>& obs
                                   const solvers::MountEstimate& estimate,
                                   const io::ScannerPreset& preset);
 
-}  // namespace wallcal::app
+}  // namespace wallcal::analysis

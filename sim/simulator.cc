@@ -1,4 +1,4 @@
-#include "calib/simulator.h"
+#include "sim/simulator.h"
 
 #include <GeographicLib/LocalCartesian.hpp>
 #include <algorithm>
@@ -8,12 +8,10 @@
 #include <random>
 #include <string>
 #include <utility>
+#include "common/angles.h"
 
-namespace wallcal::calib {
+namespace wallcal::sim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kTwoPi = 2.0 * kPi;
 constexpr double kTruthPeriodDivisor = 10.0;  // truth poses every 1/10 s
 
 // ---- Random streams ---------------------------------------------------------------------------
@@ -721,4 +719,4 @@ SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerP
   return session;
 }
 
-}  // namespace wallcal::calib
+}  // namespace wallcal::sim

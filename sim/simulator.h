@@ -21,7 +21,7 @@
 #include "io/options.h"
 #include "io/types.h"
 
-namespace wallcal::calib {
+namespace wallcal::sim {
 
 // Receives each logged scan, in time order. The record is only valid during the call.
 using ScanSink = std::function<void(const io::ScanRecord& scan)>;
@@ -101,4 +101,4 @@ std::vector<SimBeamHit> TrueBeamHits(const io::SimulationConfig& config,
 // (code WALL1) 12 m north of the site origin, running east–west from x = −15 m to x = +15 m.
 io::SimulationConfig WithDefaultWalls(io::SimulationConfig config);
 
-}  // namespace wallcal::calib
+}  // namespace wallcal::sim

@@ -14,7 +14,7 @@
 
 #include "io/types.h"
 
-namespace wallcal::app {
+namespace wallcal::preflight {
 
 enum class LogKind { kNmea, kCarmen };
 
@@ -86,4 +86,4 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out);
 // verdict), 2 unusable input or bad usage.
 int RunInspect(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
-}  // namespace wallcal::app
+}  // namespace wallcal::preflight

@@ -1,4 +1,4 @@
-#include "apps/residual_analysis.h"
+#include "analysis/residual_analysis.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,13 +6,11 @@
 #include <map>
 #include <string>
 
-#include "solvers/geometry.h"
+#include "calib/wall_geometry.h"
+#include "common/angles.h"
 
-namespace wallcal::app {
+namespace wallcal::analysis {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadToDeg = 180.0 / kPi;
 // Estimated GNSS bias beyond this many prior σ: the station's position jumped.
 constexpr double kJumpSigmas = 3.5;
 // Range span (m) from which the range trend is turned into a corrected k.
@@ -160,8 +158,8 @@ ResidualAnalysis AnalyseResiduals(const std::vector<calib::WallObservation>& obs
     const auto found = bias_of.find(calib::GnssSegment(o));
     if (found != bias_of.end() && o.wall_index >= 0 &&
         o.wall_index < static_cast<int>(walls.size())) {
-      const solvers::OrientedWall wall =
-          solvers::OrientWall(walls[o.wall_index], o.pose.antenna_local_m);
+      const calib::OrientedWall wall =
+          calib::OrientWall(walls[o.wall_index], o.pose.antenna_local_m);
       with_bias[i] = r[i] + wall.normal_local.dot(found->second);
     }
     const double mid_m = o.range_max_m > 0.0 ? 0.5 * (o.range_min_m + o.range_max_m) : o.rho_m;
@@ -267,4 +265,4 @@ ResidualAnalysis AnalyseResiduals(const std::vector<calib::WallObservation>& obs
   return analysis;
 }
 
-}  // namespace wallcal::app
+}  // namespace wallcal::analysis

@@ -1,4 +1,4 @@
-#include "apps/report.h"
+#include "outputs/report.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,49 +14,21 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
-#include "calib/geodesy.h"
 #include "calib/range_model.h"
-#include "calib/survey_tie.h"
 #include "calib/wall_detector.h"
-#include "io/carmen_reader.h"
-#include "io/nmea_reader.h"
-#include "io/session_reader.h"
-#include "io/survey_reader.h"
 #include "io/version.h"
 #include "io/writers.h"
+#include "common/angles.h"
+#include "outputs/svg_plot.h"
 
-namespace wallcal::app {
+namespace wallcal::outputs {
+
+using pipeline::CalibrationResult;
+using pipeline::Station;
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadToDeg = 180.0 / kPi;
-constexpr double kDegToRad = kPi / 180.0;
-
 // ---- Text ------------------------------------------------------------------------------------
-
-// Escapes text and attribute values for XML/HTML.
-std::string Esc(const std::string& text) {
-  std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
-      default:
-        // Control characters are not allowed in XML 1.0 text.
-        if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') {
-          out += ' ';
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out;
-}
 
 std::string F(const char* format, double value) {
   char buffer[64];
@@ -72,231 +44,7 @@ double SigmaOf(const Eigen::Matrix3d& covariance, int i) {
 
 // Grid heading (deg, clockwise from grid north) wrapped to (−180, 180] from a vehicle yaw (ccw
 // from grid east): the sessions circle a wall, so headings straddle north as often as not.
-double GridHeadingDeg(double yaw_rad) { return calib::WrapAngle(kPi / 2.0 - yaw_rad) * kRadToDeg; }
-
-// ---- SVG plots ---------------------------------------------------------------------------------
-
-// One plot: a data rectangle mapped onto a pixel box with margins for the axes. Everything drawn
-// with data coordinates is clipped to the box. Pixel coordinates are printed with one decimal,
-// which keeps a plot of a few thousand points at a few hundred kilobytes.
-class SvgPlot {
- public:
-  SvgPlot(int width_px, int height_px, int* clip_counter)
-      : width_(width_px), height_(height_px), clip_id_("clip" + std::to_string((*clip_counter)++)) {}
-
-  // Data range; with equal_aspect the smaller span grows (about its centre) so that a metre is
-  // the same length on both axes.
-  void SetRange(double x0, double x1, double y0, double y1, bool equal_aspect) {
-    if (!(x1 > x0)) { x0 -= 0.5; x1 += 0.5; }
-    if (!(y1 > y0)) { y0 -= 0.5; y1 += 0.5; }
-    if (equal_aspect) {
-      const double sx = (x1 - x0) / BoxW(), sy = (y1 - y0) / BoxH();
-      const double s = std::max(sx, sy);
-      const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
-      x0 = cx - 0.5 * s * BoxW();
-      x1 = cx + 0.5 * s * BoxW();
-      y0 = cy - 0.5 * s * BoxH();
-      y1 = cy + 0.5 * s * BoxH();
-    }
-    x0_ = x0; x1_ = x1; y0_ = y0; y1_ = y1;
-  }
-
-  double Px(double x) const { return kLeft + (x - x0_) / (x1_ - x0_) * BoxW(); }
-  double Py(double y) const { return kTop + (y1_ - y) / (y1_ - y0_) * BoxH(); }
-  double PixelsPerUnitX() const { return BoxW() / (x1_ - x0_); }
-  bool Inside(double x, double y) const { return x >= x0_ && x <= x1_ && y >= y0_ && y <= y1_; }
-
-  // Frame, grid, ticks and axis labels (units in the labels).
-  void Axes(const std::string& x_label, const std::string& y_label) {
-    std::ostringstream& o = axes_;
-    const double xs = NiceStep(x1_ - x0_, BoxW() / 90.0), ys = NiceStep(y1_ - y0_, BoxH() / 55.0);
-    for (double v = std::ceil(x0_ / xs) * xs; v <= x1_ + 1e-9 * xs; v += xs) {
-      const double p = Px(v);
-      o << "<line x1=\"" << P(p) << "\" y1=\"" << P(kTop) << "\" x2=\"" << P(p) << "\" y2=\""
-        << P(kTop + BoxH()) << "\" stroke=\"#e4e4e4\" stroke-width=\"1\"/>";
-      o << "<text x=\"" << P(p) << "\" y=\"" << P(kTop + BoxH() + 14) << "\" text-anchor=\"middle\">"
-        << TickLabel(v, xs) << "</text>";
-    }
-    for (double v = std::ceil(y0_ / ys) * ys; v <= y1_ + 1e-9 * ys; v += ys) {
-      const double p = Py(v);
-      o << "<line x1=\"" << P(kLeft) << "\" y1=\"" << P(p) << "\" x2=\"" << P(kLeft + BoxW())
-        << "\" y2=\"" << P(p) << "\" stroke=\"#e4e4e4\" stroke-width=\"1\"/>";
-      o << "<text x=\"" << P(kLeft - 5) << "\" y=\"" << P(p + 4) << "\" text-anchor=\"end\">"
-        << TickLabel(v, ys) << "</text>";
-    }
-    o << "<rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << P(BoxW()) << "\" height=\""
-      << P(BoxH()) << "\" fill=\"none\" stroke=\"#444\" stroke-width=\"1\"/>";
-    o << "<text x=\"" << P(kLeft + BoxW() / 2) << "\" y=\"" << height_ - 6
-      << "\" text-anchor=\"middle\" class=\"label\">" << Esc(x_label) << "</text>";
-    o << "<text transform=\"translate(14," << P(kTop + BoxH() / 2)
-      << ") rotate(-90)\" text-anchor=\"middle\" class=\"label\">" << Esc(y_label) << "</text>";
-  }
-
-  // Drawing in data coordinates (clipped).
-  void Line(double xa, double ya, double xb, double yb, const std::string& stroke, double width,
-            const std::string& dash = "", double opacity = 1.0) {
-    data_ << "<line x1=\"" << P(Px(xa)) << "\" y1=\"" << P(Py(ya)) << "\" x2=\"" << P(Px(xb))
-          << "\" y2=\"" << P(Py(yb)) << "\" stroke=\"" << stroke << "\" stroke-width=\"" << width
-          << "\"" << Dash(dash);
-    if (opacity < 1.0) data_ << " stroke-opacity=\"" << opacity << "\"";
-    data_ << "/>";
-  }
-  void Polyline(const std::vector<Eigen::Vector2d>& points, const std::string& stroke, double width,
-                const std::string& dash = "", const std::string& fill = "none") {
-    if (points.size() < 2) return;
-    data_ << "<polyline fill=\"" << fill << "\" stroke=\"" << stroke << "\" stroke-width=\""
-          << width << "\"" << Dash(dash) << " points=\"";
-    for (size_t i = 0; i < points.size(); ++i) {
-      data_ << (i ? " " : "") << P(Px(points[i].x())) << "," << P(Py(points[i].y()));
-    }
-    data_ << "\"/>";
-  }
-  void Dot(double x, double y, double r_px, const std::string& fill,
-           const std::string& stroke = "none") {
-    data_ << "<circle cx=\"" << P(Px(x)) << "\" cy=\"" << P(Py(y)) << "\" r=\"" << r_px
-          << "\" fill=\"" << fill << "\" stroke=\"" << stroke << "\"/>";
-  }
-  void Marker(double x, double y, const std::string& shape, double size_px,
-              const std::string& color) {
-    const double px = Px(x), py = Py(y), s = size_px;
-    if (shape == "plus" || shape == "cross") {
-      const double a = shape == "plus" ? 0.0 : 0.7071;
-      const double b = shape == "plus" ? 1.0 : 0.7071;
-      data_ << "<path d=\"M" << P(px - s * b) << "," << P(py - s * a) << "L" << P(px + s * b)
-            << "," << P(py + s * a) << "M" << P(px + s * a) << "," << P(py - s * b) << "L"
-            << P(px - s * a) << "," << P(py + s * b) << "\" stroke=\"" << color
-            << "\" stroke-width=\"2\" fill=\"none\"/>";
-    } else if (shape == "triangle") {
-      data_ << "<polygon points=\"" << P(px) << "," << P(py - s) << " " << P(px - s) << ","
-            << P(py + s * 0.8) << " " << P(px + s) << "," << P(py + s * 0.8) << "\" fill=\"none\""
-            << " stroke=\"" << color << "\" stroke-width=\"1.5\"/>";
-    } else if (shape == "square") {
-      data_ << "<rect x=\"" << P(px - s) << "\" y=\"" << P(py - s) << "\" width=\"" << P(2 * s)
-            << "\" height=\"" << P(2 * s) << "\" fill=\"" << color << "\"/>";
-    } else {  // ring
-      data_ << "<circle cx=\"" << P(px) << "\" cy=\"" << P(py) << "\" r=\"" << s
-            << "\" fill=\"none\" stroke=\"" << color << "\" stroke-width=\"1.5\"/>";
-    }
-  }
-  // Axis-aligned rectangle from data corners.
-  void Rect(double xa, double ya, double xb, double yb, const std::string& fill,
-            const std::string& stroke = "none", const std::string& dash = "") {
-    const double pa = Px(std::min(xa, xb)), pb = Px(std::max(xa, xb));
-    const double qa = Py(std::max(ya, yb)), qb = Py(std::min(ya, yb));
-    data_ << "<rect x=\"" << P(pa) << "\" y=\"" << P(qa) << "\" width=\"" << P(pb - pa)
-          << "\" height=\"" << P(qb - qa) << "\" fill=\"" << fill << "\" stroke=\"" << stroke
-          << "\"" << Dash(dash) << "/>";
-  }
-  void Text(double x, double y, const std::string& text, const std::string& color = "#222",
-            const std::string& anchor = "start", double dx_px = 0, double dy_px = 0) {
-    data_ << "<text x=\"" << P(Px(x) + dx_px) << "\" y=\"" << P(Py(y) + dy_px)
-          << "\" text-anchor=\"" << anchor << "\" fill=\"" << color << "\">" << Esc(text)
-          << "</text>";
-  }
-  // A legend line in the top-left corner of the box (pixel placement, not clipped).
-  void Legend(const std::string& swatch_svg_color, const std::string& kind,
-              const std::string& text) {
-    const double x = kLeft + 8, y = kTop + 14 + 15 * legend_rows_++;
-    if (kind == "line") {
-      over_ << "<line x1=\"" << P(x) << "\" y1=\"" << P(y - 4) << "\" x2=\"" << P(x + 14)
-            << "\" y2=\"" << P(y - 4) << "\" stroke=\"" << swatch_svg_color
-            << "\" stroke-width=\"2.5\"/>";
-    } else if (kind == "dash") {
-      over_ << "<line x1=\"" << P(x) << "\" y1=\"" << P(y - 4) << "\" x2=\"" << P(x + 14)
-            << "\" y2=\"" << P(y - 4) << "\" stroke=\"" << swatch_svg_color
-            << "\" stroke-width=\"2\" stroke-dasharray=\"4 3\"/>";
-    } else {
-      over_ << "<circle cx=\"" << P(x + 7) << "\" cy=\"" << P(y - 4) << "\" r=\"3.5\" fill=\""
-            << swatch_svg_color << "\"/>";
-    }
-    over_ << "<text x=\"" << P(x + 20) << "\" y=\"" << P(y) << "\" class=\"legend\">" << Esc(text)
-          << "</text>";
-    legend_width_ = std::max(legend_width_, 26.0 + 6.3 * static_cast<double>(text.size()));
-  }
-  // Free text in pixel coordinates (not clipped).
-  void Note(double x_px, double y_px, const std::string& text, const std::string& anchor = "start") {
-    over_ << "<text x=\"" << P(x_px) << "\" y=\"" << P(y_px) << "\" text-anchor=\"" << anchor
-          << "\" class=\"legend\">" << Esc(text) << "</text>";
-  }
-  void Raw(const std::string& svg_data) { data_ << svg_data; }
-
-  std::string Svg(const std::string& title) const {
-    std::ostringstream o;
-    o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width_ << "\" height=\"" << height_
-      << "\" viewBox=\"0 0 " << width_ << " " << height_ << "\" class=\"plot\">";
-    o << "<title>" << Esc(title) << "</title>";
-    o << "<defs><clipPath id=\"" << clip_id_ << "\"><rect x=\"" << kLeft << "\" y=\"" << kTop
-      << "\" width=\"" << P(BoxW()) << "\" height=\"" << P(BoxH()) << "\"/></clipPath></defs>";
-    o << "<rect x=\"0\" y=\"0\" width=\"" << width_ << "\" height=\"" << height_
-      << "\" fill=\"#fff\"/>";
-    o << "<text x=\"" << kLeft << "\" y=\"17\" class=\"ptitle\">" << Esc(title) << "</text>";
-    o << axes_.str();
-    o << "<g clip-path=\"url(#" << clip_id_ << ")\">" << data_.str() << "</g>";
-    if (legend_rows_ > 0) {
-      o << "<rect x=\"" << kLeft + 3 << "\" y=\"" << kTop + 3 << "\" width=\"" << P(legend_width_)
-        << "\" height=\"" << 15 * legend_rows_ + 6 << "\" fill=\"#fff\" fill-opacity=\"0.85\""
-        << " stroke=\"#bbb\"/>";
-    }
-    o << over_.str();
-    o << "</svg>";
-    return o.str();
-  }
-
-  static constexpr double kLeft = 62, kRight = 14, kTop = 26, kBottom = 40;
-  double BoxW() const { return width_ - kLeft - kRight; }
-  double BoxH() const { return height_ - kTop - kBottom; }
-
-  static std::string P(double v) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof(buffer), "%.1f", v);
-    return buffer;
-  }
-
- private:
-  static std::string Dash(const std::string& dash) {
-    return dash.empty() ? std::string() : " stroke-dasharray=\"" + dash + "\"";
-  }
-  static double NiceStep(double span, double target_ticks) {
-    const double raw = span / std::max(1.0, target_ticks);
-    const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
-    const double m = raw / magnitude;
-    const double nice = m < 1.5 ? 1.0 : m < 3.0 ? 2.0 : m < 7.0 ? 5.0 : 10.0;
-    return nice * magnitude;
-  }
-  static std::string TickLabel(double v, double step) {
-    const int decimals = std::max(0, static_cast<int>(-std::floor(std::log10(step) + 1e-9)));
-    if (std::fabs(v) < 0.5 * step * 1e-6) v = 0.0;
-    char buffer[48];
-    std::snprintf(buffer, sizeof(buffer), "%.*f", decimals, v);
-    std::string s = buffer;
-    if (s[0] == '-') s = "\xe2\x88\x92" + s.substr(1);  // U+2212 minus sign
-    return s;
-  }
-
-  int width_, height_;
-  std::string clip_id_;
-  double x0_ = 0, x1_ = 1, y0_ = 0, y1_ = 1;
-  std::ostringstream axes_, data_, over_;
-  int legend_rows_ = 0;
-  double legend_width_ = 0;
-};
-
-// Bounds of a set of points.
-struct Box {
-  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
-  void Add(double x, double y) {
-    if (!std::isfinite(x) || !std::isfinite(y)) return;
-    x0 = std::min(x0, x); x1 = std::max(x1, x);
-    y0 = std::min(y0, y); y1 = std::max(y1, y);
-  }
-  void Add(const Eigen::Vector2d& p) { Add(p.x(), p.y()); }
-  bool Empty() const { return x0 > x1; }
-  void Pad(double fraction, double min_pad) {
-    const double px = std::max(min_pad, fraction * (x1 - x0));
-    const double py = std::max(min_pad, fraction * (y1 - y0));
-    x0 -= px; x1 += px; y0 -= py; y1 += py;
-  }
-};
+double GridHeadingDeg(double yaw_rad) { return WrapAngle(kPi / 2.0 - yaw_rad) * kRadToDeg; }
 
 const char* kBlue = "#1f5fbf";
 const char* kRed = "#d62728";
@@ -306,51 +54,10 @@ const char* kGrey = "#9a9a9a";
 const char* kDark = "#333333";
 const char* kPurple = "#7b3fb0";
 
-// ---- What the report derives from the result -------------------------------------------------
-
-struct Station {
-  int segment = -1;
-  Eigen::Vector2d antenna_local_m = Eigen::Vector2d::Zero();
-  double yaw_rad = 0.0;
-  std::vector<int> observations;  // indices into result.observations
-  Eigen::Vector2d scanner_local_m = Eigen::Vector2d::Zero();
-};
+// ---- Per-observation plot axes ------------------------------------------------------------
 
 Eigen::Vector2d ScannerLocal(const calib::VehiclePose& pose, const solvers::Mount& mount) {
   return pose.antenna_local_m + Eigen::Rotation2Dd(pose.yaw_rad) * Eigen::Vector2d(mount.x_m, mount.y_m);
-}
-
-// Stations are the dwells the observations came from (their pose's segment while stationary),
-// in time order, with the mean antenna position and circular-mean yaw over their scans.
-std::vector<Station> FindStations(const CalibrationResult& result, const solvers::Mount& mount) {
-  std::map<int, Station> by_segment;
-  std::map<int, std::pair<double, double>> yaw_sums;
-  std::map<int, double> first_stamp;
-  for (size_t i = 0; i < result.observations.size(); ++i) {
-    const calib::WallObservation& o = result.observations[i];
-    if (!o.pose.stationary) continue;
-    Station& s = by_segment[o.pose.segment];
-    s.segment = o.pose.segment;
-    s.antenna_local_m += o.pose.antenna_local_m;
-    yaw_sums[o.pose.segment].first += std::cos(o.pose.yaw_rad);
-    yaw_sums[o.pose.segment].second += std::sin(o.pose.yaw_rad);
-    s.observations.push_back(static_cast<int>(i));
-    if (!first_stamp.count(o.pose.segment)) first_stamp[o.pose.segment] = o.pose.stamp_s;
-  }
-  std::vector<Station> stations;
-  for (auto& [segment, s] : by_segment) {
-    s.antenna_local_m /= static_cast<double>(s.observations.size());
-    s.yaw_rad = std::atan2(yaw_sums[segment].second, yaw_sums[segment].first);
-    calib::VehiclePose pose;
-    pose.antenna_local_m = s.antenna_local_m;
-    pose.yaw_rad = s.yaw_rad;
-    s.scanner_local_m = ScannerLocal(pose, mount);
-    stations.push_back(s);
-  }
-  std::sort(stations.begin(), stations.end(), [&](const Station& a, const Station& b) {
-    return first_stamp[a.segment] < first_stamp[b.segment];
-  });
-  return stations;
 }
 
 // The quantities residuals are plotted against, per observation. The "characteristic beam" of
@@ -373,27 +80,9 @@ ObservationAxes AxesOf(const calib::WallObservation& o, const calib::WallGeometr
   const Eigen::Vector2d centre = 0.5 * (wall.end_a_local + wall.end_b_local);
   const Eigen::Vector2d c_scanner =
       Eigen::Rotation2Dd(-(o.pose.yaw_rad + mount.yaw_rad)) * (centre - scanner);
-  const double side = calib::WrapAngle(std::atan2(c_scanner.y(), c_scanner.x()) - o.theta_rad) >= 0 ? 1.0 : -1.0;
-  a.bearing_deg = calib::WrapAngle(o.theta_rad + side * incidence_rad) * kRadToDeg;
+  const double side = WrapAngle(std::atan2(c_scanner.y(), c_scanner.x()) - o.theta_rad) >= 0 ? 1.0 : -1.0;
+  a.bearing_deg = WrapAngle(o.theta_rad + side * incidence_rad) * kRadToDeg;
   return a;
-}
-
-calib::LineGate GateFor(const calib::WallObservation& o, const calib::WallGeometry& wall,
-                        const solvers::Mount& mount, double angle_halfwidth_rad,
-                        double offset_halfwidth_m) {
-  // As the pipeline's second pass builds it (apps/pipeline.cc, DetectionPass), centred on the
-  // final mount instead of the first-pass one.
-  calib::LineGate gate;
-  gate.theta_rad = solvers::PredictTheta(o, wall, mount);
-  gate.theta_halfwidth_rad = angle_halfwidth_rad;
-  gate.rho_m = solvers::PredictRho(o, wall, mount);
-  gate.rho_halfwidth_m = offset_halfwidth_m;
-  const Eigen::Vector2d scanner = ScannerLocal(o.pose, mount);
-  const Eigen::Rotation2Dd scanner_R_local(-(o.pose.yaw_rad + mount.yaw_rad));
-  gate.has_segment = true;
-  gate.segment_a_scanner = scanner_R_local * (wall.end_a_local - scanner);
-  gate.segment_b_scanner = scanner_R_local * (wall.end_b_local - scanner);
-  return gate;
 }
 
 std::string Row(const std::string& key, const std::string& value) {
@@ -423,28 +112,10 @@ std::string Ramp(double t) {
 
 class ReportBuilder {
  public:
-  ReportBuilder(const CalibrationResult& result, const io::CalibrateOptions& options,
-                const ReportOptions& report_options)
-      : r_(result), options_(options), report_options_(report_options) {
+  explicit ReportBuilder(const CalibrationResult& result)
+      : r_(result), d_(result.report), mount_(d_.mount), mount_source_(d_.mount_source),
+        have_mount_(d_.have_mount), stations_(d_.stations), panels_(d_.panels) {
     const solvers::MountEstimate& e = r_.estimate;
-    if (e.usable) {
-      mount_ = e.mount;
-      mount_source_ = "final estimate";
-      have_mount_ = true;
-    } else if (r_.first_pass.usable) {
-      mount_ = r_.first_pass.mount;
-      mount_source_ = "first-pass estimate (the final one is not usable)";
-      have_mount_ = true;
-    } else if (r_.session.mount_guess) {
-      mount_.x_m = r_.session.mount_guess->x_m;
-      mount_.y_m = r_.session.mount_guess->y_m;
-      mount_.yaw_rad = r_.session.mount_guess->yaw_rad;
-      mount_source_ = "the session's mount guess (no estimate)";
-      have_mount_ = true;
-    } else {
-      mount_source_ = "no estimate";
-    }
-    stations_ = FindStations(r_, mount_);
     residuals_ok_ = e.residual_rho_m.size() == r_.observations.size() && !r_.observations.empty();
   }
 
@@ -461,7 +132,6 @@ class ReportBuilder {
          << "<a href=\"#scans\">scans</a> <a href=\"#hough\">Hough accumulator</a> "
          << "<a href=\"#residuals\">residuals</a> <a href=\"#coverage\">heading coverage</a> "
          << "<a href=\"#counts\">counts</a></nav>\n";
-    ReadScans();
     html << MountSection() << SiteMapSection() << ScansSection() << HoughSection()
          << ResidualsSection() << CoverageSection() << CountsSection();
     html << "</body>\n</html>\n";
@@ -485,51 +155,6 @@ class ReportBuilder {
       "svg text.legend{font-size:11px}\n"
       ".warn{color:#a15c00}.bad{color:#b00020;font-weight:bold}.ok{color:#1b7a1b}\n"
       ".big td,.big th{font-size:16px}\n";
-
-  // Re-reads the scans the panels show: one per chosen station (stations spread over the
-  // headings), in a single pass over the log that stops after the last one needed.
-  void ReadScans() {
-    if (!have_mount_ || stations_.empty() || r_.walls.empty()) return;
-    std::vector<int> order(stations_.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-    std::sort(order.begin(), order.end(), [&](int a, int b) {
-      return GridHeadingDeg(stations_[a].yaw_rad) < GridHeadingDeg(stations_[b].yaw_rad);
-    });
-    const int want = std::min<int>(report_options_.max_scan_panels, static_cast<int>(order.size()));
-    std::set<int> chosen;
-    for (int k = 0; k < want; ++k) {
-      const int at = want == 1 ? static_cast<int>(order.size()) / 2
-                               : static_cast<int>(std::lround(k * (order.size() - 1.0) / (want - 1.0)));
-      chosen.insert(order[at]);
-    }
-    for (int station : chosen) {
-      const std::vector<int>& obs = stations_[station].observations;
-      const int o = obs[obs.size() / 2];  // the middle of the dwell
-      panels_.push_back(Panel{station, o, {}, false});
-    }
-    std::sort(panels_.begin(), panels_.end(), [&](const Panel& a, const Panel& b) {
-      return GridHeadingDeg(stations_[a.station].yaw_rad) < GridHeadingDeg(stations_[b.station].yaw_rad);
-    });
-    std::map<int, int> scan_to_observation;  // scan index -> panel
-    for (size_t i = 0; i < panels_.size(); ++i) {
-      scan_to_observation[r_.observations[panels_[i].observation].scan_index] = static_cast<int>(i);
-    }
-    try {
-      io::CarmenReader reader(r_.session.scanner_log);
-      io::ScanRecord scan;
-      int index = -1;
-      const int last = scan_to_observation.rbegin()->first;
-      while (index < last && reader.Next(&scan)) {
-        ++index;
-        const auto it = scan_to_observation.find(index);
-        if (it == scan_to_observation.end()) continue;
-        panels_[it->second].scan = scan;
-        panels_[it->second].have_scan = true;
-      }
-    } catch (const io::InputError& error) {
-      scan_read_error_ = error.what();
-    }
-  }
 
   // ---- mount ----
   std::string MountSection() {
@@ -623,7 +248,7 @@ class ReportBuilder {
     std::vector<std::pair<std::string, solvers::Mount>> others;
     if (r_.first_pass.usable) others.emplace_back("first pass", r_.first_pass.mount);
     if (r_.repeatability.done) {
-      for (const RepeatabilitySplit& split : r_.repeatability.splits) {
+      for (const analysis::RepeatabilitySplit& split : r_.repeatability.splits) {
         if (split.usable) others.emplace_back(split.name, split.mount);
       }
     }
@@ -659,29 +284,15 @@ class ReportBuilder {
                   "covariance; equal scale on both axes.");
   }
 
-  std::optional<solvers::Mount> Truth() const {
-    const fs::path truth_file = fs::path(r_.session.dir) / "truth.yaml";
-    std::error_code error;
-    if (!fs::exists(truth_file, error)) return std::nullopt;
-    try {
-      const io::SimulationConfig truth = io::ReadTruthYaml(truth_file.string());
-      solvers::Mount m;
-      m.x_m = truth.mount_x_m;
-      m.y_m = truth.mount_y_m;
-      m.yaw_rad = truth.mount_yaw_rad;
-      return m;
-    } catch (const io::InputError&) {
-      return std::nullopt;  // not a simulator's truth: nothing to show
-    }
-  }
+  std::optional<solvers::Mount> Truth() const { return d_.truth; }
 
   std::string RepeatabilityTable() const {
-    const Repeatability& rep = r_.repeatability;
+    const analysis::Repeatability& rep = r_.repeatability;
     if (!rep.done) return std::string();
     std::ostringstream s;
     s << "<h3>Repeatability</h3>\n<table>\n<tr><th>subset</th><th>x (m)</th><th>y (m)</th>"
          "<th>yaw (&#176;)</th></tr>\n";
-    for (const RepeatabilitySplit& split : rep.splits) {
+    for (const analysis::RepeatabilitySplit& split : rep.splits) {
       s << "<tr><th>" << Esc(split.name) << "</th>";
       if (split.usable) {
         s << "<td class=\"num\">" << F("%.4f", split.mount.x_m) << "</td><td class=\"num\">"
@@ -711,57 +322,17 @@ class ReportBuilder {
   std::string SiteMapSection() {
     std::ostringstream s;
     s << "<section id=\"site-map\">\n<h2>Site map (local ground frame)</h2>\n";
-    const io::SessionSpec& session = r_.session;
-    std::vector<Eigen::Vector2d> track;
-    std::string note;
-    try {
-      const io::NmeaLog gnss = io::ReadNmea(session.gnss_log);
-      for (const io::GnssFix& fix : gnss.fixes) {
-        if (fix.quality == 0) continue;
-        track.push_back(calib::ToLocal(r_.frame, fix.lat_deg, fix.lon_deg));
-      }
-      if (!gnss.fixes.empty()) {
-        gnss_first_s_ = gnss.fixes.front().stamp_s;
-        gnss_last_s_ = gnss.fixes.back().stamp_s;
-        gnss_fixes_ = static_cast<int64_t>(gnss.fixes.size());
-      }
-    } catch (const io::InputError& error) {
-      note += " The GNSS log could not be read again (" + std::string(error.what()) + ").";
-    }
-    // Thin the track to at most ~3000 vertices (the plot cannot show more).
-    if (track.size() > 3000) {
-      const size_t stride = track.size() / 3000 + 1;
-      std::vector<Eigen::Vector2d> thin;
-      for (size_t i = 0; i < track.size(); i += stride) thin.push_back(track[i]);
-      thin.push_back(track.back());
-      track.swap(thin);
-    }
-    // The survey, tied to the local frame as the pipeline did.
-    std::vector<Eigen::Vector2d> wall_points, control_survey, control_rtk;
+    const std::vector<Eigen::Vector2d>& track = d_.track_local_m;
+    const std::vector<Eigen::Vector2d>& wall_points = d_.wall_points_local_m;
+    std::vector<Eigen::Vector2d> control_survey, control_rtk;
     std::vector<std::string> control_ids;
-    try {
-      const std::vector<io::SurveyPoint> survey = io::ReadSurvey(session.survey_points);
-      const calib::SurveyTie tie =
-          calib::TieSurvey(survey, session.survey_points, session, r_.frame, options_.solver);
-      std::set<std::string> codes;
-      for (const io::WallSpec& w : session.walls) codes.insert(w.code);
-      for (const io::SurveyPoint& p : survey) {
-        const Eigen::Vector2d local = tie.local_R_survey * Eigen::Vector2d(p.x_m, p.y_m) + tie.local_t_survey;
-        if (codes.count(p.code)) wall_points.push_back(local);
-      }
-      for (const io::ControlPoint& c : session.control) {
-        for (const io::SurveyPoint& p : survey) {
-          if (p.id != c.id) continue;
-          control_survey.push_back(tie.local_R_survey * Eigen::Vector2d(p.x_m, p.y_m) +
-                                   tie.local_t_survey);
-          control_rtk.push_back(calib::ToLocal(r_.frame, c.lat_deg, c.lon_deg));
-          control_ids.push_back(c.id);
-          break;
-        }
-      }
-    } catch (const io::InputError& error) {
-      note += " The survey could not be read again (" + std::string(error.what()) + ").";
+    for (const pipeline::ControlMark& c : d_.controls) {
+      control_survey.push_back(c.survey_local_m);
+      control_rtk.push_back(c.rtk_local_m);
+      control_ids.push_back(c.id);
     }
+    std::string note;
+    for (const std::string& n : d_.notes) note += " " + n + ".";
     Box box;
     for (const auto& p : track) box.Add(p);
     for (const auto& p : wall_points) box.Add(p);
@@ -816,29 +387,14 @@ class ReportBuilder {
   }
 
   // ---- scans ----
-  struct Panel {
-    int station = 0;
-    int observation = 0;
-    io::ScanRecord scan;
-    bool have_scan = false;
-  };
-
-  double TightAngleGate() const {
-    const Eigen::Matrix3d& c1 = r_.first_pass.covariance;
-    return std::max(options_.detector.tight_angle_gate_rad, 5.0 * std::sqrt(std::max(0.0, c1(2, 2))));
-  }
-  double TightOffsetGate() const {
-    const Eigen::Matrix3d& c1 = r_.first_pass.covariance;
-    return std::max(options_.detector.tight_offset_gate_m,
-                    5.0 * std::sqrt(std::max(0.0, c1(0, 0) + c1(1, 1))));
-  }
+  double TightAngleGate() const { return d_.tight_gates.angle_rad; }
+  double TightOffsetGate() const { return d_.tight_gates.offset_m; }
 
   std::string ScansSection() {
     std::ostringstream s;
     s << "<section id=\"scans\">\n<h2>Scans in the scanner frame</h2>\n";
     if (panels_.empty()) {
-      s << "<p>No station scans to show (no stationary observations"
-        << (scan_read_error_.empty() ? "" : "; " + Esc(scan_read_error_)) << ").</p>\n</section>\n";
+      s << "<p>No station scans to show (no stationary observations).</p>\n</section>\n";
       return s.str();
     }
     s << "<p>One scan from the middle of each of " << panels_.size()
@@ -846,24 +402,20 @@ class ReportBuilder {
          "a gate around the "
       << Esc(mount_source_) << " (&#177;" << F("%.2f", TightAngleGate() * kRadToDeg) << "&#176;, &#177;"
       << F("%.2f", TightOffsetGate()) << " m, as the second pass).</p>\n<div class=\"flex\">\n";
-    for (const Panel& panel : panels_) s << ScanPlot(panel);
+    for (const pipeline::ScanPanel& panel : panels_) s << ScanPlot(panel);
     s << "</div>\n</section>\n";
     return s.str();
   }
 
-  std::string ScanPlot(const Panel& panel) {
+  std::string ScanPlot(const pipeline::ScanPanel& panel) {
     const calib::WallObservation& o = r_.observations[panel.observation];
     const int station_number = panel.station + 1;
     if (!panel.have_scan) {
       return "<p>Station " + N(station_number) + ": scan " + N(o.scan_index) + " not found in the log.</p>\n";
     }
-    const calib::WallGeometry& wall = r_.walls[o.wall_index];
-    const calib::ScanPoints points =
-        calib::ToScanPoints(panel.scan, r_.preset, options_.detector.min_range_m,
-                            options_.detector.mixed_pixel_jump_m, nullptr);
-    const calib::LineGate gate = GateFor(o, wall, mount_, TightAngleGate(), TightOffsetGate());
-    const calib::WallDetection d =
-        calib::DetectWall(points, gate, options_.detector, r_.preset.range_sigma_m, false);
+    const calib::ScanPoints& points = panel.points;
+    const calib::LineGate& gate = panel.gate;
+    const calib::WallDetection& d = panel.detection;
     std::vector<uint8_t> inlier(points.p_scanner_m.size(), 0);
     for (int i : d.inliers) inlier[static_cast<size_t>(i)] = 1;
     Box box;
@@ -928,7 +480,7 @@ class ReportBuilder {
     plot.Legend(kRed, "line", "detected wall line (\xcf\x81, \xce\xb8) and its normal");
     plot.Legend(kGreen, "line", "surveyed wall predicted from the mount");
     std::string caption = "Station " + N(station_number) + ", scan " + N(o.scan_index) +
-                          " (log line " + N(panel.scan.line) + "), grid heading " +
+                          " (log line " + N(panel.line) + "), grid heading " +
                           F("%.1f", GridHeadingDeg(o.pose.yaw_rad)) + "&#176;. ";
     if (d.found) {
       caption += "&#961; = " + F("%.3f", d.rho_m) + " m, &#952; = " + F("%.2f", d.theta_rad * kRadToDeg) +
@@ -949,26 +501,16 @@ class ReportBuilder {
   std::string HoughSection() {
     std::ostringstream s;
     s << "<section id=\"hough\">\n<h2>Hough accumulator</h2>\n";
-    const Panel* panel = nullptr;
-    if (!panels_.empty()) {
-      panel = &panels_[panels_.size() / 2];
-      if (!panel->have_scan) panel = nullptr;
-    }
-    if (panel == nullptr) {
+    if (!d_.hough.have) {
       s << "<p>No scan to show.</p>\n</section>\n";
       return s.str();
     }
+    const pipeline::ScanPanel* panel = &panels_[static_cast<size_t>(d_.hough.panel)];
     const calib::WallObservation& o = r_.observations[panel->observation];
-    const calib::WallGeometry& wall = r_.walls[o.wall_index];
-    const calib::ScanPoints points =
-        calib::ToScanPoints(panel->scan, r_.preset, options_.detector.min_range_m,
-                            options_.detector.mixed_pixel_jump_m, nullptr);
-    // A window wider than the second pass's gate so the neighbourhood of the peak shows.
-    const double angle_gate = std::max(4.0 * kDegToRad, TightAngleGate());
-    const double offset_gate = std::max(0.8, TightOffsetGate());
-    const calib::LineGate gate = GateFor(o, wall, mount_, angle_gate, offset_gate);
-    const calib::WallDetection d =
-        calib::DetectWall(points, gate, options_.detector, r_.preset.range_sigma_m, true);
+    const calib::LineGate& gate = d_.hough.window;
+    const double angle_gate = gate.theta_halfwidth_rad;
+    const double offset_gate = gate.rho_halfwidth_m;
+    const calib::WallDetection& d = d_.hough.detection;
     const cv::Mat& acc = d.accumulator;
     if (acc.empty() || acc.type() != CV_32S) {
       s << "<p>The detector kept no accumulator for this scan.</p>\n</section>\n";
@@ -1036,7 +578,7 @@ class ReportBuilder {
       s << "<p>No residuals (no usable solve).</p>\n</section>\n";
       return s.str();
     }
-    const ResidualAnalysis& ra = r_.residual_analysis;
+    const analysis::ResidualAnalysis& ra = r_.residual_analysis;
     const std::vector<double>& res = r_.estimate.residual_rho_m;
     const size_t n = res.size();
     // Thin very long sessions so the page stays small (every k-th observation).
@@ -1097,7 +639,7 @@ class ReportBuilder {
       }
       std::string caption;
       if (ra.done) {
-        for (const ResidualTrend& t : ra.trends) {
+        for (const analysis::ResidualTrend& t : ra.trends) {
           if (t.against != axis.key) continue;
           caption = std::string(t.flagged ? "<span class=\"bad\">TREND FLAGGED</span>: " : "no significant trend: ") +
                     "slope " + F("%.3g", t.slope) + " " + Esc(t.unit) + ", " + F("%.1f", t.significance) +
@@ -1122,7 +664,7 @@ class ReportBuilder {
       }
       s << "</table>\n<table>\n<tr><th>against</th><th>slope</th><th>significance</th><th>flag</th>"
            "<th>meaning</th></tr>\n";
-      for (const ResidualTrend& t : ra.trends) {
+      for (const analysis::ResidualTrend& t : ra.trends) {
         s << "<tr><th>" << Esc(t.against) << "</th><td class=\"num\">" << F("%.3g", t.slope) << " "
           << Esc(t.unit) << "</td><td class=\"num\">" << F("%.1f", t.significance) << " &#963;</td><td>"
           << (t.flagged ? "<span class=\"bad\">flagged</span>" : "<span class=\"ok\">ok</span>")
@@ -1219,7 +761,9 @@ class ReportBuilder {
     s << "<table>\n<tr><th colspan=\"2\">Scans</th></tr>\n";
     s << Row("read (valid records + malformed scan lines)", N(r_.scans_total));
     s << Row("used (at least one wall observation)", N(r_.scans_used));
-    for (const auto& [reason, count] : r_.scans_skipped) s << Row("not used: " + reason, N(count));
+    for (const auto& [reason, count] : r_.scans_skipped) {
+      s << Row(std::string("not used: ") + calib::ScanSkipName(reason), N(count));
+    }
     s << Row("wall observations", N(static_cast<int64_t>(r_.observations.size())));
     if (r_.estimate.usable) s << Row("down-weighted as outliers", N(r_.estimate.observations_rejected));
     for (const auto& [reason, count] : r_.scan_lines_skipped.by_reason) {
@@ -1247,8 +791,8 @@ class ReportBuilder {
     } else {
       s << Row("scanner clock offset estimated", "no (needs scans taken while moving)");
     }
-    if (gnss_fixes_ > 0) {
-      s << Row("GNSS log span", F("%.1f", gnss_last_s_ - gnss_first_s_) + " s (" + N(gnss_fixes_) + " GGA fixes)");
+    if (d_.gnss_fixes > 0) {
+      s << Row("GNSS log span", F("%.1f", d_.gnss_last_s - d_.gnss_first_s) + " s (" + N(d_.gnss_fixes) + " GGA fixes)");
     }
     if (!r_.observations.empty()) {
       double t0 = 1e300, t1 = -1e300;
@@ -1257,7 +801,7 @@ class ReportBuilder {
         t1 = std::max(t1, o.pose.stamp_s);
       }
       s << Row("observations span", F("%.1f", t1 - t0) + " s" +
-                                        (gnss_fixes_ > 0 ? ", from " + F("%.1f", t0 - gnss_first_s_) +
+                                        (d_.gnss_fixes > 0 ? ", from " + F("%.1f", t0 - d_.gnss_first_s) +
                                                                " s after the first GNSS fix"
                                                          : std::string()));
     }
@@ -1268,30 +812,24 @@ class ReportBuilder {
   }
 
   const CalibrationResult& r_;
-  const io::CalibrateOptions& options_;
-  ReportOptions report_options_;
-  solvers::Mount mount_;
-  std::string mount_source_;
+  const pipeline::ReportData& d_;
+  const solvers::Mount& mount_;
+  const std::string& mount_source_;
   bool have_mount_ = false;
+  const std::vector<pipeline::Station>& stations_;
+  const std::vector<pipeline::ScanPanel>& panels_;
   bool residuals_ok_ = false;
-  std::vector<Station> stations_;
-  std::vector<Panel> panels_;
-  std::string scan_read_error_;
   int clip_counter_ = 0;
-  double gnss_first_s_ = 0, gnss_last_s_ = 0;
-  int64_t gnss_fixes_ = 0;
 };
 
 }  // namespace
 
-std::string FormatReportHtml(const CalibrationResult& result, const io::CalibrateOptions& options,
-                             const ReportOptions& report_options) {
-  ReportBuilder builder(result, options, report_options);
+std::string FormatReportHtml(const CalibrationResult& result) {
+  ReportBuilder builder(result);
   return builder.Build();
 }
 
-std::string WriteReport(const CalibrationResult& result, const io::CalibrateOptions& options,
-                        const std::string& dir, const ReportOptions& report_options) {
+std::string WriteReport(const CalibrationResult& result, const std::string& dir) {
   std::error_code error;
   fs::create_directories(dir, error);
   if (error || !fs::is_directory(dir)) {
@@ -1299,8 +837,8 @@ std::string WriteReport(const CalibrationResult& result, const io::CalibrateOpti
                          (error ? " (" + error.message() + ")" : std::string()));
   }
   const std::string path = (fs::path(dir) / "report.html").string();
-  io::WriteFileAtomically(path, FormatReportHtml(result, options, report_options));
+  io::WriteFileAtomically(path, FormatReportHtml(result));
   return path;
 }
 
-}  // namespace wallcal::app
+}  // namespace wallcal::outputs

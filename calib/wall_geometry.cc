@@ -1,20 +1,12 @@
-#include "solvers/geometry.h"
+#include "calib/wall_geometry.h"
 
 #include <cmath>
 
-namespace wallcal::solvers {
+#include "common/angles.h"
 
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}  // namespace
+namespace wallcal::calib {
 
-double WrapAngle(double angle_rad) {
-  double wrapped = std::remainder(angle_rad, 2.0 * kPi);  // [−π, π]
-  if (wrapped <= -kPi) wrapped += 2.0 * kPi;
-  return wrapped;
-}
-
-OrientedWall OrientWall(const calib::WallGeometry& wall, const Eigen::Vector2d& antenna_local_m) {
+OrientedWall OrientWall(const WallGeometry& wall, const Eigen::Vector2d& antenna_local_m) {
   OrientedWall oriented;
   // An antenna exactly on the line (never in practice: the vehicle cannot stand in the wall)
   // keeps the surveyed orientation.
@@ -25,7 +17,7 @@ OrientedWall OrientWall(const calib::WallGeometry& wall, const Eigen::Vector2d& 
   return oriented;
 }
 
-Eigen::Vector2d ScannerPositionLocal(const calib::VehiclePose& pose, const Mount& mount) {
+Eigen::Vector2d ScannerPositionLocal(const VehiclePose& pose, const Mount& mount) {
   const double c = std::cos(pose.yaw_rad);
   const double s = std::sin(pose.yaw_rad);
   return pose.antenna_local_m +
@@ -43,17 +35,17 @@ double VehicleToWallAngle(const OrientedWall& wall, double vehicle_yaw_rad) {
   return WrapAngle(wall.normal_angle_rad - vehicle_yaw_rad);
 }
 
-double PredictRho(const calib::WallObservation& observation, const calib::WallGeometry& wall,
+double PredictRho(const WallObservation& observation, const WallGeometry& wall,
                   const Mount& mount) {
   const OrientedWall oriented = OrientWall(wall, observation.pose.antenna_local_m);
   return oriented.offset_m -
          oriented.normal_local.dot(ScannerPositionLocal(observation.pose, mount));
 }
 
-double PredictTheta(const calib::WallObservation& observation, const calib::WallGeometry& wall,
+double PredictTheta(const WallObservation& observation, const WallGeometry& wall,
                     const Mount& mount) {
   const OrientedWall oriented = OrientWall(wall, observation.pose.antenna_local_m);
   return WrapAngle(oriented.normal_angle_rad - observation.pose.yaw_rad - mount.yaw_rad);
 }
 
-}  // namespace wallcal::solvers
+}  // namespace wallcal::calib

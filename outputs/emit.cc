@@ -1,16 +1,13 @@
-#include "apps/emit.h"
+#include "outputs/emit.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include "common/angles.h"
 
-namespace wallcal::app {
+namespace wallcal::outputs {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadToDeg = 180.0 / kPi;
-
 // 9 significant digits: well below a micrometre / microradian for mounts of a few metres, and
 // short enough to read. -0 is printed as 0 so a zero never looks signed.
 std::string Num(double value) {
@@ -177,4 +174,4 @@ std::string FormatEmit(EmitFormat format, const solvers::MountEstimate& estimate
   return out;
 }
 
-}  // namespace wallcal::app
+}  // namespace wallcal::outputs

@@ -1,5 +1,5 @@
 #pragma once
-// The calibrated mount in the forms navigation stacks read (issue 5 §3): a ROS 2
+// The calibrated mount in the forms navigation stacks read: a ROS 2
 // static_transform_publisher command line, a URDF <joint>, and a JSON object.
 //
 // Frames: the mount is parent_T_child with parent = the GNSS antenna frame (x forward, y left,
@@ -20,7 +20,7 @@
 #include "io/types.h"
 #include "solvers/mount_solver.h"
 
-namespace wallcal::app {
+namespace wallcal::outputs {
 
 enum class EmitFormat { kRos2StaticTf, kUrdf, kJson };
 
@@ -70,4 +70,4 @@ std::string FormatEmit(EmitFormat format, const solvers::MountEstimate& estimate
                        const std::optional<io::AntennaInBase>& antenna_in_base,
                        const EmitFrames& frames);
 
-}  // namespace wallcal::app
+}  // namespace wallcal::outputs

@@ -1,0 +1,194 @@
+#include "calib/detection_pass.h"
+
+#include <algorithm>
+
+#include <Eigen/Geometry>
+
+#include "calib/wall_detector.h"
+#include "calib/wall_geometry.h"
+
+namespace wallcal::calib {
+
+const char* ScanSkipName(ScanSkip reason) {
+  switch (reason) {
+    case ScanSkip::kNoPoseBeforeLogs:
+      return "no pose: before the GNSS/heading logs";
+    case ScanSkip::kNoPoseAfterLogs:
+      return "no pose: after the GNSS/heading logs";
+    case ScanSkip::kNoPoseGnssGap:
+      return "no pose: in a GNSS gap";
+    case ScanSkip::kNoPoseHeadingGap:
+      return "no pose: in a heading gap";
+    case ScanSkip::kVehicleMoving:
+      return "vehicle moving";
+    case ScanSkip::kScannerBehindWall:
+      return "scanner at or behind the wall";
+    case ScanSkip::kWallNotDetected:
+      return "wall not detected";
+    case ScanSkip::kMalformedLine:
+      return "malformed scan line";
+    case ScanSkip::kNoPoseAtShiftedTime:
+      return "no pose at the clock-offset-corrected time";
+  }
+  return "unknown";
+}
+
+ScanSkip ScanSkipFor(PoseStatus status) {
+  switch (status) {
+    case PoseStatus::kBeforeStart:
+      return ScanSkip::kNoPoseBeforeLogs;
+    case PoseStatus::kAfterEnd:
+      return ScanSkip::kNoPoseAfterLogs;
+    case PoseStatus::kGnssGap:
+      return ScanSkip::kNoPoseGnssGap;
+    case PoseStatus::kHeadingGap:
+    case PoseStatus::kOk:
+      break;
+  }
+  return ScanSkip::kNoPoseHeadingGap;
+}
+
+LineGate GateFor(const WallObservation& at, const WallGeometry& wall, const Mount& mount,
+                 const Gates& gates) {
+  LineGate gate;
+  gate.theta_rad = PredictTheta(at, wall, mount);
+  gate.theta_halfwidth_rad = gates.angle_rad;
+  gate.rho_m = PredictRho(at, wall, mount);
+  gate.rho_halfwidth_m = gates.offset_m;
+  if (gates.use_segment) {
+    // The surveyed wall's ends seen from the scanner (current mount estimate).
+    const VehiclePose& pose = at.pose;
+    const double scanner_yaw = pose.yaw_rad + mount.yaw_rad;
+    const Eigen::Rotation2Dd vehicle_R(pose.yaw_rad);
+    const Eigen::Vector2d scanner_local =
+        pose.antenna_local_m + vehicle_R * Eigen::Vector2d(mount.x_m, mount.y_m);
+    const Eigen::Rotation2Dd scanner_R_local(-scanner_yaw);
+    gate.has_segment = true;
+    gate.segment_a_scanner = scanner_R_local * (wall.end_a_local - scanner_local);
+    gate.segment_b_scanner = scanner_R_local * (wall.end_b_local - scanner_local);
+  }
+  return gate;
+}
+
+namespace {
+
+// The scans' time span and order, over every scan (sampled or not).
+void TrackStamp(double t, int64_t index, int line, PassOutcome* outcome) {
+  if (index == 0) {
+    outcome->first_stamp_s = outcome->last_stamp_s = t;
+    return;
+  }
+  if (!(t > outcome->last_stamp_s) && outcome->not_increasing++ == 0) {
+    outcome->first_not_increasing_line = line;
+  }
+  outcome->first_stamp_s = std::min(outcome->first_stamp_s, t);
+  outcome->last_stamp_s = std::max(outcome->last_stamp_s, t);
+}
+
+// The walls in one scan: an observation per wall found; false (and *why set) when none.
+bool DetectInScan(const PassContext& context, const PassRequest& request,
+                  const io::ScanRecord& scan, int scan_index, const VehiclePose& pose,
+                  PassOutcome* outcome, ScanSkip* why) {
+  const io::DetectorOptions& detector = *context.detector;
+  const ScanPoints points = ToScanPoints(scan, *context.preset, detector.min_range_m,
+                                         detector.mixed_pixel_jump_m, &outcome->range_counts);
+  bool any = false;
+  *why = ScanSkip::kWallNotDetected;
+  for (size_t w = 0; w < context.walls->size(); ++w) {
+    const WallGeometry& wall = (*context.walls)[w];
+    WallObservation observation;
+    observation.scan_index = scan_index;
+    observation.wall_index = static_cast<int>(w);
+    observation.pose = pose;
+    // The gates are predicted at the scan's true time (the clock offset of the first pass
+    // moves a moving vehicle's pose); the observation keeps the pose at the stamp.
+    WallObservation gate_at = observation;
+    gate_at.pose.antenna_local_m += request.gate_time_offset_s * pose.velocity_local_mps;
+    gate_at.pose.yaw_rad += request.gate_time_offset_s * pose.yaw_rate_rps;
+    const LineGate gate = GateFor(gate_at, wall, request.mount, request.gates);
+    if (gate.rho_m + request.gates.offset_m <= detector.min_range_m) {
+      *why = ScanSkip::kScannerBehindWall;
+      continue;
+    }
+    const WallDetection detection =
+        DetectWall(points, gate, detector, context.preset->range_sigma_m);
+    if (!detection.found) {
+      *why = ScanSkip::kWallNotDetected;
+      continue;
+    }
+    observation.rho_m = detection.rho_m;
+    observation.theta_rad = detection.theta_rad;
+    observation.sigma_rho_m = detection.sigma_rho_m;
+    observation.sigma_theta_rad = detection.sigma_theta_rad;
+    observation.cov_rho_theta = detection.cov_rho_theta;
+    observation.num_inliers = detection.num_inliers;
+    observation.range_min_m = detection.range_min_m;
+    observation.range_max_m = detection.range_max_m;
+    observation.residual_rms_m = detection.residual_rms_m;
+    outcome->observations.push_back(observation);
+    any = true;
+  }
+  return any;
+}
+
+}  // namespace
+
+PassOutcome DetectionPass(const PassContext& context, const PassRequest& request) {
+  PassOutcome outcome;
+  const std::unique_ptr<io::ScanSource> scans = context.open_scans();
+  io::ScanRecord scan;
+  double last_examined_s = -1e300;
+  int scan_index = -1;
+  while (scans->Next(&scan)) {
+    ++scan_index;
+    const double stamp_s = scan.stamp_s + context.scanner_time_offset_s;
+    TrackStamp(stamp_s, scan_index, scan.line, &outcome);
+    if (request.progress && scan_index % 2000 == 0) request.progress(scan_index);
+    if (request.min_interval_s > 0.0) {
+      if (stamp_s - last_examined_s < request.min_interval_s) continue;
+      last_examined_s = stamp_s;
+    }
+    ++outcome.scans_examined;
+    if (static_cast<int>(scan.ranges_m.size()) != context.preset->num_beams &&
+        outcome.beam_count_mismatch++ == 0) {
+      outcome.first_mismatch_beams = static_cast<int>(scan.ranges_m.size());
+    }
+    VehiclePose pose;
+    const PoseStatus status = context.poses->At(stamp_s, &pose);
+    if (status != PoseStatus::kOk) {
+      ++outcome.skipped[ScanSkipFor(status)];
+      continue;
+    }
+    if (!pose.stationary && !context.use_moving) {
+      ++outcome.skipped[ScanSkip::kVehicleMoving];
+      continue;
+    }
+    ScanSkip why = ScanSkip::kWallNotDetected;
+    if (!DetectInScan(context, request, scan, scan_index, pose, &outcome, &why)) {
+      ++outcome.skipped[why];
+    }
+  }
+  outcome.scans_read = scans->scans_read();
+  outcome.line_skips = scans->skipped();
+  return outcome;
+}
+
+int ShiftObservations(const PoseInterpolator& poses, double dt_s,
+                      std::vector<WallObservation>* observations) {
+  std::vector<WallObservation> kept;
+  kept.reserve(observations->size());
+  int dropped = 0;
+  for (WallObservation& o : *observations) {
+    VehiclePose pose;
+    if (poses.At(o.pose.stamp_s + dt_s, &pose) != PoseStatus::kOk) {
+      ++dropped;
+      continue;
+    }
+    o.pose = pose;
+    kept.push_back(o);
+  }
+  *observations = std::move(kept);
+  return dropped;
+}
+
+}  // namespace wallcal::calib

@@ -1,0 +1,95 @@
+#pragma once
+// The observation finder: one pass over the scans that turns each scan into wall observations.
+// For every scan it takes the vehicle pose at the scan's time, predicts where each surveyed wall
+// should appear for a mount estimate (the gates), and runs the wall detector inside them. Every
+// scan not used is counted by a typed reason.
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "calib/observation.h"
+#include "calib/range_model.h"
+#include "calib/time_alignment.h"
+#include "calib/wall_detector.h"
+#include "io/options.h"
+#include "io/scan_source.h"
+#include "io/types.h"
+
+namespace wallcal::calib {
+
+// Why a scan gave no observation (or a line gave no scan).
+enum class ScanSkip {
+  kNoPoseBeforeLogs,   // before the GNSS / heading logs begin
+  kNoPoseAfterLogs,    // after they end
+  kNoPoseGnssGap,      // in a gap of the GNSS log
+  kNoPoseHeadingGap,   // in a gap of the heading log
+  kVehicleMoving,      // moving, and moving scans are not used
+  kScannerBehindWall,  // the predicted wall is behind the scanner
+  kWallNotDetected,    // the detector found no line in the gates
+  kMalformedLine,      // the scan's line in the log could not be read
+  kNoPoseAtShiftedTime,  // no pose at the clock-offset-corrected time
+};
+// For people: "no pose: before the GNSS/heading logs", "vehicle moving", ...
+const char* ScanSkipName(ScanSkip reason);
+ScanSkip ScanSkipFor(PoseStatus status);  // status != kOk
+
+// The gates around the predicted wall line: half-widths in angle (rad) and offset (m), and
+// whether the surveyed wall's extent limits the inliers.
+struct Gates {
+  double angle_rad = 0.0;
+  double offset_m = 0.0;
+  bool use_segment = false;
+};
+
+// What every pass over a session shares.
+struct PassContext {
+  std::function<std::unique_ptr<io::ScanSource>()> open_scans;  // a fresh stream per pass
+  double scanner_time_offset_s = 0.0;  // added to every scan stamp (session.yaml)
+  const io::ScannerPreset* preset = nullptr;
+  const io::DetectorOptions* detector = nullptr;
+  const std::vector<WallGeometry>* walls = nullptr;
+  const PoseInterpolator* poses = nullptr;
+  bool use_moving = false;  // scans taken while moving are used
+};
+
+struct PassRequest {
+  Mount mount;  // the estimate the gates are centred on
+  Gates gates;
+  double min_interval_s = 0.0;  // > 0: only scans at least this far apart are examined
+  // The scanner clock offset of an earlier estimate (s): gates are predicted at the scan's true
+  // time; observations keep the pose at the stamp (the solver applies the offset itself).
+  double gate_time_offset_s = 0.0;
+  std::function<void(int64_t scans_done)> progress;  // every 2000 scans; may be empty
+};
+
+struct PassOutcome {
+  std::vector<WallObservation> observations;
+  std::map<ScanSkip, int64_t> skipped;  // per examined scan, why it gave no observation
+  int64_t scans_read = 0;
+  int64_t scans_examined = 0;
+  io::SkipCounts line_skips;  // what the scan source passed over
+  RangeCounts range_counts;
+  int64_t beam_count_mismatch = 0;
+  int first_mismatch_beams = 0;
+  int64_t not_increasing = 0;  // scans stamped at or before the scan before them
+  int first_not_increasing_line = 0;
+  double first_stamp_s = 0.0, last_stamp_s = 0.0;  // the scans' time span (all scans)
+};
+
+// Streams the scans once and detects the walls in each examined scan.
+PassOutcome DetectionPass(const PassContext& context, const PassRequest& request);
+
+// The detector's gate for one wall seen from one pose with `mount`, as a pass builds it.
+LineGate GateFor(const WallObservation& at, const WallGeometry& wall, const Mount& mount,
+                 const Gates& gates);
+
+// Moves every observation to its scan's time + dt_s, with the pose interpolated anew at that
+// time (the scanner clock offset the solver estimated; the wall line is the scan's and does not
+// change). Observations whose shifted time has no pose are dropped; returns how many.
+int ShiftObservations(const PoseInterpolator& poses, double dt_s,
+                      std::vector<WallObservation>* observations);
+
+}  // namespace wallcal::calib

@@ -1,0 +1,29 @@
+#pragma once
+// Angles: the one home for π, degree/radian factors and angle normalisation. Inside wallcal every
+// angle is in radians; degrees appear only at the edges (files, YAML, printed text), converted
+// with these factors.
+
+#include <cmath>
+
+namespace wallcal {
+
+inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kTwoPi = 2.0 * kPi;
+inline constexpr double kRadToDeg = 180.0 / kPi;
+inline constexpr double kDegToRad = kPi / 180.0;
+
+// An angle wrapped into (−π, π] (rad). Works for double and for ceres::Jet (through ADL on
+// ceil, whose derivative is zero, so the Jacobian passes through unchanged).
+template <typename T>
+T WrapAngle(const T& angle_rad) {
+  using std::ceil;
+  return angle_rad - T(kTwoPi) * ceil((angle_rad - T(kPi)) / T(kTwoPi));
+}
+
+// An angle wrapped into [0, 2π) (rad): headings.
+inline double WrapTwoPi(double angle_rad) {
+  const double wrapped = angle_rad - kTwoPi * std::floor(angle_rad / kTwoPi);
+  return wrapped >= kTwoPi ? 0.0 : wrapped;
+}
+
+}  // namespace wallcal

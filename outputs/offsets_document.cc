@@ -1,0 +1,139 @@
+#include "outputs/offsets_document.h"
+
+#include <cmath>
+#include <string>
+
+#include "common/angles.h"
+#include "common/format.h"
+#include "io/version.h"
+
+namespace wallcal::outputs {
+
+using pipeline::CalibrationResult;
+
+io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result) {
+  io::OffsetsDocument doc;
+  const solvers::MountEstimate& e = result.estimate;
+  doc.x_m = e.mount.x_m;
+  doc.y_m = e.mount.y_m;
+  doc.yaw_rad = e.mount.yaw_rad;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) doc.covariance[3 * r + c] = e.covariance(r, c);
+  }
+  doc.method = e.method;
+  doc.scans_total = result.scans_total;
+  doc.scans_used = result.scans_used;
+  doc.heading_min_deg = result.heading_min_deg;
+  doc.heading_max_deg = result.heading_max_deg;
+  doc.residual_rms_m = e.residual_rms_m;
+  auto add = [&doc](const std::string& key, const std::string& value) {
+    doc.quality_extra.emplace_back(key, value);
+  };
+  add("observations", std::to_string(e.observations_used));
+  add("outliers", std::to_string(e.observations_rejected));
+  add("stations", std::to_string(result.num_dwells));
+  add("gnss_segments", std::to_string(result.num_segments_used));
+  add("vehicle_to_wall_angle_deg", "{min: " + Format("%.2f", result.wall_angle_min_deg) +
+                                       ", max: " + Format("%.2f", result.wall_angle_max_deg) + "}");
+  std::string skipped = "{";
+  bool first = true;
+  for (const auto& [reason, count] : result.scans_skipped) {
+    skipped += (first ? "" : ", ") + std::string("\"") + calib::ScanSkipName(reason) + "\": " +
+               std::to_string(count);
+    first = false;
+  }
+  add("scans_skipped", skipped + "}");
+  std::string quality = "{";
+  first = true;
+  for (const auto& [q, count] : result.fixes_by_quality) {
+    quality += (first ? "" : ", ") + std::to_string(q) + ": " + std::to_string(count);
+    first = false;
+  }
+  add("gnss_fixes_by_quality", quality + "}");
+  add("gnss_fixes_used", std::to_string(result.fixes_used));
+  add("headings_used", std::to_string(result.headings_used));
+  add("control_points", std::to_string(result.num_control));
+  add("control_rms_m", Format("%.4f", result.control_rms_m));
+  add("utm_zone", "\"" + std::to_string(result.frame.zone) + (result.frame.north ? "N" : "S") + "\"");
+  add("meridian_convergence_deg", Format("%.4f", result.frame.convergence_rad * kRadToDeg));
+  add("point_scale", Format("%.7f", result.frame.scale_k0));
+  std::string walls = "[";
+  for (size_t i = 0; i < result.walls.size(); ++i) {
+    const calib::WallGeometry& w = result.walls[i];
+    walls += (i ? ", " : "") + std::string("{id: \"") + w.id + "\", points: " +
+             std::to_string(w.num_points) + ", rms_m: " + Format("%.4f", w.rms_m) +
+             ", sigma_offset_m: " + Format("%.4f", w.sigma_offset_m) +
+             ", sigma_angle_deg: " + Format("%.4f", w.sigma_angle_rad * kRadToDeg) + "}";
+  }
+  add("walls", walls + "]");
+  if (e.independent_stations > 0.0) {
+    add("independent_stations", Format("%.2f", e.independent_stations));
+  }
+  if (e.time_offset_estimated) {
+    add("time_offset_s", Format("%.4f", result.time_offset_s));
+    add("time_offset_sigma_s", Format("%.4f", result.time_offset_sigma_s));
+  } else {
+    add("time_offset_s", "null  # not estimated: every scan used was taken at a station");
+  }
+  if (!e.weak_direction.empty()) add("weak_direction", "\"" + e.weak_direction + "\"");
+  add("forced", result.forced ? "true" : "false");
+  const analysis::ResidualAnalysis& ra = result.residual_analysis;
+  if (ra.done) {
+    add("residual_robust_sigma_m", Format("%.4f", ra.robust_sigma_m));
+    add("outlier_share", Format("%.4f", ra.outlier_share));
+    std::string trends = "{";
+    for (size_t i = 0; i < ra.trends.size(); ++i) {
+      const analysis::ResidualTrend& t = ra.trends[i];
+      trends += (i ? ", " : "") + t.against + ": {slope: " + Format("%.4g", t.slope) + ", unit: \"" +
+                t.unit + "\", significance: " + Format("%.2f", t.significance) +
+                ", flagged: " + (t.flagged ? "true" : "false") + "}";
+    }
+    add("residual_trends", trends + "}");
+    std::string flags = "[";
+    for (size_t i = 0; i < ra.flags.size(); ++i) {
+      flags += (i ? ", " : "") + std::string("\"") + ra.flags[i] + "\"";
+    }
+    add("residual_flags", flags + "]");
+    if (ra.range_model_estimated) {
+      add("range_scale_k_from_residuals",
+          "{k: " + Format("%.5f", ra.range_scale_k) + ", sigma: " + Format("%.5f", ra.sigma_range_scale_k) +
+              ", preset_k: " + Format("%.5f", result.preset.range_scale_k) + "}");
+    }
+  }
+  const analysis::Repeatability& rep = result.repeatability;
+  if (rep.done) {
+    std::string text = "{bootstrap_samples: " + std::to_string(rep.bootstrap_samples) +
+                       ", bootstrap_sigma: {x: " + Format("%.4f", rep.bootstrap_sigma_x_m) +
+                       ", y: " + Format("%.4f", rep.bootstrap_sigma_y_m) +
+                       ", yaw_deg: " + Format("%.4f", rep.bootstrap_sigma_yaw_rad * kRadToDeg) +
+                       "}, split_max_shift: {x: " + Format("%.4f", rep.max_split_shift_x_m) +
+                       ", y: " + Format("%.4f", rep.max_split_shift_y_m) +
+                       ", yaw_deg: " + Format("%.4f", rep.max_split_shift_yaw_rad * kRadToDeg) +
+                       "}, splits: [";
+    for (size_t i = 0; i < rep.splits.size(); ++i) {
+      const analysis::RepeatabilitySplit& sp = rep.splits[i];
+      text += (i ? ", " : "") + std::string("{name: \"") + sp.name +
+              "\", usable: " + (sp.usable ? "true" : "false") + ", x: " +
+              Format("%.4f", sp.mount.x_m) + ", y: " + Format("%.4f", sp.mount.y_m) +
+              ", yaw_deg: " + Format("%.4f", sp.mount.yaw_rad * kRadToDeg) + "}";
+    }
+    add("repeatability", text + "]}");
+  }
+  if (e.heading_drift_estimated) {
+    // deg/h at the file edge; the rate is estimated with the prior solver.heading_drift_sigma.
+    add("heading_drift_deg_per_h", Format("%.4f", e.heading_drift_rad_per_s * kRadToDeg * 3600.0));
+    add("heading_drift_sigma_deg_per_h",
+        Format("%.4f", e.heading_drift_sigma_rad_per_s * kRadToDeg * 3600.0));
+  }
+  add("yaw_reference",
+      "\"relative to the heading sensor's zero at the first scan used (t = " +
+          Format("%.3f", e.heading_reference_s) +
+          " s): a constant heading bias is indistinguishable from mount yaw; the heading drift "
+          "after that time is estimated (heading_drift_deg_per_h)\"");
+  doc.warnings = result.warnings;
+  doc.session = result.session.file;
+  doc.tool_version = io::kToolVersion;
+  return doc;
+}
+
+}  // namespace wallcal::outputs

@@ -1,0 +1,29 @@
+#pragma once
+// calibrate --report DIR: one self-contained HTML page (DIR/report.html) that shows what the
+// calibration saw and concluded. Plots are inline SVG (outputs/svg_plot.h); the page has no
+// script and fetches nothing (no fonts, styles or images from anywhere), so it opens offline.
+// The markup is XHTML-like (every element closed, attributes quoted, text escaped) so it can be
+// checked by an XML tokenizer.
+//
+// Sections (by id): "mount" (estimate, σ, (x, y) uncertainty ellipse, method, warnings,
+// residual analysis / repeatability / time offset when present), "site-map", "scans",
+// "hough", "residuals", "coverage", "counts".
+//
+// The page renders the result and its ReportData (pipeline/report_data.h, filled when the run
+// was asked for it): no file is read here and no decision of the pipeline is repeated.
+
+#include <string>
+
+#include "pipeline/calibration.h"
+
+namespace wallcal::outputs {
+
+// The page as a string. Works for an unusable estimate too (the mount section then says why;
+// the panels show what exists).
+std::string FormatReportHtml(const pipeline::CalibrationResult& result);
+
+// Writes DIR/report.html (DIR created if missing; written atomically) and returns its path.
+// Throws io::InputError when DIR cannot be created or written.
+std::string WriteReport(const pipeline::CalibrationResult& result, const std::string& dir);
+
+}  // namespace wallcal::outputs

@@ -1,0 +1,105 @@
+#include "outputs/summary.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "common/angles.h"
+#include "io/version.h"
+
+namespace wallcal::outputs {
+
+using pipeline::CalibrationResult;
+
+std::string FormatSummary(const CalibrationResult& result) {
+  const solvers::MountEstimate& e = result.estimate;
+  std::ostringstream out;
+  char line[512];
+  out << "wallcal " << io::kToolVersion << ": session '" << result.session.name << "' ("
+      << result.preset.name << ")\n";
+  std::snprintf(line, sizeof(line), "  scans      %lld read, %lld used",
+                static_cast<long long>(result.scans_total), static_cast<long long>(result.scans_used));
+  out << line;
+  for (const auto& [reason, count] : result.scans_skipped) {
+    out << "; " << count << " " << calib::ScanSkipName(reason);
+  }
+  out << "\n";
+  out << "  gnss       " << result.fixes_used << " fixes used (by quality:";
+  for (const auto& [q, count] : result.fixes_by_quality) out << " " << q << ":" << count;
+  out << "), " << result.headings_used << " headings\n";
+  std::snprintf(line, sizeof(line),
+                "  survey     %d control points (RMS %.4f m), %zu wall(s), UTM zone %d%s, "
+                "convergence %.3f deg, scale %.6f\n",
+                result.num_control, result.control_rms_m, result.walls.size(), result.frame.zone,
+                result.frame.north ? "N" : "S", result.frame.convergence_rad * kRadToDeg,
+                result.frame.scale_k0);
+  out << line;
+  std::snprintf(line, sizeof(line),
+                "  geometry   %d stations, %d GNSS-error slices, grid headings %.1f..%.1f deg, "
+                "vehicle-to-wall angles %.1f..%.1f deg\n",
+                result.num_dwells, result.num_segments_used, result.heading_min_deg,
+                result.heading_max_deg, result.wall_angle_min_deg, result.wall_angle_max_deg);
+  out << line;
+  if (e.usable) {
+    const double sx = std::sqrt(std::max(0.0, e.covariance(0, 0)));
+    const double sy = std::sqrt(std::max(0.0, e.covariance(1, 1)));
+    const double syaw = std::sqrt(std::max(0.0, e.covariance(2, 2)));
+    std::snprintf(line, sizeof(line),
+                  "  mount      x = %.4f ± %.4f m   y = %.4f ± %.4f m   yaw = %.3f ± %.3f deg  "
+                  "(%s)\n",
+                  e.mount.x_m, sx, e.mount.y_m, sy, e.mount.yaw_rad * kRadToDeg, syaw * kRadToDeg,
+                  e.method.c_str());
+    out << line;
+    std::snprintf(line, sizeof(line),
+                  "  seed 002   a = %.4f m   b = %.4f m   delta = %.3f deg\n", -e.mount.y_m,
+                  e.mount.x_m, e.mount.yaw_rad * kRadToDeg);
+    out << line;
+    std::snprintf(line, sizeof(line),
+                  "  residuals  RMS %.4f m over %d observations, %d outliers (> 3 sigma)\n",
+                  e.residual_rms_m, e.observations_used, e.observations_rejected);
+    out << line;
+    out << "  yaw        relative to the heading sensor's zero at the first scan used (a "
+           "constant heading bias is indistinguishable from mount yaw)\n";
+    if (e.independent_stations > 0.0) {
+      std::snprintf(line, sizeof(line),
+                    "  gnss error %.1f independent realisations over the stations (RTK error "
+                    "correlated in time)\n",
+                    e.independent_stations);
+      out << line;
+    }
+    if (e.time_offset_estimated) {
+      std::snprintf(line, sizeof(line),
+                    "  clock      scanner time offset %+.4f ± %.4f s (true scan time = stamp + "
+                    "offset)\n",
+                    result.time_offset_s, result.time_offset_sigma_s);
+      out << line;
+    }
+    const analysis::ResidualAnalysis& ra = result.residual_analysis;
+    if (ra.done) {
+      std::snprintf(line, sizeof(line),
+                    "  analysis   robust sigma %.4f m, %.1f %% beyond 2 sigma, %zu flagged "
+                    "trend(s)\n",
+                    ra.robust_sigma_m, 100.0 * ra.outlier_share, ra.flags.size());
+      out << line;
+    }
+    const analysis::Repeatability& rep = result.repeatability;
+    if (rep.done) {
+      std::snprintf(line, sizeof(line),
+                    "  repeat     bootstrap (%d) sigma x %.4f m, y %.4f m, yaw %.3f deg; "
+                    "split halves/odd-even move it at most x %.4f m, y %.4f m, yaw %.3f deg\n",
+                    rep.bootstrap_samples, rep.bootstrap_sigma_x_m, rep.bootstrap_sigma_y_m,
+                    rep.bootstrap_sigma_yaw_rad * kRadToDeg, rep.max_split_shift_x_m,
+                    rep.max_split_shift_y_m, rep.max_split_shift_yaw_rad * kRadToDeg);
+      out << line;
+    }
+    if (result.forced) out << "  FORCED     written although the data do not determine the mount\n";
+  } else {
+    out << "  mount      NOT DETERMINED: " << e.message << "\n";
+  }
+  for (const std::string& w : result.warnings) out << "  warning    " << w << "\n";
+  std::snprintf(line, sizeof(line), "  time       %.2f s\n", result.seconds);
+  out << line;
+  return out.str();
+}
+
+}  // namespace wallcal::outputs

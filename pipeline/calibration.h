@@ -1,0 +1,101 @@
+#pragma once
+// A whole calibration run as one library call, so that the programs, the tests and another
+// program (a ROS node) run the same steps in-process:
+//   io/ reads the session -> calib/ makes wall observations (two detection passes) ->
+//   solvers/ estimates the mount -> analysis/ examines it. Nothing is written here: outputs/
+//   turns the result into offsets.yaml, the summary, the emitted transforms and the report.
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "analysis/repeatability.h"
+#include "analysis/residual_analysis.h"
+#include "calib/detection_pass.h"
+#include "calib/observation.h"
+#include "io/options.h"
+#include "io/types.h"
+#include "pipeline/report_data.h"
+#include "solvers/mount_solver.h"
+#include "solvers/solve_policy.h"
+
+namespace wallcal::pipeline {
+
+struct CalibrateRequest {
+  std::string session_path;  // session.yaml or its folder
+  std::string config_path;   // calibrate options YAML; empty: built-in defaults
+  solvers::Method method = solvers::Method::kCeres;
+  bool force = false;  // write an estimate the observability checks refuse, with a warning
+  bool collect_report_data = false;  // fill CalibrationResult::report (one more scan pass)
+};
+
+// The stages of a run, in order.
+enum class Stage {
+  kReadingInputs,
+  kFirstPass,
+  kSecondPass,
+  kSolving,
+  kClockOffsetRound,
+  kResidualAnalysis,
+  kRepeatability,
+  kReportData,
+  kDone,
+};
+
+// Progress of a long run: the stage, a line for people, and within a scan pass how far it got
+// (total == 0 when the total is not known: the first pass over the scan log).
+struct Progress {
+  Stage stage = Stage::kReadingInputs;
+  std::string text;
+  int64_t done = 0;
+  int64_t total = 0;
+  bool counted = false;  // done/total are meaningful (a scan pass)
+};
+using ProgressFn = std::function<void(const Progress&)>;
+
+// Everything calibrate learned, for the summary, offsets.yaml and the report.
+struct CalibrationResult {
+  io::SessionSpec session;
+  io::ScannerPreset preset;
+  io::CalibrateOptions options;        // the options the run used
+  solvers::MountEstimate first_pass;   // wide-gate pass on a subsample (Barawid start + Ceres)
+  solvers::MountEstimate estimate;     // the final estimate by the requested method
+  std::vector<calib::WallGeometry> walls;
+  std::vector<calib::WallObservation> observations;  // second pass
+  calib::LocalFrame frame;
+  double control_rms_m = 0.0;
+  int num_control = 0;
+  int num_dwells = 0;
+  int num_segments_used = 0;
+  // Scan accounting: every scan line of the log is in exactly one bucket.
+  int64_t scans_total = 0;  // valid scan records read + malformed scan lines skipped
+  int64_t scans_used = 0;   // scans with at least one wall observation in the final solve
+  std::map<calib::ScanSkip, int64_t> scans_skipped;
+  std::map<int, int64_t> fixes_by_quality;
+  int64_t fixes_used = 0;
+  int64_t headings_used = 0;
+  io::SkipCounts gnss_skipped, heading_skipped, scan_lines_skipped;
+  double heading_min_deg = 0.0, heading_max_deg = 0.0;  // grid headings of used scans
+  double wall_angle_min_deg = 0.0, wall_angle_max_deg = 0.0;  // vehicle-to-wall angle φ
+  analysis::ResidualAnalysis residual_analysis;
+  analysis::Repeatability repeatability;
+  double time_offset_s = 0.0;        // estimated scanner-to-GNSS clock offset (moving data)
+  double time_offset_sigma_s = 0.0;  // 0 when not estimated
+  bool forced = false;               // written despite a failed observability check
+  std::vector<std::string> warnings;
+  ReportData report;                 // filled when the request asked for it
+  double seconds = 0.0;  // wall-clock run time, for the summary
+};
+
+// Runs the whole calibration. Writes nothing. Throws io::InputError for bad input; an
+// estimate the data cannot support comes back with estimate.usable == false, its failure kind
+// and a message. `progress` (may be empty) is called at each stage and every 2000 scans.
+CalibrationResult RunCalibration(const CalibrateRequest& request,
+                                 const ProgressFn& progress = nullptr);
+
+// Default output path: offsets.yaml beside session.yaml.
+std::string DefaultOutputPath(const io::SessionSpec& session);
+
+}  // namespace wallcal::pipeline

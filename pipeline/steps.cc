@@ -1,0 +1,379 @@
+// The steps of a calibration run (pipeline/steps.h).
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+#include "calib/geodesy.h"
+#include "calib/pose_samples.h"
+#include "common/angles.h"
+#include "common/circular.h"
+#include "common/format.h"
+#include "io/carmen_reader.h"
+#include "io/nmea_reader.h"
+#include "io/session_reader.h"
+#include "io/survey_reader.h"
+#include "pipeline/config_dirs.h"
+#include "pipeline/steps.h"
+#include "solvers/solve_policy.h"
+
+namespace wallcal::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string FileName(const std::string& path) { return fs::path(path).filename().string(); }
+
+// "file: N lines skipped (reason: n, first at line L; ...)" for the problem reasons; empty
+// when there are none.
+std::string DescribeSkips(const std::string& file, const io::SkipCounts& skips) {
+  if (skips.Problems() == 0) return std::string();
+  std::ostringstream out;
+  out << FileName(file) << ": " << skips.Problems() << " lines skipped (";
+  bool first = true;
+  for (const auto& [reason, count] : skips.by_reason) {
+    if (skips.IsInformational(reason)) continue;
+    out << (first ? "" : "; ") << reason << ": " << count;
+    first = false;
+    const auto line = skips.first_line.find(reason);
+    if (line != skips.first_line.end() && line->second > 0) out << ", first at line " << line->second;
+  }
+  out << ")";
+  return out.str();
+}
+
+// Stops the run after the first pass: the estimate says why.
+void StopAfterFirstPass(const solvers::MountEstimate& estimate, const calib::PassOutcome& pass,
+                        CalibrationResult* result) {
+  result->first_pass = estimate;
+  result->estimate = estimate;
+  result->scans_total = pass.scans_read + pass.line_skips.Problems();
+}
+
+}  // namespace
+
+void Say(const ProgressFn& progress, Stage stage, const std::string& text) {
+  if (progress) progress(Progress{stage, text, 0, 0, false});
+}
+
+calib::Gates TightGates(const CalibrationResult& result) {
+  const Eigen::Matrix3d& c1 = result.first_pass.covariance;
+  const io::DetectorOptions& detector = result.options.detector;
+  return calib::Gates{
+      std::max(detector.tight_angle_gate_rad, 5.0 * std::sqrt(std::max(0.0, c1(2, 2)))),
+      std::max(detector.tight_offset_gate_m, 5.0 * std::sqrt(std::max(0.0, c1(0, 0) + c1(1, 1)))),
+      true};
+}
+
+void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* result) {
+  result->session = io::ReadSession(request.session_path);
+  if (!request.config_path.empty()) result->options = io::ReadCalibrateOptions(request.config_path);
+  result->options.Validate();
+  result->preset = io::LoadScannerPreset(result->session.scanner_model, PresetDirs());
+}
+
+void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs) {
+  const io::SessionSpec& session = result->session;
+  const io::SolverOptions& solver = result->options.solver;
+  inputs->survey = io::ReadSurvey(session.survey_points);
+  const io::ControlPoint& first_control = session.control.front();
+  result->frame =
+      calib::MakeLocalFrame(first_control.lat_deg, first_control.lon_deg, session.utm_zone);
+  inputs->tie =
+      calib::TieSurvey(inputs->survey, session.survey_points, session, result->frame, solver);
+  result->control_rms_m = inputs->tie.control_rms_m;
+  result->num_control = inputs->tie.num_control;
+  result->walls =
+      calib::FitWalls(inputs->survey, session.survey_points, session, inputs->tie, solver);
+  if (inputs->tie.num_control >= 2 &&
+      inputs->tie.control_rms_m >
+          3.0 * std::hypot(solver.control_sigma_m, solver.total_station_sigma_m)) {
+    result->warnings.push_back("control points fit the survey with RMS " +
+                               Format("%.3f", inputs->tie.control_rms_m) +
+                               " m, more than 3x the expected RTK + total-station error");
+  }
+}
+
+void ReadPoses(CalibrationResult* result, RunInputs* inputs) {
+  const io::SessionSpec& session = result->session;
+  const io::CalibrateOptions& options = result->options;
+  const bool one_log = session.heading_log == session.gnss_log;
+  inputs->gnss = io::ReadNmea(session.gnss_log);
+  inputs->headings = one_log ? inputs->gnss : io::ReadNmea(session.heading_log);
+  result->fixes_by_quality = inputs->gnss.fixes_by_quality;
+  result->gnss_skipped = inputs->gnss.skipped;
+  result->heading_skipped = inputs->headings.skipped;
+  if (const std::string w = DescribeSkips(session.gnss_log, inputs->gnss.skipped); !w.empty()) {
+    result->warnings.push_back(w);
+  }
+  if (!one_log) {
+    if (const std::string w = DescribeSkips(session.heading_log, inputs->headings.skipped);
+        !w.empty()) {
+      result->warnings.push_back(w);
+    }
+  }
+
+  const std::vector<calib::PositionSample> positions = calib::PositionSamples(
+      inputs->gnss, session.min_fix_quality, result->frame, &inputs->used_fixes);
+  result->fixes_used = static_cast<int64_t>(positions.size());
+  if (positions.size() < 2) {
+    std::ostringstream found;
+    for (const auto& [quality, count] : inputs->gnss.fixes_by_quality) {
+      found << " quality " << quality << ": " << count << ";";
+    }
+    throw io::InputError(io::Where(
+        session.gnss_log, 0,
+        "fewer than 2 GGA fixes of accepted quality (gnss.min_fix_quality " +
+            std::to_string(session.min_fix_quality) + "); found" +
+            (found.str().empty() ? std::string(" none") : found.str())));
+  }
+  const int64_t rejected = static_cast<int64_t>(inputs->gnss.fixes.size()) - result->fixes_used;
+  if (rejected > 0) {
+    result->warnings.push_back(std::to_string(rejected) +
+                               " GGA fixes below gnss.min_fix_quality (or out of time order) not used");
+  }
+  const std::vector<calib::YawSample> yaws = calib::YawSamples(
+      inputs->headings, session.heading_reference, result->frame, inputs->used_fixes);
+  result->headings_used = static_cast<int64_t>(yaws.size());
+  if (yaws.size() < 2) {
+    throw io::InputError(io::Where(session.heading_log, 0,
+                                   "fewer than 2 usable HDT/THS headings; expected a heading log"));
+  }
+  inputs->poses = std::make_unique<calib::PoseInterpolator>(positions, yaws, options.alignment);
+  if (options.solver.gnss_bias_tau_s > 0.0 &&
+      options.alignment.segment_max_s > options.solver.gnss_bias_tau_s / 60.0) {
+    // The solver holds the RTK error constant within a slice; over a long slice it wanders and
+    // the σ is no longer honest (docs/method.md, "GNSS error").
+    result->warnings.push_back(
+        "alignment.segment_max_s = " + Format("%.2f", options.alignment.segment_max_s) +
+        " s is long against the RTK error's correlation time (solver.gnss_bias_tau_s = " +
+        Format("%.0f", options.solver.gnss_bias_tau_s) +
+        " s): the error wanders within a slice and the σ may be too small; use at most " +
+        Format("%.2f", options.solver.gnss_bias_tau_s / 240.0) + " s");
+  }
+  if (!(inputs->poses->start_s() < inputs->poses->end_s())) {
+    throw io::InputError(session.gnss_log + " and " + session.heading_log +
+                         ": the GNSS and heading logs do not overlap in time");
+  }
+  result->num_dwells = static_cast<int>(inputs->poses->dwells().size());
+}
+
+void PreparePasses(CalibrationResult* result, RunInputs* inputs) {
+  const io::CalibrateOptions& options = result->options;
+  calib::PassContext& pass = inputs->pass;
+  const std::string scanner_log = result->session.scanner_log;
+  pass.open_scans = [scanner_log]() { return std::make_unique<io::CarmenReader>(scanner_log); };
+  pass.scanner_time_offset_s = result->session.scanner_time_offset_s;
+  pass.preset = &result->preset;
+  pass.detector = &options.detector;
+  pass.walls = &result->walls;
+  pass.poses = inputs->poses.get();
+  // Moving scans: when asked for, or when the engineer drove continuously (too few dwells to
+  // calibrate from stations alone). The solver then estimates the scanner clock offset too.
+  pass.use_moving = options.alignment.use_moving_scans ||
+                    (options.alignment.moving_scans_if_few_stations &&
+                     result->num_dwells < options.solver.min_stations);
+  if (pass.use_moving && !options.alignment.use_moving_scans) {
+    result->warnings.push_back("only " + std::to_string(result->num_dwells) +
+                               " stations (dwells) found: scans taken while moving are used, with "
+                               "an estimated scanner clock offset (stop-and-go is more accurate)");
+  }
+}
+
+bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
+               CalibrationResult* result, RunInputs* inputs) {
+  const io::SessionSpec& session = result->session;
+  const io::CalibrateOptions& options = result->options;
+  calib::PassRequest pass;
+  if (session.mount_guess) {
+    pass.mount = calib::Mount{session.mount_guess->x_m, session.mount_guess->y_m,
+                              session.mount_guess->yaw_rad};
+  }
+  pass.gates = calib::Gates{options.detector.wide_angle_gate_rad,
+                            options.detector.wide_offset_gate_m, false};
+  pass.min_interval_s = (inputs->poses->end_s() - inputs->poses->start_s()) /
+                        std::max(1, options.first_pass_max_scans);
+  if (progress) {
+    pass.progress = [&progress](int64_t done) {
+      progress(Progress{Stage::kFirstPass, "first pass", done, 0, true});
+    };
+  }
+  Say(progress, Stage::kFirstPass, "first pass: wall detection on a subsample with wide gates");
+  const calib::PassOutcome first = calib::DetectionPass(inputs->pass, pass);
+  if (first.scans_read == 0) {
+    std::string why = "no scan records";
+    if (const std::string w = DescribeSkips(session.scanner_log, first.line_skips); !w.empty()) {
+      why += "; " + w;
+    }
+    throw io::InputError(io::Where(session.scanner_log, 0,
+                                   why + "; expected CARMEN RAWLASER1/ROBOTLASER1/FLASER lines"));
+  }
+  inputs->scans_in_log = first.scans_read;
+  if (first.observations.empty()) {
+    // A scan log wholly outside the GNSS/heading time span is bad input (wrong file, wrong
+    // clock), not a geometry the data cannot decide.
+    bool only_outside = !first.skipped.empty();
+    for (const auto& [reason, count] : first.skipped) {
+      only_outside = only_outside && (reason == calib::ScanSkip::kNoPoseBeforeLogs ||
+                                      reason == calib::ScanSkip::kNoPoseAfterLogs);
+    }
+    if (only_outside) {
+      throw io::InputError(io::Where(
+          session.scanner_log, 0,
+          Format("the scans (%.3f..%.3f s) do not overlap the GNSS and heading logs "
+                 "(%.3f..%.3f s); expected logs from the same run on the same clock "
+                 "(check scanner.time_offset_s)",
+                 first.first_stamp_s, first.last_stamp_s, inputs->poses->start_s(),
+                 inputs->poses->end_s())));
+    }
+    std::ostringstream why;
+    why << "the wall was not detected in any of " << first.scans_examined << " sampled scans (";
+    bool first_reason = true;
+    for (const auto& [reason, count] : first.skipped) {
+      why << (first_reason ? "" : "; ") << calib::ScanSkipName(reason) << ": " << count;
+      first_reason = false;
+    }
+    why << "); check the walls' survey codes, the scanner model, the time overlap of the logs, "
+           "or give scanner.mount_guess";
+    solvers::MountEstimate none;
+    none.failure = solvers::EstimateFailure::kWallNotDetected;
+    none.message = why.str();
+    StopAfterFirstPass(none, first, result);
+    return false;
+  }
+  const solvers::MountEstimate start = solvers::SolveMountBarawid(
+      first.observations, result->walls, options.solver, request.force);
+  if (!start.usable) {
+    StopAfterFirstPass(start, first, result);
+    return false;
+  }
+  const solvers::MountEstimate refined = solvers::SolveMountCeres(
+      first.observations, result->walls, options.solver, start.mount, request.force);
+  if (!refined.usable) {
+    StopAfterFirstPass(refined, first, result);
+    return false;
+  }
+  result->first_pass = refined;
+  Say(progress, Stage::kFirstPass,
+      "first pass: " + std::to_string(first.observations.size()) + " observations, mount x " +
+          Format("%.3f", refined.mount.x_m) + " m, y " + Format("%.3f", refined.mount.y_m) +
+          " m, yaw " + Format("%.2f", refined.mount.yaw_rad * kRadToDeg) + " deg");
+  return true;
+}
+
+void SecondPass(const ProgressFn& progress, CalibrationResult* result, RunInputs* inputs) {
+  const io::SessionSpec& session = result->session;
+  calib::PassRequest pass;
+  pass.mount = result->first_pass.mount;
+  pass.gates = TightGates(*result);
+  pass.gate_time_offset_s =
+      result->first_pass.time_offset_estimated ? result->first_pass.time_offset_s : 0.0;
+  Say(progress, Stage::kSecondPass, "second pass: wall detection in every scan with tight gates");
+  calib::PassOutcome second;
+  if (progress) {
+    // The total is known from the first pass: every scan is read again.
+    const int64_t total = inputs->scans_in_log;
+    pass.progress = [&progress, total](int64_t done) {
+      progress(Progress{Stage::kSecondPass, "second pass", done, total, true});
+    };
+  }
+  second = calib::DetectionPass(inputs->pass, pass);
+  result->observations = std::move(second.observations);
+  result->scans_skipped = second.skipped;
+  result->scan_lines_skipped = second.line_skips;
+  result->scans_total = second.scans_read + second.line_skips.Problems();
+  if (const std::string w = DescribeSkips(session.scanner_log, second.line_skips); !w.empty()) {
+    result->warnings.push_back(w);
+    result->scans_skipped[calib::ScanSkip::kMalformedLine] += second.line_skips.Problems();
+  }
+  if (second.not_increasing > 0) {
+    result->warnings.push_back(FileName(session.scanner_log) + ": " +
+                               std::to_string(second.not_increasing) +
+                               " scans not later than the scan before them (first at line " +
+                               std::to_string(second.first_not_increasing_line) +
+                               "); each was used at its own time");
+  }
+  if (second.beam_count_mismatch > 0) {
+    result->warnings.push_back(std::to_string(second.beam_count_mismatch) + " scans have " +
+                               std::to_string(second.first_mismatch_beams) + " beams, preset " +
+                               result->preset.name + " has " +
+                               std::to_string(result->preset.num_beams) + ": check scanner.model");
+  }
+}
+
+void Solve(const CalibrateRequest& request, const ProgressFn& progress,
+           CalibrationResult* result, RunInputs* inputs) {
+  Say(progress, Stage::kSolving,
+      std::string("solving (") + solvers::MethodName(request.method) + ") on " +
+          std::to_string(result->observations.size()) + " observations");
+  const solvers::PolicyOutcome outcome = solvers::SolveWithPolicy(
+      request.method, &result->observations, result->walls, result->options.solver,
+      result->first_pass.mount, request.force, *inputs->poses, [&progress](double shift_s) {
+        Say(progress, Stage::kClockOffsetRound,
+            "clock offset " + Format("%.4f", shift_s) +
+                " s: poses interpolated at the shifted scan times, solving again");
+      });
+  result->estimate = outcome.estimate;
+  if (outcome.dropped_at_shifted_time > 0) {
+    result->scans_skipped[calib::ScanSkip::kNoPoseAtShiftedTime] += outcome.dropped_at_shifted_time;
+  }
+  const solvers::MountEstimate& estimate = result->estimate;
+  result->forced = estimate.usable && estimate.forced;
+  for (const std::string& w : estimate.warnings) result->warnings.push_back(w);
+  if (estimate.time_offset_estimated) {
+    result->time_offset_s = estimate.time_offset_s;
+    result->time_offset_sigma_s = estimate.time_offset_sigma_s;
+  }
+}
+
+void Analyse(const CalibrateRequest& request, const ProgressFn& progress,
+             CalibrationResult* result) {
+  const solvers::MountEstimate& estimate = result->estimate;
+  if (!estimate.usable) return;
+  Say(progress, Stage::kResidualAnalysis, "residual analysis");
+  result->residual_analysis = analysis::AnalyseResiduals(result->observations, result->walls,
+                                                         estimate, result->preset);
+  for (const std::string& flag : result->residual_analysis.flags) {
+    result->warnings.push_back("residuals: " + flag);
+  }
+  const io::SolverOptions& solver = result->options.solver;
+  if (request.method == solvers::Method::kCeres && solver.bootstrap_samples >= 0) {
+    Say(progress, Stage::kRepeatability,
+        "repeatability: split halves and " + std::to_string(solver.bootstrap_samples) +
+            " bootstrap resamples of the stations");
+    result->repeatability = analysis::AssessRepeatability(
+        result->observations, result->walls, solver, estimate.mount, solver.bootstrap_samples);
+  }
+}
+
+void CountCoverage(CalibrationResult* result) {
+  std::set<int> used_scans, used_segments;
+  std::vector<double> grid_headings, wall_angles;
+  for (const calib::WallObservation& o : result->observations) {
+    used_scans.insert(o.scan_index);
+    used_segments.insert(calib::GnssSegment(o));
+    grid_headings.push_back(kPi / 2.0 - o.pose.yaw_rad);
+    const calib::WallGeometry& wall = result->walls[o.wall_index];
+    // φ of Barawid 2007, Eq. 8: the wall normal (towards the wall) in the vehicle frame.
+    const double side =
+        (wall.offset_m - wall.normal_local.dot(o.pose.antenna_local_m)) >= 0 ? 1 : -1;
+    wall_angles.push_back(WrapAngle(
+        std::atan2(side * wall.normal_local.y(), side * wall.normal_local.x()) - o.pose.yaw_rad));
+  }
+  result->scans_used = static_cast<int64_t>(used_scans.size());
+  result->num_segments_used = static_cast<int>(used_segments.size());
+  const CircularExtent headings = CircularExtentOf(grid_headings);
+  const CircularExtent angles = CircularExtentOf(wall_angles);
+  if (!headings.empty) {
+    result->heading_min_deg = WrapTwoPi(headings.min_rad) * kRadToDeg;
+    result->heading_max_deg = WrapTwoPi(headings.max_rad) * kRadToDeg;
+  }
+  if (!angles.empty) {
+    result->wall_angle_min_deg = WrapAngle(angles.min_rad) * kRadToDeg;
+    result->wall_angle_max_deg = WrapAngle(angles.max_rad) * kRadToDeg;
+  }
+}
+
+}  // namespace wallcal::pipeline

@@ -1,0 +1,59 @@
+#pragma once
+// The steps RunCalibration takes, one function each (pipeline/calibration.cc strings them
+// together). Internal to pipeline/.
+
+#include <memory>
+#include <vector>
+
+#include "calib/detection_pass.h"
+#include "calib/survey_tie.h"
+#include "calib/time_alignment.h"
+#include "io/types.h"
+#include "pipeline/calibration.h"
+
+namespace wallcal::pipeline {
+
+// What the steps read once and share.
+struct RunInputs {
+  std::vector<io::SurveyPoint> survey;
+  calib::SurveyTie tie;
+  io::NmeaLog gnss;
+  io::NmeaLog headings;  // the heading log (a copy of gnss when it is the same file)
+  std::vector<const io::GnssFix*> used_fixes;  // into gnss.fixes
+  std::unique_ptr<calib::PoseInterpolator> poses;
+  calib::PassContext pass;
+  int64_t scans_in_log = 0;  // scan records the first pass read (the second pass's total)
+};
+
+// Reports a stage to `progress` (may be empty).
+void Say(const ProgressFn& progress, Stage stage, const std::string& text);
+
+// session.yaml, the options and the scanner preset.
+void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* result);
+// The survey, its tie to UTM and the walls as lines in the local frame.
+void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs);
+// GNSS fixes and headings, the pose interpolator and the dwells.
+void ReadPoses(CalibrationResult* result, RunInputs* inputs);
+// How the detection passes read scans and which scans they use.
+void PreparePasses(CalibrationResult* result, RunInputs* inputs);
+// First pass (wide gates, subsample) and the start estimate. False when the run stops here
+// (result->estimate then says why).
+bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
+               CalibrationResult* result, RunInputs* inputs);
+// Second pass (every scan, tight gates) and its accounting.
+void SecondPass(const ProgressFn& progress, CalibrationResult* result, RunInputs* inputs);
+// The final solve by the requested method (with the clock-offset rounds).
+void Solve(const CalibrateRequest& request, const ProgressFn& progress,
+           CalibrationResult* result, RunInputs* inputs);
+// Residual analysis and repeatability of a usable estimate.
+void Analyse(const CalibrateRequest& request, const ProgressFn& progress,
+             CalibrationResult* result);
+// Scans used, GNSS slices, heading and vehicle-to-wall angle extents.
+void CountCoverage(CalibrationResult* result);
+// The site map, stations and scan panels of the report (pipeline/report_collect.cc).
+void CollectReportData(CalibrationResult* result, const RunInputs& inputs);
+
+// The gates of the second pass, from the first pass's covariance.
+calib::Gates TightGates(const CalibrationResult& result);
+
+}  // namespace wallcal::pipeline

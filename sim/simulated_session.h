@@ -1,0 +1,21 @@
+#pragma once
+// simulate's output: a whole session folder written from a simulation.
+
+#include <cstdint>
+#include <string>
+
+#include "io/options.h"
+
+namespace wallcal::sim {
+
+// Writes a session folder (session.yaml, scans.clf, gnss.nmea, heading.nmea, survey.csv) and
+// truth.yaml into `dir` (created if missing). Every file is written to a temporary name and
+// renamed, so an interrupted run leaves no half-written file behind; session.yaml comes last.
+struct SimulateSummary {
+  int64_t scans_written = 0, scans_lost = 0, fixes = 0, headings = 0, survey_points = 0;
+  double duration_s = 0.0;
+};
+SimulateSummary WriteSimulatedSession(const io::SimulationConfig& config, uint64_t seed,
+                                      const std::string& dir);
+
+}  // namespace wallcal::sim

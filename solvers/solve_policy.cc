@@ -1,0 +1,48 @@
+#include "solvers/solve_policy.h"
+
+#include <cmath>
+
+#include "calib/detection_pass.h"
+
+namespace wallcal::solvers {
+namespace {
+
+// At most this many re-interpolations of the poses at the estimated scan times, stopping when
+// the offset left over is below the tolerance.
+constexpr int kClockOffsetRounds = 3;
+constexpr double kClockOffsetToleranceS = 2e-4;
+
+}  // namespace
+
+const char* MethodName(Method method) {
+  return method == Method::kBarawid ? "barawid" : "ceres";
+}
+
+PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>* observations,
+                              const std::vector<calib::WallGeometry>& walls,
+                              const io::SolverOptions& options, const Mount& initial, bool force,
+                              const calib::PoseInterpolator& poses,
+                              const std::function<void(double shift_s)>& on_round) {
+  PolicyOutcome outcome;
+  if (method == Method::kBarawid) {
+    outcome.estimate = SolveMountBarawid(*observations, walls, options, force);
+    return outcome;
+  }
+  outcome.estimate = SolveMountCeres(*observations, walls, options, initial, force);
+  if (!outcome.estimate.usable || !outcome.estimate.time_offset_estimated) return outcome;
+  double shifted_s = 0.0;
+  while (outcome.clock_rounds < kClockOffsetRounds && outcome.estimate.usable &&
+         std::abs(outcome.estimate.time_offset_s) > kClockOffsetToleranceS) {
+    ++outcome.clock_rounds;
+    shifted_s += outcome.estimate.time_offset_s;
+    if (on_round) on_round(shifted_s);
+    outcome.dropped_at_shifted_time +=
+        calib::ShiftObservations(poses, outcome.estimate.time_offset_s, observations);
+    outcome.estimate =
+        SolveMountCeres(*observations, walls, options, outcome.estimate.mount, force);
+  }
+  outcome.estimate.time_offset_s += shifted_s;
+  return outcome;
+}
+
+}  // namespace wallcal::solvers

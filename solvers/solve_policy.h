@@ -1,0 +1,36 @@
+#pragma once
+// The solve policy: which solver runs, and the rounds around it. With moving scans the
+// adjustment estimates a scanner clock offset; its p + v·dt, ψ + ω·dt is a linearisation, poor
+// where the vehicle accelerates (a simulated 150 ms offset came back as 135 ± 2 ms from it
+// alone), so the poses are re-interpolated at the estimated scan times and the problem solved
+// again until the offset left over is below a tolerance.
+
+#include <functional>
+#include <vector>
+
+#include "calib/observation.h"
+#include "calib/time_alignment.h"
+#include "io/options.h"
+#include "solvers/mount_solver.h"
+
+namespace wallcal::solvers {
+
+enum class Method { kCeres, kBarawid };
+const char* MethodName(Method method);  // "ceres", "barawid"
+
+struct PolicyOutcome {
+  MountEstimate estimate;
+  int clock_rounds = 0;              // re-interpolations done
+  int dropped_at_shifted_time = 0;   // observations with no pose at the corrected time
+};
+
+// Solves with `method` from `initial`; for ceres with an estimated clock offset, shifts
+// *observations to the estimated scan times (at most 3 rounds, until |offset| < 0.2 ms) and
+// reports the total offset. `on_round(shift_s)` (may be empty) is told before each round.
+PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>* observations,
+                              const std::vector<calib::WallGeometry>& walls,
+                              const io::SolverOptions& options, const Mount& initial, bool force,
+                              const calib::PoseInterpolator& poses,
+                              const std::function<void(double shift_s)>& on_round = nullptr);
+
+}  // namespace wallcal::solvers
