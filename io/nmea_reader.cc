@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "io/gzip_input.h"
+
 namespace wallcal::io {
 namespace {
 
@@ -436,6 +438,22 @@ class NmeaParser {
 }  // namespace
 
 NmeaLog ReadNmea(const std::string& path) {
+  if (IsGzipFile(path)) {
+    GzipStreamBuf buffer(path, kMaxGzipNmeaBytes);
+    std::istream in(&buffer);
+    NmeaLog log = ParseNmea(in, path);
+    switch (buffer.state()) {
+      case GzipState::kOk:
+        break;
+      case GzipState::kCutOff:  // as for a CARMEN log: keep what came before the cut, say so
+        log.skipped.Add("gzip stream cut off", static_cast<int>(log.lines_read + 1));
+        break;
+      case GzipState::kCorrupt:
+      case GzipState::kTooLarge:
+        throw InputError(Where(path, 0, buffer.Problem()));
+    }
+    return log;
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw InputError(
