@@ -115,6 +115,7 @@ bool SplitCsvRow(std::string_view row, std::vector<std::string>* fields) {
   while (true) {
     while (i < row.size() && (row[i] == ' ' || row[i] == '\t')) ++i;
     std::string field;
+    size_t quoted = 0;  // characters of the field that came from inside quotes: never trimmed
     if (i < row.size() && row[i] == '"') {
       ++i;
       while (true) {
@@ -130,11 +131,14 @@ bool SplitCsvRow(std::string_view row, std::vector<std::string>* fields) {
         }
         field += row[i++];
       }
+      quoted = field.size();
       while (i < row.size() && row[i] != ',') field += row[i++];  // text after the quote
     } else {
       while (i < row.size() && row[i] != ',') field += row[i++];
     }
-    while (!field.empty() && (field.back() == ' ' || field.back() == '\t')) field.pop_back();
+    while (field.size() > quoted && (field.back() == ' ' || field.back() == '\t')) {
+      field.pop_back();
+    }
     fields->push_back(std::move(field));
     if (i >= row.size()) return true;
     ++i;  // the comma
