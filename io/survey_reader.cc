@@ -6,6 +6,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <unordered_map>
 #include <string_view>
 
 #include "io/gzip_input.h"
@@ -94,31 +95,78 @@ std::vector<SurveyPoint> ParseSurvey(std::istream& in, const std::string& name,
     }
   }
   if (in.bad()) throw InputError(Where(name, 0, "read error"));
-  if (LooksLikeGsi(FirstContentLine(text))) return GsiSurveyPoints(ParseGsi(text, name));
-  return ParseSurveyCsv(text, name, columns);
+  std::vector<SurveyPoint> points = LooksLikeGsi(FirstContentLine(text))
+                                        ? GsiSurveyPoints(ParseGsi(text, name))
+                                        : ParseSurveyCsv(text, name, columns);
+  for (const SurveyPoint& p : points) {
+    if (std::abs(p.x_m) > kMaxSurveyCoordinateM || std::abs(p.y_m) > kMaxSurveyCoordinateM ||
+        std::abs(p.z_m) > kMaxSurveyCoordinateM) {
+      throw InputError(Where(name, p.line,
+                             "a coordinate beyond ±1e9 m; expected metres in a local or "
+                             "projected frame"));
+    }
+  }
+  return points;
 }
 
 SurveyCombination CombineSurveyObservations(const std::vector<SurveyPoint>& observations,
                                             double tolerance_m) {
   struct Group {
-    std::vector<size_t> members;  // indices into observations
+    std::vector<size_t> members;  // indices into observations; the first is the anchor
+  };
+  // The anchors of one id lie more than tolerance_m apart (a new group starts only when no
+  // anchor is within reach), so a grid of cells tolerance_m wide holds a handful of anchors per
+  // cell and id: each observation looks at the 27 cells around it, not at every group of its id
+  // (a hostile file of a million observations of one id would otherwise take 10^12 steps).
+  struct CellKey {
+    std::string id;
+    int64_t cx, cy, cz;
+    bool operator==(const CellKey& o) const {
+      return cx == o.cx && cy == o.cy && cz == o.cz && id == o.id;
+    }
+  };
+  struct CellHash {
+    size_t operator()(const CellKey& k) const {
+      size_t h = std::hash<std::string>()(k.id);
+      for (int64_t c : {k.cx, k.cy, k.cz}) h = h * 1000003u ^ std::hash<int64_t>()(c);
+      return h;
+    }
+  };
+  const double cell_m = std::max(tolerance_m, 1e-6);
+  const auto cell = [cell_m](double v) {  // coordinates are within ±kMaxSurveyCoordinateM
+    return static_cast<int64_t>(std::floor(std::clamp(v / cell_m, -4e18, 4e18)));
   };
   std::vector<Group> groups;
+  std::unordered_map<CellKey, std::vector<size_t>, CellHash> anchors;
   std::map<std::string, std::vector<size_t>> groups_of_id;
   for (size_t i = 0; i < observations.size(); ++i) {
-    std::vector<size_t>& candidates = groups_of_id[observations[i].id];
-    bool joined = false;
-    for (size_t g : candidates) {
-      if (Distance(observations[groups[g].members.front()], observations[i]) <= tolerance_m) {
-        groups[g].members.push_back(i);
-        joined = true;
-        break;
+    const SurveyPoint& p = observations[i];
+    const int64_t cx = cell(p.x_m), cy = cell(p.y_m), cz = cell(p.z_m);
+    size_t best = groups.size();  // the first (lowest-numbered) group within reach
+    CellKey key{p.id, 0, 0, 0};
+    for (int64_t dx = -1; dx <= 1; ++dx) {
+      for (int64_t dy = -1; dy <= 1; ++dy) {
+        for (int64_t dz = -1; dz <= 1; ++dz) {
+          key.cx = cx + dx;
+          key.cy = cy + dy;
+          key.cz = cz + dz;
+          const auto found = anchors.find(key);
+          if (found == anchors.end()) continue;
+          for (size_t g : found->second) {
+            if (g < best && Distance(observations[groups[g].members.front()], p) <= tolerance_m) {
+              best = g;
+            }
+          }
+        }
       }
     }
-    if (!joined) {
-      candidates.push_back(groups.size());
-      groups.push_back({{i}});
+    if (best < groups.size()) {
+      groups[best].members.push_back(i);
+      continue;
     }
+    anchors[CellKey{p.id, cx, cy, cz}].push_back(groups.size());
+    groups_of_id[p.id].push_back(groups.size());
+    groups.push_back({{i}});
   }
 
   SurveyCombination result;

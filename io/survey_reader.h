@@ -29,6 +29,10 @@ namespace wallcal::io {
 // input: the file is read whole before parsing.
 inline constexpr int64_t kMaxSurveyFileBytes = int64_t{64} << 20;
 
+// Largest coordinate magnitude accepted (1e9 m): far beyond any local or projected frame (UTM
+// northings stay below 1e7 m); larger values are a unit or format error.
+inline constexpr double kMaxSurveyCoordinateM = 1e9;
+
 // Observations of one id within this distance (3-D) of the first of them are one point,
 // measured again (faces I/II, a second set-up); farther apart, the id names different points.
 inline constexpr double kSurveyRepeatToleranceM = 0.03;
@@ -38,8 +42,8 @@ inline constexpr double kSurveyRepeatToleranceM = 0.03;
 // describing what was found in words, never quoting the file) on a missing file, corrupt or
 // cut-off gzip data, a file larger than kMaxSurveyFileBytes, an unrecognised or ambiguous
 // header, a row with the wrong number of fields, an empty id, a non-numeric or non-finite
-// coordinate, a control character in an id or code, any malformed GSI line (io/leica_gsi.h),
-// or a file without points.
+// coordinate or one beyond kMaxSurveyCoordinateM, a control character in an id or code, any
+// malformed GSI line (io/leica_gsi.h), or a file without points.
 std::vector<SurveyPoint> ReadSurvey(const std::string& path,
                                     SurveyColumns columns = SurveyColumns::kHeader);
 
@@ -63,7 +67,8 @@ struct SurveyCombination {
 };
 
 // Groups observations by id: each observation joins the first group of its id whose first
-// observation lies within tolerance_m (3-D), or starts a new group. Every group becomes one point.
+// observation lies within tolerance_m (3-D; > 0), or starts a new group. Every group becomes one
+// point. Linear time in the number of observations.
 SurveyCombination CombineSurveyObservations(const std::vector<SurveyPoint>& observations,
                                             double tolerance_m = kSurveyRepeatToleranceM);
 

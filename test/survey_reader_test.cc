@@ -136,6 +136,33 @@ TEST(SurveyReaderTest, KeepsEveryObservationAndCombinesRepeats) {
   EXPECT_EQ(CombineSurveyObservations(observations, 0.01).points.size(), 4u);
 }
 
+// The grouping looks at neighbouring grid cells only; it must still find the first group in
+// reach across a cell border, and keep places apart that are just beyond the tolerance.
+TEST(SurveyReaderTest, CombiningJoinsAcrossCellBordersAndKeepsFarPlacesApart) {
+  std::vector<SurveyPoint> observations(5);
+  for (SurveyPoint& p : observations) p.id = "P";
+  observations[0].x_m = 0.0299;   // cell 0 (3 cm cells)
+  observations[1].x_m = 0.0301;   // cell 1, 0.2 mm away: joins group 0
+  observations[2].x_m = 0.0700;   // 40.1 mm from the first anchor: a new place
+  observations[3].x_m = 0.0990;   // 29 mm from the second anchor, 69 mm from the first: joins it
+  observations[4].x_m = -0.00005;  // 29.95 mm from the first anchor: joins it
+  const SurveyCombination combined = CombineSurveyObservations(observations);
+  ASSERT_EQ(combined.points.size(), 2u);
+  EXPECT_EQ(combined.points[0].observations, 3);
+  EXPECT_NEAR(combined.points[0].x_m, (0.0299 + 0.0301 - 0.00005) / 3, 1e-15);
+  EXPECT_EQ(combined.points[1].observations, 2);
+  EXPECT_NEAR(combined.points[1].x_m, (0.07 + 0.099) / 2, 1e-15);
+  EXPECT_EQ(combined.ids_naming_several_places, 1);
+
+  // Many observations of one id, all far apart, stay separate (and quickly).
+  std::vector<SurveyPoint> spread(20000);
+  for (size_t i = 0; i < spread.size(); ++i) {
+    spread[i].id = "same";
+    spread[i].x_m = static_cast<double>(i);
+  }
+  EXPECT_EQ(CombineSurveyObservations(spread).points.size(), 20000u);
+}
+
 TEST(SurveyReaderTest, DumpQuotesIdsAndCodesAndReadsBack) {
   std::vector<SurveyPoint> points(2);
   points[0].id = "A,1";
@@ -199,6 +226,8 @@ TEST(SurveyReaderTest, RejectsBadFilesWithFileAndLine) {
   ExpectError("open_quote", "id,x,y,z,code\nW1,1,2,3,\"SECRET\n", ":2: ",
               "a quoted field is never closed");
   ExpectError("no_points", "id,x,y,z,code\n# nothing\n", ": ", "no survey points");
+  ExpectError("huge", "id,x,y,z,code\nW1,1,2,3,SECRET\nW2,1e10,2,3,SECRET\n", ":3: ",
+              "a coordinate beyond ±1e9 m");
   ExpectError("pnezd_fields", "1,2,3\n", ":1: ", "3 fields; expected 5 (PNEZD) or 4",
               SurveyColumns::kPNEZD);
 }
