@@ -11,6 +11,8 @@
 #include <vector>
 #include "common/angles.h"
 
+#include "io/gzip_input.h"
+
 namespace wallcal::io {
 namespace {
 constexpr double kSecondsPerDay = 86400.0;
@@ -442,6 +444,22 @@ class NmeaParser {
 }  // namespace
 
 NmeaLog ReadNmea(const std::string& path) {
+  if (IsGzipFile(path)) {
+    GzipStreamBuf buffer(path, kMaxGzipNmeaBytes);
+    std::istream in(&buffer);
+    NmeaLog log = ParseNmea(in, path);
+    switch (buffer.state()) {
+      case GzipState::kOk:
+        break;
+      case GzipState::kCutOff:  // as for a CARMEN log: keep what came before the cut, say so
+        log.skipped.Add("gzip stream cut off", static_cast<int>(log.lines_read + 1));
+        break;
+      case GzipState::kCorrupt:
+      case GzipState::kTooLarge:
+        throw InputError(Where(path, 0, buffer.Problem()));
+    }
+    return log;
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw InputError(

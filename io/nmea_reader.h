@@ -21,6 +21,7 @@
 // previous one of its kind; a GGA dropped so is still counted in fixes_by_quality),
 // "other sentence (GSV)" by type, "GST without its GGA".
 
+#include <cstdint>
 #include <istream>
 #include <string>
 
@@ -28,7 +29,15 @@
 
 namespace wallcal::io {
 
-// Reads the whole log. Throws InputError if the file cannot be opened.
+// Largest uncompressed size of a gzip-compressed log (1 GiB). A .gz log is inflated piecewise
+// as it is read (twice, see ParseNmea), never held whole; the cap bounds the time and the
+// longest line a small hostile file can make the reader process.
+inline constexpr int64_t kMaxGzipNmeaBytes = int64_t{1} << 30;
+
+// Reads the whole log. A gzip-compressed log (recognised by its first bytes, whatever its name)
+// is read as the text it holds; a cut-off gzip stream keeps the lines before the cut and counts
+// "gzip stream cut off" in skipped. Throws InputError if the file cannot be opened, or its gzip
+// data are corrupt or inflate to more than kMaxGzipNmeaBytes.
 NmeaLog ReadNmea(const std::string& path);
 
 // Reads a log already open as a stream (read twice: it must be seekable, as a file or a string

@@ -343,10 +343,24 @@ SessionSpec ReadSession(const std::string& path) {
   {
     const YAML::Node node = top.Require("survey", "a map with points and control");
     MapReader survey = top.Child("survey", node);
-    survey.Allow({"points", "control", "rotation_deg"});
+    survey.Allow({"points", "columns", "control", "rotation_deg"});
     survey.Finish();
     spec.survey_points = ResolvePath(
-        spec.dir, survey.ToText(survey.Require("points", "the survey CSV's path"), "points"));
+        spec.dir, survey.ToText(survey.Require("points", "the survey file's path"), "points"));
+    // The columns of a CSV without a header row (docs/survey-files.md); GSI files ignore it.
+    if (const YAML::Node columns = survey.Find("columns"); columns.IsDefined()) {
+      std::string text = columns.IsScalar() ? columns.Scalar() : "";
+      for (char& c : text) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      if (text == "PNEZD") {
+        spec.survey_columns = SurveyColumns::kPNEZD;
+      } else if (text == "PENZD") {
+        spec.survey_columns = SurveyColumns::kPENZD;
+      } else if (text == "HEADER") {
+        spec.survey_columns = SurveyColumns::kHeader;
+      } else {
+        survey.Bad(columns, "columns", "PNEZD, PENZD or header");
+      }
+    }
     const YAML::Node control =
         survey.Require("control", "a list of {id, lat, lon, h} (at least one)");
     if (!control.IsSequence() || control.size() == 0) {

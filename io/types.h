@@ -109,15 +109,30 @@ struct NmeaLog {
   int64_t lines_read = 0;
 };
 
-// One total-station point, in the survey's local right-handed frame (ground metres).
+// Where a survey point's coordinates come from (docs/survey-files.md).
+enum class SurveySource {
+  kCoordinates,      // stored coordinates: a CSV row, or GSI words 81/82/83
+  kPolarFromSetup,   // a GSI polar observation reduced from a set-up in the file (84/85/86)
+  kPolarFromOrigin,  // a GSI polar observation before any set-up: station at the local origin
+};
+
+// One total-station point, in the survey's local right-handed frame (ground metres): x east,
+// y north, z up (a file's N/E columns or GSI words are mapped so).
 struct SurveyPoint {
   std::string id;
   std::string code;
   double x_m = 0.0;
   double y_m = 0.0;
   double z_m = 0.0;
-  int line = 0;
+  int line = 0;          // 1-based line in the survey file (combined: the first observation's)
+  int observations = 1;  // how many observations were averaged into this point (>= 1)
+  SurveySource source = SurveySource::kCoordinates;
 };
+
+// The columns of a survey CSV (session.yaml `survey.columns`): named by a header row, or a
+// headerless file with point, northing, easting, elevation[, description] (PNEZD) or point,
+// easting, northing, elevation[, description] (PENZD).
+enum class SurveyColumns { kHeader, kPNEZD, kPENZD };
 
 // A survey point whose WGS84 position RTK-GNSS also measured.
 struct ControlPoint {
@@ -173,6 +188,7 @@ struct SessionSpec {
   HeadingReference heading_reference = HeadingReference::kTrueNorth;
 
   std::string survey_points;  // resolved path
+  SurveyColumns survey_columns = SurveyColumns::kHeader;  // CSV only; a GSI file is recognised
   std::vector<ControlPoint> control;
   std::optional<double> survey_rotation_rad;  // seed 002 Eq. 4-5 rotation, single control point
 

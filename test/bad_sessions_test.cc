@@ -284,7 +284,7 @@ const std::vector<BadCase> kCases = {
     {"missing_heading_log", [](const fs::path& d) { fs::remove(d / "heading.nmea"); }, 2,
      {"heading.nmea: cannot open the NMEA log"}},
     {"missing_survey", [](const fs::path& d) { fs::remove(d / "survey.csv"); }, 2,
-     {"survey.csv: cannot open the survey CSV"}},
+     {"survey.csv: cannot open the survey file"}},
     {"options_unknown_key",
      [](const fs::path& d) { WriteText(d / "options.yaml", "detector:\n  min_inlers: 5\n"); }, 2,
      {"options.yaml:2:", "unknown key 'detector.min_inlers'", "min_inliers"}, false,
@@ -296,9 +296,9 @@ const std::vector<BadCase> kCases = {
 
     // --- survey CSV ---------------------------------------------------------------------------
     {"survey_non_numeric", nullptr, 2,
-     {"survey.csv:4:", "column 'x' is '1.0O2'", "expected a finite number in metres"}},
+     {"survey.csv:4:", "column 2 (easting) is not a finite number", "expected a number in metres"}},
     {"survey_nan", nullptr, 2,
-     {"survey.csv:4:", "column 'y' is 'nan'", "expected a finite number in metres"}},
+     {"survey.csv:4:", "column 3 (northing) is not a finite number", "expected a number in metres"}},
     {"survey_truncated", nullptr, 2, {"survey.csv:4:", "3 fields; expected 5 as in the header"}},
     {"survey_no_header", nullptr, 2, {"survey.csv:", "no header"}},
     {"control_id_not_in_survey",

@@ -279,6 +279,25 @@ TEST(SessionReaderTest, RejectsBadValues) {
   EXPECT_NE(message.find("YAML syntax error"), std::string::npos) << message;
 }
 
+TEST(SessionReaderTest, ReadsSurveyColumnsForHeaderlessCsv) {
+  const std::string example = kExample;
+  const std::string dir = Dir("columns");
+  EXPECT_EQ(ReadSession(WriteFile(dir + "/session.yaml", example)).survey_columns,
+            SurveyColumns::kHeader);
+  const std::pair<const char*, SurveyColumns> cases[] = {{"PNEZD", SurveyColumns::kPNEZD},
+                                                         {"penzd", SurveyColumns::kPENZD},
+                                                         {"header", SurveyColumns::kHeader}};
+  for (const auto& [text, columns] : cases) {
+    const std::string yaml = Replace(example, "  points: survey.csv",
+                                     std::string("  points: survey.csv\n  columns: ") + text);
+    EXPECT_EQ(ReadSession(WriteFile(dir + "/session.yaml", yaml)).survey_columns, columns) << text;
+  }
+  const std::string message = SessionError(
+      "bad_columns", Replace(example, "  points: survey.csv", "  points: survey.csv\n  columns: NEZ"));
+  EXPECT_NE(message.find("survey.columns: expected PNEZD, PENZD or header"), std::string::npos)
+      << message;
+}
+
 // ---- Scanner presets ----
 
 const std::vector<std::string> kPresetDirs = {WALLCAL_SOURCE_DIR "/configs/scanners"};

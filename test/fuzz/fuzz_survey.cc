@@ -1,10 +1,9 @@
-// libFuzzer target: the survey CSV reader. Any input either gives points with finite
-// coordinates and unique, non-empty ids, or throws io::InputError.
+// libFuzzer target: the survey reader (CSV, or GSI when the input looks like it). Any input
+// either gives points with finite coordinates and non-empty ids, or throws io::InputError.
 
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
-#include <set>
 #include <sstream>
 #include <string>
 
@@ -19,11 +18,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   if (points.empty()) std::abort();  // promised: no points is an InputError
-  std::set<std::string> ids;
   for (const wallcal::io::SurveyPoint& p : points) {
-    if (p.id.empty() || !ids.insert(p.id).second) std::abort();
+    if (p.id.empty()) std::abort();
     if (!std::isfinite(p.x_m) || !std::isfinite(p.y_m) || !std::isfinite(p.z_m)) std::abort();
     if (p.line < 1) std::abort();
   }
+  // Repeated ids are observations: combining keeps every one of them in some point.
+  const wallcal::io::SurveyCombination combined = wallcal::io::CombineSurveyObservations(points);
+  size_t observations = 0;
+  for (const wallcal::io::SurveyPoint& p : combined.points) {
+    observations += static_cast<size_t>(p.observations);
+  }
+  if (combined.points.empty() || observations != points.size()) std::abort();
   return 0;
 }
