@@ -11,7 +11,12 @@
 namespace wallcal::io {
 namespace {
 
-int LineOf(const YAML::Node& node) { return node.Mark().line >= 0 ? node.Mark().line + 1 : 0; }
+int LineOf(const YAML::Node& node) {
+  return node.IsDefined() && node.Mark().line >= 0 ? node.Mark().line + 1 : 0;
+}
+// A missing key of a const node is an invalid node, whose type queries throw: ask first.
+bool IsMap(const YAML::Node& node) { return node.IsDefined() && node.IsMap(); }
+bool IsSequence(const YAML::Node& node) { return node.IsDefined() && node.IsSequence(); }
 
 // A scalar of type T at node[key]; `required` keys throw when missing.
 template <typename T>
@@ -44,8 +49,8 @@ Rosbag2Metadata ParseRosbag2Metadata(const std::string& text, const std::string&
   } catch (const YAML::Exception& e) {
     throw InputError(Where(name, 0, std::string("cannot read YAML: ") + e.what()));
   }
-  const YAML::Node info = root.IsMap() ? root["rosbag2_bagfile_information"] : YAML::Node();
-  if (!info.IsMap()) {
+  const YAML::Node info = IsMap(root) ? root["rosbag2_bagfile_information"] : YAML::Node();
+  if (!IsMap(info)) {
     throw InputError(Where(name, LineOf(root), "expected a 'rosbag2_bagfile_information' map "
                                                "(a rosbag2 metadata.yaml)"));
   }
@@ -57,33 +62,33 @@ Rosbag2Metadata ParseRosbag2Metadata(const std::string& text, const std::string&
   meta.compression_format = Get<std::string>(info, "compression_format", name, "text", false, "");
   meta.compression_mode = Get<std::string>(info, "compression_mode", name, "text", false, "");
   const YAML::Node duration = info["duration"];
-  if (duration.IsMap()) {
+  if (IsMap(duration)) {
     meta.duration_ns = Get<int64_t>(duration, "nanoseconds", name, "an integer", false, 0);
   }
   const YAML::Node start = info["starting_time"];
-  if (start.IsMap()) {
+  if (IsMap(start)) {
     meta.starting_time_ns =
         Get<int64_t>(start, "nanoseconds_since_epoch", name, "an integer", false, 0);
   }
   const YAML::Node files = info["relative_file_paths"];
-  if (!files.IsSequence() || files.size() == 0) {
+  if (!IsSequence(files) || files.size() == 0) {
     throw InputError(Where(name, LineOf(files.IsDefined() ? files : info),
                            "expected 'relative_file_paths': a list of storage files"));
   }
   for (const YAML::Node& file : files) {
-    if (!file.IsScalar() || file.Scalar().empty()) {
+    if (!file.IsDefined() || !file.IsScalar() || file.Scalar().empty()) {
       throw InputError(Where(name, LineOf(file), "a relative_file_paths entry is not a file name"));
     }
     meta.relative_file_paths.push_back(file.Scalar());
   }
   const YAML::Node topics = info["topics_with_message_count"];
   if (topics.IsDefined() && !topics.IsNull()) {
-    if (!topics.IsSequence()) {
+    if (!IsSequence(topics)) {
       throw InputError(Where(name, LineOf(topics), "'topics_with_message_count' is not a list"));
     }
     for (const YAML::Node& entry : topics) {
-      const YAML::Node topic = entry.IsMap() ? entry["topic_metadata"] : YAML::Node();
-      if (!topic.IsMap()) {
+      const YAML::Node topic = IsMap(entry) ? entry["topic_metadata"] : YAML::Node();
+      if (!IsMap(topic)) {
         throw InputError(Where(name, LineOf(entry), "expected 'topic_metadata' with the topic"));
       }
       Rosbag2TopicCount count;
