@@ -1,5 +1,6 @@
 #include "io/mcap_writer.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
 
@@ -42,6 +43,7 @@ McapWriter::McapWriter(const std::string& path, ChunkCompression compression, si
   const int fd = ::mkstemp(pattern.data());
   if (fd < 0) Fail(std::string("cannot create a temporary file: ") + std::strerror(errno));
   temp_path_ = pattern;
+  ::fchmod(fd, 0644);  // mkstemp makes it 0600; a recording is meant to be read by others
   file_ = ::fdopen(fd, "wb");
   if (file_ == nullptr) {
     ::close(fd);

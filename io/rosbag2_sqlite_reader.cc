@@ -385,7 +385,7 @@ std::unique_ptr<Recording> OpenFolder(const std::string& folder) {
 std::unique_ptr<Recording> OpenRosbag2(const std::string& path) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) return OpenFolder(path);
-  return std::make_unique<Db3Recording>(path);
+  return OpenStorageFile(path);
 }
 
 }  // namespace wallcal::io

@@ -19,8 +19,9 @@
 
 namespace wallcal::io {
 
-// `path`: a .db3 file or a rosbag2 folder. Throws InputError when it is neither, when a table is
-// missing (a database that is not rosbag2), or when a listed storage file is missing.
+// `path`: a .db3 file or a rosbag2 folder (a lone .mcap file opens too, by its magic). Throws
+// InputError when it is neither, when a table is missing (a database that is not rosbag2), or
+// when a listed storage file is missing.
 std::unique_ptr<Recording> OpenRosbag2(const std::string& path);
 
 }  // namespace wallcal::io

@@ -1,6 +1,7 @@
 #include "io/rosbag2_sqlite_writer.h"
 
 #include <sqlite3.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -19,6 +20,7 @@ Rosbag2SqliteWriter::Rosbag2SqliteWriter(const std::string& path, Rosbag2Layout 
   std::string pattern = path + ".tmp-XXXXXX";
   const int fd = ::mkstemp(pattern.data());
   if (fd < 0) Fail(std::string("cannot create a temporary file: ") + std::strerror(errno));
+  ::fchmod(fd, 0644);  // mkstemp makes it 0600; a recording is meant to be read by others
   ::close(fd);  // sqlite opens it again; an empty file is an empty database
   temp_path_ = pattern;
   if (sqlite3_open_v2(temp_path_.c_str(), &db_, SQLITE_OPEN_READWRITE, nullptr) != SQLITE_OK) {

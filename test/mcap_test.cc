@@ -224,7 +224,8 @@ TEST_P(McapRoundTrip, WrittenFileReadsBackThroughTheSummary) {
   EXPECT_EQ(rec->topics()[1].count, 60);
   EXPECT_NEAR(rec->topics()[1].last_s, 100.0 + 5.9 + 0.05, 1e-9);
   ExpectTwoTopicsInOrder(Collect(*rec, {"/a", "/b"}), 60);
-  EXPECT_EQ(fs::directory_iterator(fs::path(path).parent_path())->path(), path);  // no temp left
+  const fs::directory_iterator files(fs::path(path).parent_path());
+  EXPECT_EQ(std::distance(fs::begin(files), fs::end(files)), 1);  // no temporary file left
 }
 
 TEST_P(McapRoundTrip, FileWithoutFooterIsWalkedWithAWarning) {

@@ -244,6 +244,36 @@ TEST(Rosbag2SqliteTest, DatabaseWithoutTopicsTableIsNotRosbag2) {
   EXPECT_NE(error.find("not an SQLite database"), std::string::npos) << error;
 }
 
+TEST(Rosbag2SqliteTest, CutOrDamagedDatabaseThrowsOrReads) {
+  const std::string dir = Dir("cut");
+  const std::string whole = dir + "/whole.db3";
+  WriteDb3(whole, Rosbag2Layout::kIron, 0, 200);
+  std::ifstream in(whole, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  int thrown = 0, read = 0;
+  for (size_t cut = 0; cut < bytes.size(); cut += 509) {
+    for (const bool flip : {false, true}) {
+      std::string damaged = bytes.substr(0, flip ? bytes.size() : cut);
+      if (flip) damaged[cut] = static_cast<char>(damaged[cut] ^ 0x5A);
+      const std::string path = dir + "/damaged.db3";
+      std::ofstream(path, std::ios::binary | std::ios::trunc) << damaged;
+      try {
+        auto rec = OpenRosbag2(path);
+        std::set<std::string> names;
+        for (const TopicInfo& t : rec->topics()) {
+          if (t.encoding == "cdr") names.insert(t.name);
+        }
+        EXPECT_LE(Collect(*rec, names).size(), 300u);
+        ++read;
+      } catch (const InputError&) {
+        ++thrown;
+      }
+    }
+  }
+  EXPECT_GT(thrown, 0);
+  EXPECT_GT(read, 0);
+}
+
 TEST(Rosbag2SqliteTest, UnknownTopicAndOtherSerializationThrow) {
   const std::string path = Dir("unknown") + "/bag.db3";
   {
