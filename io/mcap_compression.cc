@@ -48,7 +48,7 @@ InflateStatus InflateZstd(const uint8_t* data, size_t size, uint64_t expected,
     const bool progressed = ob.pos != produced || in.pos != in_before;
     produced = ob.pos;
     if (pending == 0 && in.pos == in.size) break;  // last frame closed, input used up
-    if (!progressed && ob.pos < ob.size) {          // starved: input ended inside a frame
+    if (!progressed && ob.pos < ob.size) {         // starved: input ended inside a frame
       status = InflateStatus::kCorrupt;
       break;
     }
@@ -127,10 +127,14 @@ std::vector<uint8_t> Deflate(Codec codec, const uint8_t* data, size_t size) {
 
 const char* InflateStatusText(InflateStatus status) {
   switch (status) {
-    case InflateStatus::kOk: return "ok";
-    case InflateStatus::kCorrupt: return "the compressed data is damaged";
-    case InflateStatus::kTooLong: return "it decompresses to more bytes than declared";
-    case InflateStatus::kTooShort: return "it decompresses to fewer bytes than declared";
+    case InflateStatus::kOk:
+      return "ok";
+    case InflateStatus::kCorrupt:
+      return "the compressed data is damaged";
+    case InflateStatus::kTooLong:
+      return "it decompresses to more bytes than declared";
+    case InflateStatus::kTooShort:
+      return "it decompresses to fewer bytes than declared";
   }
   return "?";
 }

@@ -44,8 +44,8 @@ void McapRecording::ForEach(const std::set<std::string>& topic_names,
     const auto it = std::find_if(topics_.begin(), topics_.end(),
                                  [&](const TopicInfo& t) { return t.name == name; });
     if (it == topics_.end()) {
-      throw InputError(path_ + ": no topic " + name + " in the recording (topics: " +
-                       TopicList(topics_) + ")");
+      throw InputError(path_ + ": no topic " + name +
+                       " in the recording (topics: " + TopicList(topics_) + ")");
     }
     if (it->encoding != "cdr") {
       throw InputError(path_ + ": topic " + name + " is encoded as '" + it->encoding +
@@ -99,12 +99,12 @@ void McapRecording::ForEach(const std::set<std::string>& topic_names,
       return;
     }
     if (raw[0] != kChunk || GetU64(&raw[1]) != block.length - kRecordHeaderSize) {
-      throw InputError(At(path_, block.offset, "the chunk index points at no Chunk record of " +
-                                                   std::to_string(block.length) + " bytes"));
+      throw InputError(At(path_, block.offset,
+                          "the chunk index points at no Chunk record of " +
+                              std::to_string(block.length) + " bytes"));
     }
-    auto records = std::make_shared<const std::vector<uint8_t>>(
-        UnpackChunk(raw.data() + kRecordHeaderSize, block.length - kRecordHeaderSize,
-                    block.offset));
+    auto records = std::make_shared<const std::vector<uint8_t>>(UnpackChunk(
+        raw.data() + kRecordHeaderSize, block.length - kRecordHeaderSize, block.offset));
     take_messages(block, records, true);
   };
 
@@ -120,9 +120,9 @@ void McapRecording::ForEach(const std::set<std::string>& topic_names,
     const Pending& p = heap.top();
     const auto channel = channels_.find(p.channel);
     if (channel == channels_.end()) {
-      throw InputError(At(path_, p.record_offset, "message on channel " +
-                                                      std::to_string(p.channel) +
-                                                      ", which no Channel record defines"));
+      throw InputError(At(
+          path_, p.record_offset,
+          "message on channel " + std::to_string(p.channel) + ", which no Channel record defines"));
     }
     if (p.log_ns < last_ns && !disorder_noted) {
       disorder_noted = true;  // an index that misstates a chunk's times

@@ -24,22 +24,38 @@ std::string Hex(uint32_t v) {
 
 const char* OpcodeName(uint8_t op) {
   switch (op) {
-    case kHeader: return "Header";
-    case kFooter: return "Footer";
-    case kSchema: return "Schema";
-    case kChannel: return "Channel";
-    case kMessage: return "Message";
-    case kChunk: return "Chunk";
-    case kMessageIndex: return "Message Index";
-    case kChunkIndex: return "Chunk Index";
-    case kAttachment: return "Attachment";
-    case kAttachmentIndex: return "Attachment Index";
-    case kStatistics: return "Statistics";
-    case kMetadata: return "Metadata";
-    case kMetadataIndex: return "Metadata Index";
-    case kSummaryOffset: return "Summary Offset";
-    case kDataEnd: return "Data End";
-    default: return "unknown";
+    case kHeader:
+      return "Header";
+    case kFooter:
+      return "Footer";
+    case kSchema:
+      return "Schema";
+    case kChannel:
+      return "Channel";
+    case kMessage:
+      return "Message";
+    case kChunk:
+      return "Chunk";
+    case kMessageIndex:
+      return "Message Index";
+    case kChunkIndex:
+      return "Chunk Index";
+    case kAttachment:
+      return "Attachment";
+    case kAttachmentIndex:
+      return "Attachment Index";
+    case kStatistics:
+      return "Statistics";
+    case kMetadata:
+      return "Metadata";
+    case kMetadataIndex:
+      return "Metadata Index";
+    case kSummaryOffset:
+      return "Summary Offset";
+    case kDataEnd:
+      return "Data End";
+    default:
+      return "unknown";
   }
 }
 
@@ -71,8 +87,9 @@ void McapRecording::ReadHeader() {
   const uint64_t size = source_->size();
   uint8_t head[kMagicSize + kRecordHeaderSize];
   if (size < sizeof head) {
-    throw InputError(At(path_, 0, "not an MCAP file: " + std::to_string(size) +
-                                      " bytes, too short for the magic and a Header record"));
+    throw InputError(At(path_, 0,
+                        "not an MCAP file: " + std::to_string(size) +
+                            " bytes, too short for the magic and a Header record"));
   }
   source_->Read(0, sizeof head, head);
   if (std::memcmp(head, kMagic, kMagicSize) != 0) {
@@ -94,8 +111,8 @@ ChunkCompression McapRecording::CompressionFromName(const std::string& name,
   if (name.empty()) return ChunkCompression::kNone;
   if (name == "zstd") return ChunkCompression::kZstd;
   if (name == "lz4") return ChunkCompression::kLz4;
-  throw InputError(At(path_, offset, "unknown chunk compression '" + name +
-                                         "' (expected '', 'zstd' or 'lz4')"));
+  throw InputError(
+      At(path_, offset, "unknown chunk compression '" + name + "' (expected '', 'zstd' or 'lz4')"));
 }
 
 void McapRecording::AddSchema(Cursor* c) {
@@ -128,17 +145,17 @@ std::vector<uint8_t> McapRecording::UnpackChunk(const uint8_t* content, uint64_t
   const ChunkCompression compression = CompressionFromName(compression_name, offset);
   compressions_.insert(compression);
   if (uncompressed_size > limits_.max_chunk_bytes) {
-    throw InputError(At(path_, offset, "chunk declares " + std::to_string(uncompressed_size) +
-                                           " bytes uncompressed, more than the " +
-                                           std::to_string(limits_.max_chunk_bytes) +
-                                           " accepted"));
+    throw InputError(At(path_, offset,
+                        "chunk declares " + std::to_string(uncompressed_size) +
+                            " bytes uncompressed, more than the " +
+                            std::to_string(limits_.max_chunk_bytes) + " accepted"));
   }
   std::vector<uint8_t> out;
   if (compression == ChunkCompression::kNone) {
     if (records_size != uncompressed_size) {
-      throw InputError(At(path_, offset, "uncompressed chunk holds " +
-                                             std::to_string(records_size) + " bytes but declares " +
-                                             std::to_string(uncompressed_size)));
+      throw InputError(At(path_, offset,
+                          "uncompressed chunk holds " + std::to_string(records_size) +
+                              " bytes but declares " + std::to_string(uncompressed_size)));
     }
     out.assign(records, records + records_size);
   } else {
@@ -146,16 +163,18 @@ std::vector<uint8_t> McapRecording::UnpackChunk(const uint8_t* content, uint64_t
     const InflateStatus status =
         Inflate(codec, records, static_cast<size_t>(records_size), uncompressed_size, &out);
     if (status != InflateStatus::kOk) {
-      throw InputError(At(path_, offset, compression_name + " chunk does not decompress to its " +
-                                             std::to_string(uncompressed_size) + " bytes: " +
-                                             InflateStatusText(status)));
+      throw InputError(At(path_, offset,
+                          compression_name + " chunk does not decompress to its " +
+                              std::to_string(uncompressed_size) +
+                              " bytes: " + InflateStatusText(status)));
     }
   }
   if (crc != 0) {
     const uint32_t got = static_cast<uint32_t>(crc32(0, out.data(), static_cast<uInt>(out.size())));
     if (got != crc) {
-      throw InputError(At(path_, offset, "chunk CRC mismatch: records hash to " + Hex(got) +
-                                             ", the chunk says " + Hex(crc)));
+      throw InputError(
+          At(path_, offset,
+             "chunk CRC mismatch: records hash to " + Hex(got) + ", the chunk says " + Hex(crc)));
     }
   }
   return out;
@@ -192,9 +211,9 @@ bool McapRecording::ReadSummary(std::string* why_not) {
     const uint64_t covered = footer_at + kRecordHeaderSize + 16 - summary_start;
     const uint32_t got = source_->Crc(summary_start, covered, 0);
     if (got != summary_crc) {
-      throw InputError(At(path_, summary_start, "summary CRC mismatch: the summary hashes to " +
-                                                    Hex(got) + ", the footer says " +
-                                                    Hex(summary_crc)));
+      throw InputError(At(path_, summary_start,
+                          "summary CRC mismatch: the summary hashes to " + Hex(got) +
+                              ", the footer says " + Hex(summary_crc)));
     }
   }
   const std::vector<uint8_t> summary = source_->Bytes(summary_start, summary_end - summary_start);
@@ -275,16 +294,16 @@ bool McapRecording::ReadSummary(std::string* why_not) {
     if (record[0] == kDataEnd && GetU64(record + 1) == 4 && crc != 0) {
       const uint32_t got = source_->Crc(0, at, 0);
       if (got != crc) {
-        throw InputError(At(path_, at, "data section CRC mismatch: the data hashes to " +
-                                           Hex(got) + ", the Data End record says " + Hex(crc)));
+        throw InputError(At(path_, at,
+                            "data section CRC mismatch: the data hashes to " + Hex(got) +
+                                ", the Data End record says " + Hex(crc)));
       }
     }
   }
   return true;
 }
 
-void McapRecording::ReadMessageIndexes(Block* block, uint64_t index_offset,
-                                       uint64_t index_length) {
+void McapRecording::ReadMessageIndexes(Block* block, uint64_t index_offset, uint64_t index_length) {
   const std::vector<uint8_t> bytes = source_->Bytes(index_offset, index_length);
   for (size_t pos = 0; pos < bytes.size();) {
     const uint64_t at = index_offset + pos;
@@ -314,8 +333,7 @@ void McapRecording::ReadMessageIndexes(Block* block, uint64_t index_offset,
 void McapRecording::ScanChunkRecords(const std::vector<uint8_t>& records, Block* block) {
   WalkRecords(records, path_, block->offset,
               [&](uint8_t op, const uint8_t* content, uint64_t len, size_t) {
-                Cursor c(content, static_cast<size_t>(len), path_, block->offset,
-                         OpcodeName(op));
+                Cursor c(content, static_cast<size_t>(len), path_, block->offset, OpcodeName(op));
                 if (op == kSchema) {
                   AddSchema(&c);
                 } else if (op == kChannel) {
@@ -338,17 +356,17 @@ void McapRecording::ScanChunkRecords(const std::vector<uint8_t>& records, Block*
               });
 }
 
-void McapRecording::AddLooseMessage(uint64_t offset, uint64_t record_length,
-                                    const uint8_t* content, uint64_t content_length,
-                                    bool* loose_run_open) {
+void McapRecording::AddLooseMessage(uint64_t offset, uint64_t record_length, const uint8_t* content,
+                                    uint64_t content_length, bool* loose_run_open) {
   Cursor c(content, static_cast<size_t>(content_length), path_, offset, "Message");
   const uint16_t channel = c.U16("channel_id");
   c.U32("sequence");
   const uint64_t t_ns = c.U64("log_time");
   c.U64("publish_time");
   if (channels_.count(channel) == 0) {
-    throw InputError(At(path_, offset, "message on channel " + std::to_string(channel) +
-                                           " before any Channel record defines it"));
+    throw InputError(At(
+        path_, offset,
+        "message on channel " + std::to_string(channel) + " before any Channel record defines it"));
   }
   stats_[channel].Add(t_ns);
   if (!*loose_run_open || blocks_.empty() || offset - blocks_.back().offset > kLooseRunBytes) {
@@ -373,13 +391,15 @@ void McapRecording::ScanData() {
   while (true) {
     const uint64_t left = size - off;
     if (left == 0) {
-      warnings_.push_back(At(path_, off, "the file ends without a Data End record (cut off "
-                                         "between records): read up to there"));
+      warnings_.push_back(At(path_, off,
+                             "the file ends without a Data End record (cut off "
+                             "between records): read up to there"));
       return;
     }
     if (left < kRecordHeaderSize) {
-      warnings_.push_back(At(path_, off, "the file is cut off inside a record header: the last " +
-                                             std::to_string(left) + " bytes lost"));
+      warnings_.push_back(At(path_, off,
+                             "the file is cut off inside a record header: the last " +
+                                 std::to_string(left) + " bytes lost"));
       return;
     }
     uint8_t head[kRecordHeaderSize];
@@ -387,17 +407,18 @@ void McapRecording::ScanData() {
     const uint8_t op = head[0];
     const uint64_t len = GetU64(head + 1);
     if (op == 0) {
-      warnings_.push_back(At(path_, off, "zero bytes where a record should start (a damaged "
-                                         "or unwritten tail): the last " +
-                                             std::to_string(left) + " bytes ignored"));
+      warnings_.push_back(At(path_, off,
+                             "zero bytes where a record should start (a damaged "
+                             "or unwritten tail): the last " +
+                                 std::to_string(left) + " bytes ignored"));
       return;
     }
     if (len > left - kRecordHeaderSize) {
-      warnings_.push_back(At(path_, off, std::string("the file is cut off inside a ") +
-                                             OpcodeName(op) + " record declaring " +
-                                             std::to_string(len) + " bytes: the last " +
-                                             std::to_string(left) + " bytes lost" +
-                                             (op == kChunk ? " with the messages of that chunk" : "")));
+      warnings_.push_back(At(path_, off,
+                             std::string("the file is cut off inside a ") + OpcodeName(op) +
+                                 " record declaring " + std::to_string(len) + " bytes: the last " +
+                                 std::to_string(left) + " bytes lost" +
+                                 (op == kChunk ? " with the messages of that chunk" : "")));
       return;
     }
     if (op == kDataEnd || op == kFooter) {
@@ -406,9 +427,9 @@ void McapRecording::ScanData() {
         source_->Read(off + kRecordHeaderSize, 4, field);
         const uint32_t expected = GetU32(field);
         if (expected != 0 && expected != crc) {
-          throw InputError(At(path_, off, "data section CRC mismatch: the data hashes to " +
-                                              Hex(crc) + ", the Data End record says " +
-                                              Hex(expected)));
+          throw InputError(At(path_, off,
+                              "data section CRC mismatch: the data hashes to " + Hex(crc) +
+                                  ", the Data End record says " + Hex(expected)));
         }
       }
       return;
@@ -459,9 +480,10 @@ void McapRecording::BuildTopics() {
       topic.encoding = channel.encoding;
       it = by_name.emplace(channel.topic, topic).first;
     } else if (it->second.type != type || it->second.encoding != channel.encoding) {
-      warnings_.push_back(path_ + ": topic " + channel.topic + " has channels of different types (" +
-                          it->second.type + " " + it->second.encoding + ", " + type + " " +
-                          channel.encoding + "): the first is reported");
+      warnings_.push_back(path_ + ": topic " + channel.topic +
+                          " has channels of different types (" + it->second.type + " " +
+                          it->second.encoding + ", " + type + " " + channel.encoding +
+                          "): the first is reported");
     }
     const auto stats = stats_.find(kv.first);
     if (stats == stats_.end() || stats->second.count == 0) continue;
@@ -475,9 +497,9 @@ void McapRecording::BuildTopics() {
   topics_.clear();
   for (auto& kv : by_name) topics_.push_back(std::move(kv.second));
   for (auto& kv : channels_) {
-    const auto it = std::lower_bound(
-        topics_.begin(), topics_.end(), kv.second.topic,
-        [](const TopicInfo& t, const std::string& name) { return t.name < name; });
+    const auto it =
+        std::lower_bound(topics_.begin(), topics_.end(), kv.second.topic,
+                         [](const TopicInfo& t, const std::string& name) { return t.name < name; });
     kv.second.topic_slot = static_cast<size_t>(it - topics_.begin());
   }
 }
@@ -490,8 +512,7 @@ std::unique_ptr<Recording> OpenMcap(const std::string& path, const McapLimits& l
 
 std::unique_ptr<Recording> OpenMcapBuffer(const std::string& name, std::vector<uint8_t> bytes,
                                           const McapLimits& limits) {
-  return std::make_unique<mcap::McapRecording>(name, mcap::MemorySource(std::move(bytes)),
-                                               limits);
+  return std::make_unique<mcap::McapRecording>(name, mcap::MemorySource(std::move(bytes)), limits);
 }
 
 }  // namespace wallcal::io

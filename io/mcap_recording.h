@@ -91,15 +91,17 @@ void WalkRecords(const std::vector<uint8_t>& records, const std::string& path, u
   size_t pos = 0;
   while (pos < records.size()) {
     if (records.size() - pos < kRecordHeaderSize) {
-      throw InputError(At(path, offset, "chunk ends inside a record header (at byte " +
-                                            std::to_string(pos) + " of its records)"));
+      throw InputError(At(path, offset,
+                          "chunk ends inside a record header (at byte " + std::to_string(pos) +
+                              " of its records)"));
     }
     const uint8_t op = records[pos];
     const uint64_t len = GetU64(&records[pos + 1]);
     if (len > records.size() - pos - kRecordHeaderSize) {
-      throw InputError(At(path, offset, "record (opcode " + std::to_string(op) + ") at byte " +
-                                            std::to_string(pos) + " of the chunk's records declares " +
-                                            std::to_string(len) + " bytes, more than the chunk holds"));
+      throw InputError(At(path, offset,
+                          "record (opcode " + std::to_string(op) + ") at byte " +
+                              std::to_string(pos) + " of the chunk's records declares " +
+                              std::to_string(len) + " bytes, more than the chunk holds"));
     }
     fn(op, &records[pos + kRecordHeaderSize], len, pos);
     pos += kRecordHeaderSize + static_cast<size_t>(len);

@@ -14,7 +14,7 @@ namespace wallcal::io::mcap {
 
 inline constexpr uint8_t kMagic[8] = {0x89, 'M', 'C', 'A', 'P', '0', '\r', '\n'};
 inline constexpr size_t kMagicSize = 8;
-inline constexpr size_t kRecordHeaderSize = 9;   // opcode (1) + content length (uint64)
+inline constexpr size_t kRecordHeaderSize = 9;    // opcode (1) + content length (uint64)
 inline constexpr size_t kFooterContentSize = 20;  // summary_start, summary_offset_start, crc
 
 enum Opcode : uint8_t {
@@ -51,9 +51,15 @@ inline uint64_t GetU64(const uint8_t* p) {
 struct Out {
   std::vector<uint8_t> bytes;
   void U8(uint8_t v) { bytes.push_back(v); }
-  void U16(uint16_t v) { for (int i = 0; i < 2; ++i) bytes.push_back(static_cast<uint8_t>(v >> (8 * i))); }
-  void U32(uint32_t v) { for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<uint8_t>(v >> (8 * i))); }
-  void U64(uint64_t v) { for (int i = 0; i < 8; ++i) bytes.push_back(static_cast<uint8_t>(v >> (8 * i))); }
+  void U16(uint16_t v) {
+    for (int i = 0; i < 2; ++i) bytes.push_back(static_cast<uint8_t>(v >> (8 * i)));
+  }
+  void U32(uint32_t v) {
+    for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<uint8_t>(v >> (8 * i)));
+  }
+  void U64(uint64_t v) {
+    for (int i = 0; i < 8; ++i) bytes.push_back(static_cast<uint8_t>(v >> (8 * i)));
+  }
   void Raw(const uint8_t* p, size_t n) { bytes.insert(bytes.end(), p, p + n); }
   void Str(const std::string& s) {
     U32(static_cast<uint32_t>(s.size()));

@@ -34,7 +34,8 @@ namespace {
 
 class FileSource : public ByteSource {
  public:
-  FileSource(std::string path, int fd, uint64_t size) : path_(std::move(path)), fd_(fd), size_(size) {}
+  FileSource(std::string path, int fd, uint64_t size)
+      : path_(std::move(path)), fd_(fd), size_(size) {}
   ~FileSource() override { ::close(fd_); }
   FileSource(const FileSource&) = delete;
   FileSource& operator=(const FileSource&) = delete;
@@ -44,9 +45,9 @@ class FileSource : public ByteSource {
       const ssize_t got = ::pread(fd_, out, n, static_cast<off_t>(offset));
       if (got < 0 && errno == EINTR) continue;
       if (got <= 0) {
-        throw InputError(At(path_, offset, got == 0 ? "file shorter than when it was opened"
-                                                    : std::string("read failed: ") +
-                                                          std::strerror(errno)));
+        throw InputError(At(path_, offset,
+                            got == 0 ? "file shorter than when it was opened"
+                                     : std::string("read failed: ") + std::strerror(errno)));
       }
       out += got;
       offset += static_cast<uint64_t>(got);

@@ -26,9 +26,12 @@ uint32_t Crc(uint32_t crc, const std::vector<uint8_t>& bytes) {
 
 const char* CompressionName(ChunkCompression c) {
   switch (c) {
-    case ChunkCompression::kZstd: return "zstd";
-    case ChunkCompression::kLz4: return "lz4";
-    default: return "";
+    case ChunkCompression::kZstd:
+      return "zstd";
+    case ChunkCompression::kLz4:
+      return "lz4";
+    default:
+      return "";
   }
 }
 
@@ -126,7 +129,8 @@ void McapWriter::Write(uint16_t channel, double log_time_s, double publish_time_
 
 void McapWriter::WriteNs(uint16_t channel, uint64_t log_time_ns, uint64_t publish_time_ns,
                          const uint8_t* data, size_t size) {
-  if (channel == 0 || channel > channel_count_) throw std::invalid_argument("MCAP channel not added");
+  if (channel == 0 || channel > channel_count_)
+    throw std::invalid_argument("MCAP channel not added");
   const uint64_t sequence = message_counts_[channel]++;
   chunk_index_[channel].emplace_back(log_time_ns, chunk_.size());
   mcap::Out out;
@@ -208,7 +212,10 @@ void McapWriter::Close() {
   // Summary: records grouped by opcode, each group listed by a Summary Offset record.
   const uint64_t summary_start = position_;
   crc_ = 0;
-  struct Group { uint8_t opcode; uint64_t start, length; };
+  struct Group {
+    uint8_t opcode;
+    uint64_t start, length;
+  };
   std::vector<Group> groups;
   auto emit_group = [&](uint8_t opcode, const std::vector<std::vector<uint8_t>>& records) {
     if (records.empty()) return;

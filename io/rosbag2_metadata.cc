@@ -25,8 +25,8 @@ T Get(const YAML::Node& map, const char* key, const std::string& name, const cha
   const YAML::Node node = map[key];
   if (!node.IsDefined() || node.IsNull()) {
     if (required) {
-      throw InputError(Where(name, LineOf(map), std::string("missing '") + key + "'; expected " +
-                                                    expected));
+      throw InputError(
+          Where(name, LineOf(map), std::string("missing '") + key + "'; expected " + expected));
     }
     return fallback;
   }
@@ -51,8 +51,9 @@ Rosbag2Metadata ParseRosbag2Metadata(const std::string& text, const std::string&
   }
   const YAML::Node info = IsMap(root) ? root["rosbag2_bagfile_information"] : YAML::Node();
   if (!IsMap(info)) {
-    throw InputError(Where(name, LineOf(root), "expected a 'rosbag2_bagfile_information' map "
-                                               "(a rosbag2 metadata.yaml)"));
+    throw InputError(Where(name, LineOf(root),
+                           "expected a 'rosbag2_bagfile_information' map "
+                           "(a rosbag2 metadata.yaml)"));
   }
   Rosbag2Metadata meta;
   meta.version = Get<int>(info, "version", name, "an integer", false, 0);

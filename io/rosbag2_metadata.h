@@ -23,7 +23,7 @@ struct Rosbag2TopicCount {
 
 struct Rosbag2Metadata {
   int version = 0;
-  std::string storage_identifier;               // "sqlite3", "mcap"
+  std::string storage_identifier;                // "sqlite3", "mcap"
   std::vector<std::string> relative_file_paths;  // in recording order
   int64_t starting_time_ns = 0;                  // since the epoch
   int64_t duration_ns = 0;

@@ -40,9 +40,10 @@ class Statement {
       const std::string what = sqlite3_errmsg(db);
       sqlite3_finalize(stmt_);
       stmt_ = nullptr;
-      throw InputError(Where(path, 0, code == SQLITE_NOTADB
-                                          ? "not an SQLite database; expected a rosbag2 .db3 file"
-                                          : "cannot read the rosbag2 database: " + what));
+      throw InputError(Where(path, 0,
+                             code == SQLITE_NOTADB
+                                 ? "not an SQLite database; expected a rosbag2 .db3 file"
+                                 : "cannot read the rosbag2 database: " + what));
     }
   }
   ~Statement() { sqlite3_finalize(stmt_); }
@@ -79,9 +80,10 @@ class Db3Recording : public Recording {
     char magic[16] = {};
     probe.read(magic, sizeof magic);
     if (!probe || std::memcmp(magic, "SQLite format 3", 16) != 0) {
-      throw InputError(Where(path, 0, probe.is_open() ? "not an SQLite database; expected a "
-                                                        "rosbag2 .db3 file"
-                                                      : "cannot open the file"));
+      throw InputError(Where(path, 0,
+                             probe.is_open() ? "not an SQLite database; expected a "
+                                               "rosbag2 .db3 file"
+                                             : "cannot open the file"));
     }
     if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
       const std::string what = db_ != nullptr ? sqlite3_errmsg(db_) : "out of memory";
@@ -107,15 +109,16 @@ class Db3Recording : public Recording {
     for (const std::string& name : topic_names) {
       const TopicInfo* topic = FindTopic(topics_, name);
       if (topic == nullptr) {
-        throw InputError(path_ + ": no topic " + name + " in the recording (topics: " +
-                         TopicList(topics_) + ")");
+        throw InputError(path_ + ": no topic " + name +
+                         " in the recording (topics: " + TopicList(topics_) + ")");
       }
       if (topic->encoding != "cdr") {
         throw InputError(path_ + ": topic " + name + " is serialized as '" + topic->encoding +
                          "'; only 'cdr' (ROS 2) messages are read");
       }
       for (const auto& kv : slot_of_id_) {
-        if (&topics_[kv.second] == topic) ids += (ids.empty() ? "" : ",") + std::to_string(kv.first);
+        if (&topics_[kv.second] == topic)
+          ids += (ids.empty() ? "" : ",") + std::to_string(kv.first);
       }
     }
     if (ids.empty()) return;
@@ -130,7 +133,8 @@ class Db3Recording : public Recording {
       const auto slot = slot_of_id_.find(rows.Int(1));
       if (slot == slot_of_id_.end()) continue;  // cannot happen: the query selects these ids
       const int data_type = rows.Type(3);
-      if (rows.Type(2) != SQLITE_INTEGER || (data_type != SQLITE_BLOB && data_type != SQLITE_TEXT)) {
+      if (rows.Type(2) != SQLITE_INTEGER ||
+          (data_type != SQLITE_BLOB && data_type != SQLITE_TEXT)) {
         throw InputError(path_ + ": message id " + std::to_string(last_id) +
                          ": expected an integer timestamp (ns) and a data blob");
       }
@@ -155,8 +159,10 @@ class Db3Recording : public Recording {
     }
     for (const char* needed : {"topics", "messages"}) {
       if (tables.count(needed) == 0) {
-        throw InputError(Where(path_, 0, std::string("no '") + needed + "' table: not a rosbag2 "
-                                         "database (expected tables topics and messages)"));
+        throw InputError(Where(path_, 0,
+                               std::string("no '") + needed +
+                                   "' table: not a rosbag2 "
+                                   "database (expected tables topics and messages)"));
       }
     }
     std::map<int64_t, TopicInfo> by_id;
@@ -168,8 +174,8 @@ class Db3Recording : public Recording {
         topic.type = rows.Text(2);
         topic.encoding = rows.Text(3);
         if (topic.name.empty()) {
-          throw InputError(Where(path_, 0, "topic id " + std::to_string(rows.Int(0)) +
-                                               " has no name"));
+          throw InputError(
+              Where(path_, 0, "topic id " + std::to_string(rows.Int(0)) + " has no name"));
         }
         by_id[rows.Int(0)] = topic;
       }
@@ -201,7 +207,8 @@ class Db3Recording : public Recording {
       for (size_t i = 1; i < kv.second.size(); ++i) {
         const TopicInfo& other = by_id[kv.second[i]];
         if (other.count == 0) continue;
-        merged.first_s = merged.count == 0 ? other.first_s : std::min(merged.first_s, other.first_s);
+        merged.first_s =
+            merged.count == 0 ? other.first_s : std::min(merged.first_s, other.first_s);
         merged.last_s = merged.count == 0 ? other.last_s : std::max(merged.last_s, other.last_s);
         merged.count += other.count;
       }
@@ -246,7 +253,8 @@ class SplitRecording : public Recording {
         any = true;
       }
       if (any && p > 0 && first_s < previous_last_s) {
-        warnings_.push_back(part.path() + ": starts before the previous file ends: messages at "
+        warnings_.push_back(part.path() +
+                            ": starts before the previous file ends: messages at "
                             "the seam are passed on in file order, not time order");
       }
       if (any) previous_last_s = std::max(previous_last_s, last_s);
@@ -261,8 +269,8 @@ class SplitRecording : public Recording {
                const std::function<void(const RecordedMessage&)>& fn) override {
     for (const std::string& name : topic_names) {
       if (FindTopic(topics_, name) == nullptr) {
-        throw InputError(path_ + ": no topic " + name + " in the recording (topics: " +
-                         TopicList(topics_) + ")");
+        throw InputError(path_ + ": no topic " + name +
+                         " in the recording (topics: " + TopicList(topics_) + ")");
       }
     }
     std::map<const TopicInfo*, int64_t> emitted;
@@ -301,7 +309,8 @@ std::unique_ptr<Recording> OpenStorageFile(const std::string& path) {
 bool NaturalLess(const std::string& a, const std::string& b) {
   size_t i = 0, j = 0;
   while (i < a.size() && j < b.size()) {
-    if (std::isdigit(static_cast<unsigned char>(a[i])) && std::isdigit(static_cast<unsigned char>(b[j]))) {
+    if (std::isdigit(static_cast<unsigned char>(a[i])) &&
+        std::isdigit(static_cast<unsigned char>(b[j]))) {
       size_t ei = i, ej = j;
       while (ei < a.size() && std::isdigit(static_cast<unsigned char>(a[ei]))) ++ei;
       while (ej < b.size() && std::isdigit(static_cast<unsigned char>(b[ej]))) ++ej;
@@ -332,10 +341,11 @@ std::unique_ptr<Recording> OpenFolder(const std::string& folder) {
   if (have_meta) {
     meta = ReadRosbag2Metadata(meta_path.string());
     if (!meta.compression_format.empty() || !meta.compression_mode.empty()) {
-      throw InputError(Where(meta_path.string(), 0,
-                             "compressed rosbag2 (compression_format '" + meta.compression_format +
-                                 "', mode '" + meta.compression_mode +
-                                 "') is not read; expected an uncompressed bag (ros2 bag convert)"));
+      throw InputError(
+          Where(meta_path.string(), 0,
+                "compressed rosbag2 (compression_format '" + meta.compression_format + "', mode '" +
+                    meta.compression_mode +
+                    "') is not read; expected an uncompressed bag (ros2 bag convert)"));
     }
     for (const std::string& rel : meta.relative_file_paths) {
       fs::path file = dir / rel;
@@ -343,8 +353,8 @@ std::unique_ptr<Recording> OpenFolder(const std::string& folder) {
       const fs::path alt = dir.parent_path() / rel;
       if (!fs::exists(file, ec) && fs::exists(alt, ec)) file = alt;
       if (!fs::is_regular_file(file, ec)) {
-        throw InputError(Where(meta_path.string(), 0, "lists storage file " + rel +
-                                                          ", which is not in the folder"));
+        throw InputError(Where(meta_path.string(), 0,
+                               "lists storage file " + rel + ", which is not in the folder"));
       }
       files.push_back(file.string());
     }
@@ -357,8 +367,9 @@ std::unique_ptr<Recording> OpenFolder(const std::string& folder) {
     }
     std::sort(files.begin(), files.end(), NaturalLess);
     if (files.empty()) {
-      throw InputError(Where(folder, 0, "neither a metadata.yaml nor .db3/.mcap files: not a "
-                                        "rosbag2 folder"));
+      throw InputError(Where(folder, 0,
+                             "neither a metadata.yaml nor .db3/.mcap files: not a "
+                             "rosbag2 folder"));
     }
     notes.push_back(folder + ": no metadata.yaml (the recorder did not finish?): read the " +
                     std::to_string(files.size()) + " storage files found, in name order");

@@ -21,7 +21,7 @@ Rosbag2SqliteWriter::Rosbag2SqliteWriter(const std::string& path, Rosbag2Layout 
   const int fd = ::mkstemp(pattern.data());
   if (fd < 0) Fail(std::string("cannot create a temporary file: ") + std::strerror(errno));
   ::fchmod(fd, 0644);  // mkstemp makes it 0600; a recording is meant to be read by others
-  ::close(fd);  // sqlite opens it again; an empty file is an empty database
+  ::close(fd);         // sqlite opens it again; an empty file is an empty database
   temp_path_ = pattern;
   if (sqlite3_open_v2(temp_path_.c_str(), &db_, SQLITE_OPEN_READWRITE, nullptr) != SQLITE_OK) {
     Fail("cannot open the temporary database");
@@ -33,17 +33,19 @@ Rosbag2SqliteWriter::Rosbag2SqliteWriter(const std::string& path, Rosbag2Layout 
                    "NOT NULL, serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT "
                    "NULL") +
        (iron ? ", type_description_hash TEXT NOT NULL);" : ");"));
-  Exec("CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp "
-       "INTEGER NOT NULL, data BLOB NOT NULL);"
-       "CREATE INDEX timestamp_idx ON messages (timestamp ASC);");
+  Exec(
+      "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp "
+      "INTEGER NOT NULL, data BLOB NOT NULL);"
+      "CREATE INDEX timestamp_idx ON messages (timestamp ASC);");
   if (iron) {
-    Exec("CREATE TABLE schema(schema_version INTEGER PRIMARY KEY, ros_distro TEXT NOT NULL);"
-         "INSERT INTO schema VALUES (4, 'iron');"
-         "CREATE TABLE metadata(id INTEGER PRIMARY KEY, metadata_version INTEGER NOT NULL, "
-         "metadata TEXT NOT NULL);"
-         "CREATE TABLE message_definitions(id INTEGER PRIMARY KEY, topic_type TEXT NOT NULL, "
-         "encoding TEXT NOT NULL, encoded_message_definition TEXT NOT NULL, "
-         "type_description_hash TEXT NOT NULL);");
+    Exec(
+        "CREATE TABLE schema(schema_version INTEGER PRIMARY KEY, ros_distro TEXT NOT NULL);"
+        "INSERT INTO schema VALUES (4, 'iron');"
+        "CREATE TABLE metadata(id INTEGER PRIMARY KEY, metadata_version INTEGER NOT NULL, "
+        "metadata TEXT NOT NULL);"
+        "CREATE TABLE message_definitions(id INTEGER PRIMARY KEY, topic_type TEXT NOT NULL, "
+        "encoding TEXT NOT NULL, encoded_message_definition TEXT NOT NULL, "
+        "type_description_hash TEXT NOT NULL);");
   }
   Exec("BEGIN;");
   if (sqlite3_prepare_v2(db_, "INSERT INTO messages(topic_id, timestamp, data) VALUES (?, ?, ?)",
@@ -158,8 +160,9 @@ void Rosbag2SqliteWriter::Close() {
   if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
     const int error = errno;
     std::remove(temp_path_.c_str());
-    throw InputError(Where(path_, 0, std::string("cannot rename the temporary file over it: ") +
-                                         std::strerror(error)));
+    throw InputError(
+        Where(path_, 0,
+              std::string("cannot rename the temporary file over it: ") + std::strerror(error)));
   }
 }
 

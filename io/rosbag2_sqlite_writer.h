@@ -29,8 +29,8 @@ class Rosbag2SqliteWriter {
 
   // A topic ("/scan", "sensor_msgs/msg/LaserScan", its ros2msg definition: stored in
   // message_definitions by the Iron layout). Returns topics.id (from 1).
-  int64_t AddTopic(const std::string& name, const std::string& type,
-                   const std::string& definition, const std::string& serialization_format = "cdr");
+  int64_t AddTopic(const std::string& name, const std::string& type, const std::string& definition,
+                   const std::string& serialization_format = "cdr");
   // One serialized message; stamp in s since the epoch, stored as ns.
   void Write(int64_t topic_id, double stamp_s, const uint8_t* data, size_t size);
   void Write(int64_t topic_id, double stamp_s, const std::vector<uint8_t>& payload) {

@@ -71,11 +71,11 @@ std::string ErrorOf(const std::function<void()>& fn) {
   return "";
 }
 
-#define SKIP_WITHOUT_REAL()                          \
-  do {                                               \
-    if (!fs::exists(kReal)) {                        \
+#define SKIP_WITHOUT_REAL()                               \
+  do {                                                    \
+    if (!fs::exists(kReal)) {                             \
       GTEST_SKIP() << "no shared test data at " << kReal; \
-    }                                                \
+    }                                                     \
   } while (0)
 
 TEST(McapReaderTest, ReadsRosbag2CdrTestFile) {
@@ -96,7 +96,12 @@ TEST(McapReaderTest, ReadsRosbag2CdrTestFile) {
   EXPECT_EQ(rec->topics()[1].count, 3);
 
   // Independent decode: log times, sizes and CRC-32 of each payload, in log-time order.
-  struct Want { const char* topic; double t_s; size_t size; uint32_t crc; };
+  struct Want {
+    const char* topic;
+    double t_s;
+    size_t size;
+    uint32_t crc;
+  };
   const Want want[] = {
       {"/test_topic", 1586406456.763032325, 52, 0x2b671247},
       {"/array_topic", 1586406456.782683500, 696, 0xab8a469a},
@@ -408,9 +413,8 @@ TEST(McapReaderTest, NonCdrTopicIsListedButNotRead) {
 }
 
 TEST(McapReaderTest, NotMcapThrows) {
-  const std::string error = ErrorOf([] {
-    OpenMcapBuffer("x.bag", std::vector<uint8_t>(100, 'x'));
-  });
+  const std::string error =
+      ErrorOf([] { OpenMcapBuffer("x.bag", std::vector<uint8_t>(100, 'x')); });
   EXPECT_NE(error.find("x.bag:0: not an MCAP file"), std::string::npos) << error;
   EXPECT_NE(ErrorOf([] { OpenMcap("/nonexistent/file.mcap"); }), "");
 }

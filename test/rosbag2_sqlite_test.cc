@@ -88,7 +88,13 @@ TEST(Rosbag2SqliteTest, ReadsRealIronDatabase) {
   EXPECT_NEAR(rec->topics()[1].first_s, 1586406456.763032325, 1e-6);
   EXPECT_NEAR(rec->topics()[1].last_s, 1586406456.863382628, 1e-6);
   // Independent decode (Python sqlite3): messages.id, time, size, CRC-32 of the data.
-  struct Want { uint64_t id; const char* topic; double t_s; size_t size; uint32_t crc; };
+  struct Want {
+    uint64_t id;
+    const char* topic;
+    double t_s;
+    size_t size;
+    uint32_t crc;
+  };
   const Want want[] = {
       {1, "/test_topic", 1586406456.763032325, 52, 0x2b671247},
       {2, "/array_topic", 1586406456.782683500, 696, 0xab8a469a},
@@ -216,7 +222,8 @@ TEST(Rosbag2SqliteTest, McapStorageFolderReadsThroughTheMcapReader) {
     McapWriter w(dir + "/b_" + std::to_string(part) + ".mcap", ChunkCompression::kLz4, 100);
     const uint16_t c = w.AddChannel("/scan", "sensor_msgs/msg/LaserScan", "float32 a\n");
     for (int k = 10 * part; k < 10 * part + 10; ++k) {
-      w.Write(c, 10.0 + 0.1 * k, 10.0, std::vector<uint8_t>{0, 1, 0, 0, 's', static_cast<uint8_t>(k)});
+      w.Write(c, 10.0 + 0.1 * k, 10.0,
+              std::vector<uint8_t>{0, 1, 0, 0, 's', static_cast<uint8_t>(k)});
     }
     w.Close();
   }
@@ -322,8 +329,10 @@ TEST(Rosbag2MetadataTest, BadYamlSaysWhereAndWhat) {
   });
   EXPECT_NE(error.find("relative_file_paths"), std::string::npos) << error;
   error = ErrorOf([] {
-    ParseRosbag2Metadata("rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n"
-                         "  relative_file_paths: [a.db3]\n  message_count: lots\n", "m.yaml");
+    ParseRosbag2Metadata(
+        "rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n"
+        "  relative_file_paths: [a.db3]\n  message_count: lots\n",
+        "m.yaml");
   });
   EXPECT_NE(error.find("m.yaml:4: 'message_count' is not an integer"), std::string::npos) << error;
   error = ErrorOf([] { ParseRosbag2Metadata("key: [unclosed\n", "m.yaml"); });

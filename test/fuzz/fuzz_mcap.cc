@@ -16,8 +16,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   wallcal::io::McapLimits limits;
   limits.max_chunk_bytes = uint64_t{64} << 20;  // well inside libFuzzer's -rss_limit_mb
   try {
-    auto rec = wallcal::io::OpenMcapBuffer("fuzz.mcap", std::vector<uint8_t>(data, data + size),
-                                           limits);
+    auto rec =
+        wallcal::io::OpenMcapBuffer("fuzz.mcap", std::vector<uint8_t>(data, data + size), limits);
     const auto& topics = rec->topics();
     std::set<std::string> names;
     for (size_t i = 0; i < topics.size(); ++i) {
