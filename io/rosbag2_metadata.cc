@@ -94,6 +94,9 @@ Rosbag2Metadata ParseRosbag2Metadata(const std::string& text, const std::string&
       }
       Rosbag2TopicCount count;
       count.name = Get<std::string>(topic, "name", name, "a topic name", true, "");
+      if (count.name.empty()) {
+        throw InputError(Where(name, LineOf(topic), "a topic_metadata has an empty name"));
+      }
       count.type = Get<std::string>(topic, "type", name, "a type name", false, "");
       count.serialization_format =
           Get<std::string>(topic, "serialization_format", name, "text", false, "");

@@ -337,6 +337,13 @@ TEST(Rosbag2MetadataTest, BadYamlSaysWhereAndWhat) {
   EXPECT_NE(error.find("m.yaml:4: 'message_count' is not an integer"), std::string::npos) << error;
   error = ErrorOf([] { ParseRosbag2Metadata("key: [unclosed\n", "m.yaml"); });
   EXPECT_NE(error.find("m.yaml:"), std::string::npos) << error;
+  error = ErrorOf([] {
+    ParseRosbag2Metadata("rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n"
+                         "  relative_file_paths: [a.db3]\n  topics_with_message_count:\n"
+                         "    - topic_metadata: {name: '', type: x}\n", "m.yaml");
+  });
+  EXPECT_NE(error.find("m.yaml:5: a topic_metadata has an empty name"), std::string::npos)
+      << error;
   error = ErrorOf([] { ParseRosbag2Metadata("other: 1\n", "m.yaml"); });
   EXPECT_NE(error.find("rosbag2_bagfile_information"), std::string::npos) << error;
 }
