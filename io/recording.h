@@ -43,7 +43,8 @@ struct RecordedMessage {
   const uint8_t* data = nullptr;  // the serialized payload; valid only during the callback
   size_t size = 0;
   int64_t index = 0;           // 0-based index of this message on its topic
-  uint64_t file_offset = 0;    // where its record (or chunk) starts in the file; 0 if unknown
+  uint64_t file_offset = 0;    // where its record (or chunk) starts in the file; 0 if unknown;
+                               // rosbag2 sqlite3: the row's messages.id
 };
 
 class Recording {

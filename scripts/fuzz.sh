@@ -5,7 +5,8 @@
 # test/bad_sessions/, and ../shared/testdata/real/ when present. New inputs the fuzzer finds are
 # kept in build-fuzz/fuzz-corpus/<target>/ (reused by the next run); a crash leaves its input in
 # build-fuzz/fuzz-artifacts/ and makes this script fail.
-# Usage: bash scripts/fuzz.sh [target ...]   (targets: carmen nmea survey gsi session_yaml config_yaml)
+# Usage: bash scripts/fuzz.sh [target ...]   (targets: carmen nmea survey gsi session_yaml config_yaml
+#                                             mcap rosbag2_yaml)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -20,7 +21,7 @@ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=cl
 cmake --build "$build" --target fuzz_targets -j"$jobs"
 
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(carmen nmea survey gsi session_yaml config_yaml)
+[ ${#targets[@]} -gt 0 ] || targets=(carmen nmea survey gsi session_yaml config_yaml mcap rosbag2_yaml)
 
 # Seeds gathered fresh each run (small: logs are cut to their first lines).
 seeds="$build/fuzz-seeds"
@@ -55,6 +56,7 @@ if [ -d "$real" ]; then
   for f in "$real"/nmea/*.log; do add_head nmea "$f" 80; done
   for f in "$real"/carmen/*.log.gz; do add_head carmen "$f" 6; done
   for f in "$real"/gsi/*.gsi; do add_head gsi "$f" 40; add_head survey "$f" 40; done
+  for f in "$real"/ros2/*.mcap; do add_file mcap "$f"; done
 fi
 
 status=0
@@ -62,7 +64,8 @@ printf '%-14s %10s %8s %8s %8s  %s\n' target executions coverage features crashe
 for t in "${targets[@]}"; do
   log="$build/fuzz-$t.log"
   case $t in
-    nmea) dict=nmea ;; carmen) dict=carmen ;; survey) dict=csv ;; gsi) dict=gsi ;; *) dict=yaml ;;
+    nmea) dict=nmea ;; carmen) dict=carmen ;; survey) dict=csv ;; gsi) dict=gsi ;; mcap) dict=mcap ;;
+    rosbag2_yaml) dict=rosbag2 ;; *) dict=yaml ;;
   esac
   rm -f "$build/fuzz-artifacts/$t-"*
   set +e
