@@ -5,7 +5,8 @@
 # test/bad_sessions/, and ../shared/testdata/real/ when present. New inputs the fuzzer finds are
 # kept in build-fuzz/fuzz-corpus/<target>/ (reused by the next run); a crash leaves its input in
 # build-fuzz/fuzz-artifacts/ and makes this script fail.
-# Usage: bash scripts/fuzz.sh [target ...]   (targets: carmen nmea survey session_yaml config_yaml)
+# Usage: bash scripts/fuzz.sh [target ...]
+#   (targets: carmen nmea survey session_yaml config_yaml rosbag1 ros_messages)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -20,7 +21,7 @@ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=cl
 cmake --build "$build" --target fuzz_targets -j"$jobs"
 
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(carmen nmea survey session_yaml config_yaml)
+[ ${#targets[@]} -gt 0 ] || targets=(carmen nmea survey session_yaml config_yaml rosbag1 ros_messages)
 
 # Seeds gathered fresh each run (small: logs are cut to their first lines).
 seeds="$build/fuzz-seeds"
@@ -36,6 +37,10 @@ add_head() {  # add_head TARGET FILE LINES: the first LINES lines of FILE (gzip:
   else
     head -n "$lines" "$file" > "$seeds/$target/$name.head" || true
   fi
+}
+add_bytes() {  # add_bytes TARGET FILE BYTES: the first BYTES bytes of FILE
+  [ -d "$seeds/$1" ] && [ -f "$2" ] || return 0
+  head -c "$3" "$2" > "$seeds/$1/$(echo "${2#"$root"/}" | tr '/' '_').head"
 }
 add_file() {  # add_file TARGET FILE
   [ -d "$seeds/$1" ] && [ -f "$2" ] || return 0
@@ -54,6 +59,8 @@ real="$root/../shared/testdata/real"
 if [ -d "$real" ]; then
   for f in "$real"/nmea/*.log; do add_head nmea "$f" 80; done
   for f in "$real"/carmen/*.log.gz; do add_head carmen "$f" 6; done
+  # Bag heads: the header and the start of the first chunk (cut: the reader's tail path).
+  for f in "$real"/ros1/*.bag; do add_bytes rosbag1 "$f" 60000; done
 fi
 
 status=0
@@ -61,7 +68,8 @@ printf '%-14s %10s %8s %8s %8s  %s\n' target executions coverage features crashe
 for t in "${targets[@]}"; do
   log="$build/fuzz-$t.log"
   case $t in
-    nmea) dict=nmea ;; carmen) dict=carmen ;; survey) dict=csv ;; *) dict=yaml ;;
+    nmea) dict=nmea ;; carmen) dict=carmen ;; survey) dict=csv ;;
+    rosbag1 | ros_messages) dict=ros ;; *) dict=yaml ;;
   esac
   rm -f "$build/fuzz-artifacts/$t-"*
   set +e
