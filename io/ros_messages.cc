@@ -125,6 +125,16 @@ const TypeRow kTypes[] = {
          WALLCAL_VECTOR3},
 };
 
+#undef WALLCAL_SEPARATOR
+#undef WALLCAL_ROS1_HEADER
+#undef WALLCAL_ROS2_HEADER
+#undef WALLCAL_LASER_SCAN_BODY
+#undef WALLCAL_NAV_SAT_FIX_BODY
+#undef WALLCAL_NAV_SAT_STATUS
+#undef WALLCAL_QUATERNION
+#undef WALLCAL_VECTOR3
+#undef WALLCAL_IMU_BODY
+
 const TypeRow* Row(RosType type) {
   for (const TypeRow& row : kTypes) {
     if (row.type == type) return &row;

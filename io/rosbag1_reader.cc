@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <set>
 #include <tuple>
 
 #include "io/bag_compression.h"
@@ -17,8 +18,9 @@ using bag1::RecordStatus;
 // Index-data records (version 1) hold one 12-byte entry per message: time (8) + offset (4).
 constexpr uint64_t kIndexEntryBytes = 12;
 // A chunk's declared uncompressed size beyond this is damage, not data (rosbag's chunks are
-// 768 kB by default; one huge message makes one chunk of its own size).
-constexpr uint32_t kMaxChunkBytes = 1u << 30;
+// 768 kB by default; one big message, a point cloud or an image, makes a chunk of its own size,
+// tens of MB at most).
+constexpr uint32_t kMaxChunkBytes = 256u << 20;
 
 std::string Quoted(std::string_view text) {
   std::string out = "'";
@@ -49,7 +51,7 @@ Ros1Bag::Ros1Bag(std::unique_ptr<bag1::ByteSource> source, const std::string& pa
   std::string problem;
   if (index_pos_ == 0) {
     problem = "no index (index_pos 0: the recording was not closed)";
-  } else if (index_pos_ < first_record_pos_ || index_pos_ >= file_size_) {
+  } else if (index_pos_ < first_record_pos_ || index_pos_ > file_size_) {
     problem = "index_pos " + std::to_string(index_pos_) + " is outside the file's " +
               std::to_string(file_size_) + " bytes (file cut off?)";
   } else {
@@ -149,7 +151,12 @@ std::string Ros1Bag::ReadIndex(uint64_t index_pos, Index* index) const {
     return "the index lists " + std::to_string(chunk_infos.size()) + " chunks, the bag header " +
            std::to_string(declared_chunks_);
   }
+  std::set<uint64_t> listed;
   for (const auto& [chunk_pos, counts] : chunk_infos) {
+    // Listed twice, a chunk's entries would be counted (and held) twice.
+    if (!listed.insert(chunk_pos).second) {
+      return "the index lists the chunk at byte " + std::to_string(chunk_pos) + " twice";
+    }
     const std::string problem = ReadChunkIndex(chunk_pos, counts, index);
     if (!problem.empty()) return problem;
   }
@@ -322,6 +329,11 @@ void Ros1Bag::WalkRecords(Index* index) {
         // Read by count, as the index reading does (see ReadChunkIndex).
         if (index->length_mismatches++ == 0) index->first_mismatch_pos = pos;
         next = record.data_pos + kIndexEntryBytes * count;
+        if (next > file_size_) {
+          warnings_.push_back("file ends inside the index-data record at byte " +
+                              std::to_string(pos) + ": nothing after it read");
+          break;
+        }
       }
     } else if (record.op == bag1::kOpMessageData) {
       ++outside_chunks;

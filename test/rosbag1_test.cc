@@ -373,6 +373,22 @@ TEST(Ros1BagWriterTest, NoBagLeftWithoutClose) {
   EXPECT_THROW(Ros1BagWriter(path, ChunkCompression::kZstd), InputError);
 }
 
+TEST(Ros1BagWriterTest, BagWithoutMessagesOpensClean) {
+  const std::string path = TempPath("empty.bag");
+  {
+    Ros1BagWriter writer(path, ChunkCompression::kBz2);
+    writer.AddConnection("/scan", RosType::kLaserScan);
+    writer.Close();
+  }
+  const auto bag = OpenRos1Bag(path);
+  std::remove(path.c_str());
+  EXPECT_TRUE(static_cast<Ros1Bag&>(*bag).index_used());
+  EXPECT_TRUE(bag->warnings().empty());
+  ASSERT_EQ(bag->topics().size(), 1u);
+  EXPECT_EQ(bag->topics()[0].count, 0);
+  EXPECT_TRUE(ReadAll(*bag).empty());
+}
+
 // Reads a damaged bag: an InputError, or messages that are each one of the originals (once),
 // in time order, with a warning saying what was lost. Returns how many messages came back
 // (-1: error). (A cut keeps the messages written before it: with out-of-order writes that is
@@ -467,6 +483,13 @@ TEST(Ros1BagDamageTest, NeverClosedChunkIsReadToTheEnd) {
   EXPECT_LT(n, static_cast<int64_t>(w.messages.size()));
 }
 
+LaserScanMsg TinyScanForBag() {
+  LaserScanMsg m;
+  m.header.frame_id = "laser";
+  m.ranges_m = {1.0f, 2.0f, 3.0f};
+  return m;
+}
+
 std::vector<uint8_t> FlipInFirstChunk(ChunkCompression compression, const Written& w) {
   std::vector<uint8_t> bytes = Slurp(w.path);
   std::remove(w.path.c_str());
@@ -489,6 +512,29 @@ TEST(Ros1BagDamageTest, CorruptCompressedChunkNamesItsOffset) {
           << e.what();
     }
   }
+}
+
+TEST(Ros1BagDamageTest, OnlyChunksOfRequestedTopicsAreDecompressed) {
+  const std::string path = TempPath("two-chunks.bag");
+  {
+    Ros1BagWriter writer(path, ChunkCompression::kLz4, /*chunk_bytes=*/1);  // a chunk each
+    const int fix = writer.AddConnection("/fix", RosType::kNavSatFix);
+    const int scan = writer.AddConnection("/scan", RosType::kLaserScan);
+    writer.Write(fix, 1.0, EncodeNavSatFix(NavSatFixMsg(), WireFormat::kRos1));
+    writer.Write(scan, 2.0, EncodeLaserScan(TinyScanForBag(), WireFormat::kRos1));
+    writer.Close();
+  }
+  std::vector<uint8_t> bytes = Slurp(path);
+  std::remove(path.c_str());
+  const std::string field = "compression=lz4";
+  auto second = std::search(bytes.begin(), bytes.end(), field.begin(), field.end());
+  ASSERT_NE(second, bytes.end());
+  second = std::search(second + 1, bytes.end(), field.begin(), field.end());
+  ASSERT_NE(second, bytes.end());
+  for (auto it = second + 300; it != second + 320; ++it) *it ^= 0x5a;  // inside /scan's chunk
+  const auto bag = OpenRos1BagFromMemory(bytes, "two-chunks.bag");
+  EXPECT_EQ(ReadAll(*bag, {"/fix"}).size(), 1u);
+  EXPECT_THROW(ReadAll(*bag, {"/scan"}), InputError);
 }
 
 TEST(Ros1BagDamageTest, UnknownCompressionIsNamed) {
