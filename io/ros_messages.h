@@ -60,24 +60,39 @@ struct NmeaSentenceMsg {
   std::string sentence;
 };
 
-// Orientation of geometry_msgs/QuaternionStamped, or the orientation of sensor_msgs/Imu.
+// Orientation of geometry_msgs/QuaternionStamped, or sensor_msgs/Imu (orientation and the rest
+// of the Imu message, so that an Imu re-encodes to the same bytes).
 struct QuaternionMsg {
   RosHeader header;
   double x = 0, y = 0, z = 0, w = 1;
   double orientation_covariance[9] = {0};  // Imu only; [0] = -1 means "no orientation"
-  bool from_imu = false;
+  bool from_imu = false;                   // set by DecodeImu, cleared by DecodeQuaternionStamped
+  // Imu only (zero for QuaternionStamped): body rates, rad/s, and accelerations, m/s², in the
+  // header's frame, each with its row-major covariance ([0] = -1: not provided).
+  double angular_velocity_rad_s[3] = {0};
+  double angular_velocity_covariance[9] = {0};
+  double linear_acceleration_m_s2[3] = {0};
+  double linear_acceleration_covariance[9] = {0};
 };
 
 // Why a payload could not be decoded: typed, so callers never look at the text.
 enum class DecodeFailure { kNone, kTooShort, kBadLength, kBadEncapsulation, kTrailingBytes };
 
+// kTooShort: the payload ends before a field (or a string's / sequence's declared length) ends;
+// kBadLength: a CDR string whose last counted byte is not its NUL; kBadEncapsulation: CDR
+// payload not starting 00 01 / 00 00 (XCDR2 and parameter lists are not read); kTrailingBytes:
+// bytes left after the last field (CDR allows up to 3 bytes of final padding).
 struct DecodeResult {
   DecodeFailure failure = DecodeFailure::kNone;
-  size_t offset = 0;     // byte offset in the payload where decoding stopped
+  // Byte offset in the payload (CDR: counted from the payload's first byte, the encapsulation
+  // header included) where the field that could not be read starts.
+  size_t offset = 0;
   std::string detail;    // for people: what was being read ("ranges: 681 floats")
   bool ok() const { return failure == DecodeFailure::kNone; }
 };
 
+// Decoders fill *out (left partly filled on failure). Never read outside [data, data + size);
+// never allocate more than the payload could hold.
 DecodeResult DecodeLaserScan(const uint8_t* data, size_t size, WireFormat wire, LaserScanMsg* out);
 DecodeResult DecodeNavSatFix(const uint8_t* data, size_t size, WireFormat wire, NavSatFixMsg* out);
 DecodeResult DecodeNmeaSentence(const uint8_t* data, size_t size, WireFormat wire,
@@ -86,7 +101,8 @@ DecodeResult DecodeQuaternionStamped(const uint8_t* data, size_t size, WireForma
                                      QuaternionMsg* out);
 DecodeResult DecodeImu(const uint8_t* data, size_t size, WireFormat wire, QuaternionMsg* out);
 
-// Encoders (the simulator writes recordings; tests round-trip).
+// Encoders (the simulator writes recordings; tests round-trip). CDR is written little-endian.
+// Stamps are rounded to the nanosecond (ROS 1: clamped to unsigned 32-bit seconds).
 std::vector<uint8_t> EncodeLaserScan(const LaserScanMsg& msg, WireFormat wire);
 std::vector<uint8_t> EncodeNavSatFix(const NavSatFixMsg& msg, WireFormat wire);
 std::vector<uint8_t> EncodeNmeaSentence(const NmeaSentenceMsg& msg, WireFormat wire);
@@ -94,7 +110,9 @@ std::vector<uint8_t> EncodeQuaternionStamped(const QuaternionMsg& msg, WireForma
 std::vector<uint8_t> EncodeImu(const QuaternionMsg& msg, WireFormat wire);
 
 // The message definition text a recording stores with a topic (ROS 1 connection header
-// `message_definition`, MCAP schema `ros2msg`, rosbag2 `message_definitions`).
-const char* RosTypeDefinition(RosType type);
+// `message_definition`, MCAP schema `ros2msg`, rosbag2 `message_definitions`), with its
+// dependencies after "=====...\nMSG: pkg/Type" separators as the ROS tools write them. ROS 1
+// and ROS 2 differ (std_msgs/Header has seq only in ROS 1). "" for kOther.
+const char* RosTypeDefinition(RosType type, WireFormat wire = WireFormat::kRos1);
 
 }  // namespace wallcal::io

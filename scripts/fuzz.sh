@@ -5,8 +5,8 @@
 # test/bad_sessions/, and ../shared/testdata/real/ when present. New inputs the fuzzer finds are
 # kept in build-fuzz/fuzz-corpus/<target>/ (reused by the next run); a crash leaves its input in
 # build-fuzz/fuzz-artifacts/ and makes this script fail.
-# Usage: bash scripts/fuzz.sh [target ...]   (targets: carmen nmea survey gsi session_yaml config_yaml
-#                                             mcap rosbag2_yaml)
+# Usage: bash scripts/fuzz.sh [target ...]
+#   (targets: carmen nmea survey gsi session_yaml config_yaml mcap rosbag2_yaml rosbag1 ros_messages)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -21,7 +21,7 @@ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=cl
 cmake --build "$build" --target fuzz_targets -j"$jobs"
 
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(carmen nmea survey gsi session_yaml config_yaml mcap rosbag2_yaml)
+[ ${#targets[@]} -gt 0 ] || targets=(carmen nmea survey gsi session_yaml config_yaml mcap rosbag2_yaml rosbag1 ros_messages)
 
 # Seeds gathered fresh each run (small: logs are cut to their first lines).
 seeds="$build/fuzz-seeds"
@@ -37,6 +37,10 @@ add_head() {  # add_head TARGET FILE LINES: the first LINES lines of FILE (gzip:
   else
     head -n "$lines" "$file" > "$seeds/$target/$name.head" || true
   fi
+}
+add_bytes() {  # add_bytes TARGET FILE BYTES: the first BYTES bytes of FILE
+  [ -d "$seeds/$1" ] && [ -f "$2" ] || return 0
+  head -c "$3" "$2" > "$seeds/$1/$(echo "${2#"$root"/}" | tr '/' '_').head"
 }
 add_file() {  # add_file TARGET FILE
   [ -d "$seeds/$1" ] && [ -f "$2" ] || return 0
@@ -57,6 +61,8 @@ if [ -d "$real" ]; then
   for f in "$real"/carmen/*.log.gz; do add_head carmen "$f" 6; done
   for f in "$real"/gsi/*.gsi; do add_head gsi "$f" 40; add_head survey "$f" 40; done
   for f in "$real"/ros2/*.mcap; do add_file mcap "$f"; done
+  # Bag heads: the header and the start of the first chunk (cut: the reader's tail path).
+  for f in "$real"/ros1/*.bag; do add_bytes rosbag1 "$f" 60000; done
 fi
 
 status=0
@@ -65,7 +71,7 @@ for t in "${targets[@]}"; do
   log="$build/fuzz-$t.log"
   case $t in
     nmea) dict=nmea ;; carmen) dict=carmen ;; survey) dict=csv ;; gsi) dict=gsi ;; mcap) dict=mcap ;;
-    rosbag2_yaml) dict=rosbag2 ;; *) dict=yaml ;;
+    rosbag2_yaml) dict=rosbag2 ;; rosbag1 | ros_messages) dict=ros ;; *) dict=yaml ;;
   esac
   rm -f "$build/fuzz-artifacts/$t-"*
   set +e

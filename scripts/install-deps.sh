@@ -5,7 +5,7 @@
 # AddressSanitizer and UBSan runtimes come with build-essential.
 set -euo pipefail
 packages=(build-essential cmake pkg-config libeigen3-dev libceres-dev libopencv-dev
-          libgeographiclib-dev libyaml-cpp-dev libgtest-dev zlib1g-dev
+          libgeographiclib-dev libyaml-cpp-dev libgtest-dev zlib1g-dev libbz2-dev
           liblz4-dev libzstd-dev libsqlite3-dev)
 for extra in "$@"; do
   case "$extra" in
