@@ -77,7 +77,11 @@ void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* r
 void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs) {
   const io::SessionSpec& session = result->session;
   const io::SolverOptions& solver = result->options.solver;
-  inputs->survey = io::ReadSurvey(session.survey_points);
+  // Points measured more than once (both faces, two set-ups) are averaged (io/survey_reader.h).
+  const io::SurveyCombination combined = io::CombineSurveyObservations(
+      io::ReadSurvey(session.survey_points, session.survey_columns));
+  inputs->survey = combined.points;
+  for (const std::string& w : combined.warnings) result->warnings.push_back(w);
   const io::ControlPoint& first_control = session.control.front();
   result->frame =
       calib::MakeLocalFrame(first_control.lat_deg, first_control.lon_deg, session.utm_zone);

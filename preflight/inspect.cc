@@ -240,13 +240,6 @@ std::string Printable(const std::string& text, size_t max_chars) {
   return out;
 }
 
-bool IsGzip(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char magic[2] = {0, 0};
-  in.read(reinterpret_cast<char*>(magic), 2);
-  return in.gcount() == 2 && magic[0] == 0x1f && magic[1] == 0x8b;
-}
-
 void RequireReadableFile(const std::string& path) {
   std::error_code error;
   if (!fs::exists(path, error)) {
@@ -429,7 +422,6 @@ LogKind SniffLogKind(const std::string& path) {
   RequireReadableFile(path);
   // Look at the first 256 KiB only (decompressed when the file is gzip): a binary file without
   // newlines must not be read whole.
-  const bool gzip = IsGzip(path);
   std::string head(256 * 1024, '\0');
   gzFile file = gzopen(path.c_str(), "rb");
   if (file == nullptr) throw io::InputError(io::Where(path, 0, "cannot open"));
@@ -454,14 +446,7 @@ LogKind SniffLogKind(const std::string& path) {
     std::string word;
     words >> word;
     if (IsCarmenKeyword(word)) return LogKind::kCarmen;
-    if (HasNmeaSentence(line)) {
-      if (gzip) {
-        throw io::InputError(io::Where(path, 0,
-                                       "gzip-compressed NMEA; expected a plain NMEA log (decompress "
-                                       "it first)"));
-      }
-      return LogKind::kNmea;
-    }
+    if (HasNmeaSentence(line)) return LogKind::kNmea;
   }
   throw io::InputError(io::Where(
       path, first_content_line,
@@ -731,7 +716,9 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
                                   spec.utm_zone);
   }
   try {
-    const std::vector<io::SurveyPoint> survey = io::ReadSurvey(spec.survey_points);
+    const std::vector<io::SurveyPoint> survey =
+        io::CombineSurveyObservations(io::ReadSurvey(spec.survey_points, spec.survey_columns))
+            .points;
     out << "  points    " << survey.size() << " in " << FileName(spec.survey_points) << "\n";
     if (!frame) throw io::InputError(io::Where(spec.file, 0, "no survey.control points"));
     const calib::SurveyTie tie =

@@ -2,6 +2,8 @@
 // with zlib), and damaged gzip data are reported, not half-read in silence.
 #include "io/gzip_input.h"
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 #include <zlib.h>
 
@@ -21,7 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string PathOf(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "gzip_input_test";
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / ("gzip_input_test-" + std::to_string(::getpid()));
   fs::create_directories(dir);
   return (dir / name).string();
 }

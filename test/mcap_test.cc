@@ -2,6 +2,8 @@
 // decode of the files, not from this reader), writer round trips for every chunk compression,
 // records walked without a summary, and damaged input (cuts, flipped bytes, CRCs, codecs).
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 #include <zlib.h>
 
@@ -23,7 +25,9 @@ namespace fs = std::filesystem;
 const std::string kReal = WALLCAL_SOURCE_DIR "/../shared/testdata/real/ros2";
 
 std::string Dir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "mcap_test" / name;
+  // One folder per process: ctest runs the cases of a file in parallel processes.
+  const fs::path dir = fs::path(::testing::TempDir()) /
+                       ("mcap_test-" + std::to_string(::getpid())) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();

@@ -2,6 +2,8 @@
 // independent decode with Python's sqlite3), writer round trips in the Humble and Iron layouts,
 // split bags read in order, mcap-storage folders, metadata.yaml, and inputs that are not rosbag2.
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 #include <zlib.h>
@@ -23,7 +25,9 @@ namespace fs = std::filesystem;
 const std::string kReal = WALLCAL_SOURCE_DIR "/../shared/testdata/real/ros2";
 
 std::string Dir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "rosbag2_sqlite_test" / name;
+  // One folder per process: ctest runs the cases of a file in parallel processes.
+  const fs::path dir = fs::path(::testing::TempDir()) /
+                       ("rosbag2_sqlite_test-" + std::to_string(::getpid())) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();
