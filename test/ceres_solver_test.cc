@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "calib/wall_geometry.h"
+#include "solvers/information.h"
 #include "solvers/mount_problem.h"
 #include "solvers/mount_solver.h"
 #include "solvers/prior_cost.h"
