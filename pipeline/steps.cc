@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "calib/geodesy.h"
 #include "calib/pose_samples.h"
@@ -71,6 +72,9 @@ void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* r
   result->session = io::ReadSession(request.session_path);
   if (!request.config_path.empty()) result->options = io::ReadCalibrateOptions(request.config_path);
   result->options.Validate();
+  result->options.solver.num_threads =
+      request.threads > 0 ? request.threads
+                          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   result->preset = io::LoadScannerPreset(result->session.scanner_model, PresetDirs());
 }
 
@@ -174,6 +178,7 @@ void PreparePasses(CalibrationResult* result, RunInputs* inputs) {
   pass.detector = &options.detector;
   pass.walls = &result->walls;
   pass.poses = inputs->poses.get();
+  pass.threads = options.solver.num_threads;
   // Moving scans: when asked for, or when the engineer drove continuously (too few dwells to
   // calibrate from stations alone). The solver then estimates the scanner clock offset too.
   pass.use_moving = options.alignment.use_moving_scans ||
