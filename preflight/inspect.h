@@ -81,9 +81,7 @@ enum class DumpKind { kGnss, kHeading, kScans };
 // the file is missing, unreadable or of the other kind.
 void Dump(const std::string& path, DumpKind kind, std::ostream& out);
 
-// The whole command line (args without the program name). Writes the report or dump to `out`,
-// a one-line reason to `err`. Returns the exit status: 0 report / dump written (whatever the
-// verdict), 2 unusable input or bad usage.
-int RunInspect(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+// A folder or a .yaml/.yml file: a session rather than one log or recording.
+bool IsSessionPath(const std::string& path);
 
 }  // namespace wallcal::preflight
