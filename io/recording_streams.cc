@@ -339,17 +339,17 @@ double HeadingFromEnuQuaternion(double x, double y, double z, double w) {
   return heading;
 }
 
-PoseLogs ReadPoseLogs(const SessionSpec& spec) {
+PoseLogs ReadPoseLogs(const SessionSpec& spec, bool read_gnss, bool read_heading) {
   PoseLogs out;
-  const bool gnss_recorded = IsRecording(spec.gnss_log);
-  const bool heading_recorded = IsRecording(spec.heading_log);
-  if (!gnss_recorded) {
+  const bool gnss_recorded = read_gnss && IsRecording(spec.gnss_log);
+  const bool heading_recorded = read_heading && IsRecording(spec.heading_log);
+  if (read_gnss && !gnss_recorded) {
     RequireNoTopic(spec.gnss_topic, spec.gnss_log, "gnss.topic");
     out.gnss = ReadNmea(spec.gnss_log);
   }
-  if (!heading_recorded) {
+  if (read_heading && !heading_recorded) {
     RequireNoTopic(spec.heading_topic, spec.heading_log, "heading.topic");
-    out.headings = (!gnss_recorded && spec.heading_log == spec.gnss_log)
+    out.headings = (read_gnss && !gnss_recorded && spec.heading_log == spec.gnss_log)
                        ? out.gnss
                        : ReadNmea(spec.heading_log);
   }

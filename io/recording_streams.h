@@ -63,7 +63,8 @@ struct PoseLogs {
   NmeaLog headings;  // headings
   std::vector<std::string> warnings;
 };
-PoseLogs ReadPoseLogs(const SessionSpec& spec);
+// `gnss` / `heading` false: that stream is not read (left empty).
+PoseLogs ReadPoseLogs(const SessionSpec& spec, bool gnss = true, bool heading = true);
 
 // Opens the session's scans as fresh streams, one per call (a detection pass each). A text log:
 // a CarmenReader each time. A recording: the LaserScan topic is decoded once, on the first

@@ -6,6 +6,8 @@
 #include "calib/range_model.h"
 #include "common/angles.h"
 #include "io/carmen_reader.h"
+#include "io/recording.h"
+#include "io/recording_streams.h"
 #include "io/session_reader.h"
 #include "pipeline/config_dirs.h"
 #include "preflight/inspect_internal.h"
@@ -25,6 +27,11 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out) {
                                             : spec->scanner_log;
     if (kind == DumpKind::kScans) preset = io::LoadScannerPreset(spec->scanner_model, pipeline::PresetDirs());
   }
+  if (io::IsRecording(log_path)) {
+    if (!spec) return DumpRecording(log_path, kind, std::string(), out);
+    WriteDumpCsv(*spec, kind, preset ? &*preset : nullptr, out);
+    return;
+  }
   const LogKind found = SniffLogKind(log_path);
   const LogKind wanted = kind == DumpKind::kScans ? LogKind::kCarmen : LogKind::kNmea;
   if (found != wanted) {
@@ -35,8 +42,18 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out) {
             "; --dump " + what + " expects " +
             (wanted == LogKind::kNmea ? "an NMEA log" : "a CARMEN scan log")));
   }
+  io::SessionSpec log_spec;
+  if (spec) log_spec = *spec;
+  if (!spec) {
+    log_spec.scanner_log = log_spec.gnss_log = log_spec.heading_log = log_path;
+  }
+  WriteDumpCsv(log_spec, kind, preset ? &*preset : nullptr, out);
+}
+
+void WriteDumpCsv(const io::SessionSpec& spec, DumpKind kind, const io::ScannerPreset* preset,
+                  std::ostream& out) {
   if (kind == DumpKind::kGnss) {
-    const io::NmeaLog log = io::ReadNmea(log_path);
+    const io::NmeaLog log = io::ReadPoseLogs(spec, true, false).gnss;
     out << "time_s,lat_deg,lon_deg,height_m,quality,satellites,hdop,sigma_lat_m,sigma_lon_m,line\n";
     for (const io::GnssFix& f : log.fixes) {
       CsvNumber(out, "%.6f", f.stamp_s);
@@ -55,7 +72,7 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out) {
       out << ',' << f.line << '\n';
     }
   } else if (kind == DumpKind::kHeading) {
-    const io::NmeaLog log = io::ReadNmea(log_path);
+    const io::NmeaLog log = io::ReadPoseLogs(spec, false, true).headings;
     out << "time_s,heading_deg,line\n";
     for (const io::HeadingSample& h : log.headings) {
       CsvNumber(out, "%.6f", h.stamp_s);
@@ -64,11 +81,11 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out) {
       out << ',' << h.line << '\n';
     }
   } else {
-    const double offset_s = spec ? spec->scanner_time_offset_s : 0.0;
-    io::CarmenReader reader(log_path);
+    const double offset_s = spec.scanner_time_offset_s;
+    const std::unique_ptr<io::ScanSource> reader = io::MakeScanOpener(spec, preset)();
     io::ScanRecord scan;
     out << "time_s,beams,valid,min_range_m,max_range_m,line\n";
-    while (reader.Next(&scan)) {
+    while (reader->Next(&scan)) {
       int valid = 0;
       float lo = 1e30f, hi = -1.0f;
       if (preset) {

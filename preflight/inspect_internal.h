@@ -13,6 +13,7 @@
 #include "calib/range_model.h"
 #include "io/nmea_reader.h"
 #include "io/options.h"
+#include "io/recording_streams.h"
 #include "io/types.h"
 #include "preflight/inspect.h"
 
@@ -77,7 +78,7 @@ struct ScanLogSummary {
 int LogValid(const io::ScanRecord& scan, float* min_m, float* max_m);
 ScanLogSummary ReadScanLog(const std::string& path, double time_offset_s,
                            const io::ScannerPreset* preset, double min_range_m,
-                           double mixed_jump_m);
+                           double mixed_jump_m, const io::ScanOpener* opener = nullptr);
 
 // ---- A session's logs (session_logs.cc) ----------------------------------------------------
 struct SessionLogs {
@@ -94,3 +95,10 @@ SessionLogs InspectSessionLogs(const io::SessionSpec& spec, const io::CalibrateO
                                std::ostream& out);
 
 }  // namespace wallcal::preflight::internal
+
+namespace wallcal::preflight {
+// The CSV of inspect --dump from the streams `spec` names (text logs or recording topics);
+// scans are judged valid by `preset` when not null, else by the log alone.
+void WriteDumpCsv(const io::SessionSpec& spec, DumpKind kind, const io::ScannerPreset* preset,
+                  std::ostream& out);
+}  // namespace wallcal::preflight

@@ -6,6 +6,7 @@
 
 #include "common/angles.h"
 #include "io/carmen_reader.h"
+#include "io/recording_streams.h"
 #include "io/version.h"
 #include "preflight/inspect_internal.h"
 
@@ -28,9 +29,11 @@ int LogValid(const io::ScanRecord& scan, float* min_m, float* max_m) {
 
 ScanLogSummary ReadScanLog(const std::string& path, double time_offset_s,
                            const io::ScannerPreset* preset, double min_range_m,
-                           double mixed_jump_m) {
+                           double mixed_jump_m, const io::ScanOpener* opener) {
   ScanLogSummary summary;
-  io::CarmenReader reader(path);
+  const std::unique_ptr<io::ScanSource> source =
+      opener != nullptr ? (*opener)() : std::make_unique<io::CarmenReader>(path);
+  io::ScanSource& reader = *source;
   io::ScanRecord scan;
   std::vector<int> lines;
   while (reader.Next(&scan)) {
@@ -49,7 +52,8 @@ ScanLogSummary ReadScanLog(const std::string& path, double time_offset_s,
   }
   summary.stats = ComputeStreamStats("scans", path, summary.stamps_s, lines);
   summary.skipped = reader.skipped();
-  summary.lines_read = reader.lines_read();
+  const auto* carmen = dynamic_cast<const io::CarmenReader*>(source.get());
+  summary.lines_read = carmen != nullptr ? carmen->lines_read() : reader.scans_read();
   return summary;
 }
 

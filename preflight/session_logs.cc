@@ -16,9 +16,10 @@ SessionLogs InspectSessionLogs(const io::SessionSpec& spec, const io::CalibrateO
   out << "\nlogs\n";
   std::optional<ScanLogSummary>& scans = logs.scans;
   try {
-    scans = ReadScanLog(spec.scanner_log, spec.scanner_time_offset_s,
-                        preset ? &*preset : nullptr, options.detector.min_range_m,
-                        options.detector.mixed_pixel_jump_m);
+    // A CARMEN log or a recording's LaserScan topic (checked against the preset).
+    const io::ScanOpener opener = io::MakeScanOpener(spec, preset);
+    scans = ReadScanLog(spec.scanner_log, spec.scanner_time_offset_s, preset,
+                        options.detector.min_range_m, options.detector.mixed_pixel_jump_m, &opener);
     out << FormatStream(scans->stats);
     if (scans->stats.records > 0) {
       out << "    beams    ";
@@ -60,7 +61,9 @@ SessionLogs InspectSessionLogs(const io::SessionSpec& spec, const io::CalibrateO
 
   std::optional<io::NmeaLog>& gnss = logs.gnss;
   try {
-    gnss = io::ReadNmea(spec.gnss_log);
+    io::PoseLogs read = io::ReadPoseLogs(spec, true, false);  // NMEA text or a recording topic
+    gnss = std::move(read.gnss);
+    for (const std::string& w : read.warnings) warn(w);
   } catch (const io::InputError& e) {
     block(std::string("GNSS log: ") + e.what());
     out << "  GNSS fixes: unreadable: " << e.what() << "\n";
@@ -118,11 +121,13 @@ SessionLogs InspectSessionLogs(const io::SessionSpec& spec, const io::CalibrateO
   }
 
   std::optional<io::NmeaLog>& heading_log = logs.heading_log;
-  if (spec.heading_log == spec.gnss_log) {
+  if (spec.heading_log == spec.gnss_log && spec.heading_topic == spec.gnss_topic) {
     heading_log = gnss;
   } else {
     try {
-      heading_log = io::ReadNmea(spec.heading_log);
+      io::PoseLogs read = io::ReadPoseLogs(spec, false, true);
+      heading_log = std::move(read.headings);
+      for (const std::string& w : read.warnings) warn(w);
     } catch (const io::InputError& e) {
       block(std::string("heading log: ") + e.what());
       out << "  headings: unreadable: " << e.what() << "\n";
@@ -132,7 +137,7 @@ SessionLogs InspectSessionLogs(const io::SessionSpec& spec, const io::CalibrateO
   if (heading_log) {
     heading_stats = HeadingStats(spec.heading_log, *heading_log);
     out << FormatStream(*heading_stats);
-    if (spec.heading_log != spec.gnss_log) {
+    if (spec.heading_log != spec.gnss_log || spec.heading_topic != spec.gnss_topic) {
       out << "    skipped   " << DescribeSkips(heading_log->skipped) << "\n";
       if (const int64_t bad = WorrisomeSkips(heading_log->skipped); bad > 0) {
         warn(FileName(spec.heading_log) + ": " + std::to_string(bad) + " sentences skipped (" +

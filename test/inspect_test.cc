@@ -427,7 +427,7 @@ TEST(InspectTest, UsageErrorsHelpAndVersion) {
   EXPECT_EQ(RunInspectProgram("").status, 2);
   run = RunInspectProgram("x --dump positions");
   EXPECT_EQ(run.status, 2);
-  EXPECT_NE(run.err.find("expected gnss, heading or scans"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("expected gnss, heading, scans or survey"), std::string::npos) << run.err;
   EXPECT_EQ(RunInspectProgram("x --bogus").status, 2);
 }
 

@@ -11,6 +11,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -277,6 +278,100 @@ TEST(RecordingStreamsTest, EnuYawBecomesHeadingClockwiseFromNorth) {
   EXPECT_NEAR(heading_deg(180.0), 270.0, 1e-9);  // facing west
   EXPECT_NEAR(heading_deg(-90.0), 180.0, 1e-9);  // facing south
   EXPECT_NEAR(heading_deg(120.0), 330.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace wallcal
+
+namespace wallcal {
+namespace {
+
+const std::string kInspect = std::string(WALLCAL_BINARY_DIR) + "/inspect";
+const std::string kRealRos1 = WALLCAL_SOURCE_DIR "/../shared/testdata/real/ros1";
+
+TEST(InspectRecordingTest, SuggestSessionOnTheRealBagsProposesScanAndFix) {
+  if (!fs::exists(kRealRos1)) GTEST_SKIP() << kRealRos1 << " absent (shared test data)";
+  CommandRun run = RunCommand(kInspect + " " + kRealRos1 + "/scan_tools-demo.bag --suggest-session");
+  EXPECT_EQ(run.status, 0) << run.out;
+  EXPECT_NE(run.out.find("  topic: /scan  # sensor_msgs/LaserScan, 360 messages"), std::string::npos)
+      << run.out;
+  run = RunCommand(kInspect + " " + kRealRos1 + "/robot_localization-test1.bag --suggest-session");
+  EXPECT_EQ(run.status, 0) << run.out;
+  EXPECT_NE(run.out.find("  topic: /fix  # sensor_msgs/NavSatFix, 989 messages"), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("  topic: /imu/data  # sensor_msgs/Imu"), std::string::npos) << run.out;
+  run = RunCommand(kInspect + " " + kRealRos1 + "/robot_localization-test1.bag");
+  EXPECT_EQ(run.status, 0) << run.out;
+  EXPECT_NE(run.out.find("/husky_velocity_controller/odom [nav_msgs/Odometry]"), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("989 records"), std::string::npos) << run.out;
+}
+
+TEST(InspectRecordingTest, SuggestedSessionOfASimulatedRecordingReadsBack) {
+  const fs::path dir = SessionAs("mcap");
+  const CommandRun suggest = RunCommand(kInspect + " " + (dir / "session.mcap").string() +
+                                        " --suggest-session 2>/dev/null");
+  ASSERT_EQ(suggest.status, 0) << suggest.out;
+  EXPECT_NE(suggest.out.find("model: sick_lms291  # matches"), std::string::npos) << suggest.out;
+  EXPECT_NE(suggest.out.find("topic: /heading  # geometry_msgs/msg/QuaternionStamped"),
+            std::string::npos) << suggest.out;
+  // Its session keys read back (the survey part is the user's to fill in).
+  std::ofstream(dir / "suggested.yaml") << suggest.out;
+  const io::SessionSpec spec = io::ReadSession((dir / "suggested.yaml").string());
+  EXPECT_EQ(spec.scanner_topic, "/scan");
+  EXPECT_EQ(spec.gnss_topic, "/fix");
+  EXPECT_EQ(spec.heading_topic, "/heading");
+}
+
+TEST(InspectRecordingTest, DumpsOfATopicMatchTheTextLogs) {
+  const fs::path text = TextSession();
+  const fs::path dir = SessionAs("ros1-bz2");
+  const std::string bag = (dir / "session.bag").string();
+  const CommandRun from_text = RunCommand(kInspect + " " + (text / "heading.nmea").string() +
+                                          " --dump heading");
+  const CommandRun from_bag = RunCommand(kInspect + " " + bag + " --dump heading --topic /heading");
+  ASSERT_EQ(from_bag.status, 0) << from_bag.out;
+  EXPECT_EQ(from_bag.out.substr(0, from_bag.out.find('\n')), "time_s,heading_deg,line");
+  // Same rows count; headings equal to the text's 4 decimals.
+  EXPECT_EQ(std::count(from_bag.out.begin(), from_bag.out.end(), '\n'),
+            std::count(from_text.out.begin(), from_text.out.end(), '\n'));
+  const CommandRun scans = RunCommand(kInspect + " " + bag + " --dump scans");
+  EXPECT_EQ(scans.status, 0) << scans.out;  // one LaserScan topic: no --topic needed
+  EXPECT_EQ(scans.out.rfind("time_s,beams,valid,min_range_m,max_range_m,line\n", 0), 0u);
+  // Heading: QuaternionStamped only; two fitting topics for GNSS in a bag with /nmea too.
+  const CommandRun wrong = RunCommand(kInspect + " " + bag + " --dump gnss --topic /scan");
+  EXPECT_EQ(wrong.status, 2) << wrong.out;
+  EXPECT_NE(wrong.out.find("topic /scan has type sensor_msgs/LaserScan"), std::string::npos)
+      << wrong.out;
+}
+
+TEST(InspectRecordingTest, SeveralCandidateTopicsAreListed) {
+  const fs::path dir = FreshDir("two_fixes");
+  {
+    io::Ros1BagWriter bag((dir / "two.bag").string(), io::ChunkCompression::kNone);
+    const int a = bag.AddConnection("/fix", io::RosType::kNavSatFix);
+    const int b = bag.AddConnection("/gps/fix", io::RosType::kNavSatFix);
+    io::NavSatFixMsg msg;
+    msg.header.stamp_s = 100.0;
+    bag.Write(a, 100.0, io::EncodeNavSatFix(msg, io::WireFormat::kRos1));
+    bag.Write(b, 100.0, io::EncodeNavSatFix(msg, io::WireFormat::kRos1));
+    bag.Close();
+  }
+  const CommandRun run = RunCommand(kInspect + " " + (dir / "two.bag").string() + " --dump gnss");
+  EXPECT_EQ(run.status, 2) << run.out;
+  EXPECT_NE(run.out.find("several topics fit: /fix (sensor_msgs/NavSatFix), /gps/fix"),
+            std::string::npos) << run.out;
+  const CommandRun suggest =
+      RunCommand(kInspect + " " + (dir / "two.bag").string() + " --suggest-session");
+  EXPECT_NE(suggest.out.find("2 topics fit the GNSS"), std::string::npos) << suggest.out;
+}
+
+TEST(InspectRecordingTest, SurveyDumpIsEveryObservation) {
+  const CommandRun run = RunCommand(kInspect + " " + (TextSession() / "survey.csv").string() +
+                                    " --dump survey");
+  EXPECT_EQ(run.status, 0) << run.out;
+  EXPECT_EQ(run.out.rfind("id,x_m,y_m,z_m,code\n", 0), 0u) << run.out;
+  EXPECT_EQ(std::count(run.out.begin(), run.out.end(), '\n'), 65);  // header + 64 points
 }
 
 }  // namespace
