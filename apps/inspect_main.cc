@@ -6,9 +6,18 @@
 #include <string>
 #include <vector>
 
+#include "io/output_file.h"
 #include "preflight/inspect.h"
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
-  return wallcal::preflight::RunInspect(args, std::cout, std::cerr);
+  // Names and text from the files never reach the terminal raw (control characters escaped).
+  wallcal::io::ControlEscapingStreamBuf out_buffer(std::cout.rdbuf());
+  wallcal::io::ControlEscapingStreamBuf err_buffer(std::cerr.rdbuf());
+  std::ostream out(&out_buffer);
+  std::ostream err(&err_buffer);
+  const int status = wallcal::preflight::RunInspect(args, out, err);
+  out.flush();
+  err.flush();
+  return status;
 }

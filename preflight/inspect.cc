@@ -24,6 +24,7 @@
 #include "calib/survey_tie.h"
 #include "calib/time_alignment.h"
 #include "io/carmen_reader.h"
+#include "io/input_file.h"
 #include "io/nmea_reader.h"
 #include "io/session_reader.h"
 #include "io/survey_reader.h"
@@ -227,19 +228,6 @@ bool HasNmeaSentence(const std::string& line) {
   return false;
 }
 
-std::string Printable(const std::string& text, size_t max_chars) {
-  std::string out;
-  for (char c : text) {
-    if (out.size() >= max_chars) {
-      out += "...";
-      break;
-    }
-    const unsigned char u = static_cast<unsigned char>(c);
-    out += (u >= 32 && u < 127) ? c : '?';
-  }
-  return out;
-}
-
 void RequireReadableFile(const std::string& path) {
   std::error_code error;
   if (!fs::exists(path, error)) {
@@ -248,6 +236,7 @@ void RequireReadableFile(const std::string& path) {
   if (fs::is_directory(path, error)) {
     throw io::InputError(io::Where(path, 0, "is a folder without session.yaml"));
   }
+  io::CheckInputFile(path, "the log");  // a FIFO or a device is refused before it is opened
   std::ifstream in(path, std::ios::binary);
   if (!in) throw io::InputError(io::Where(path, 0, "cannot open for reading"));
 }
@@ -451,8 +440,8 @@ LogKind SniffLogKind(const std::string& path) {
   throw io::InputError(io::Where(
       path, first_content_line,
       (first_content_line == 0 ? std::string("only comments and blank lines")
-                               : "neither NMEA nor CARMEN (starts '" +
-                                     Printable(first_content, 24) + "')") +
+                               : "neither NMEA nor CARMEN (" +
+                                     io::DescribeLine(first_content) + ")") +
           "; expected NMEA sentences ($GPGGA,... optionally after a logger time) or CARMEN "
           "lines (RAWLASER1, ROBOTLASER1, FLASER)"));
 }
