@@ -55,7 +55,7 @@ void CheckAnglePositive(const std::string& key_deg, double rad, double max_deg) 
 
 void DetectorOptions::Validate() const {
   CheckPositive("detector.hough_rho_step_m", hough_rho_step_m);
-  CheckAnglePositive("detector.hough_theta_step_deg", hough_theta_step_rad, 10.0);
+  CheckRange("detector.hough_theta_step_deg", hough_theta_step_rad * kRadToDeg, 0.001, 10.0);
   CheckAtLeast("detector.min_inliers", min_inliers, 3);
   CheckPositive("detector.inlier_band_m", inlier_band_m);
   CheckPositive("detector.refine_sigma_factor", refine_sigma_factor);

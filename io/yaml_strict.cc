@@ -43,14 +43,24 @@ int FirstTooDeepLine(const std::string& text) {
 // Rejects what yaml-cpp accepts but a careful reader must not: a key given twice in one map
 // (yaml-cpp keeps the first, PyYAML the last: two tools would read different files) and nesting
 // deeper than kMaxYamlDepth.
-void CheckYamlTree(const YAML::Node& node, const std::string& file, int depth) {
+// Aliases are expanded by the walk: a "billion laughs" file of nested aliases would take
+// forever, so the walk stops after this many values (our files hold a few hundred).
+constexpr int64_t kMaxYamlValues = 1000000;
+
+void CheckYamlTree(const YAML::Node& node, const std::string& file, int depth, int64_t* values) {
+  if (++*values > kMaxYamlValues) {
+    throw InputError(Where(file, LineOf(node),
+                           "more than " + std::to_string(kMaxYamlValues) +
+                               " values once aliases are expanded; expected the keys of "
+                               "docs/session-format.md"));
+  }
   if (depth > kMaxYamlDepth) {
     throw InputError(Where(file, LineOf(node),
                            "maps and lists nested more than " + std::to_string(kMaxYamlDepth) +
                                " levels deep; expected the keys of docs/session-format.md"));
   }
   if (node.IsSequence()) {
-    for (const YAML::Node& item : node) CheckYamlTree(item, file, depth + 1);
+    for (const YAML::Node& item : node) CheckYamlTree(item, file, depth + 1, values);
   } else if (node.IsMap()) {
     std::map<std::string, int> lines;
     for (auto it = node.begin(); it != node.end(); ++it) {
@@ -64,9 +74,9 @@ void CheckYamlTree(const YAML::Node& node, const std::string& file, int depth) {
                                      "); expected each key once"));
         }
       } else {
-        CheckYamlTree(it->first, file, depth + 1);
+        CheckYamlTree(it->first, file, depth + 1, values);
       }
-      CheckYamlTree(it->second, file, depth + 1);
+      CheckYamlTree(it->second, file, depth + 1, values);
     }
   }
 }
@@ -99,7 +109,8 @@ YAML::Node LoadYamlStrict(const std::string& file) {
   } catch (const YAML::Exception& e) {
     throw InputError(Where(file, 0, std::string("cannot read YAML: ") + EscapeControl(e.what())));
   }
-  CheckYamlTree(root, file, 0);
+  int64_t values = 0;
+  CheckYamlTree(root, file, 0, &values);
   return root;
 }
 
