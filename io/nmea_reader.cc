@@ -352,13 +352,16 @@ class NmeaParser {
       Skip("bad field", line);
       return;
     }
-    // A position fix needs four satellites; a fix claiming one with fewer (or with HDOP 0,
-    // which no real geometry gives) contradicts itself: counted, and not used.
-    if (fix.quality >= 1 && fix.quality <= 5 && Field(7, &value) && fix.satellites < 4) {
+    // An RTK solution (quality 4 or 5) needs at least four satellites; one claiming fewer (or
+    // HDOP 0, which no real geometry gives) contradicts itself: counted, and not used. Lower
+    // qualities are kept: receivers report 1 with 00 satellites while coasting (gpsd then
+    // shows no fix), and min_fix_quality decides their use.
+    const bool rtk = fix.quality == 4 || fix.quality == 5;
+    if (rtk && Field(7, &value) && fix.satellites < 4) {
       Skip("GGA fix with fewer than 4 satellites", line);
       return;
     }
-    if (fix.quality >= 1 && fix.quality <= 5 && Field(8, &value) && fix.hdop == 0.0) {
+    if (rtk && Field(8, &value) && fix.hdop == 0.0) {
       Skip("GGA fix with HDOP 0", line);
       return;
     }

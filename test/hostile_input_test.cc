@@ -31,8 +31,14 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kSample = fs::path(WALLCAL_SOURCE_DIR) / "samples" / "lms291-sapporo";
-const std::string kCalibrate = std::string(WALLCAL_BINARY_DIR) + "/calibrate";
-const std::string kInspect = std::string(WALLCAL_BINARY_DIR) + "/inspect";
+// WALLCAL_PROGRAMS_DIR runs the same tests against other builds (e.g. an older main, to see
+// each test fail there).
+std::string ProgramsDir() {
+  const char* dir = std::getenv("WALLCAL_PROGRAMS_DIR");
+  return dir != nullptr && *dir != '\0' ? dir : WALLCAL_BINARY_DIR;
+}
+const std::string kCalibrate = ProgramsDir() + "/calibrate";
+const std::string kInspect = ProgramsDir() + "/inspect";
 
 std::string ReadText(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
