@@ -240,4 +240,26 @@ ControlEscapingStreamBuf::int_type ControlEscapingStreamBuf::overflow(int_type c
              : c;
 }
 
+std::streamsize ControlEscapingStreamBuf::xsputn(const char* text, std::streamsize n) {
+  std::streamsize done = 0;
+  while (done < n) {
+    std::streamsize run = done;
+    while (run < n) {
+      const unsigned char u = static_cast<unsigned char>(text[run]);
+      if ((u < 0x20 && u != '\n' && u != '\t') || u == 0x7F) break;
+      ++run;
+    }
+    if (run > done && target_->sputn(text + done, run - done) != run - done) return done;
+    done = run;
+    if (done < n) {
+      if (traits_type::eq_int_type(overflow(traits_type::to_int_type(text[done])),
+                                   traits_type::eof())) {
+        return done;
+      }
+      ++done;
+    }
+  }
+  return done;
+}
+
 }  // namespace wallcal::io

@@ -41,6 +41,7 @@ class ControlEscapingStreamBuf : public std::streambuf {
 
  protected:
   int_type overflow(int_type c) override;
+  std::streamsize xsputn(const char* text, std::streamsize n) override;  // runs forwarded whole
   int sync() override { return target_->pubsync(); }
 
  private:
