@@ -553,6 +553,36 @@ TEST_F(HostileInputTest, ReadOnlyTargetLeavesTheOldFile) {
   ExpectNoTempFiles();
 }
 
+TEST_F(HostileInputTest, FiftyMegabyteLineIsSkippedNotFatal) {
+  std::ofstream out(session_ / "scans.clf", std::ios::binary | std::ios::app);
+  out << "RAWLASER1 " << std::string(50 << 20, '7') << "\n";
+  out.close();
+  const Outcome run = Calibrate(".");
+  EXPECT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("RAWLASER1: too few fields: 1"), std::string::npos) << run.out;
+}
+
+TEST_F(HostileInputTest, TwoGigabyteSparseLogEndsWithAMessage) {
+  // All zero bytes and no newline: one line past the line budget, refused with its number.
+  fs::remove(session_ / "scans.clf");
+  { std::ofstream create(session_ / "scans.clf"); }
+  fs::resize_file(session_ / "scans.clf", uintmax_t{2} << 30);
+  const Outcome run = Calibrate(".");
+  EXPECT_EQ(run.status, 2) << run.err;
+  EXPECT_NE(run.err.find("scans.clf:1: line longer than"), std::string::npos) << run.err;
+}
+
+TEST_F(HostileInputTest, ConcurrentRunsLeaveOneWholeFile) {
+  const Outcome run = RunIn(session_, "/bin/sh",
+                            "-c " + Quote(Quote(kCalibrate) + " . & " + Quote(kCalibrate) +
+                                          " . & wait"));
+  EXPECT_EQ(run.status, 0) << run.err;
+  const std::string yaml = ReadText(session_ / "offsets.yaml");
+  EXPECT_EQ(yaml.rfind("# Mount of the scanner", 0), 0u);
+  EXPECT_NE(yaml.find("source: {session:"), std::string::npos);
+  ExpectNoTempFiles();
+}
+
 TEST_F(HostileInputTest, PresetNameCannotTraversePaths) {
   Replace(session_ / "session.yaml", "model: sick_lms291", "model: ../../etc/passwd");
   const Outcome run = Calibrate(".");
