@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <iostream>
@@ -26,7 +27,7 @@ namespace {
 
 constexpr const char* kUsage = R"(usage: calibrate SESSION [--output FILE] [--method ceres|barawid] [--config FILE]
                  [--report DIR] [--emit ros2-static-tf|urdf|json] [--parent-frame NAME]
-                 [--child-frame NAME] [--base-frame NAME] [--force] [--quiet]
+                 [--child-frame NAME] [--base-frame NAME] [--force] [--quiet] [--threads N]
 
 Estimates where a 2-D laser scanner sits on a vehicle (x, y, yaw of the scanner in the GNSS
 antenna's frame: x forward, y left, yaw counter-clockwise) from a logged session in front of a
@@ -57,6 +58,8 @@ surveyed wall, and writes offsets.yaml.
   --base-frame N     the vehicle frame's name (default base_link)
   --force            write an estimate the observability checks refuse, with a warning
   --quiet            no progress on stderr, only the summary, warnings and errors
+  --threads N        threads for wall detection and the solve (default: every core); the
+                     result does not depend on N
   --help             this text;  --version  the tool version
 
 On a terminal (stderr is a tty) progress is shown on stderr: scans read / total, rate and time
@@ -205,6 +208,14 @@ int main(int argc, char** argv) {
       if (const int status = frame("--child-frame", &frames.child); status != 0) return status;
     } else if (arg == "--base-frame") {
       if (const int status = frame("--base-frame", &frames.base); status != 0) return status;
+    } else if (arg == "--threads") {
+      const char* v = value();
+      char* end = nullptr;
+      const long n = v == nullptr ? 0 : std::strtol(v, &end, 10);
+      if (v == nullptr || *v == '\0' || *end != '\0' || n < 1 || n > 256) {
+        return Usage("--threads needs a whole number from 1 to 256");
+      }
+      request.threads = static_cast<int>(n);
     } else if (arg == "--force") {
       request.force = true;
     } else if (arg == "--quiet" || arg == "-q") {

@@ -68,7 +68,7 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
   // SPARSE_SCHUR; most of it is evaluating the auto-diff Jacobians.
   solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   solver_options.max_num_iterations = options.max_iterations;
-  solver_options.num_threads = 1;
+  solver_options.num_threads = std::max(1, options.num_threads);
   solver_options.minimizer_progress_to_stdout = false;
   solver_options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
@@ -159,7 +159,7 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
                           !mp.problem.IsParameterBlockConstant(mp.heading_drift.data());
   if (drift_free) kept.push_back(mp.heading_drift.data());
   Eigen::MatrixXd covariance;
-  if (!CovarianceOfKept(MarginalInformation(mp, kept), &covariance)) {
+  if (!CovarianceOfKept(MarginalInformation(mp, kept, options.num_threads), &covariance)) {
     estimate.failure = EstimateFailure::kCovariance;
     estimate.message =
         "the mount covariance could not be computed: the Jacobian is rank deficient (a mount or "
@@ -224,7 +224,7 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
 
   // Before solving: is every mount direction determined by this geometry and noise model?
   const DeterminationReport before =
-      CheckDetermination(MountInformation(*mp), observations, walls, options);
+      CheckDetermination(MountInformation(*mp, options.num_threads), observations, walls, options);
   if (!before.ok) {
     if (!force) {
       MountEstimate refused = Refused(initial, EstimateFailure::kNotDetermined, before.message);
@@ -251,7 +251,7 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
   }
   // After solving: the same check at the solution (the noise model's lever arms and the robust
   // loss's weights have changed).
-  const Eigen::Matrix3d information = MountInformation(*mp);
+  const Eigen::Matrix3d information = MountInformation(*mp, options.num_threads);
   const DeterminationReport after = CheckDetermination(information, observations, walls, options);
   if (!after.ok) {
     estimate.weak_direction = after.weak_direction;
@@ -304,7 +304,7 @@ Refit RefitMount(const std::vector<calib::WallObservation>& observations,
   if (!estimate.usable) return refit;
   refit.converged = true;
   refit.mount = estimate.mount;
-  const Eigen::Matrix3d information = MountInformation(*mp);
+  const Eigen::Matrix3d information = MountInformation(*mp, options.num_threads);
   refit.covariance = CovarianceFromInformation(information);
   std::vector<calib::WallObservation> used;
   for (size_t i = 0; i < observations.size(); ++i) {

@@ -10,7 +10,8 @@
 
 namespace wallcal::solvers {
 
-Eigen::MatrixXd MarginalInformation(MountProblem& mp, const std::vector<double*>& kept) {
+Eigen::MatrixXd MarginalInformation(MountProblem& mp, const std::vector<double*>& kept,
+                                    int threads) {
   int k = 0;
   for (double* block : kept) {
     if (!mp.problem.HasParameterBlock(block)) return Eigen::MatrixXd();
@@ -28,7 +29,7 @@ Eigen::MatrixXd MarginalInformation(MountProblem& mp, const std::vector<double*>
     evaluate.parameter_blocks.push_back(block);
   }
   evaluate.apply_loss_function = true;
-  evaluate.num_threads = 1;
+  evaluate.num_threads = std::max(1, threads);
   ceres::CRSMatrix jacobian;
   if (!mp.problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &jacobian)) {
     return Eigen::MatrixXd();
@@ -66,9 +67,9 @@ Eigen::MatrixXd MarginalInformation(MountProblem& mp, const std::vector<double*>
   return 0.5 * (information + information.transpose());
 }
 
-Eigen::Matrix3d MountInformation(MountProblem& mp) {
+Eigen::Matrix3d MountInformation(MountProblem& mp, int threads) {
   std::vector<double*> kept = {mp.mount.data()};
-  const Eigen::MatrixXd information = MarginalInformation(mp, kept);
+  const Eigen::MatrixXd information = MarginalInformation(mp, kept, threads);
   if (information.rows() != 3) return Eigen::Matrix3d::Zero();
   return information;
 }

@@ -16,11 +16,12 @@ namespace wallcal::solvers {
 // offset and the drift rate, one value each), every other free parameter block marginalised.
 // Units follow the blocks (1/m², 1/(m·rad), 1/rad², 1/s², ...). Empty when the problem cannot
 // be evaluated or the nuisance block cannot be factored.
-Eigen::MatrixXd MarginalInformation(MountProblem& problem, const std::vector<double*>& kept);
+Eigen::MatrixXd MarginalInformation(MountProblem& problem, const std::vector<double*>& kept,
+                                    int threads = 1);
 
 // The mount's own information (x, y, yaw), everything else marginalised (clock offset and drift
 // included). Singular when a mount direction is not determined at all; zero on failure.
-Eigen::Matrix3d MountInformation(MountProblem& problem);
+Eigen::Matrix3d MountInformation(MountProblem& problem, int threads = 1);
 
 // The covariance from an information matrix: false when it is empty, not finite or rank
 // deficient (its reciprocal condition number, after scaling to a unit diagonal, below 1e-14).
