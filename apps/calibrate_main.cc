@@ -12,6 +12,9 @@
 #include <optional>
 #include <string>
 
+#include "io/input_file.h"
+#include "io/output_file.h"
+#include "io/session_reader.h"
 #include "io/version.h"
 #include "io/writers.h"
 #include "outputs/emit.h"
@@ -31,7 +34,9 @@ antenna's frame: x forward, y left, yaw counter-clockwise) from a logged session
 surveyed wall, and writes offsets.yaml.
 
   SESSION            a session.yaml, or the folder holding one (format: docs/session-format.md)
-  --output FILE      where to write the offsets (default: offsets.yaml beside session.yaml)
+  --output FILE      where to write the offsets (default: offsets.yaml beside session.yaml);
+                     - writes them to stdout (the summary then goes to stderr). Only a regular
+                     file or a new path is replaced (a link is followed), never an input
   --method M         ceres   (default) joint least squares with a robust loss; the sigma includes
                              the survey, control-point and correlated GNSS errors
                      barawid the closed form of Barawid et al. 2007 (Eq. 8-16), for
@@ -61,7 +66,8 @@ On a terminal (stderr is a tty) progress is shown on stderr: scans read / total,
 left, updated in place. When stderr is not a terminal, nothing but the summary and warnings.
 
 Exit status: 0 offsets written; 1 the data cannot determine the mount (nothing written but the
-report); 2 bad input or usage (nothing written); 3 an internal error (a bug: please report it).
+report); 2 bad input or usage (nothing written); 3 an internal error (a bug: please report it;
+never the answer to any input).
 The reason is one line on stderr.
 )";
 
@@ -166,6 +172,7 @@ int main(int argc, char** argv) {
     } else if (arg == "--output" || arg == "-o") {
       const char* v = value();
       if (v == nullptr) return Usage("--output needs a file name");
+      if (*v == '\0') return Usage("--output: empty file name (an unset variable?); expected a path or -");
       output = v;
     } else if (arg == "--method") {
       const char* v = value();
@@ -181,6 +188,7 @@ int main(int argc, char** argv) {
     } else if (arg == "--config") {
       const char* v = value();
       if (v == nullptr) return Usage("--config needs a file name");
+      if (*v == '\0') return Usage("--config: empty file name (an unset variable?); expected a YAML file");
       request.config_path = v;
     } else if (arg == "--report") {
       const char* v = value();
@@ -221,9 +229,12 @@ int main(int argc, char** argv) {
     }
   }
   if (request.session_path.empty()) return Usage("no SESSION given");
+  if (emit && wallcal::io::IsStdoutPath(output)) {
+    return Usage("--output - and --emit both want standard output; expected one of them");
+  }
 
-  // With --emit, stdout is reserved for the emitted text so it can be piped.
-  std::ostream& summary_out = emit ? std::cerr : std::cout;
+  // With --emit or --output -, stdout is reserved for that text so it can be piped.
+  std::ostream& summary_out = emit || wallcal::io::IsStdoutPath(output) ? std::cerr : std::cout;
   ProgressLine progress_line;
   try {
     const bool show_progress = !quiet && isatty(STDERR_FILENO);
@@ -231,24 +242,47 @@ int main(int argc, char** argv) {
     if (show_progress) {
       progress = [&progress_line](const pipeline::Progress& p) { progress_line.Update(p); };
     }
+    // Fail early: the outputs are checked before the work (a missing folder, a device, an
+    // input of the run named as the output: io/output_file.h).
+    {
+      const wallcal::io::SessionSpec session = wallcal::io::ReadSession(request.session_path);
+      if (output.empty()) output = pipeline::DefaultOutputPath(session);
+      wallcal::io::CheckOutputPath("--output", output,
+                                   {session.file, session.scanner_log, session.gnss_log,
+                                    session.heading_log, session.survey_points,
+                                    request.config_path});
+      if (!report_dir.empty()) wallcal::io::CheckOutputFolder("--report", report_dir);
+    }
     request.collect_report_data = !report_dir.empty();
     const pipeline::CalibrationResult result = pipeline::RunCalibration(request, progress);
     progress_line.Close();
-    summary_out << outputs::FormatSummary(result);
+    summary_out << wallcal::io::EscapeControl(outputs::FormatSummary(result), true);
     if (!report_dir.empty()) {
       if (show_progress) std::cerr << "calibrate: writing the report\n";
-      const std::string path = outputs::WriteReport(result, report_dir);
-      summary_out << "  report     " << path << "\n";
+      // A report that cannot be written costs the report, never a good calibration.
+      try {
+        const std::string path = outputs::WriteReport(result, report_dir);
+        summary_out << "  report     " << wallcal::io::EscapeControl(path) << "\n";
+      } catch (const std::exception& error) {
+        std::cerr << "calibrate: warning: report not written: "
+                  << wallcal::io::EscapeControl(error.what()) << "\n";
+      }
     }
     if (!result.estimate.usable) {
-      std::cerr << "calibrate: " << result.session.file
-                << ": mount not determined: " << result.estimate.message << "\n";
+      std::cerr << "calibrate: "
+                << wallcal::io::EscapeControl(result.session.file + ": mount not determined: " +
+                                              result.estimate.message)
+                << "\n";
       return 1;
     }
-    if (output.empty()) output = pipeline::DefaultOutputPath(result.session);
-    wallcal::io::WriteFileAtomically(
-        output, wallcal::io::FormatOffsetsYaml(outputs::MakeOffsetsDocument(result)));
-    summary_out << "  wrote      " << output << "\n";
+    const std::string offsets_yaml =
+        wallcal::io::FormatOffsetsYaml(outputs::MakeOffsetsDocument(result));
+    if (wallcal::io::IsStdoutPath(output)) {
+      std::cout << offsets_yaml << std::flush;
+    } else {
+      wallcal::io::WriteFileAtomically(output, offsets_yaml);
+      summary_out << "  wrote      " << wallcal::io::EscapeControl(output) << "\n";
+    }
     if (emit) {
       summary_out << std::flush;
       std::cout << outputs::FormatEmit(*emit, result.estimate, result.session.antenna_in_base, frames)
@@ -257,11 +291,11 @@ int main(int argc, char** argv) {
     return 0;
   } catch (const wallcal::io::InputError& error) {
     progress_line.Close();
-    std::cerr << "calibrate: " << error.what() << "\n";
+    std::cerr << "calibrate: " << wallcal::io::EscapeControl(error.what()) << "\n";
     return 2;
   } catch (const std::exception& error) {
     progress_line.Close();
-    std::cerr << "calibrate: internal error: " << error.what() << "\n";
+    std::cerr << "calibrate: internal error: " << wallcal::io::EscapeControl(error.what()) << "\n";
     return 3;
   }
 }

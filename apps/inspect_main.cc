@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "io/output_file.h"
 #include "io/recording.h"
 #include "io/survey_reader.h"
 #include "io/types.h"
@@ -143,5 +144,13 @@ Exit status: 0 report or dump written (whatever the verdict); 2 unusable input o
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
-  return Run(args, std::cout, std::cerr);
+  // Names and text from the files never reach the terminal raw (control characters escaped).
+  wallcal::io::ControlEscapingStreamBuf out_buffer(std::cout.rdbuf());
+  wallcal::io::ControlEscapingStreamBuf err_buffer(std::cerr.rdbuf());
+  std::ostream out(&out_buffer);
+  std::ostream err(&err_buffer);
+  const int status = Run(args, out, err);
+  out.flush();
+  err.flush();
+  return status;
 }

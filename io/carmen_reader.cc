@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 #include "common/angles.h"
+#include "io/input_file.h"
 
 namespace wallcal::io {
 namespace {
@@ -66,6 +67,13 @@ void FlaserGeometry(int n, double* start_rad, double* step_rad) {
 }  // namespace
 
 CarmenReader::CarmenReader(const std::string& path) : path_(path), chunk_(kChunkBytes) {
+  // A FIFO, a device or a folder is refused before it is opened: reading one could block or
+  // never end (docs/session-format.md, "Limits").
+  CheckInputFile(path, "the scan log");
+  const InputLimits limits = CurrentInputLimits();
+  max_line_bytes_ = limits.max_line_bytes;
+  max_total_bytes_ = limits.max_file_bytes;
+  errno = 0;
   gzFile file = gzopen(path.c_str(), "rb");
   if (file == nullptr) {
     throw InputError(Where(path, 0,
@@ -81,34 +89,64 @@ CarmenReader::~CarmenReader() {
   if (gz_ != nullptr) gzclose(static_cast<gzFile>(gz_));
 }
 
-bool CarmenReader::ReadLine() {
+bool CarmenReader::FillChunk() {
   gzFile file = static_cast<gzFile>(gz_);
-  line_.clear();
-  line_has_newline_ = false;
-  // gzgets stops at a newline or a full buffer: long lines arrive in several chunks.
-  while (true) {
-    const char* got = gzgets(file, chunk_.data(), static_cast<int>(chunk_.size()));
-    if (got == nullptr) {
-      int error = Z_OK;
-      const char* message = gzerror(file, &error);
-      if (error != Z_OK && error != Z_BUF_ERROR) {
-        throw InputError(Where(path_, static_cast<int>(lines_read_ + 1),
-                               std::string("cannot read the scan log: ") + message));
-      }
-      // Z_BUF_ERROR: the gzip stream is cut off; a partial line is reported as truncated.
-      if (error == Z_BUF_ERROR && !gzip_cut_reported_) {
+  chunk_begin_ = chunk_end_ = 0;
+  if (at_end_) return false;
+  const int got = gzread(file, chunk_.data(), static_cast<unsigned>(chunk_.size()));
+  if (got <= 0) {
+    at_end_ = true;
+    int error = Z_OK;
+    const char* message = gzerror(file, &error);
+    // Z_BUF_ERROR: the gzip stream is cut off; a partial line is reported as truncated.
+    if (error == Z_BUF_ERROR) {
+      if (!gzip_cut_reported_) {
         gzip_cut_reported_ = true;
         skipped_.Add("gzip stream cut off", static_cast<int>(lines_read_ + 1));
       }
-      return !line_.empty();
+    } else if (got < 0 || error != Z_OK) {
+      throw InputError(Where(path_, static_cast<int>(lines_read_ + 1),
+                             std::string("cannot read the scan log: ") + message));
     }
-    const size_t length = std::strlen(got);
-    line_.append(got, length);
-    if (length > 0 && got[length - 1] == '\n') {
+    return false;
+  }
+  total_bytes_ += got;
+  if (total_bytes_ > max_total_bytes_) {
+    throw InputError(Where(path_, static_cast<int>(lines_read_ + 1),
+                           "the scan log holds more than " + std::to_string(max_total_bytes_) +
+                               " bytes (uncompressed); expected at most that "
+                               "(WALLCAL_MAX_FILE_BYTES raises the limit)"));
+  }
+  chunk_end_ = static_cast<size_t>(got);
+  return true;
+}
+
+bool CarmenReader::ReadLine() {
+  line_.clear();
+  line_has_newline_ = false;
+  // Lines are cut at '\n' only: a NUL byte inside a line stays in it (and the line is skipped
+  // whole by Next), it never ends the line early nor joins it to the next one.
+  while (true) {
+    if (chunk_begin_ == chunk_end_ && !FillChunk()) return !line_.empty();
+    const char* begin = chunk_.data() + chunk_begin_;
+    const size_t available = chunk_end_ - chunk_begin_;
+    const void* newline = std::memchr(begin, '\n', available);
+    const size_t take =
+        newline != nullptr ? static_cast<size_t>(static_cast<const char*>(newline) - begin)
+                           : available;
+    if (static_cast<int64_t>(line_.size() + take) > max_line_bytes_) {
+      throw InputError(Where(path_, static_cast<int>(lines_read_ + 1),
+                             "line longer than " + std::to_string(max_line_bytes_) +
+                                 " bytes; expected CARMEN lines (WALLCAL_MAX_LINE_BYTES raises "
+                                 "the limit)"));
+    }
+    line_.append(begin, take);
+    if (newline != nullptr) {
+      chunk_begin_ += take + 1;
       line_has_newline_ = true;
-      line_.pop_back();
       return true;
     }
+    chunk_begin_ = chunk_end_;
   }
 }
 
@@ -119,6 +157,11 @@ void CarmenReader::Skip(const std::string& reason, SkipSeverity how) {
 bool CarmenReader::Next(ScanRecord* scan) {
   while (ReadLine()) {
     ++lines_read_;
+    if (lines_read_ == 1 && line_.compare(0, 3, "\xEF\xBB\xBF") == 0) line_.erase(0, 3);  // BOM
+    if (line_.find('\0') != std::string::npos) {
+      Skip("line with a NUL byte");
+      continue;
+    }
     if (ParseLine(scan)) {
       ++scans_read_;
       return true;
@@ -142,11 +185,15 @@ bool CarmenReader::ParseLine(ScanRecord* scan) {
   const bool robot = keyword == "ROBOTLASER1";
   const bool flaser = keyword == "FLASER";
   if (!raw && !robot && !flaser) {
-    bool word = keyword.size() <= 24;
+    // CARMEN message names are upper-case words (PARAM, ODOM, TRUEPOS, NMEAGGA): only such a
+    // word is named in the count; anything else is described, never quoted, so that a file
+    // named by mistake does not show its contents.
+    bool word = keyword.size() <= 24 && std::isupper(static_cast<unsigned char>(keyword[0]));
     for (char c : keyword) {
-      word = word && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+      word = word && (std::isupper(static_cast<unsigned char>(c)) ||
+                      std::isdigit(static_cast<unsigned char>(c)) || c == '_');
     }
-    Skip("not a scan: " + (word ? std::string(keyword) : std::string("unreadable line")),
+    Skip("not a scan: " + (word ? std::string(keyword) : std::string("not a CARMEN line")),
          SkipSeverity::kInformational);
     return false;
   }

@@ -27,7 +27,9 @@ namespace wallcal::io {
 
 class CarmenReader : public ScanSource {
  public:
-  // Opens the log. Throws InputError naming `path` if it cannot be opened.
+  // Opens the log. Throws InputError naming `path` if it cannot be opened or is not a regular
+  // file (io/input_file.h). A line with a NUL byte is skipped whole ("line with a NUL byte");
+  // a UTF-8 byte-order mark before the first line is ignored.
   explicit CarmenReader(const std::string& path);
   ~CarmenReader() override;
   CarmenReader(const CarmenReader&) = delete;
@@ -44,8 +46,11 @@ class CarmenReader : public ScanSource {
   const std::string& path() const override { return path_; }
 
  private:
-  // Reads one line into line_ (without its newline). Returns false at end of file.
+  // Reads one line into line_ (without its newline). Returns false at end of file. Throws
+  // InputError for a line longer than WALLCAL_MAX_LINE_BYTES (io/input_file.h).
   bool ReadLine();
+  // Refills chunk_ from the file; false at its end.
+  bool FillChunk();
   // Parses line_ as a scan; false (and counted) when it is not a usable one.
   bool ParseLine(ScanRecord* scan);
   void Skip(const std::string& reason, SkipSeverity how = SkipSeverity::kProblem);
@@ -56,6 +61,10 @@ class CarmenReader : public ScanSource {
   bool line_has_newline_ = false;
   bool gzip_cut_reported_ = false;
   std::vector<char> chunk_;
+  size_t chunk_begin_ = 0, chunk_end_ = 0;  // unread bytes of chunk_
+  bool at_end_ = false;
+  int64_t total_bytes_ = 0;                   // uncompressed bytes read
+  int64_t max_line_bytes_ = 0, max_total_bytes_ = 0;
   std::vector<std::string_view> tokens_;
   SkipCounts skipped_;
   int64_t lines_read_ = 0;

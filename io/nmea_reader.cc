@@ -1,5 +1,6 @@
 #include "io/nmea_reader.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include "common/angles.h"
 
 #include "io/gzip_input.h"
+#include "io/input_file.h"
 
 namespace wallcal::io {
 namespace {
@@ -171,12 +173,33 @@ std::string_view TrimLineEnd(const std::string& line) {
   return view;
 }
 
+// One line of at most WALLCAL_MAX_LINE_BYTES bytes; false at the end of the stream. A longer
+// line is an InputError: an NMEA sentence has at most 82 characters, so such a line is no log.
+bool NextLine(std::istream& in, std::string* line, const std::string& name, int64_t number) {
+  static const int64_t max_line_bytes = CurrentInputLimits().max_line_bytes;
+  switch (ReadLineBounded(in, line, max_line_bytes)) {
+    case LineRead::kLine:
+    case LineRead::kLastLineWithoutNewline:
+      return true;
+    case LineRead::kEnd:
+      return false;
+    case LineRead::kTooLong:
+      break;
+  }
+  throw InputError(Where(name, static_cast<int>(number),
+                         "line longer than " + std::to_string(max_line_bytes) +
+                             " bytes; expected NMEA sentences (WALLCAL_MAX_LINE_BYTES raises "
+                             "the limit)"));
+}
+
 // The first RMC/ZDA date in the file, for plain sentences logged before it.
-std::optional<int64_t> FirstDate(std::istream& in) {
+std::optional<int64_t> FirstDate(std::istream& in, const std::string& name) {
   std::string line;
   Fields fields;
-  while (std::getline(in, line)) {
+  int64_t line_number = 0;
+  while (NextLine(in, &line, name, ++line_number)) {
     std::string_view text = TrimLineEnd(line);
+    if (line_number == 1) StripUtf8Bom(&text);
     TakePrefix(&text);
     std::string_view body;
     const char* reason = nullptr;
@@ -325,6 +348,23 @@ class NmeaParser {
       Skip("bad field", line);
       return;
     }
+    if (fix.satellites < 0 || (std::isfinite(fix.hdop) && fix.hdop < 0.0)) {
+      Skip("bad field", line);
+      return;
+    }
+    // An RTK solution (quality 4 or 5) needs at least four satellites; one claiming fewer (or
+    // HDOP 0, which no real geometry gives) contradicts itself: counted, and not used. Lower
+    // qualities are kept: receivers report 1 with 00 satellites while coasting (gpsd then
+    // shows no fix), and min_fix_quality decides their use.
+    const bool rtk = fix.quality == 4 || fix.quality == 5;
+    if (rtk && Field(7, &value) && fix.satellites < 4) {
+      Skip("GGA fix with fewer than 4 satellites", line);
+      return;
+    }
+    if (rtk && Field(8, &value) && fix.hdop == 0.0) {
+      Skip("GGA fix with HDOP 0", line);
+      return;
+    }
     fix.height_m += separation_m;
     if (!std::isfinite(fix.height_m)) {  // two huge finite fields can sum to infinity
       Skip("bad field", line);
@@ -444,8 +484,11 @@ class NmeaParser {
 }  // namespace
 
 NmeaLog ReadNmea(const std::string& path) {
+  // A FIFO or a device (/dev/zero) is refused before it is read: the log is read twice and a
+  // device never ends (docs/session-format.md, "Limits").
+  CheckInputFile(path, "the NMEA log");
   if (IsGzipFile(path)) {
-    GzipStreamBuf buffer(path, kMaxGzipNmeaBytes);
+    GzipStreamBuf buffer(path, std::min(kMaxGzipNmeaBytes, CurrentInputLimits().max_file_bytes));
     std::istream in(&buffer);
     NmeaLog log = ParseNmea(in, path);
     switch (buffer.state()) {
@@ -469,7 +512,7 @@ NmeaLog ReadNmea(const std::string& path) {
 }
 
 NmeaLog ParseNmea(std::istream& in, const std::string& name) {
-  const std::optional<int64_t> first_date = FirstDate(in);
+  const std::optional<int64_t> first_date = FirstDate(in, name);
   if (in.bad()) throw InputError(Where(name, 0, "read error"));
   in.clear();
   in.seekg(0);
@@ -477,9 +520,12 @@ NmeaLog ParseNmea(std::istream& in, const std::string& name) {
   NmeaLog log;
   NmeaParser parser(&log, first_date);
   std::string line;
-  while (std::getline(in, line)) {
+  while (NextLine(in, &line, name, log.lines_read + 1)) {
     ++log.lines_read;
-    parser.Line(TrimLineEnd(line), static_cast<int>(log.lines_read));
+    std::string_view text = TrimLineEnd(line);
+    // A byte-order mark would hide the first line's logger-time prefix (and date it 1970).
+    if (log.lines_read == 1) StripUtf8Bom(&text);
+    parser.Line(text, static_cast<int>(log.lines_read));
   }
   if (in.bad()) throw InputError(Where(name, 0, "read error"));
   parser.Finish();

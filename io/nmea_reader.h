@@ -17,7 +17,9 @@
 // binary bytes), "no checksum", "bad checksum", "empty field" (a required field missing or
 // empty, e.g. "$GPHDT,,T"), "bad field" (not a number, bad hemisphere letter, minutes >= 60),
 // "lat/lon out of range", "GGA without a fix" (quality 0, no position), "heading out of range",
-// "THS status X", "no time yet", "time not increasing" (a fix or heading not later than the
+// "THS status X", "GGA fix with fewer than 4 satellites" and "GGA fix with HDOP 0" (quality
+// 4 or 5 contradicted by its own satellite count or HDOP), "no time yet", "time not increasing"
+// (a fix or heading not later than the
 // previous one of its kind; a GGA dropped so is still counted in fixes_by_quality),
 // "other sentence (GSV)" by type, "GST without its GGA".
 

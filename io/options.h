@@ -11,6 +11,22 @@
 namespace wallcal::io {
 
 // Wall detection in one scan (calib/wall_detector).
+// What Validate() throws: an InputError that also carries the YAML key at fault
+// ("detector.hough_rho_step_m"), so the reader of the file can add the key's line.
+class OptionError : public InputError {
+ public:
+  OptionError(std::string key, const std::string& message)
+      : InputError(message), key_(std::move(key)) {}
+  const std::string& key() const { return key_; }
+
+ private:
+  std::string key_;
+};
+
+// Largest Hough accumulator (theta rows x rho columns) the detector options may ask for: 2e7
+// cells (80 MB of counters). The defaults need about 1e5.
+inline constexpr double kMaxHoughCells = 2e7;
+
 struct DetectorOptions {
   double hough_rho_step_m = 0.02;         // accumulator cell size in distance
   double hough_theta_step_rad = 0.0043633231;  // 0.25 deg

@@ -12,6 +12,8 @@
 #include <sstream>
 
 #include "io/config_fields.h"
+#include "io/input_file.h"
+#include "io/yaml_strict.h"
 #include "common/angles.h"
 
 namespace wallcal::io {
@@ -19,19 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 // yaml-cpp marks are 0-based; files are read by people counting from 1.
-int LineOf(const YAML::Node& node) { return node.Mark().line >= 0 ? node.Mark().line + 1 : 0; }
-
-YAML::Node LoadYaml(const std::string& file) {
-  std::ifstream probe(file);
-  if (!probe) throw InputError(Where(file, 0, "cannot open the file; expected a YAML file"));
-  try {
-    return YAML::LoadFile(file);
-  } catch (const YAML::ParserException& e) {
-    throw InputError(Where(file, e.mark.line + 1, "YAML syntax error: " + e.msg));
-  } catch (const YAML::Exception& e) {
-    throw InputError(Where(file, 0, std::string("cannot read YAML: ") + e.what()));
-  }
-}
+int LineOf(const YAML::Node& node) { return YamlLine(node); }
 
 std::string Join(const std::vector<std::string>& items, const std::string& separator) {
   std::string text;
@@ -84,7 +74,10 @@ class MapReader {
 
   [[noreturn]] void Bad(const YAML::Node& value, const std::string& key,
                         const std::string& expected) const {
-    std::string got = value.IsScalar() ? "'" + value.Scalar() + "'"
+    // The value is the user's own text, but it is escaped and shortened: a message is one line.
+    std::string shown = value.IsScalar() ? value.Scalar() : "";
+    if (shown.size() > 60) shown = shown.substr(0, 57) + "...";
+    std::string got = value.IsScalar() ? "'" + EscapeControl(shown) + "'"
                       : value.IsNull() ? "nothing"
                       : value.IsMap()  ? "a map"
                                        : "a list";
@@ -109,7 +102,18 @@ class MapReader {
   }
   std::string ToText(const YAML::Node& value, const std::string& key) const {
     if (!value.IsScalar() || value.Scalar().empty()) Bad(value, key, "a non-empty text");
+    CheckNoControl(value, key);
     return value.Scalar();
+  }
+  // Names and paths go to terminals and files: no control characters (escape sequences, fake
+  // lines). Bytes that are not UTF-8 are allowed (a Latin-1 file name) and escaped on output.
+  void CheckNoControl(const YAML::Node& value, const std::string& key) const {
+    for (const char c : value.Scalar()) {
+      const unsigned char u = static_cast<unsigned char>(c);
+      if ((u < 0x20 && c != '\t') || u == 0x7F) {
+        Bad(value, key, "text without control characters");
+      }
+    }
   }
 
   // --- the visitor interface of config_fields.h (all keys optional) ---
@@ -142,6 +146,7 @@ class MapReader {
       return;
     }
     if (!value.IsScalar()) Bad(value, key, "a text");
+    CheckNoControl(value, key);
     out = value.Scalar();
   }
   template <class T, class F>
@@ -195,11 +200,14 @@ class MapReader {
   std::vector<std::string> known_;
 };
 
-// Runs Validate() and puts the file name in front of its message.
+// Runs Validate() and puts the file name, and the line of the key at fault, in front of its
+// message.
 template <class T>
-void ValidateIn(const std::string& file, const T& options) {
+void ValidateIn(const std::string& file, const T& options, const YAML::Node& root) {
   try {
     options.Validate();
+  } catch (const OptionError& e) {
+    throw InputError(Where(file, LineOfKey(root, e.key()), e.what()));
   } catch (const InputError& e) {
     throw InputError(Where(file, 0, e.what()));
   }
@@ -260,7 +268,10 @@ ControlPoint ReadControlPoint(MapReader& survey, const YAML::Node& item, size_t 
   point.id = entry.ToText(entry.Require("id", "the survey id of the control point"), "id");
   const YAML::Node lat = entry.Require("lat", "the WGS84 latitude in degrees");
   point.lat_deg = entry.ToNumber(lat, "lat");
-  if (std::abs(point.lat_deg) > 90.0) entry.Bad(lat, "lat", "a latitude in [-90, 90] degrees");
+  // The local frame is a UTM projection, which ends at 84° N and 80° S.
+  if (point.lat_deg > 84.0 || point.lat_deg < -80.0) {
+    entry.Bad(lat, "lat", "a latitude in [-80, 84] degrees (the UTM grid the tool works in)");
+  }
   const YAML::Node lon = entry.Require("lon", "the WGS84 longitude in degrees");
   point.lon_deg = entry.ToNumber(lon, "lon");
   if (std::abs(point.lon_deg) > 180.0) entry.Bad(lon, "lon", "a longitude in [-180, 180] degrees");
@@ -285,7 +296,7 @@ SessionSpec ReadSession(const std::string& path) {
   if (spec.dir.empty()) spec.dir = ".";
   const std::string& f = spec.file;
 
-  const YAML::Node root = LoadYaml(f);
+  const YAML::Node root = LoadYamlStrict(f);
   MapReader top(root, f, "", 1);
   if (!root.IsMap())
     throw InputError(Where(f, 0, "empty session; expected the keys of SESSION.md"));
@@ -310,6 +321,12 @@ SessionSpec ReadSession(const std::string& path) {
     spec.scanner_log = ResolvePath(
         spec.dir, scanner.ToText(scanner.Require("log", "the CARMEN scan log's path"), "log"));
     scanner.Number("time_offset_s", spec.scanner_time_offset_s);
+    // Up to about 300 years: enough to move a scanner clock counting from 0 to UNIX time, and
+    // small enough that stamps keep sub-microsecond resolution in a double.
+    if (std::abs(spec.scanner_time_offset_s) > 1e10) {
+      scanner.Bad(scanner.Find("time_offset_s"), "time_offset_s",
+                  "seconds within ±1e10 (added to every scan stamp)");
+    }
     ReadTopicKeys(scanner, &spec.scanner_topic, &spec.scanner_stamp);
     if (const YAML::Node guess = scanner.Find("mount_guess"); guess.IsDefined()) {
       MapReader g = scanner.Child("mount_guess", guess);
@@ -449,7 +466,7 @@ SessionSpec ReadSession(const std::string& path) {
 }
 
 ScannerPreset ReadScannerPreset(const std::string& file) {
-  const YAML::Node root = LoadYaml(file);
+  const YAML::Node root = LoadYamlStrict(file);
   MapReader top(root, file, "", 1);
   ScannerPreset preset;
   preset.name = fs::path(file).stem().string();
@@ -532,7 +549,7 @@ ScannerPreset LoadScannerPreset(const std::string& model,
 }
 
 CalibrateOptions ReadCalibrateOptions(const std::string& file) {
-  const YAML::Node root = LoadYaml(file);
+  const YAML::Node root = LoadYamlStrict(file);
   MapReader top(root, file, "", 1);
   CalibrateOptions options;
   if (const YAML::Node node = top.Find("detector"); node.IsDefined()) {
@@ -552,22 +569,22 @@ CalibrateOptions ReadCalibrateOptions(const std::string& file) {
   }
   top.Integer("first_pass_max_scans", options.first_pass_max_scans);
   top.Finish();
-  ValidateIn(file, options);
+  ValidateIn(file, options, root);
   return options;
 }
 
 SimulationConfig ReadSimulationConfig(const std::string& file) {
-  const YAML::Node root = LoadYaml(file);
+  const YAML::Node root = LoadYamlStrict(file);
   MapReader top(root, file, "", 1);
   SimulationConfig config;
   fields::VisitSimulation(top, config);
   top.Finish();
-  ValidateIn(file, config);
+  ValidateIn(file, config, root);
   return config;
 }
 
 SimulationConfig ReadTruthYaml(const std::string& file) {
-  const YAML::Node root = LoadYaml(file);
+  const YAML::Node root = LoadYamlStrict(file);
   MapReader top(root, file, "", 1);
   const YAML::Node simulation = top.Require("simulation", "the simulation settings");
   MapReader section = top.Child("simulation", simulation);
@@ -584,7 +601,7 @@ SimulationConfig ReadTruthYaml(const std::string& file) {
     mount.Number("yaw_deg", yaw_deg);
     mount.Finish();
   }
-  ValidateIn(file, config);
+  ValidateIn(file, config, root);
   return config;
 }
 

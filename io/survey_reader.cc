@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "io/gzip_input.h"
+#include "io/input_file.h"
 #include "io/leica_gsi.h"
 #include "io/survey_csv.h"
 
@@ -62,6 +63,7 @@ std::string Metres(double value_m) {
 }  // namespace
 
 std::vector<SurveyPoint> ReadSurvey(const std::string& path, SurveyColumns columns) {
+  CheckInputFile(path, "the survey file");  // never a FIFO, a device or a folder
   if (IsGzipFile(path)) {
     GzipStreamBuf buffer(path, kMaxSurveyFileBytes);
     std::istream in(&buffer);

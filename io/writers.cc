@@ -14,6 +14,7 @@
 #include <filesystem>
 
 #include "io/config_fields.h"
+#include "io/input_file.h"
 #include "common/angles.h"
 
 namespace wallcal::io {
@@ -77,7 +78,20 @@ bool IsPlainYamlText(const std::string& text) {
 std::string YamlText(const std::string& text) {
   if (IsPlainYamlText(text)) return text;
   std::string quoted = "\"";
-  for (unsigned char c : text) {
+  for (size_t i = 0; i < text.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c >= 0x80) {
+      // offsets.yaml is UTF-8: a valid sequence goes as it is, any other byte (a folder name in
+      // Latin-1) as \xNN, which a YAML reader turns into that code point.
+      const size_t n = Utf8SequenceLength(text, i);
+      if (n == 0) {
+        quoted += Format("\\x%02X", static_cast<unsigned>(c));
+      } else {
+        quoted.append(text, i, n);
+        i += n - 1;
+      }
+      continue;
+    }
     switch (c) {
       case '"':
         quoted += "\\\"";
@@ -208,51 +222,7 @@ std::string Sentence(double stamp_s, const std::string& body) {
 
 }  // namespace
 
-void WriteFileAtomically(const std::string& path, const std::string& content) {
-  auto fail = [&path](const std::string& what, int error) {
-    throw InputError(Where(path, 0, what + ": " + std::strerror(error)));
-  };
-  std::string temp = path + ".tmp-XXXXXX";
-  const int fd = ::mkstemp(temp.data());
-  if (fd < 0) fail("cannot create a temporary file next to it", errno);
-  // From here on, every failure removes the temporary file: `path` stays as it was.
-  auto abandon = [&](const std::string& what) {
-    const int error = errno;
-    ::close(fd);
-    ::unlink(temp.c_str());
-    fail(what, error);
-  };
-  size_t written = 0;
-  while (written < content.size()) {
-    const ssize_t n = ::write(fd, content.data() + written, content.size() - written);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      abandon("cannot write");
-    }
-    written += static_cast<size_t>(n);
-  }
-  // mkstemp makes the file 0600; an output file is meant to be read by others.
-  if (::fchmod(fd, 0644) != 0) abandon("cannot set permissions");
-  if (::fsync(fd) != 0) abandon("cannot flush to disk");
-  if (::close(fd) != 0) {
-    const int error = errno;
-    ::unlink(temp.c_str());
-    fail("cannot close", error);
-  }
-  if (std::rename(temp.c_str(), path.c_str()) != 0) {
-    const int error = errno;
-    ::unlink(temp.c_str());
-    fail("cannot rename the temporary file over it", error);
-  }
-  // Make the rename itself durable; failing here does not undo a complete file.
-  std::string dir = fs::path(path).parent_path().string();
-  if (dir.empty()) dir = ".";
-  const int dir_fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
-  if (dir_fd >= 0) {
-    ::fsync(dir_fd);
-    ::close(dir_fd);
-  }
-}
+// WriteFileAtomically lives in io/output_file.cc with the other output-safety rules.
 
 std::string FormatOffsetsYaml(const OffsetsDocument& doc) {
   const double* c = doc.covariance;

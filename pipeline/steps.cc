@@ -88,8 +88,14 @@ void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs) {
   inputs->survey = combined.points;
   for (const std::string& w : combined.warnings) result->warnings.push_back(w);
   const io::ControlPoint& first_control = session.control.front();
-  result->frame =
-      calib::MakeLocalFrame(first_control.lat_deg, first_control.lon_deg, session.utm_zone);
+  try {
+    result->frame =
+        calib::MakeLocalFrame(first_control.lat_deg, first_control.lon_deg, session.utm_zone);
+  } catch (const io::InputError& e) {
+    // The frame comes from session.yaml's first control point and utm_zone: name the line.
+    throw io::InputError(io::Where(session.file, first_control.line,
+                                   std::string("survey.control[0] / utm_zone: ") + e.what()));
+  }
   inputs->tie =
       calib::TieSurvey(inputs->survey, session.survey_points, session, result->frame, solver);
   result->control_rms_m = inputs->tie.control_rms_m;
@@ -127,19 +133,41 @@ void ReadPoses(CalibrationResult* result, RunInputs* inputs) {
     }
   }
 
-  const std::vector<calib::PositionSample> positions = calib::PositionSamples(
-      inputs->gnss, session.min_fix_quality, result->frame, &inputs->used_fixes);
+  std::vector<calib::PositionSample> positions;
+  try {
+    positions = calib::PositionSamples(inputs->gnss, session.min_fix_quality, result->frame,
+                                       &inputs->used_fixes);
+  } catch (const io::InputError& e) {
+    throw io::InputError(io::Where(session.gnss_log, 0, e.what()));  // a fix outside the grid
+  }
   result->fixes_used = static_cast<int64_t>(positions.size());
   if (positions.size() < 2) {
     std::ostringstream found;
     for (const auto& [quality, count] : inputs->gnss.fixes_by_quality) {
       found << " quality " << quality << ": " << count << ";";
     }
+    // Why the lines were not fixes, with the first line of each reason: the user can open the
+    // log there (a missing checksum, a latitude of 91°, a misspelt sentence type).
+    std::ostringstream reasons;
+    int shown = 0;
+    for (const auto& [reason, count] : inputs->gnss.skipped.by_reason) {
+      if (shown++ == 6) {
+        reasons << "; ...";
+        break;
+      }
+      reasons << (shown > 1 ? "; " : "") << reason << ": " << count;
+      const auto line = inputs->gnss.skipped.first_line.find(reason);
+      if (line != inputs->gnss.skipped.first_line.end() && line->second > 0) {
+        reasons << ", first at line " << line->second;
+      }
+    }
     throw io::InputError(io::Where(
         session.gnss_log, 0,
         "fewer than 2 GGA fixes of accepted quality (gnss.min_fix_quality " +
             std::to_string(session.min_fix_quality) + "); found" +
-            (found.str().empty() ? std::string(" none") : found.str())));
+            (found.str().empty() ? std::string(" none") : found.str()) +
+            (shown > 0 ? " (lines skipped: " + reasons.str() + ")" : std::string()) +
+            "; expected NMEA GGA sentences with checksums, e.g. $GNGGA,...*hh"));
   }
   const int64_t rejected = static_cast<int64_t>(inputs->gnss.fixes.size()) - result->fixes_used;
   if (rejected > 0) {

@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "io/input_file.h"
 #include "preflight/inspect_internal.h"
 
 namespace wallcal::preflight {
@@ -23,6 +24,7 @@ void RequireReadableFile(const std::string& path) {
   if (fs::is_directory(path, error)) {
     throw io::InputError(io::Where(path, 0, "is a folder without session.yaml"));
   }
+  io::CheckInputFile(path, "the log");  // a FIFO or a device is refused before it is opened
   std::ifstream in(path, std::ios::binary);
   if (!in) throw io::InputError(io::Where(path, 0, "cannot open for reading"));
 }
@@ -74,19 +76,6 @@ bool HasNmeaSentence(const std::string& line) {
   return false;
 }
 
-std::string Printable(const std::string& text, size_t max_chars) {
-  std::string out;
-  for (char c : text) {
-    if (out.size() >= max_chars) {
-      out += "...";
-      break;
-    }
-    const unsigned char u = static_cast<unsigned char>(c);
-    out += (u >= 32 && u < 127) ? c : '?';
-  }
-  return out;
-}
-
 }  // namespace
 
 bool IsSessionPath(const std::string& path) {
@@ -129,8 +118,8 @@ LogKind SniffLogKind(const std::string& path) {
   throw io::InputError(io::Where(
       path, first_content_line,
       (first_content_line == 0 ? std::string("only comments and blank lines")
-                               : "neither NMEA nor CARMEN (starts '" +
-                                     Printable(first_content, 24) + "')") +
+                               : "neither NMEA nor CARMEN (" +
+                                     io::DescribeLine(first_content) + ")") +
           "; expected NMEA sentences ($GPGGA,... optionally after a logger time) or CARMEN "
           "lines (RAWLASER1, ROBOTLASER1, FLASER)"));
 }

@@ -399,7 +399,7 @@ TEST(SessionReaderTest, RejectsBadCalibrateOptions) {
       error("solvers:\n  max_iterations: 3\n").find("calibrate.yaml:1: unknown key 'solvers'"),
       std::string::npos);
   EXPECT_NE(error("detector:\n  min_inliers: 0\n")
-                .find("calibrate.yaml: detector.min_inliers must be >= 3, got 0"),
+                .find("calibrate.yaml:2: detector.min_inliers must be >= 3, got 0"),
             std::string::npos);
   EXPECT_NE(
       error("detector:\n  min_inliers: many\n").find("calibrate.yaml:2: detector.min_inliers"),
