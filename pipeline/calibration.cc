@@ -21,7 +21,7 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
     FinishEstimate(request, &result);
     Analyse(request, progress, &result);
     Say(progress, Stage::kErrorBudget, "error budget: what the σ is made of");
-    BudgetAndAdvice(&result);
+    BudgetAndAdvice(request, &result);
     CountCoverage(&result);
   }
   Decide(request, &result, inputs);

@@ -66,9 +66,12 @@ void FinishEstimate(const CalibrateRequest& request, CalibrationResult* result) 
   }
 }
 
-void BudgetAndAdvice(CalibrationResult* result) {
+void BudgetAndAdvice(const CalibrateRequest& request, CalibrationResult* result) {
   solvers::MountEstimate& e = result->estimate;
-  if (e.method != "ceres" || result->observations.empty() || !e.covariance.allFinite()) return;
+  if (request.method != solvers::Method::kCeres || result->observations.empty() ||
+      !e.covariance.allFinite()) {
+    return;
+  }
   if (!e.usable && e.failure != solvers::EstimateFailure::kNotDetermined) return;
   result->budget = analysis::ComputeErrorBudget(result->observations, result->walls,
                                                 result->options.solver, e.mount);
@@ -78,17 +81,21 @@ void BudgetAndAdvice(CalibrationResult* result) {
   // advice is about that source, not about the stations' geometry.
   const io::SolverOptions& s = result->options.solver;
   const double limits[3] = {s.max_sigma_xy_m, s.max_sigma_xy_m, s.max_sigma_yaw_rad};
+  // A refused estimate may carry no covariance: the budget's linearised one then stands in.
+  const bool have_covariance = e.covariance.diagonal().minCoeff() > 0.0;
+  const Eigen::Vector3d variance = have_covariance ? Eigen::Vector3d(e.covariance.diagonal())
+                                                   : b.total_variance;
   int worst = 0;
   double worst_ratio = 0.0;
   for (int k = 0; k < 3; ++k) {
-    const double ratio = std::sqrt(std::max(0.0, e.covariance(k, k))) / limits[k];
+    const double ratio = std::sqrt(std::max(0.0, variance[k])) / limits[k];
     if (ratio > worst_ratio) {
       worst_ratio = ratio;
       worst = k;
     }
   }
   if (worst_ratio <= 1.0 || b.dominant_share[worst] < 0.5) return;  // geometry: keep it
-  const double sigma = std::sqrt(e.covariance(worst, worst));
+  const double sigma = std::sqrt(variance[worst]);
   const bool yaw = worst == 2;
   e.message = Format("%s is not determined: σ %.4f %s, more than solver.max_sigma_%s %.4f %s; "
                      "%.0f %% of its variance comes from the %s: ",

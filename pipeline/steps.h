@@ -61,7 +61,7 @@ void CollectReportData(CalibrationResult* result, const RunInputs& inputs);
 void FinishEstimate(const CalibrateRequest& request, CalibrationResult* result);
 // The error budget of a ceres estimate (usable or refused for its σ); a σ refusal whose
 // variance one source dominates gets advice about that source.
-void BudgetAndAdvice(CalibrationResult* result);
+void BudgetAndAdvice(const CalibrateRequest& request, CalibrationResult* result);
 // The verdict, the change since the previous calibration and the provenance (last step).
 void Decide(const CalibrateRequest& request, CalibrationResult* result, const RunInputs& inputs);
 

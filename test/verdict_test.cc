@@ -44,16 +44,16 @@ void Replace(const fs::path& path, const std::string& from, const std::string& t
   WriteText(path, text);
 }
 
-struct Run {
+struct RunOut {
   int exit_code = -1;
   std::string out, err;
 };
 
-Run Exec(const std::string& program, const std::string& args, const fs::path& scratch) {
+RunOut Exec(const std::string& program, const std::string& args, const fs::path& scratch) {
   const fs::path out = scratch / "stdout.txt", err = scratch / "stderr.txt";
   const int status = std::system(("exec " + program + " " + args + " >" + out.string() + " 2>" +
                                   err.string()).c_str());
-  Run run;
+  RunOut run;
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   run.out = ReadText(out);
   run.err = ReadText(err);
@@ -81,14 +81,14 @@ bool Has(const std::string& text, const std::string& part) {
 TEST(VerdictTest, EmitsOneTreeAndSaysWhenTheHeightIsUnknown) {
   const fs::path dir = Copy("tree");
   std::ofstream(dir / "session.yaml", std::ios::app) << "antenna_in_base: {x: -0.4, y: 0.0, z: 2.1}\n";
-  const Run tf = Exec(kCalibrate, dir.string() + " --emit ros2-static-tf --quiet", dir);
+  const RunOut tf = Exec(kCalibrate, dir.string() + " --emit ros2-static-tf --quiet", dir);
   ASSERT_EQ(tf.exit_code, 0) << tf.err;
   EXPECT_TRUE(Has(tf.out, "--frame-id base_link --child-frame-id gnss_antenna")) << tf.out;
   EXPECT_TRUE(Has(tf.out, "--frame-id gnss_antenna --child-frame-id laser")) << tf.out;
   EXPECT_FALSE(Has(tf.out, "--frame-id base_link --child-frame-id laser")) << tf.out;
   EXPECT_TRUE(Has(tf.out, "# gnss_antenna -> laser: z = 0: the scanner's height")) << tf.out;
 
-  const Run urdf = Exec(kCalibrate, dir.string() + " --emit urdf --quiet", dir);
+  const RunOut urdf = Exec(kCalibrate, dir.string() + " --emit urdf --quiet", dir);
   ASSERT_EQ(urdf.exit_code, 0) << urdf.err;
   EXPECT_EQ(urdf.out.rfind("<?xml version=\"1.0\"?>\n", 0), 0u) << urdf.out;
   EXPECT_TRUE(Has(urdf.out, "<robot name=\"wallcal_mount\">")) << urdf.out;
@@ -100,7 +100,7 @@ TEST(VerdictTest, EmitsOneTreeAndSaysWhenTheHeightIsUnknown) {
   WriteText(urdf_file, urdf.out);
   // check_urdf (liburdfdom-tools) when installed; otherwise xmllint's well-formedness check.
   if (std::system("command -v check_urdf >/dev/null 2>&1") == 0) {
-    const Run check = Exec("check_urdf", urdf_file.string(), dir);
+    const RunOut check = Exec("check_urdf", urdf_file.string(), dir);
     EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
   } else if (std::system("command -v xmllint >/dev/null 2>&1") == 0) {
     EXPECT_EQ(Exec("xmllint", "--noout " + urdf_file.string(), dir).exit_code, 0);
@@ -108,7 +108,7 @@ TEST(VerdictTest, EmitsOneTreeAndSaysWhenTheHeightIsUnknown) {
 
   // With the height in session.yaml it is used and the note goes away.
   Replace(dir / "session.yaml", "  time_offset_s: 0\n", "  time_offset_s: 0\n  z_m: -0.85\n");
-  const Run known = Exec(kCalibrate, dir.string() + " --emit ros2-static-tf --quiet", dir);
+  const RunOut known = Exec(kCalibrate, dir.string() + " --emit ros2-static-tf --quiet", dir);
   ASSERT_EQ(known.exit_code, 0) << known.err;
   EXPECT_TRUE(Has(known.out, "--z -0.85 ")) << known.out;
   EXPECT_FALSE(Has(known.out, "z = 0")) << known.out;
@@ -117,7 +117,7 @@ TEST(VerdictTest, EmitsOneTreeAndSaysWhenTheHeightIsUnknown) {
 // Finding 2: the closed form writes no σ, and says so.
 TEST(VerdictTest, ClosedFormWritesNoSigmaAndAWarning) {
   const fs::path dir = Copy("barawid");
-  const Run run = Exec(kCalibrate, dir.string() + " --method barawid --quiet", dir);
+  const RunOut run = Exec(kCalibrate, dir.string() + " --method barawid --quiet", dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_TRUE(Has(run.out, "no sigma")) << run.out;
   EXPECT_TRUE(Has(run.out, "verdict    REVIEW")) << run.out;
@@ -133,16 +133,16 @@ TEST(VerdictTest, WrongPresetIsRefusedNamingBoth) {
   for (const std::string& model : {std::string("hokuyo_urg04lx"), std::string("sick_lms200")}) {
     const fs::path dir = Copy("preset_" + model);
     Replace(dir / "session.yaml", "model: sick_lms291", "model: " + model);
-    const Run run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+    const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
     EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
     EXPECT_TRUE(Has(run.err, "scanner.model '" + model + "' does not fit")) << run.err;
     EXPECT_TRUE(Has(run.err, model == "sick_lms200" ? "maximum range 8.18 m" : "181 beams"))
         << run.err;
     EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
-    const Run inspect = Exec(kInspect, dir.string(), dir);
+    const RunOut inspect = Exec(kInspect, dir.string(), dir);
     EXPECT_FALSE(Has(inspect.out, "VERDICT: enough data")) << inspect.out;
     EXPECT_TRUE(Has(inspect.out, "does not fit")) << inspect.out;
-    const Run forced = Exec(kCalibrate, dir.string() + " --quiet --force", dir);
+    const RunOut forced = Exec(kCalibrate, dir.string() + " --quiet --force", dir);
     if (forced.exit_code == 0) {
       EXPECT_TRUE(Has(ReadText(dir / "offsets.yaml"), "FORCED: scanner.model"));
     }
@@ -154,7 +154,7 @@ TEST(VerdictTest, SurveyFarFromTheTrackIsASurveyMistake) {
   const fs::path dir = Copy("far");
   Replace(dir / "session.yaml", "lat: 43.07129002690411", "lat: 43.17129002690411");
   Replace(dir / "session.yaml", "lat: 43.07128991302616", "lat: 43.17128991302616");
-  const Run run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
   EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
   EXPECT_TRUE(Has(run.err, "the GNSS track passes no closer than")) << run.err;
   EXPECT_TRUE(Has(run.err, "control points")) << run.err;
@@ -166,12 +166,12 @@ TEST(VerdictTest, MountGuessToleranceRefusesAGrossError) {
   const fs::path dir = Copy("guess");
   Replace(dir / "session.yaml", "  time_offset_s: 0\n",
           "  time_offset_s: 0\n  mount_guess: {x: 2.0, y: 0.05, yaw_deg: 2.8, tolerance_m: 0.2}\n");
-  const Run run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
   EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
   EXPECT_TRUE(Has(run.err, "from scanner.mount_guess")) << run.err;
   EXPECT_TRUE(Has(run.err, "tolerance_m 0.200 m")) << run.err;
   EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
-  const Run forced = Exec(kCalibrate, dir.string() + " --quiet --force", dir);
+  const RunOut forced = Exec(kCalibrate, dir.string() + " --quiet --force", dir);
   EXPECT_EQ(forced.exit_code, 0) << forced.err;
   EXPECT_TRUE(Has(forced.out, "verdict    REJECT")) << forced.out;
 }
@@ -180,7 +180,7 @@ TEST(VerdictTest, MountGuessToleranceRefusesAGrossError) {
 TEST(VerdictTest, SigmaRefusalFollowsTheDominantTermAndCountsTheScans) {
   const fs::path dir = Copy("sigma");
   WriteText(dir / "strict.yaml", "solver: {max_sigma_xy_m: 0.01}\n");
-  const Run run = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "strict.yaml").string(), dir);
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "strict.yaml").string(), dir);
   EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
   EXPECT_TRUE(Has(run.err, "of its variance comes from the")) << run.err;
   EXPECT_FALSE(Has(run.err, "turned ≥ 30°")) << run.err;
@@ -192,14 +192,14 @@ TEST(VerdictTest, SigmaRefusalFollowsTheDominantTermAndCountsTheScans) {
 // Finding 6: frame names validated as tf2 does, and written into offsets.yaml.
 TEST(VerdictTest, FrameNamesAreValidatedAndWritten) {
   const fs::path dir = Copy("frames");
-  const Run run =
+  const RunOut run =
       Exec(kCalibrate, dir.string() + " --quiet --parent-frame gps --child-frame laser_front", dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const YAML::Node doc = YAML::LoadFile((dir / "offsets.yaml").string());
   EXPECT_EQ(doc["scanner_mount"]["parent_frame"].as<std::string>(), "gps");
   EXPECT_EQ(doc["scanner_mount"]["child_frame"].as<std::string>(), "laser_front");
   fs::remove(dir / "offsets.yaml");
-  const Run bad = Exec(kCalibrate, dir.string() + " --child-frame /laser", dir);
+  const RunOut bad = Exec(kCalibrate, dir.string() + " --child-frame /laser", dir);
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_TRUE(Has(bad.err, "leading slash")) << bad.err;
   EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
@@ -208,7 +208,7 @@ TEST(VerdictTest, FrameNamesAreValidatedAndWritten) {
 // Finding 7: provenance, and no names of files a user does not have.
 TEST(VerdictTest, OffsetsCarryProvenanceAndNoInternalNames) {
   const fs::path dir = Copy("provenance");
-  const Run run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_FALSE(Has(run.out, "seed")) << run.out;
   const std::string text = ReadText(dir / "offsets.yaml");
@@ -240,12 +240,12 @@ TEST(VerdictTest, OffsetsCarryProvenanceAndNoInternalNames) {
 // Finding 9: the verdict, the change since a previous calibration, the report's top.
 TEST(VerdictTest, VerdictCompareAndReportTop) {
   const fs::path dir = Copy("compare");
-  const Run first = Exec(kCalibrate, dir.string() + " --quiet --output " + (dir / "previous.yaml").string(), dir);
+  const RunOut first = Exec(kCalibrate, dir.string() + " --quiet --output " + (dir / "previous.yaml").string(), dir);
   ASSERT_EQ(first.exit_code, 0) << first.err;
   EXPECT_TRUE(Has(first.out, "  verdict    ")) << first.out;
   EXPECT_TRUE(Has(first.out, "σ budget")) << first.out;
   // The same data again: no change.
-  const Run same = Exec(kCalibrate, dir.string() + " --quiet --compare " + (dir / "previous.yaml").string(), dir);
+  const RunOut same = Exec(kCalibrate, dir.string() + " --quiet --compare " + (dir / "previous.yaml").string(), dir);
   ASSERT_EQ(same.exit_code, 0) << same.err;
   EXPECT_TRUE(Has(same.out, "change     since")) << same.out;
   EXPECT_TRUE(Has(same.out, "x +0.0 mm, y +0.0 mm")) << same.out;
@@ -253,7 +253,7 @@ TEST(VerdictTest, VerdictCompareAndReportTop) {
   // A previous calibration 50 mm further forward: REVIEW, naming the move.
   Replace(dir / "previous.yaml", "  x: 2.", "  x: 2.05");  // crude: +0.05 m on x's first decimal
   WriteText(dir / "lenient.yaml", "acceptance: {max_sigma_xy_m: 0.05, max_sigma_yaw_deg: 1.0}\n");
-  const Run moved = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "lenient.yaml").string() +
+  const RunOut moved = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "lenient.yaml").string() +
                                          " --compare " + (dir / "previous.yaml").string() +
                                          " --report " + (dir / "report").string(), dir);
   ASSERT_EQ(moved.exit_code, 0) << moved.err;
@@ -269,13 +269,15 @@ TEST(VerdictTest, VerdictCompareAndReportTop) {
   ASSERT_NE(folded, std::string::npos);
   EXPECT_LT(verdict, budget);
   EXPECT_LT(budget, folded);
-  if (hough != std::string::npos) EXPECT_GT(hough, folded);
+  if (hough != std::string::npos) {
+    EXPECT_GT(hough, folded);
+  }
   EXPECT_TRUE(Has(html, "error (estimate &#8722; truth)"));
   EXPECT_TRUE(Has(html, "change since previous"));
 
   // Bootstrap off: no "bootstrap (0)".
   WriteText(dir / "noboot.yaml", "solver: {bootstrap_samples: 0}\n");
-  const Run noboot = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "noboot.yaml").string(), dir);
+  const RunOut noboot = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "noboot.yaml").string(), dir);
   ASSERT_EQ(noboot.exit_code, 0) << noboot.err;
   EXPECT_FALSE(Has(noboot.out, "bootstrap (0)")) << noboot.out;
 }
