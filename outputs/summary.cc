@@ -87,8 +87,10 @@ std::string FormatSummary(const CalibrationResult& result) {
       out << line;
     }
     std::snprintf(line, sizeof(line),
-                  "  residuals  RMS %.4f m over %d observations, %d outliers (> 3 sigma)\n",
-                  e.residual_rms_m, e.observations_used, e.observations_rejected);
+                  "  residuals  RMS %.4f m over %d of %zu wall observations (%d down-weighted as "
+                  "outliers, > 3 sigma)\n",
+                  e.residual_rms_m, e.observations_used, result.observations.size(),
+                  e.observations_rejected);
     out << line;
     out << "  yaw        relative to the heading sensor's zero at the first scan used (a "
            "constant heading bias is indistinguishable from mount yaw)\n";

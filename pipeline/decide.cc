@@ -50,6 +50,15 @@ void FinishEstimate(const CalibrateRequest& request, CalibrationResult* result) 
         "control points or the correlated GNSS error; run the adjustment (--method ceres) for "
         "the σ");
   }
+  if (!e.usable && result->first_pass.usable && result->observations.empty()) {
+    // The wide-gate pass saw a line where the survey predicts one, but nothing is left near
+    // the estimate it gave: the scans and the survey disagree, more stations will not help.
+    e.message += "; the first pass matched a line with wide gates, but no scan sees the surveyed "
+                 "wall where that estimate puts it: the survey does not match the site — check "
+                 "whether its x and y (easting and northing) are swapped (survey.columns, a "
+                 "mirrored survey cannot be told from two control points), the control points, "
+                 "and the walls' survey codes";
+  }
   const std::optional<io::MountGuess>& guess = result->session.mount_guess;
   if (e.usable && guess) {
     const std::string outside = CheckMountGuess(*guess, e.mount);

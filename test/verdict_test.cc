@@ -284,3 +284,32 @@ TEST(VerdictTest, VerdictCompareAndReportTop) {
 
 }  // namespace
 }  // namespace wallcal
+
+namespace wallcal {
+namespace {
+
+// Finding 4, two control points: a mirrored survey cannot be told from the tie; the refusal
+// then points at the survey, not at the stations.
+TEST(VerdictTest, MirroredSurveyWithTwoControlPointsPointsAtTheSurvey) {
+  const fs::path dir = Copy("mirrored");
+  std::istringstream in(ReadText(dir / "survey.csv"));
+  std::string line, out;
+  std::getline(in, line);
+  out = line + "\n";
+  while (std::getline(in, line)) {
+    // id,x,y,z,code -> id,y,x,z,code
+    const size_t a = line.find(','), b = line.find(',', a + 1), c = line.find(',', b + 1);
+    out += line.substr(0, a + 1) + line.substr(b + 1, c - b - 1) + "," +
+           line.substr(a + 1, b - a - 1) + line.substr(c) + "\n";
+  }
+  WriteText(dir / "survey.csv", out);
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+  EXPECT_NE(run.exit_code, 0) << run.out;
+  EXPECT_TRUE(Has(run.err, "survey")) << run.err;
+  EXPECT_TRUE(Has(run.err, "swapped")) << run.err;
+  EXPECT_FALSE(Has(run.err, "turned ≥ 30°")) << run.err;
+  EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
+}
+
+}  // namespace
+}  // namespace wallcal
