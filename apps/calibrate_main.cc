@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <iostream>
@@ -24,7 +25,7 @@ namespace {
 constexpr const char* kUsage = R"(usage: calibrate SESSION [--output FILE] [--method ceres|barawid] [--config FILE]
                  [--report DIR] [--emit ros2-static-tf|urdf|json] [--parent-frame NAME]
                  [--child-frame NAME] [--base-frame NAME] [--compare PREVIOUS.yaml]
-                 [--force] [--quiet]
+                 [--force] [--quiet] [--threads N]
 
 Estimates where a 2-D laser scanner sits on a vehicle (x, y, yaw of the scanner in the GNSS
 antenna's frame: x forward, y left, yaw counter-clockwise) from a logged session in front of a
@@ -61,6 +62,8 @@ surveyed wall, and writes offsets.yaml.
   --force            write an estimate a check refuses (observability, scanner preset against
                      the data, scanner.mount_guess tolerance), with a warning
   --quiet            no progress on stderr, only the summary, warnings and errors
+  --threads N        threads for wall detection and the solve (default: every core); the
+                     result does not depend on N
   --help             this text;  --version  the tool version
 
 On a terminal (stderr is a tty) progress is shown on stderr: scans read / total, rate and time
@@ -216,6 +219,14 @@ int main(int argc, char** argv) {
       const char* v = value();
       if (v == nullptr || *v == '\0') return Usage("--compare needs an earlier offsets.yaml");
       request.compare_path = v;
+    } else if (arg == "--threads") {
+      const char* v = value();
+      char* end = nullptr;
+      const long n = v == nullptr ? 0 : std::strtol(v, &end, 10);
+      if (v == nullptr || *v == '\0' || *end != '\0' || n < 1 || n > 256) {
+        return Usage("--threads needs a whole number from 1 to 256");
+      }
+      request.threads = static_cast<int>(n);
     } else if (arg == "--force") {
       request.force = true;
     } else if (arg == "--quiet" || arg == "-q") {

@@ -1,14 +1,147 @@
 // inspect: the pre-flight check of a session or a log file, and CSV dumps of decoded records.
-// Thin: the work and the error handling are in apps/inspect.cc (RunInspect), so tests can run
-// the same code in-process.
+// Argument parsing and error reporting only; the work is in preflight/.
 
+#include <exception>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "io/recording.h"
+#include "io/survey_reader.h"
+#include "io/types.h"
+#include "io/version.h"
 #include "preflight/inspect.h"
+
+namespace {
+
+int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  static const char* kUsage =
+      R"(usage: inspect PATH [--dump gnss|heading|scans|survey] [--topic NAME] [--config FILE]
+       inspect RECORDING --suggest-session
+
+The pre-flight check of a wall session: run it before leaving the site.
+
+  PATH            a session (session.yaml or its folder), one log file: NMEA (GNSS,
+                  heading) or CARMEN (scans, plain or gzip), a robot recording (ROS 1 .bag,
+                  MCAP, rosbag2 .db3 or folder), or a survey file (with --dump survey);
+                  recognised by content
+  --dump KIND     write the decoded records as CSV on stdout instead of the report:
+                    gnss     time_s,lat_deg,lon_deg,height_m,quality,satellites,hdop,
+                             sigma_lat_m,sigma_lon_m,line
+                    heading  time_s,heading_deg,line
+                    scans    time_s,beams,valid,min_range_m,max_range_m,line
+                    survey   id,x_m,y_m,z_m,code (one row per observation; x east, y north)
+                  (on a session: that log of the session; on a recording: --topic's)
+  --topic NAME    the recording topic to dump (needed when several topics fit)
+  --suggest-session  print a ready-to-edit session.yaml for the recording, the topics chosen
+                  by type (and why, when several fit)
+  --config FILE   calibrate options used for the detection and the checks (as calibrate)
+  --help          this text
+  --version       the version
+
+On a session: each log's time span, rate, gaps and their overlap; GNSS fix qualities and time
+RTK fixed; survey control residuals; stations and how well the wall was detected at each; the
+headings at which the wall was seen; and a verdict: enough data for a calibration, or what is
+missing. On one log: its time span, rate, gaps, counts and skipped lines. On a recording: every
+topic's type, count, rate, span and gaps, and the statistics of the types wallcal reads.
+Exit status: 0 report or dump written (whatever the verdict); 2 unusable input or bad usage
+(one line on stderr naming the file, the line and what was expected).
+)";
+  std::string path, dump, config, topic;
+  bool suggest = false;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    if (arg == "--help" || arg == "-h") {
+      out << kUsage;
+      return 0;
+    } else if (arg == "--version") {
+      out << "wallcal inspect " << wallcal::io::kToolVersion << "\n";
+      return 0;
+    } else if (arg == "--suggest-session") {
+      suggest = true;
+    } else if (arg == "--dump" || arg == "--config" || arg == "--topic") {
+      if (i + 1 >= args.size()) {
+        err << "inspect: " << arg << " needs a value (run 'inspect --help' for usage)\n";
+        return 2;
+      }
+      (arg == "--dump" ? dump : arg == "--topic" ? topic : config) = args[++i];
+    } else if (!arg.empty() && arg[0] == '-') {
+      err << "inspect: unknown option '" << arg << "' (run 'inspect --help' for usage)\n";
+      return 2;
+    } else if (path.empty()) {
+      path = arg;
+    } else {
+      err << "inspect: more than one PATH given ('" << path << "' and '" << arg << "')\n";
+      return 2;
+    }
+  }
+  if (path.empty()) {
+    err << "inspect: no PATH given (run 'inspect --help' for usage)\n";
+    return 2;
+  }
+  try {
+    const bool recording = wallcal::io::IsRecording(path);
+    if (suggest) {
+      if (!recording) {
+        err << "inspect: --suggest-session needs a robot recording (ROS 1 .bag, MCAP, rosbag2); '"
+            << path << "' is not one\n";
+        return 2;
+      }
+      out << wallcal::preflight::SuggestSession(path);
+      return 0;
+    }
+    if (!topic.empty() && !recording) {
+      err << "inspect: --topic applies to a robot recording; '" << path << "' is not one\n";
+      return 2;
+    }
+    if (dump == "survey") {
+      // Every observation as read (not combined): docs/survey-files.md.
+      out << wallcal::io::FormatSurveyDumpCsv(wallcal::io::ReadSurvey(path));
+      return 0;
+    }
+    if (!dump.empty()) {
+      wallcal::preflight::DumpKind kind;
+      if (dump == "gnss") {
+        kind = wallcal::preflight::DumpKind::kGnss;
+      } else if (dump == "heading") {
+        kind = wallcal::preflight::DumpKind::kHeading;
+      } else if (dump == "scans") {
+        kind = wallcal::preflight::DumpKind::kScans;
+      } else {
+        err << "inspect: --dump: unknown kind '" << dump << "'; expected gnss, heading, scans or survey\n";
+        return 2;
+      }
+      // Build the whole dump first: an error half-way leaves stdout without half a table.
+      std::ostringstream table;
+      if (recording) {
+        wallcal::preflight::DumpRecording(path, kind, topic, table);
+      } else {
+        wallcal::preflight::Dump(path, kind, table);
+      }
+      out << table.str();
+      return 0;
+    }
+    if (recording) {
+      out << wallcal::preflight::InspectRecording(path);
+    } else if (wallcal::preflight::IsSessionPath(path)) {
+      out << wallcal::preflight::InspectSession(path, config).report;
+    } else {
+      out << wallcal::preflight::InspectLogFile(path);
+    }
+    return 0;
+  } catch (const wallcal::io::InputError& error) {
+    err << "inspect: " << error.what() << "\n";
+    return 2;
+  } catch (const std::exception& error) {
+    err << "inspect: internal error: " << error.what() << "\n";
+    return 3;
+  }
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
-  return wallcal::preflight::RunInspect(args, std::cout, std::cerr);
+  return Run(args, std::cout, std::cerr);
 }

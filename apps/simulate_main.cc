@@ -6,13 +6,14 @@
 #include <iostream>
 #include <string>
 
+#include "sim/recording_session.h"
 #include "sim/simulated_session.h"
 #include "io/session_reader.h"
 #include "io/version.h"
 
 namespace {
 
-constexpr const char* kUsage = R"(usage: simulate [--config FILE] [--seed N] --output DIR
+constexpr const char* kUsage = R"(usage: simulate [--config FILE] [--seed N] [--format F] --output DIR
 
 Writes a synthetic session folder in the format calibrate reads (session.yaml, scans.clf,
 gnss.nmea, heading.nmea, survey.csv) plus truth.yaml: the true mount and every noise setting
@@ -23,6 +24,14 @@ RTK noise, heading a FOG-class drift, the survey total-station noise.
   --config FILE   simulation settings (YAML; examples in configs/simulate/; default: built-in)
   --seed N        random seed (default 1); the same config and seed give the same files
   --output DIR    the session folder to write (created if missing; files in it are replaced)
+  --format F      how the scans, GNSS and heading are written (default text):
+                    text       scans.clf (CARMEN), gnss.nmea, heading.nmea
+                    ros1       session.bag, ROS 1 bag v2.0 (ros1-bz2, ros1-lz4: compressed chunks)
+                    mcap       session.mcap, ROS 2 MCAP with zstd chunks (mcap-lz4: lz4)
+                    db3        session.db3, rosbag2 sqlite3 (Iron layout)
+                  recordings hold /scan (sensor_msgs/LaserScan), /fix (sensor_msgs/NavSatFix
+                  with the simulated σ as covariance) and /heading
+                  (geometry_msgs/QuaternionStamped); session.yaml names them
   --help          this text;  --version  the tool version
 
 Exit status: 0 written; 2 bad input or usage; 3 an internal error (a bug: please report it).
@@ -38,6 +47,7 @@ int Usage(const std::string& message) {
 int main(int argc, char** argv) {
   std::string config_path, output;
   uint64_t seed = 1;
+  wallcal::sim::SessionFormat format = wallcal::sim::SessionFormat::kText;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
@@ -46,10 +56,17 @@ int main(int argc, char** argv) {
     } else if (arg == "--version") {
       std::cout << "wallcal simulate " << wallcal::io::kToolVersion << "\n";
       return 0;
-    } else if (arg == "--config" || arg == "--seed" || arg == "--output") {
+    } else if (arg == "--config" || arg == "--seed" || arg == "--output" || arg == "--format") {
       if (i + 1 >= argc) return Usage(arg + " needs a value");
       const std::string v = argv[++i];
-      if (arg == "--config") {
+      if (arg == "--format") {
+        const auto parsed = wallcal::sim::ParseSessionFormat(v);
+        if (!parsed) {
+          return Usage("--format: unknown format '" + v + "'; expected one of " +
+                       wallcal::sim::SessionFormatNames());
+        }
+        format = *parsed;
+      } else if (arg == "--config") {
         config_path = v;
       } else if (arg == "--output") {
         output = v;
@@ -69,7 +86,7 @@ int main(int argc, char** argv) {
   try {
     wallcal::io::SimulationConfig config;
     if (!config_path.empty()) config = wallcal::io::ReadSimulationConfig(config_path);
-    const wallcal::sim::SimulateSummary s = wallcal::sim::WriteSimulatedSession(config, seed, output);
+    const wallcal::sim::SimulateSummary s = wallcal::sim::WriteSimulatedSession(config, seed, output, format);
     std::cout << "simulate: wrote " << output << ": " << s.scans_written << " scans ("
               << s.scans_lost << " lost), " << s.fixes << " GNSS fixes, " << s.headings
               << " headings, " << s.survey_points << " survey points, " << s.duration_s

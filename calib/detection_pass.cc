@@ -1,6 +1,8 @@
 #include "calib/detection_pass.h"
 
 #include <algorithm>
+#include <thread>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -85,19 +87,32 @@ void TrackStamp(double t, int64_t index, int line, PassOutcome* outcome) {
   outcome->last_stamp_s = std::max(outcome->last_stamp_s, t);
 }
 
-// The walls in one scan: an observation per wall found; false (and *why set) when none.
-bool DetectInScan(const PassContext& context, const PassRequest& request,
-                  const io::ScanRecord& scan, int scan_index, const VehiclePose& pose,
-                  PassOutcome* outcome, ScanSkip* why) {
+// One scan waiting for detection, and what its detection gave.
+struct PendingScan {
+  io::ScanRecord scan;
+  int index = 0;
+  VehiclePose pose;
+  std::vector<WallObservation> observations;
+  RangeCounts range_counts;
+  ScanSkip why = ScanSkip::kWallNotDetected;
+};
+
+// Scans detected together: enough to keep the threads busy, few enough to bound memory.
+constexpr size_t kBatchScans = 256;
+
+// The walls in one scan: an observation per wall found in scan->observations; scan->why says
+// why when there is none.
+void DetectInScan(const PassContext& context, const PassRequest& request, PendingScan* pending) {
   const io::DetectorOptions& detector = *context.detector;
-  const ScanPoints points = ToScanPoints(scan, *context.preset, detector.min_range_m,
-                                         detector.mixed_pixel_jump_m, &outcome->range_counts);
-  bool any = false;
+  const VehiclePose& pose = pending->pose;
+  ScanSkip* why = &pending->why;
+  const ScanPoints points = ToScanPoints(pending->scan, *context.preset, detector.min_range_m,
+                                         detector.mixed_pixel_jump_m, &pending->range_counts);
   *why = ScanSkip::kWallNotDetected;
   for (size_t w = 0; w < context.walls->size(); ++w) {
     const WallGeometry& wall = (*context.walls)[w];
     WallObservation observation;
-    observation.scan_index = scan_index;
+    observation.scan_index = pending->index;
     observation.wall_index = static_cast<int>(w);
     observation.pose = pose;
     // The gates are predicted at the scan's true time (the clock offset of the first pass
@@ -125,10 +140,46 @@ bool DetectInScan(const PassContext& context, const PassRequest& request,
     observation.range_min_m = detection.range_min_m;
     observation.range_max_m = detection.range_max_m;
     observation.residual_rms_m = detection.residual_rms_m;
-    outcome->observations.push_back(observation);
-    any = true;
+    pending->observations.push_back(observation);
   }
-  return any;
+}
+
+// Detects a batch over `threads` threads (contiguous slices), then appends the results to the
+// outcome in scan order.
+void DetectBatch(const PassContext& context, const PassRequest& request,
+                 std::vector<PendingScan>* batch, PassOutcome* outcome) {
+  const size_t n = batch->size();
+  const size_t threads = std::min<size_t>(std::max(1, context.threads), n);
+  if (threads <= 1) {
+    for (PendingScan& pending : *batch) DetectInScan(context, request, &pending);
+  } else {
+    std::vector<std::thread> workers;
+    const size_t per = (n + threads - 1) / threads;
+    for (size_t t = 1; t < threads; ++t) {
+      workers.emplace_back([&, t]() {
+        for (size_t i = t * per; i < std::min(n, (t + 1) * per); ++i) {
+          DetectInScan(context, request, &(*batch)[i]);
+        }
+      });
+    }
+    for (size_t i = 0; i < std::min(n, per); ++i) DetectInScan(context, request, &(*batch)[i]);
+    for (std::thread& worker : workers) worker.join();
+  }
+  for (PendingScan& pending : *batch) {
+    RangeCounts& counts = outcome->range_counts;
+    counts.valid += pending.range_counts.valid;
+    counts.error_code += pending.range_counts.error_code;
+    counts.no_return += pending.range_counts.no_return;
+    counts.too_close += pending.range_counts.too_close;
+    counts.non_finite += pending.range_counts.non_finite;
+    if (pending.observations.empty()) {
+      ++outcome->skipped[pending.why];
+    } else {
+      outcome->observations.insert(outcome->observations.end(), pending.observations.begin(),
+                                   pending.observations.end());
+    }
+  }
+  batch->clear();
 }
 
 }  // namespace
@@ -136,6 +187,8 @@ bool DetectInScan(const PassContext& context, const PassRequest& request,
 PassOutcome DetectionPass(const PassContext& context, const PassRequest& request) {
   PassOutcome outcome;
   const std::unique_ptr<io::ScanSource> scans = context.open_scans();
+  std::vector<PendingScan> batch;
+  batch.reserve(kBatchScans);
   io::ScanRecord scan;
   double last_examined_s = -1e300;
   int scan_index = -1;
@@ -163,11 +216,14 @@ PassOutcome DetectionPass(const PassContext& context, const PassRequest& request
       ++outcome.skipped[ScanSkip::kVehicleMoving];
       continue;
     }
-    ScanSkip why = ScanSkip::kWallNotDetected;
-    if (!DetectInScan(context, request, scan, scan_index, pose, &outcome, &why)) {
-      ++outcome.skipped[why];
-    }
+    PendingScan pending;
+    pending.scan = std::move(scan);
+    pending.index = scan_index;
+    pending.pose = pose;
+    batch.push_back(std::move(pending));
+    if (batch.size() >= kBatchScans) DetectBatch(context, request, &batch, &outcome);
   }
+  if (!batch.empty()) DetectBatch(context, request, &batch, &outcome);
   outcome.scans_read = scans->scans_read();
   outcome.line_skips = scans->skipped();
   return outcome;

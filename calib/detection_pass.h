@@ -53,6 +53,10 @@ struct PassContext {
   const std::vector<WallGeometry>* walls = nullptr;
   const PoseInterpolator* poses = nullptr;
   bool use_moving = false;  // scans taken while moving are used
+  // Threads that detect the walls (>= 1). Scans are read in file order on the calling thread
+  // and detected in batches split over the threads; the outcome is the same, in the same
+  // order, whatever the count.
+  int threads = 1;
 };
 
 struct PassRequest {

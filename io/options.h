@@ -66,6 +66,9 @@ struct SolverOptions {
   double rotation_sigma_rad = 0.0034906585;    // σ of survey.rotation_deg (one control point), 0.2 deg
   double huber_scale = 2.0;               // robust loss threshold, in units of σ
   int max_iterations = 100;
+  // Threads of the Ceres solve and of the information matrix. Not a YAML key: set from
+  // calibrate's --threads (results agree to round-off whatever the count).
+  int num_threads = 1;
   double min_heading_spread_rad = 0.34906585;   // 20 deg: narrower and the mount is not determined
   int min_observations = 30;
   int min_stations = 3;

@@ -205,6 +205,21 @@ void ValidateIn(const std::string& file, const T& options) {
   }
 }
 
+// `topic:` (a recording's topic name) and `stamp: header|receive` of scanner, gnss, heading.
+void ReadTopicKeys(MapReader& map, std::string* topic, StampSource* stamp) {
+  if (const YAML::Node t = map.Find("topic"); t.IsDefined()) *topic = map.ToText(t, "topic");
+  if (const YAML::Node st = map.Find("stamp"); st.IsDefined()) {
+    const std::string text = st.IsScalar() ? st.Scalar() : "";
+    if (text == "header") {
+      *stamp = StampSource::kHeader;
+    } else if (text == "receive") {
+      *stamp = StampSource::kReceive;
+    } else {
+      map.Bad(st, "stamp", "header (the message's header.stamp) or receive (the recorder's time)");
+    }
+  }
+}
+
 std::string ResolvePath(const std::string& dir, const std::string& relative) {
   const fs::path p(relative);
   if (p.is_absolute()) return p.lexically_normal().string();
@@ -288,13 +303,14 @@ SessionSpec ReadSession(const std::string& path) {
   {
     const YAML::Node node = top.Require("scanner", "a map with model and log");
     MapReader scanner = top.Child("scanner", node);
-    scanner.Allow({"model", "log", "time_offset_s", "mount_guess", "z_m"});
+    scanner.Allow({"model", "log", "time_offset_s", "mount_guess", "z_m", "topic", "stamp"});
     scanner.Finish();
     spec.scanner_model = scanner.ToText(
         scanner.Require("model", "a scanner preset name (configs/scanners/NAME.yaml)"), "model");
     spec.scanner_log = ResolvePath(
         spec.dir, scanner.ToText(scanner.Require("log", "the CARMEN scan log's path"), "log"));
     scanner.Number("time_offset_s", spec.scanner_time_offset_s);
+    ReadTopicKeys(scanner, &spec.scanner_topic, &spec.scanner_stamp);
     if (const YAML::Node guess = scanner.Find("mount_guess"); guess.IsDefined()) {
       MapReader g = scanner.Child("mount_guess", guess);
       MountGuess mount;
@@ -324,7 +340,7 @@ SessionSpec ReadSession(const std::string& path) {
   {
     const YAML::Node node = top.Require("gnss", "a map with log");
     MapReader gnss = top.Child("gnss", node);
-    gnss.Allow({"log", "min_fix_quality"});
+    gnss.Allow({"log", "min_fix_quality", "topic", "stamp", "max_sigma_m"});
     gnss.Finish();
     spec.gnss_log =
         ResolvePath(spec.dir, gnss.ToText(gnss.Require("log", "the NMEA GGA log's path"), "log"));
@@ -334,12 +350,19 @@ SessionSpec ReadSession(const std::string& path) {
         gnss.Bad(q, "min_fix_quality", "a GGA quality 1..9 (4 = RTK fixed, 5 = float)");
       }
     }
+    ReadTopicKeys(gnss, &spec.gnss_topic, &spec.gnss_stamp);
+    if (const YAML::Node sigma = gnss.Find("max_sigma_m"); sigma.IsDefined()) {
+      spec.gnss_max_sigma_m = gnss.ToNumber(sigma, "max_sigma_m");
+      if (!(spec.gnss_max_sigma_m > 0.0)) {
+        gnss.Bad(sigma, "max_sigma_m", "a horizontal σ in metres > 0 (e.g. 0.05)");
+      }
+    }
     gnss.Finish();
   }
   {
     const YAML::Node node = top.Require("heading", "a map with log");
     MapReader heading = top.Child("heading", node);
-    heading.Allow({"log", "reference"});
+    heading.Allow({"log", "reference", "topic", "stamp"});
     heading.Finish();
     spec.heading_log = ResolvePath(
         spec.dir, heading.ToText(heading.Require("log", "the NMEA HDT/THS log's path"), "log"));
@@ -353,6 +376,7 @@ SessionSpec ReadSession(const std::string& path) {
         heading.Bad(ref, "reference", "true_north or grid_north");
       }
     }
+    ReadTopicKeys(heading, &spec.heading_topic, &spec.heading_stamp);
     heading.Finish();
   }
   {

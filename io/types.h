@@ -174,6 +174,15 @@ struct AntennaInBase {
 };
 
 // session.yaml, with every path resolved against the session folder.
+// Which time a message from a recording is stamped with (session.yaml `stamp:`): the message's
+// header.stamp (the sensor driver's time; default), or the recorder's receive time.
+enum class StampSource { kHeader, kReceive };
+
+// Largest horizontal σ (m) of a sensor_msgs/NavSatFix accepted as a fix (gnss.max_sigma_m):
+// NavSatFix cannot tell RTK fixed from float, so the covariance decides. 5 cm keeps RTK fixed
+// (1-2 cm) and drops float (typically 0.1-1 m).
+inline constexpr double kDefaultGnssMaxSigmaM = 0.05;
+
 struct SessionSpec {
   std::string file;  // path of session.yaml
   std::string dir;   // its folder
@@ -183,6 +192,11 @@ struct SessionSpec {
   std::string scanner_model;
   std::string scanner_log;       // resolved path
   double scanner_time_offset_s = 0.0;  // added to every scan time
+  // scanner.topic: the sensor_msgs/LaserScan topic when scanner_log is a recording ("" for a
+  // text log); likewise gnss_topic and heading_topic. The log is told apart by content
+  // (io::IsRecording), not by this key.
+  std::string scanner_topic;
+  StampSource scanner_stamp = StampSource::kHeader;
   std::optional<MountGuess> mount_guess;
   // Height of the scanner's origin relative to the GNSS antenna (m, up +: a scanner below the
   // antenna is negative), measured by hand: the 2-D calibration cannot see it. Unset: the
@@ -191,9 +205,14 @@ struct SessionSpec {
 
   std::string gnss_log;
   int min_fix_quality = 4;  // 4 = RTK fixed only; 5 also accepts float
+  std::string gnss_topic;   // NavSatFix or nmea_msgs/Sentence
+  StampSource gnss_stamp = StampSource::kHeader;
+  double gnss_max_sigma_m = kDefaultGnssMaxSigmaM;  // NavSatFix only
 
   std::string heading_log;
   HeadingReference heading_reference = HeadingReference::kTrueNorth;
+  std::string heading_topic;  // QuaternionStamped, Imu or nmea_msgs/Sentence
+  StampSource heading_stamp = StampSource::kHeader;
 
   std::string survey_points;  // resolved path
   SurveyColumns survey_columns = SurveyColumns::kHeader;  // CSV only; a GSI file is recognised

@@ -34,6 +34,9 @@ struct CalibrateRequest {
   bool collect_report_data = false;  // fill CalibrationResult::report (one more scan pass)
   std::string compare_path;  // an earlier offsets.yaml to compare with; empty: none
   std::vector<std::string> command_line;  // argv, recorded in offsets.yaml's provenance
+  // Threads for wall detection, the solve and the information matrix; 0: every core. The
+  // result does not depend on it (beyond round-off in the solve, far below 1e-9 m).
+  int threads = 0;
 };
 
 // The stages of a run, in order.

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "calib/geodesy.h"
 #include "calib/pose_samples.h"
@@ -13,6 +14,7 @@
 #include "common/format.h"
 #include "io/carmen_reader.h"
 #include "io/nmea_reader.h"
+#include "io/recording_streams.h"
 #include "io/session_reader.h"
 #include "io/survey_reader.h"
 #include "io/offsets_reader.h"
@@ -74,6 +76,9 @@ void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* r
   result->session = io::ReadSession(request.session_path);
   if (!request.config_path.empty()) result->options = io::ReadCalibrateOptions(request.config_path);
   result->options.Validate();
+  result->options.solver.num_threads =
+      request.threads > 0 ? request.threads
+                          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   result->preset = io::LoadScannerPreset(result->session.scanner_model, PresetDirs());
   // The previous calibration is read now: a bad --compare file fails before the work.
   if (!request.compare_path.empty()) inputs->previous = io::ReadPreviousOffsets(request.compare_path);
@@ -111,8 +116,11 @@ void ReadPoses(CalibrationResult* result, RunInputs* inputs) {
   const io::SessionSpec& session = result->session;
   const io::CalibrateOptions& options = result->options;
   const bool one_log = session.heading_log == session.gnss_log;
-  inputs->gnss = io::ReadNmea(session.gnss_log);
-  inputs->headings = one_log ? inputs->gnss : io::ReadNmea(session.heading_log);
+  // Text logs or recording topics (one pass when GNSS and heading share a recording).
+  io::PoseLogs logs = io::ReadPoseLogs(session);
+  inputs->gnss = std::move(logs.gnss);
+  inputs->headings = std::move(logs.headings);
+  for (std::string& w : logs.warnings) result->warnings.push_back(std::move(w));
   result->fixes_by_quality = inputs->gnss.fixes_by_quality;
   result->gnss_skipped = inputs->gnss.skipped;
   result->heading_skipped = inputs->headings.skipped;
@@ -182,8 +190,8 @@ void ReadPoses(CalibrationResult* result, RunInputs* inputs) {
 void PreparePasses(const CalibrateRequest& request, CalibrationResult* result, RunInputs* inputs) {
   const io::CalibrateOptions& options = result->options;
   calib::PassContext& pass = inputs->pass;
-  const std::string scanner_log = result->session.scanner_log;
-  pass.open_scans = [scanner_log]() { return std::make_unique<io::CarmenReader>(scanner_log); };
+  // A CARMEN log, or a recording's LaserScan topic checked against the preset.
+  pass.open_scans = io::MakeScanOpener(result->session, &result->preset);
   pass.scanner_time_offset_s = result->session.scanner_time_offset_s;
   pass.preset = &result->preset;
   pass.detector = &options.detector;
@@ -193,6 +201,7 @@ void PreparePasses(const CalibrateRequest& request, CalibrationResult* result, R
   // before the detection passes, naming both, unless forced.
   EnforcePresetFit(CheckPresetAgainstScans(pass.open_scans, result->preset), result->preset,
                    result->session, request.force, &result->warnings);
+  pass.threads = options.solver.num_threads;
   // Moving scans: when asked for, or when the engineer drove continuously (too few dwells to
   // calibrate from stations alone). The solver then estimates the scanner clock offset too.
   pass.use_moving = options.alignment.use_moving_scans ||

@@ -81,9 +81,24 @@ enum class DumpKind { kGnss, kHeading, kScans };
 // the file is missing, unreadable or of the other kind.
 void Dump(const std::string& path, DumpKind kind, std::ostream& out);
 
-// The whole command line (args without the program name). Writes the report or dump to `out`,
-// a one-line reason to `err`. Returns the exit status: 0 report / dump written (whatever the
-// verdict), 2 unusable input or bad usage.
-int RunInspect(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+// ---- Robot recordings (ROS 1 bag, MCAP, rosbag2; recognised by io::IsRecording) ----------
+
+// Every topic with its type, message count, rate, span and gaps (receive times), and for the
+// supported types the statistics of text logs (beams and readings, NavSatFix status and σ,
+// heading histogram, NMEA sentence counts). Throws io::InputError on a damaged recording.
+std::string InspectRecording(const std::string& path);
+
+// A ready-to-edit session.yaml naming the recording and the topics chosen by type (LaserScan;
+// NavSatFix before GGA sentences; QuaternionStamped, Imu, then HDT/THS sentences), with a
+// comment naming the others when several fit, and the scanner preset matching the scans.
+std::string SuggestSession(const std::string& path);
+
+// --dump on a recording: the CSV of Dump from `topic` (empty: the one topic of a fitting type;
+// several -> io::InputError listing them). Stamps are header stamps.
+void DumpRecording(const std::string& path, DumpKind kind, const std::string& topic,
+                   std::ostream& out);
+
+// A folder or a .yaml/.yml file: a session rather than one log or recording.
+bool IsSessionPath(const std::string& path);
 
 }  // namespace wallcal::preflight

@@ -23,6 +23,7 @@
 
 #include "calib/wall_geometry.h"
 #include "common/angles.h"
+#include "solvers/information.h"
 #include "solvers/mount_problem.h"
 #include "solvers/mount_solver.h"
 #include "solvers/observability.h"
@@ -41,20 +42,8 @@ constexpr double kRejectWhitenedNorm = 3.0;
 // computed with, the problem is rebuilt with the solution's lever arms and solved once more.
 constexpr double kLeverRebuildDistanceM = 0.05;
 
-// Slices closer in time than ~τ/10⁵ are one GNSS error: ρ is capped so that the chain step's
-// σ (σ_b √(1 − ρ²) ≥ 0.0045 σ_b) stays a usable weight. Slices are 0.25 s by default, so
-// ρ = 0.99958 at τ = 600 s must pass uncapped.
-constexpr double kMaxSegmentCorrelation = 0.99999;
-
 // Fewer independent GNSS-error realisations than this (all stations within about one τ): warn.
 constexpr double kMinIndependentStations = 1.5;
-
-// The σ of the correlated GNSS error for one observation's position: the GST σ when the log has
-// one and the options allow it, the configured bias σ otherwise.
-double PoseBiasSigma(const calib::VehiclePose& pose, const io::SolverOptions& options) {
-  if (options.use_gst_sigma && pose.gnss_sigma_m > 0.0) return pose.gnss_sigma_m;
-  return options.gnss_bias_sigma_m;
-}
 
 Mount MountFromArray(const std::array<double, 3>& values) {
   Mount mount;
@@ -65,443 +54,6 @@ Mount MountFromArray(const std::array<double, 3>& values) {
 }
 
 }  // namespace
-
-Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
-                                      const calib::WallGeometry& wall,
-                                      const io::SolverOptions& options, const Mount& lever_mount,
-                                      double bias_sigma_m) {
-  const calib::OrientedWall oriented = calib::OrientWall(wall, observation.pose.antenna_local_m);
-  Eigen::Matrix2d covariance;
-  covariance << observation.sigma_rho_m * observation.sigma_rho_m, observation.cov_rho_theta,
-      observation.cov_rho_theta, observation.sigma_theta_rad * observation.sigma_theta_rad;
-
-  // GNSS white noise moves the scanner along the normal one-for-one: rho only. Without a
-  // segment there is no bias block, so the correlated part is counted here as if it were white
-  // (optimistic for that observation, but such observations are rare: moving scans outside
-  // any segment).
-  double position_variance_m2 = options.gnss_white_sigma_m * options.gnss_white_sigma_m;
-  if (calib::GnssSegment(observation) < 0) {
-    position_variance_m2 += bias_sigma_m * bias_sigma_m;
-  }
-
-  // Heading noise δψ turns the lever arm R(ψ)(x, y): d rho_pred/dψ = −n·(J R(ψ)(x, y)) = −ℓ,
-  // with J the 90° rotation, i.e. ℓ is the along-wall component of the lever arm; and
-  // d theta_pred/dψ = −1. Hence the block σ_h² [ℓ², ℓ; ℓ, 1]. The lever uses `lever_mount`
-  // (the initial mount, then the solution: SolveMountCeres rebuilds once when it moved).
-  const double c = std::cos(observation.pose.yaw_rad);
-  const double s = std::sin(observation.pose.yaw_rad);
-  const Eigen::Vector2d lever_local(c * lever_mount.x_m - s * lever_mount.y_m,
-                                    s * lever_mount.x_m + c * lever_mount.y_m);
-  const Eigen::Vector2d lever_turned(-lever_local.y(), lever_local.x());
-  const double ell_m = oriented.normal_local.dot(lever_turned);
-  // A dwell's scans use the dwell's mean heading: its error is common to the dwell and lives
-  // in the segment's heading-offset parameter (which turns the lever arm in the cost itself),
-  // not in each scan's covariance.
-  const double heading_variance = UsesDwellHeading(observation)
-                                      ? 0.0
-                                      : options.heading_sigma_rad * options.heading_sigma_rad;
-
-  covariance(0, 0) += position_variance_m2 + ell_m * ell_m * heading_variance;
-  covariance(0, 1) += ell_m * heading_variance;
-  covariance(1, 0) += ell_m * heading_variance;
-  covariance(1, 1) += heading_variance;
-  return covariance;
-}
-
-Eigen::MatrixXd WallPriorCovariance(const std::vector<calib::WallGeometry>& walls,
-                                    const std::vector<int>& indices) {
-  const int n = static_cast<int>(indices.size());
-  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(2 * n, 2 * n);
-  for (int i = 0; i < n; ++i) {
-    const calib::WallGeometry& a = walls[indices[i]];
-    covariance(2 * i, 2 * i) = a.sigma_offset_m * a.sigma_offset_m;
-    covariance(2 * i + 1, 2 * i + 1) = a.sigma_angle_rad * a.sigma_angle_rad;
-    covariance(2 * i, 2 * i + 1) = covariance(2 * i + 1, 2 * i) = a.cov_offset_angle;
-    for (int j = 0; j < n; ++j) {
-      if (j == i) continue;
-      const calib::WallGeometry& b = walls[indices[j]];
-      // The shared tie: translation t (σ_t per axis) and rotation r (σ_r) about the control
-      // centroid; δd = n·t + ℓ r, δα = r. Walls without tie information share nothing.
-      const double st = std::min(a.tie_sigma_translation_m, b.tie_sigma_translation_m);
-      const double sr = std::min(a.tie_sigma_rotation_rad, b.tie_sigma_rotation_rad);
-      const double sr2 = sr * sr;
-      covariance(2 * i, 2 * j) =
-          st * st * a.normal_local.dot(b.normal_local) + sr2 * a.tie_lever_m * b.tie_lever_m;
-      covariance(2 * i, 2 * j + 1) = sr2 * a.tie_lever_m;
-      covariance(2 * i + 1, 2 * j) = sr2 * b.tie_lever_m;
-      covariance(2 * i + 1, 2 * j + 1) = sr2;
-    }
-  }
-  return covariance;
-}
-
-std::unique_ptr<MountProblem> BuildMountProblem(
-    const std::vector<calib::WallObservation>& observations,
-    const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
-    const Mount& lever_mount, const Mount& initial, std::string* error,
-    const std::vector<double>& weights) {
-  auto mp = std::make_unique<MountProblem>();
-  mp->mount = {initial.x_m, initial.y_m, initial.yaw_rad};
-  mp->wall_deltas.assign(walls.size(), {0.0, 0.0});
-  const auto weight_of = [&weights](size_t i) {
-    return i < weights.size() ? std::max(0.0, weights[i]) : 1.0;
-  };
-
-  // GNSS segments and their bias σ: the mean GST σ over the segment's observations (when
-  // allowed and present), else the configured σ; and their mean time, for the Gauss–Markov
-  // chain below.
-  struct SegmentSums {
-    double gst_sum = 0.0;
-    int gst_count = 0;
-    double stamp_sum = 0.0;
-    int count = 0;
-  };
-  // The heading a dwell's scans use, per segment, over every observation whatever its weight
-  // (so that the bootstrap's resamples share it): the dwell's mean heading from the pose when
-  // the pose interpolator filled it, else the circular mean of the observations' yaws (each
-  // observation counted as one heading sample).
-  struct DwellHeading {
-    double sin_sum = 0.0, cos_sum = 0.0, stamp_sum = 0.0;
-    int count = 0;
-    double pose_yaw_rad = 0.0, pose_mid_s = 0.0;
-    int pose_samples = 0;
-  };
-  std::map<int, DwellHeading> dwell_headings;
-  // Every dwell's scans use the dwell's heading, also when moving scans and a clock offset are
-  // in the problem. (Until the dwells got their end guard, alignment.dwell_guard_s, the scans
-  // of a turn's last moments sat in the dwells, and with this model the offset came out 0.093 s
-  // for a true 0.15 s; a per-scan heading model was used for such sessions then.)
-  double reference_s = std::numeric_limits<double>::infinity();
-  for (const auto& observation : observations) {
-    reference_s = std::min(reference_s, observation.pose.stamp_s);
-    if (!UsesDwellHeading(observation)) continue;
-    DwellHeading& entry = dwell_headings[observation.pose.segment];
-    entry.sin_sum += std::sin(observation.pose.yaw_rad);
-    entry.cos_sum += std::cos(observation.pose.yaw_rad);
-    entry.stamp_sum += observation.pose.stamp_s;
-    entry.count += 1;
-    if (observation.pose.dwell_yaw_samples > 0) {
-      entry.pose_yaw_rad = observation.pose.dwell_yaw_rad;
-      entry.pose_mid_s = observation.pose.dwell_mid_s;
-      entry.pose_samples = observation.pose.dwell_yaw_samples;
-    }
-  }
-  if (!std::isfinite(reference_s)) reference_s = 0.0;
-  mp->heading_reference_s = reference_s;
-  std::map<int, SegmentSums> sums;
-  int moving = 0;
-  for (size_t i = 0; i < observations.size(); ++i) {
-    const auto& observation = observations[i];
-    if (!(weight_of(i) > 0.0)) continue;
-    if (!observation.pose.stationary) ++moving;
-    const int segment = calib::GnssSegment(observation);
-    if (segment < 0) continue;
-    SegmentSums& entry = sums[segment];
-    if (options.use_gst_sigma && observation.pose.gnss_sigma_m > 0.0) {
-      entry.gst_sum += observation.pose.gnss_sigma_m;
-      entry.gst_count += 1;
-    }
-    entry.stamp_sum += observation.pose.stamp_s;
-    entry.count += 1;
-  }
-  std::map<int, int> segment_index;
-  for (const auto& [segment, entry] : sums) {
-    segment_index[segment] = static_cast<int>(mp->segment_ids.size());
-    mp->segment_ids.push_back(segment);
-    mp->bias_sigma_m.push_back(entry.gst_count > 0 ? entry.gst_sum / entry.gst_count
-                                                   : options.gnss_bias_sigma_m);
-    mp->segment_mid_s.push_back(entry.stamp_sum / entry.count);
-  }
-  mp->biases.assign(mp->segment_ids.size(), {0.0, 0.0});
-  // Heading offsets: a dwell's mean heading is off by the mean of its samples' white errors,
-  // σ_h / √n (seed 002's FOG: 0.05° white at 20 Hz, 60 s dwell -> 0.002°). Moving segments get
-  // none (σ 0: the zero block): their scans' heading errors are white and in their covariance.
-  // One per station (pose.segment), whatever its GNSS-error slices.
-  std::map<int, int> heading_index;
-  for (const auto& [station, entry] : dwell_headings) {
-    heading_index[station] = static_cast<int>(mp->heading_offsets.size());
-    mp->heading_offsets.push_back({0.0});
-    const int samples = entry.pose_samples > 0 ? entry.pose_samples : entry.count;
-    mp->heading_offset_sigma_rad.push_back(options.heading_sigma_rad /
-                                           std::sqrt(std::max(1, samples)));
-  }
-  mp->heading_drift_estimated = options.heading_drift_sigma_rad_per_s > 0.0;
-  // Time order and the correlation with the previous segment in it: ρ = exp(−Δt/τ).
-  mp->segment_order.resize(mp->segment_ids.size());
-  for (size_t k = 0; k < mp->segment_order.size(); ++k) mp->segment_order[k] = static_cast<int>(k);
-  std::stable_sort(mp->segment_order.begin(), mp->segment_order.end(), [&mp](int a, int b) {
-    return mp->segment_mid_s[a] < mp->segment_mid_s[b];
-  });
-  mp->segment_rho.assign(mp->segment_order.size(), 0.0);
-  for (size_t k = 1; k < mp->segment_order.size(); ++k) {
-    const double dt_s = mp->segment_mid_s[mp->segment_order[k]] -
-                        mp->segment_mid_s[mp->segment_order[k - 1]];
-    mp->segment_rho[k] = options.gnss_bias_tau_s > 0.0
-                             ? std::min(kMaxSegmentCorrelation,
-                                        std::exp(-std::max(0.0, dt_s) / options.gnss_bias_tau_s))
-                             : 0.0;
-  }
-  mp->time_offset_estimated = options.time_offset_sigma_s > 0.0 && moving >= kMinMovingObservations;
-
-  // Everything fixed per observation, including W = L⁻¹ of its covariance, before the problem
-  // takes any ownership (so that a bad covariance leaves nothing half-built).
-  mp->measurements.reserve(observations.size());
-  mp->wall_block.reserve(observations.size());
-  mp->bias_block.reserve(observations.size());
-  bool uses_no_bias = false;
-  std::set<int> walls_used;
-  for (size_t i = 0; i < observations.size(); ++i) {
-    const calib::WallObservation& observation = observations[i];
-    const calib::WallGeometry& wall = walls[observation.wall_index];
-    const calib::OrientedWall oriented = calib::OrientWall(wall, observation.pose.antenna_local_m);
-    const Eigen::Matrix2d covariance =
-        ObservationCovariance(observation, wall, options, lever_mount,
-                              PoseBiasSigma(observation.pose, options));
-    const Eigen::LLT<Eigen::Matrix2d> llt(covariance);
-    if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().minCoeff() > 0.0)) {
-      if (error != nullptr) {
-        *error = "observation " + std::to_string(i) + " (scan " +
-                 std::to_string(observation.scan_index) +
-                 ") has no usable noise model: its covariance is not positive definite (line "
-                 "fit σ and every noise σ in the options are zero?)";
-      }
-      return nullptr;
-    }
-    const double weight = weight_of(i);
-    WallLineMeasurement m;
-    m.antenna_local_m = observation.pose.antenna_local_m;
-    m.vehicle_yaw_rad = observation.pose.yaw_rad;
-    m.drift_time_s = observation.pose.stamp_s - reference_s;
-    m.velocity_local_mps = observation.pose.velocity_local_mps;
-    m.yaw_rate_rps = observation.pose.yaw_rate_rps;
-    if (UsesDwellHeading(observation)) {
-      // The true yaw is constant over a dwell: use the dwell's mean heading (and its time for
-      // the drift), not this scan's noisy sample. A per-scan heading in the lever-arm rotation
-      // would correlate the mount's Jacobian with the residual (errors in variables) and bias
-      // x in proportion to the number of scans (docs/results.md, solver scaling).
-      // The dwell's yaw is constant by definition: no yaw-rate term (a rate from a window that
-      // reaches past the dwell's end would tie the clock offset to the dwell's exact heading).
-      m.yaw_rate_rps = 0.0;
-      m.velocity_local_mps.setZero();
-      const DwellHeading& entry = dwell_headings.at(observation.pose.segment);
-      if (entry.pose_samples > 0) {
-        m.vehicle_yaw_rad = entry.pose_yaw_rad;
-        m.drift_time_s = entry.pose_mid_s - reference_s;
-      } else {
-        m.vehicle_yaw_rad = std::atan2(entry.sin_sum, entry.cos_sum);
-        m.drift_time_s = entry.stamp_sum / entry.count - reference_s;
-      }
-    }
-    m.sign = oriented.sign;
-    m.wall_normal_local = wall.normal_local;
-    // The rotation centre: the middle of the surveyed extent, projected onto the line.
-    const Eigen::Vector2d middle = 0.5 * (wall.end_a_local + wall.end_b_local);
-    m.wall_centre_local_m =
-        middle - (wall.normal_local.dot(middle) - wall.offset_m) * wall.normal_local;
-    m.wall_normal_angle_rad = oriented.normal_angle_rad;
-    m.rho_m = observation.rho_m;
-    m.theta_rad = observation.theta_rad;
-    m.sqrt_information = std::sqrt(weight > 0.0 ? weight : 1.0) *
-                         Eigen::Matrix2d(llt.matrixL().solve(Eigen::Matrix2d::Identity()));
-    mp->measurements.push_back(m);
-    mp->weights.push_back(weight);
-    if (weight > 0.0) walls_used.insert(observation.wall_index);
-
-    mp->wall_block.push_back(mp->wall_deltas[observation.wall_index].data());
-    double* bias = mp->no_bias.data();
-    const int segment = calib::GnssSegment(observation);
-    const auto found = segment_index.find(segment);
-    if (segment >= 0 && found != segment_index.end()) {
-      // A segment whose σ_b is 0 has no error to estimate: it shares the constant zero block.
-      if (mp->bias_sigma_m[found->second] > 0.0) bias = mp->biases[found->second].data();
-    }
-    if (weight > 0.0) uses_no_bias = uses_no_bias || bias == mp->no_bias.data();
-    mp->bias_block.push_back(bias);
-    double* heading = mp->no_heading_offset.data();
-    const auto station = heading_index.find(observation.pose.segment);
-    if (UsesDwellHeading(observation) && station != heading_index.end() &&
-        mp->heading_offset_sigma_rad[station->second] > 0.0) {
-      heading = mp->heading_offsets[station->second].data();
-    }
-    mp->heading_block.push_back(heading);
-  }
-
-  // Observation blocks, robustified in whitened units. The problem owns the loss (one shared
-  // instance) and every cost function. Observations of weight 0 get no block.
-  ceres::LossFunction* loss =
-      options.huber_scale > 0.0 ? new ceres::HuberLoss(options.huber_scale) : nullptr;
-  mp->residual_blocks.reserve(observations.size());
-  bool loss_used = false;
-  for (size_t i = 0; i < mp->measurements.size(); ++i) {
-    if (!(mp->weights[i] > 0.0)) {
-      mp->residual_blocks.push_back(nullptr);
-      continue;
-    }
-    loss_used = true;
-    mp->residual_blocks.push_back(mp->problem.AddResidualBlock(
-        WallLineCost::Create(mp->measurements[i]), loss, mp->mount.data(), mp->wall_block[i],
-        mp->bias_block[i], mp->time_offset.data(), mp->heading_block[i],
-        mp->heading_drift.data()));
-  }
-  if (!loss_used) delete loss;
-
-  // Wall priors, joint over the walls in the problem (they share the survey tie, see
-  // WallPriorCovariance). A σ of 0 means the survey is taken as exact in that coordinate: the
-  // coordinate is held constant (the whole block when both are 0) rather than given an
-  // infinite weight, and is left out of the prior.
-  std::vector<int> prior_walls;
-  std::vector<std::pair<int, int>> prior_coordinates;  // (index into prior_walls, 0 d / 1 α)
-  for (int w : walls_used) {
-    double* block = mp->wall_deltas[w].data();
-    const bool offset_free = walls[w].sigma_offset_m > 0.0;
-    const bool angle_free = walls[w].sigma_angle_rad > 0.0;
-    if (!offset_free && !angle_free) {
-      mp->problem.SetParameterBlockConstant(block);
-      continue;
-    }
-    if (!offset_free || !angle_free) {
-      mp->problem.SetManifold(block, new ceres::SubsetManifold(2, {offset_free ? 1 : 0}));
-    }
-    const int index = static_cast<int>(prior_walls.size());
-    prior_walls.push_back(w);
-    if (offset_free) prior_coordinates.emplace_back(index, 0);
-    if (angle_free) prior_coordinates.emplace_back(index, 1);
-  }
-  if (!prior_coordinates.empty()) {
-    const Eigen::MatrixXd full = WallPriorCovariance(walls, prior_walls);
-    const int k = static_cast<int>(prior_coordinates.size());
-    Eigen::MatrixXd covariance(k, k);
-    for (int r = 0; r < k; ++r) {
-      for (int c = 0; c < k; ++c) {
-        covariance(r, c) = full(2 * prior_coordinates[r].first + prior_coordinates[r].second,
-                                2 * prior_coordinates[c].first + prior_coordinates[c].second);
-      }
-    }
-    Eigen::LLT<Eigen::MatrixXd> llt(covariance);
-    if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().minCoeff() > 0.0)) {
-      // Not positive definite (inconsistent σ's of hand-made walls): the marginals alone.
-      covariance = Eigen::MatrixXd(covariance.diagonal().asDiagonal());
-      llt.compute(covariance);
-    }
-    const Eigen::MatrixXd whitening =
-        llt.matrixL().solve(Eigen::MatrixXd::Identity(k, k));
-    std::vector<double*> blocks;
-    for (int w : prior_walls) blocks.push_back(mp->wall_deltas[w].data());
-    mp->problem.AddResidualBlock(
-        new JointPriorCost(whitening, prior_coordinates, std::vector<int>(blocks.size(), 2)),
-        nullptr, blocks);
-  }
-  // GNSS bias priors: a first-order Gauss–Markov chain in time (the RTK error is correlated
-  // over τ, and stations are often closer in time than that: independent priors per station
-  // would count them as independent draws and make σ too small). The first segment of each
-  // chain gets the marginal prior; a segment with σ_b = 0 (not in the problem, see above)
-  // breaks the chain. ρ = exp(−Δt/τ) between segment mean times.
-  int previous = -1;
-  for (size_t k = 0; k < mp->segment_order.size(); ++k) {
-    const int index = mp->segment_order[k];
-    const double sigma_m = mp->bias_sigma_m[index];
-    if (!(sigma_m > 0.0)) {
-      previous = -1;
-      continue;
-    }
-    const double rho = mp->segment_rho[k];
-    if (previous < 0 || !(rho > 0.0)) {
-      mp->problem.AddResidualBlock(ZeroMeanPriorCost::Create(Eigen::Vector2d(sigma_m, sigma_m)),
-                                   nullptr, mp->biases[index].data());
-    } else {
-      const double a = rho * sigma_m / mp->bias_sigma_m[previous];
-      const double sigma_w = sigma_m * std::sqrt(1.0 - rho * rho);
-      mp->problem.AddResidualBlock(GaussMarkovStepCost::Create(a, sigma_w), nullptr,
-                                   mp->biases[previous].data(), mp->biases[index].data());
-    }
-    previous = index;
-  }
-  // Heading offsets of the dwells in the problem: zero-mean priors of σ_h / √n, independent
-  // (white heading noise averaged over disjoint dwells).
-  for (size_t k = 0; k < mp->heading_offsets.size(); ++k) {
-    double* block = mp->heading_offsets[k].data();
-    if (!(mp->heading_offset_sigma_rad[k] > 0.0) || !mp->problem.HasParameterBlock(block)) continue;
-    mp->problem.AddResidualBlock(ScalarPriorCost::Create(mp->heading_offset_sigma_rad[k]), nullptr,
-                                 block);
-  }
-  if (mp->problem.HasParameterBlock(mp->no_heading_offset.data())) {
-    mp->problem.SetParameterBlockConstant(mp->no_heading_offset.data());
-  }
-  // The heading drift rate: prior σ_r; the data tell it through the trend of the wall's
-  // direction in the scans over the session (the constant part is in the mount yaw).
-  if (mp->problem.HasParameterBlock(mp->heading_drift.data())) {
-    if (mp->heading_drift_estimated) {
-      mp->problem.AddResidualBlock(
-          ScalarPriorCost::Create(options.heading_drift_sigma_rad_per_s), nullptr,
-          mp->heading_drift.data());
-    } else {
-      mp->problem.SetParameterBlockConstant(mp->heading_drift.data());
-    }
-  }
-  // The zero bias of observations without a segment is data, not an estimate.
-  if (uses_no_bias) mp->problem.SetParameterBlockConstant(mp->no_bias.data());
-  // The clock offset: a prior of σ_dt when moving scans can tell it; otherwise held at 0 (at
-  // a station the pose does not change with time, so dt is not in the data).
-  if (mp->problem.HasParameterBlock(mp->time_offset.data())) {
-    if (mp->time_offset_estimated) {
-      mp->problem.AddResidualBlock(ScalarPriorCost::Create(options.time_offset_sigma_s), nullptr,
-                                   mp->time_offset.data());
-    } else {
-      mp->problem.SetParameterBlockConstant(mp->time_offset.data());
-    }
-  }
-  return mp;
-}
-
-Eigen::Matrix3d MountInformation(MountProblem& mp) {
-  if (!mp.problem.HasParameterBlock(mp.mount.data())) return Eigen::Matrix3d::Zero();
-  std::vector<double*> blocks;
-  mp.problem.GetParameterBlocks(&blocks);
-  ceres::Problem::EvaluateOptions evaluate;
-  evaluate.parameter_blocks.push_back(mp.mount.data());
-  for (double* block : blocks) {
-    if (block == mp.mount.data() || mp.problem.IsParameterBlockConstant(block)) continue;
-    evaluate.parameter_blocks.push_back(block);
-  }
-  evaluate.apply_loss_function = true;
-  evaluate.num_threads = 1;
-  ceres::CRSMatrix jacobian;
-  if (!mp.problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &jacobian)) {
-    return Eigen::Matrix3d::Zero();
-  }
-  const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor, int>> j(
-      jacobian.num_rows, jacobian.num_cols, static_cast<int>(jacobian.values.size()),
-      jacobian.rows.data(), jacobian.cols.data(), jacobian.values.data());
-  const Eigen::SparseMatrix<double> jc = j;  // column major for the product
-  const Eigen::SparseMatrix<double> jt = jc.transpose();
-  const Eigen::SparseMatrix<double> h = jt * jc;
-  const int n = static_cast<int>(h.rows()) - 3;
-  Eigen::Matrix3d information = Eigen::Matrix3d(h.topLeftCorner(3, 3));
-  if (n > 0) {
-    // Schur complement: the nuisance block has priors on every coordinate, so it is positive
-    // definite. It is sparse (a GNSS-error slice touches its neighbours in the Gauss–Markov
-    // chain and the few session-wide blocks: walls, drift, clock offset) and large for long
-    // sessions (two unknowns per 0.25 s slice): factored as a sparse LDLᵀ. Its scales differ by
-    // many orders of magnitude (a drift rate in rad/s with a prior of 2.4e-6 has information
-    // ~1e11, a GNSS bias ~1e4): Jacobi-scaled to a unit diagonal, with a tiny ridge against
-    // round-off only.
-    Eigen::SparseMatrix<double> hnn = h.bottomRightCorner(n, n);
-    Eigen::VectorXd scale(n);
-    for (int k = 0; k < n; ++k) {
-      scale[k] = 1.0 / std::sqrt(std::max(std::abs(hnn.coeff(k, k)), 1e-300));
-    }
-    hnn = scale.asDiagonal() * hnn * scale.asDiagonal();
-    Eigen::SparseMatrix<double> ridge(n, n);
-    ridge.setIdentity();
-    hnn += 1e-12 * ridge;
-    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(hnn);
-    if (ldlt.info() != Eigen::Success) return Eigen::Matrix3d::Zero();
-    const Eigen::MatrixXd hnm =
-        scale.asDiagonal() * Eigen::MatrixXd(h.bottomLeftCorner(n, 3));
-    information -= hnm.transpose() * ldlt.solve(hnm);
-  }
-  return 0.5 * (information + information.transpose());
-}
 
 MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& options,
                                 bool compute_covariance) {
@@ -516,7 +68,7 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
   // SPARSE_SCHUR; most of it is evaluating the auto-diff Jacobians.
   solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   solver_options.max_num_iterations = options.max_iterations;
-  solver_options.num_threads = 1;
+  solver_options.num_threads = std::max(1, options.num_threads);
   solver_options.minimizer_progress_to_stdout = false;
   solver_options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
@@ -593,53 +145,35 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
   }
 
   // Covariance of the mount with every nuisance block free, so that the wall and GNSS bias
-  // uncertainties propagate into it. Jacobians are evaluated with the Huber loss applied, as
-  // Ceres does by default: observations in the linear part of the loss count for less.
-  ceres::Covariance::Options covariance_options;
-  covariance_options.algorithm_type = ceres::SPARSE_QR;
-#ifndef CERES_NO_SUITESPARSE
-  covariance_options.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-#else
-  covariance_options.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
-#endif
-  covariance_options.num_threads = 1;
-  ceres::Covariance covariance(covariance_options);
-  std::vector<std::pair<const double*, const double*>> blocks = {
-      {mp.mount.data(), mp.mount.data()}};
-  if (mp.time_offset_estimated) blocks.emplace_back(mp.time_offset.data(), mp.time_offset.data());
+  // uncertainties propagate into it: the inverse of the marginal information of the mount, the
+  // clock offset and the drift rate (solvers/information.h, the one information path; the
+  // observability checks use the same matrix). Jacobians are evaluated with the Huber loss
+  // applied: observations in the linear part of the loss count for less.
+  std::vector<double*> kept = {mp.mount.data()};
+  const bool dt_free = mp.time_offset_estimated &&
+                       mp.problem.HasParameterBlock(mp.time_offset.data()) &&
+                       !mp.problem.IsParameterBlockConstant(mp.time_offset.data());
+  if (dt_free) kept.push_back(mp.time_offset.data());
   const bool drift_free = mp.heading_drift_estimated &&
                           mp.problem.HasParameterBlock(mp.heading_drift.data()) &&
                           !mp.problem.IsParameterBlockConstant(mp.heading_drift.data());
-  if (drift_free) blocks.emplace_back(mp.heading_drift.data(), mp.heading_drift.data());
-  if (!covariance.Compute(blocks, &mp.problem)) {
+  if (drift_free) kept.push_back(mp.heading_drift.data());
+  Eigen::MatrixXd covariance;
+  if (!CovarianceOfKept(MarginalInformation(mp, kept, options.num_threads), &covariance)) {
     estimate.failure = EstimateFailure::kCovariance;
     estimate.message =
         "the mount covariance could not be computed: the Jacobian is rank deficient (a mount or "
         "nuisance direction is determined neither by the observations nor by the priors)";
     return estimate;
   }
-  double values[9];
-  if (!covariance.GetCovarianceBlock(mp.mount.data(), mp.mount.data(), values)) {
-    estimate.failure = EstimateFailure::kCovariance;
-    estimate.message = "the mount covariance could not be read back from Ceres";
-    return estimate;
-  }
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) estimate.covariance(r, c) = values[3 * r + c];
-  }
-  if (mp.time_offset_estimated) {
-    double dt_variance = 0.0;
-    if (covariance.GetCovarianceBlock(mp.time_offset.data(), mp.time_offset.data(),
-                                      &dt_variance)) {
-      estimate.time_offset_sigma_s = std::sqrt(std::max(0.0, dt_variance));
-    }
+  estimate.covariance = covariance.topLeftCorner(3, 3);
+  int next = 3;
+  if (dt_free) {
+    estimate.time_offset_sigma_s = std::sqrt(std::max(0.0, covariance(next, next)));
+    ++next;
   }
   if (drift_free) {
-    double drift_variance = 0.0;
-    if (covariance.GetCovarianceBlock(mp.heading_drift.data(), mp.heading_drift.data(),
-                                      &drift_variance)) {
-      estimate.heading_drift_sigma_rad_per_s = std::sqrt(std::max(0.0, drift_variance));
-    }
+    estimate.heading_drift_sigma_rad_per_s = std::sqrt(std::max(0.0, covariance(next, next)));
   }
   if (!estimate.covariance.allFinite() || !(estimate.covariance.diagonal().minCoeff() > 0.0)) {
     estimate.failure = EstimateFailure::kCovariance;
@@ -690,7 +224,7 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
 
   // Before solving: is every mount direction determined by this geometry and noise model?
   const DeterminationReport before =
-      CheckDetermination(MountInformation(*mp), observations, walls, options);
+      CheckDetermination(MountInformation(*mp, options.num_threads), observations, walls, options);
   if (!before.ok) {
     if (!force) {
       MountEstimate refused = Refused(initial, EstimateFailure::kNotDetermined, before.message);
@@ -717,7 +251,7 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
   }
   // After solving: the same check at the solution (the noise model's lever arms and the robust
   // loss's weights have changed).
-  const Eigen::Matrix3d information = MountInformation(*mp);
+  const Eigen::Matrix3d information = MountInformation(*mp, options.num_threads);
   const DeterminationReport after = CheckDetermination(information, observations, walls, options);
   if (!after.ok) {
     estimate.weak_direction = after.weak_direction;
@@ -770,7 +304,7 @@ Refit RefitMount(const std::vector<calib::WallObservation>& observations,
   if (!estimate.usable) return refit;
   refit.converged = true;
   refit.mount = estimate.mount;
-  const Eigen::Matrix3d information = MountInformation(*mp);
+  const Eigen::Matrix3d information = MountInformation(*mp, options.num_threads);
   refit.covariance = CovarianceFromInformation(information);
   std::vector<calib::WallObservation> used;
   for (size_t i = 0; i < observations.size(); ++i) {

@@ -102,11 +102,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     const Mount& lever_mount, const Mount& initial, std::string* error,
     const std::vector<double>& weights = {});
 
-// The information matrix of the mount (x, y, yaw; 1/m², 1/(m·rad), 1/rad²) at the problem's
-// current values, with every free nuisance parameter (walls, biases, time offset) marginalised
-// (Schur complement of the Gauss–Newton normal matrix, robust loss applied). Its inverse is the
-// mount covariance; it is singular when a mount direction is not determined at all.
-Eigen::Matrix3d MountInformation(MountProblem& problem);
+// The information matrix of the mount: solvers/information.h.
 
 // The 2x2 covariance (m², m·rad, rad²) of one observation's [rho; theta] error before the
 // nuisance parameters: line fit + GNSS white noise along the normal (plus the bias σ when the

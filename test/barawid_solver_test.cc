@@ -1,4 +1,4 @@
-// Tests of seed 002's closed-form mount estimate (solvers/barawid_solver.cc), on wall
+// Tests of Barawid 2007's closed-form mount estimate (solvers/barawid_solver.cc), on wall
 // observations synthesised here from a known mount, a known wall and known poses.
 
 #include <gtest/gtest.h>
@@ -8,12 +8,13 @@
 #include <vector>
 
 #include "calib/wall_geometry.h"
+#include "sim/synthetic_observations.h"
 #include "solvers/mount_solver.h"
 #include "common/angles.h"
 
 namespace wallcal::solvers {
 namespace {
-const Mount kTruth{2.57, 0.056, 2.8 * kDegToRad};  // seed 002: a = −0.056, b = 2.57, δ = 2.8°
+const Mount kTruth{2.57, 0.056, 2.8 * kDegToRad};  // Barawid 2007: a = −0.056, b = 2.57, δ = 2.8°
 
 struct Noise {
   double rho_m = 0.0;
@@ -23,56 +24,31 @@ struct Noise {
   double heading_rad = 0.0;
 };
 
+// The shared fixture (sim/synthetic_observations.h) with this test's noise: one north wall,
+// the first wall of the fixture.
+sim::SimSettings SettingsFor(int stations, int scans, const Noise& noise) {
+  sim::SimSettings s;
+  s.truth = kTruth;
+  s.stations = stations;
+  s.scans_per_station = scans;
+  s.noise = noise.rho_m > 0 || noise.theta_rad > 0 || noise.gnss_white_m > 0 ||
+            noise.gnss_bias_m > 0 || noise.heading_rad > 0;
+  s.fit_sigma_rho_m = noise.rho_m > 0 ? noise.rho_m : 0.003;
+  s.fit_sigma_theta_rad = noise.theta_rad > 0 ? noise.theta_rad : 0.002;
+  s.gnss_white_sigma_m = noise.gnss_white_m;
+  s.gnss_bias_sigma_m = noise.gnss_bias_m;
+  s.heading_sigma_rad = noise.heading_rad;
+  return s;
+}
+
 calib::WallGeometry NorthWall() {
-  calib::WallGeometry wall;
-  wall.id = "north";
-  wall.normal_local = Eigen::Vector2d(0.0, 1.0);
-  wall.offset_m = 10.0;
-  wall.end_a_local = Eigen::Vector2d(-10.0, 10.0);
-  wall.end_b_local = Eigen::Vector2d(10.0, 10.0);
-  wall.sigma_offset_m = 0.005;
-  wall.sigma_angle_rad = 0.001;
-  return wall;
+  std::mt19937 rng(0);
+  return sim::SimulateObservations(SettingsFor(2, 1, Noise{}), rng).walls.front();
 }
 
-Eigen::Vector2d Rotate(double angle_rad, const Eigen::Vector2d& v) {
-  const double c = std::cos(angle_rad);
-  const double s = std::sin(angle_rad);
-  return Eigen::Vector2d(c * v.x() - s * v.y(), s * v.x() + c * v.y());
-}
-
-// `stations` stations 7.5-8.5 m south of the wall y = 10, facing it within ±35°, with
-// `scans` scans each. The wall is exactly where it was surveyed.
 std::vector<calib::WallObservation> Simulate(int stations, int scans, const Noise& noise,
                                              std::mt19937& rng) {
-  std::normal_distribution<double> unit(0.0, 1.0);
-  const calib::WallGeometry wall = NorthWall();
-  std::vector<calib::WallObservation> observations;
-  for (int k = 0; k < stations; ++k) {
-    const double t = static_cast<double>(k) / (stations - 1);
-    const double heading_rad = 0.5 * kPi + 35.0 * kDegToRad * (2 * t - 1);
-    const double u = static_cast<double>((k * 7) % stations) / (stations - 1);
-    const Eigen::Vector2d antenna(-4.0 + 8.0 * u, 1.5 + 0.5 * (k % 3));
-    const Eigen::Vector2d bias = noise.gnss_bias_m * Eigen::Vector2d(unit(rng), unit(rng));
-    const Eigen::Vector2d scanner = antenna + Rotate(heading_rad, {kTruth.x_m, kTruth.y_m});
-    for (int j = 0; j < scans; ++j) {
-      calib::WallObservation o;
-      o.scan_index = k * scans + j;
-      o.wall_index = 0;
-      o.rho_m = wall.offset_m - wall.normal_local.dot(scanner) + noise.rho_m * unit(rng);
-      o.theta_rad =
-          WrapAngle(0.5 * kPi - heading_rad - kTruth.yaw_rad + noise.theta_rad * unit(rng));
-      o.sigma_rho_m = 0.003;
-      o.sigma_theta_rad = 0.002;
-      o.pose.antenna_local_m =
-          antenna + bias + noise.gnss_white_m * Eigen::Vector2d(unit(rng), unit(rng));
-      o.pose.yaw_rad = heading_rad + noise.heading_rad * unit(rng);
-      o.pose.stationary = true;
-      o.pose.segment = k;
-      observations.push_back(o);
-    }
-  }
-  return observations;
+  return sim::SimulateObservations(SettingsFor(stations, scans, noise), rng).observations;
 }
 
 TEST(SolveMountBarawidTest, RecoversMountExactlyOnNoiseFreeData) {

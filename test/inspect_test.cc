@@ -417,14 +417,18 @@ TEST(InspectTest, MissingFileExitsTwoNamingThePath) {
   EXPECT_NE(session.err.find(path + ".yaml"), std::string::npos) << session.err;
 }
 
-TEST(InspectTest, UsageErrorsAndHelp) {
-  std::ostringstream out, err;
-  EXPECT_EQ(RunInspect({"--help"}, out, err), 0);
-  EXPECT_NE(out.str().find("--dump"), std::string::npos);
-  EXPECT_EQ(RunInspect({}, out, err), 2);
-  EXPECT_EQ(RunInspect({"x", "--dump", "positions"}, out, err), 2);
-  EXPECT_NE(err.str().find("expected gnss, heading or scans"), std::string::npos) << err.str();
-  EXPECT_EQ(RunInspect({"x", "--bogus"}, out, err), 2);
+TEST(InspectTest, UsageErrorsHelpAndVersion) {
+  ProgramRun run = RunInspectProgram("--help");
+  EXPECT_EQ(run.status, 0);
+  EXPECT_NE(run.out.find("--dump"), std::string::npos);
+  run = RunInspectProgram("--version");
+  EXPECT_EQ(run.status, 0);
+  EXPECT_EQ(run.out.rfind("wallcal inspect ", 0), 0u) << run.out;
+  EXPECT_EQ(RunInspectProgram("").status, 2);
+  run = RunInspectProgram("x --dump positions");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.err.find("expected gnss, heading, scans or survey"), std::string::npos) << run.err;
+  EXPECT_EQ(RunInspectProgram("x --bogus").status, 2);
 }
 
 TEST(InspectTest, StreamStatsFindGapsAndStepsBack) {

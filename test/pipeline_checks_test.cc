@@ -253,6 +253,32 @@ TEST(PipelineChecksTest, ResidualAnalysisAndRepeatabilityComeWithTheEstimate) {
 }
 
 }  // namespace
+// Detection in parallel batches and a multi-threaded solve give the one-thread result: the
+// observations in the same order and the mount to round-off (1e-9 m, 1e-9 rad).
+TEST(PipelineChecksTest, ThreadCountDoesNotChangeTheResult) {
+  CalibrateRequest request;
+  request.session_path = std::string(WALLCAL_SOURCE_DIR) + "/samples/lms291-sapporo";
+  request.threads = 1;
+  const CalibrationResult one = RunCalibration(request);
+  request.threads = 2;
+  const CalibrationResult two = RunCalibration(request);
+  ASSERT_TRUE(one.estimate.usable) << one.estimate.message;
+  ASSERT_TRUE(two.estimate.usable) << two.estimate.message;
+  ASSERT_EQ(one.observations.size(), two.observations.size());
+  for (size_t i = 0; i < one.observations.size(); ++i) {
+    EXPECT_EQ(one.observations[i].scan_index, two.observations[i].scan_index);
+    EXPECT_EQ(one.observations[i].rho_m, two.observations[i].rho_m);
+  }
+  EXPECT_EQ(one.scans_skipped, two.scans_skipped);
+  EXPECT_NEAR(one.estimate.mount.x_m, two.estimate.mount.x_m, 1e-9);
+  EXPECT_NEAR(one.estimate.mount.y_m, two.estimate.mount.y_m, 1e-9);
+  EXPECT_NEAR(one.estimate.mount.yaw_rad, two.estimate.mount.yaw_rad, 1e-9);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(std::sqrt(one.estimate.covariance(k, k)), std::sqrt(two.estimate.covariance(k, k)),
+                1e-9);
+  }
+}
+
 }  // namespace wallcal
 
 #include "calib/geodesy.h"

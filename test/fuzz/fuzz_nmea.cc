@@ -31,7 +31,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   for (size_t i = 0; i < log.headings.size(); ++i) {
     const wallcal::io::HeadingSample& h = log.headings[i];
-    if (!std::isfinite(h.stamp_s) || !(h.heading_rad >= 0.0 && h.heading_rad < kTwoPi) ||
+    if (!std::isfinite(h.stamp_s) || !(h.heading_rad >= 0.0 && h.heading_rad < wallcal::kTwoPi) ||
         h.line < 1 || h.line > log.lines_read) {
       std::abort();
     }

@@ -1,0 +1,104 @@
+#pragma once
+// What the inspect files share (not part of the public preflight API): text formatting of the
+// report, the scan-log summary and the per-stream statistics helpers.
+
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "calib/range_model.h"
+#include "io/nmea_reader.h"
+#include "io/options.h"
+#include "io/recording_streams.h"
+#include "io/types.h"
+#include "preflight/inspect.h"
+
+namespace wallcal::preflight::internal {
+
+// ---- Text (report_text.cc) -----------------------------------------------------------------
+std::string Fmt(const char* format, double value);
+std::string FileName(const std::string& path);
+// Stamps on the UNIX clock (after 1973) are printed as UTC; smaller ones (a logger that counts
+// from its own start, like the Radish logs) as seconds.
+std::string FormatStamp(double stamp_s);
+double Median(std::vector<double> values);
+
+// Circular extent of angles (rad) about their circular mean: min and max as headings in
+// [0, 360) degrees and the width in degrees (0 for fewer than one angle).
+struct AngleExtent {
+  double min_deg = 0.0, max_deg = 0.0, width_deg = 0.0;
+  bool any = false;
+};
+AngleExtent Extent(const std::vector<double>& angles_rad);
+// 36 bins of 10 degrees of heading (clockwise from north), one character each.
+std::string Histogram(const std::vector<double>& headings_rad);
+int OccupiedBins(const std::vector<double>& headings_rad);
+// The axis over Histogram(): labels at 0, 90, 180, 270, 360 degrees.
+std::string HistogramAxis();
+std::string DescribeSkips(const io::SkipCounts& skips);
+int64_t WorrisomeSkips(const io::SkipCounts& skips);
+std::string FormatStream(const StreamStats& s);
+
+struct Interval {
+  double start_s = io::kNaN, end_s = io::kNaN;
+  bool Valid() const { return std::isfinite(start_s) && std::isfinite(end_s) && end_s >= start_s; }
+};
+Interval Intersect(const Interval& a, const Interval& b);
+std::string FormatOverlap(const Interval& i);
+// A CSV cell: the number, or nothing when it is not finite.
+void CsvNumber(std::ostream& out, const char* format, double value);
+
+// ---- Paths (log_kind.cc) -------------------------------------------------------------------
+// Throws io::InputError naming the path when it does not exist, is a folder or cannot be read.
+void RequireReadableFile(const std::string& path);
+
+// ---- Streams (stream_stats.cc) -------------------------------------------------------------
+StreamStats FixStats(const std::string& path, const io::NmeaLog& log);
+StreamStats HeadingStats(const std::string& path, const io::NmeaLog& log);
+std::string FormatQualities(const io::NmeaLog& log);
+// Time covered by consecutive RTK-fixed epochs (steps no longer than max_step_s).
+double TimeRtkFixed(const std::vector<io::GnssFix>& fixes, double max_step_s);
+
+// ---- Scan logs (log_inspection.cc) ---------------------------------------------------------
+struct ScanLogSummary {
+  StreamStats stats;
+  std::vector<double> stamps_s;  // with the session's time offset
+  std::map<size_t, int64_t> beams;  // beam count -> scans
+  calib::RangeCounts readings;
+  bool have_readings = false;
+  double first_start_rad = 0.0, first_step_rad = 0.0, first_max_range_m = 0.0;
+  io::SkipCounts skipped;
+  int64_t lines_read = 0;
+};
+// Valid readings of a scan without a preset: finite, positive and below the log's maximum.
+int LogValid(const io::ScanRecord& scan, float* min_m, float* max_m);
+ScanLogSummary ReadScanLog(const std::string& path, double time_offset_s,
+                           const io::ScannerPreset* preset, double min_range_m,
+                           double mixed_jump_m, const io::ScanOpener* opener = nullptr);
+
+// ---- A session's logs (session_logs.cc) ----------------------------------------------------
+struct SessionLogs {
+  std::optional<ScanLogSummary> scans;
+  std::optional<io::NmeaLog> gnss;
+  std::optional<io::NmeaLog> heading_log;
+  std::optional<StreamStats> fix_stats, heading_stats;
+  int64_t accepted_fixes = 0;
+};
+// The "logs" part of the session report (scans, GNSS, headings, their overlap), written to
+// `out`; problems become blockers and warnings in `result`.
+SessionLogs InspectSessionLogs(const io::SessionSpec& spec, const io::CalibrateOptions& options,
+                               const io::ScannerPreset* preset, SessionInspection* result,
+                               std::ostream& out);
+
+}  // namespace wallcal::preflight::internal
+
+namespace wallcal::preflight {
+// The CSV of inspect --dump from the streams `spec` names (text logs or recording topics);
+// scans are judged valid by `preset` when not null, else by the log alone.
+void WriteDumpCsv(const io::SessionSpec& spec, DumpKind kind, const io::ScannerPreset* preset,
+                  std::ostream& out);
+}  // namespace wallcal::preflight

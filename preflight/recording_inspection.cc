@@ -1,0 +1,305 @@
+// inspect on a robot recording: every topic's type, count, rate, span and gaps, the statistics
+// of the supported types, the suggested session.yaml, and the dumps of one topic.
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "common/angles.h"
+#include "io/recording.h"
+#include "io/recording_streams.h"
+#include "io/session_reader.h"
+#include "io/version.h"
+#include "pipeline/config_dirs.h"
+#include "preflight/inspect_internal.h"
+
+namespace wallcal::preflight {
+
+using namespace internal;  // the helpers shared by the inspect files
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// What one pass over a recording learns about each topic.
+struct TopicSummary {
+  const io::TopicInfo* info = nullptr;
+  io::RosType type = io::RosType::kOther;
+  std::vector<double> receive_s;
+  std::vector<int> lines;
+  // LaserScan
+  std::map<size_t, int64_t> beams;
+  int64_t readings = 0, in_range = 0;
+  float first_increment_rad = 0, first_range_max_m = 0, first_angle_min_rad = 0;
+  // NavSatFix
+  std::map<int, int64_t> status;
+  int64_t fixes_sigma_ok = 0, fixes_no_covariance = 0;
+  // headings (QuaternionStamped, Imu)
+  std::vector<double> headings_rad;
+  // nmea_msgs/Sentence: sentence types ("GGA") -> count
+  std::map<std::string, int64_t> sentences;
+  int64_t undecodable = 0;
+};
+
+std::map<std::string, TopicSummary> Summarise(io::Recording& recording) {
+  std::map<std::string, TopicSummary> topics;
+  std::set<std::string> names;
+  for (const io::TopicInfo& info : recording.topics()) {
+    TopicSummary& t = topics[info.name];
+    t.info = &info;
+    t.type = io::RosTypeFromName(info.type);
+    names.insert(info.name);
+  }
+  io::LaserScanMsg scan;
+  io::NavSatFixMsg fix;
+  io::QuaternionMsg quaternion;
+  io::NmeaSentenceMsg sentence;
+  recording.ForEach(names, [&](const io::RecordedMessage& m) {
+    TopicSummary& t = topics[m.topic->name];
+    t.receive_s.push_back(m.receive_s);
+    t.lines.push_back(static_cast<int>(std::min<int64_t>(m.index + 1, INT_MAX)));
+    switch (t.type) {
+      case io::RosType::kLaserScan:
+        if (!io::DecodeLaserScan(m.data, m.size, m.wire, &scan).ok()) {
+          ++t.undecodable;
+          break;
+        }
+        if (t.beams.empty()) {
+          t.first_increment_rad = scan.angle_increment_rad;
+          t.first_range_max_m = scan.range_max_m;
+          t.first_angle_min_rad = scan.angle_min_rad;
+        }
+        ++t.beams[scan.ranges_m.size()];
+        for (float r : scan.ranges_m) {
+          ++t.readings;
+          t.in_range += std::isfinite(r) && r >= scan.range_min_m && r < scan.range_max_m;
+        }
+        break;
+      case io::RosType::kNavSatFix:
+        if (!io::DecodeNavSatFix(m.data, m.size, m.wire, &fix).ok()) {
+          ++t.undecodable;
+          break;
+        }
+        ++t.status[fix.status];
+        t.fixes_no_covariance += fix.position_covariance_type == 0;
+        t.fixes_sigma_ok +=
+            io::FixFromNavSatFix(fix, 0.0, io::kDefaultGnssMaxSigmaM, 1).quality == 4 &&
+            fix.position_covariance_type != 0;
+        break;
+      case io::RosType::kQuaternionStamped:
+      case io::RosType::kImu: {
+        const bool ok = t.type == io::RosType::kImu
+                            ? io::DecodeImu(m.data, m.size, m.wire, &quaternion).ok()
+                            : io::DecodeQuaternionStamped(m.data, m.size, m.wire, &quaternion).ok();
+        if (!ok) {
+          ++t.undecodable;
+        } else if (quaternion.orientation_covariance[0] != -1.0) {
+          t.headings_rad.push_back(io::HeadingFromEnuQuaternion(quaternion.x, quaternion.y,
+                                                                quaternion.z, quaternion.w));
+        }
+        break;
+      }
+      case io::RosType::kNmeaSentence:
+        if (!io::DecodeNmeaSentence(m.data, m.size, m.wire, &sentence).ok()) {
+          ++t.undecodable;
+        } else if (sentence.sentence.size() > 6 && sentence.sentence[0] == '$') {
+          ++t.sentences[sentence.sentence.substr(3, 3)];
+        }
+        break;
+      case io::RosType::kOther:
+        break;
+    }
+  });
+  return topics;
+}
+
+bool HasSentence(const TopicSummary& t, const char* type) {
+  const auto it = t.sentences.find(type);
+  return it != t.sentences.end() && it->second > 0;
+}
+
+// Topics that fit a role, best first: by type preference, then message count, then name.
+std::vector<const TopicSummary*> Candidates(const std::map<std::string, TopicSummary>& topics,
+                                            const std::vector<io::RosType>& preference,
+                                            const char* sentence_type) {
+  std::vector<const TopicSummary*> out;
+  for (const auto& [name, t] : topics) {
+    const auto rank = std::find(preference.begin(), preference.end(), t.type);
+    if (rank == preference.end() || t.info->count == 0) continue;
+    if (t.type == io::RosType::kNmeaSentence && !HasSentence(t, sentence_type)) continue;
+    out.push_back(&t);
+  }
+  auto rank_of = [&](const TopicSummary* t) {
+    return std::find(preference.begin(), preference.end(), t->type) - preference.begin();
+  };
+  std::stable_sort(out.begin(), out.end(), [&](const TopicSummary* a, const TopicSummary* b) {
+    if (rank_of(a) != rank_of(b)) return rank_of(a) < rank_of(b);
+    return a->info->count > b->info->count;
+  });
+  return out;
+}
+
+std::string Why(const std::vector<const TopicSummary*>& candidates, const char* role) {
+  if (candidates.size() < 2) return "";
+  std::ostringstream out;
+  out << "  # " << candidates.size() << " topics fit the " << role << ": ";
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    out << (i ? ", " : "") << candidates[i]->info->name << " (" << candidates[i]->info->type << ", "
+        << candidates[i]->info->count << " messages)";
+  }
+  out << "; chosen: the preferred type, then the most messages\n";
+  return out.str();
+}
+
+// The preset whose beam count and increment match the scans, or "" when none does.
+std::string MatchingPreset(const TopicSummary& scans) {
+  if (scans.beams.empty()) return "";
+  for (const std::string& dir : pipeline::PresetDirs()) {
+    std::error_code error;
+    for (const auto& entry : fs::directory_iterator(dir, error)) {
+      if (entry.path().extension() != ".yaml") continue;
+      try {
+        const io::ScannerPreset preset = io::ReadScannerPreset(entry.path().string());
+        if (static_cast<size_t>(preset.num_beams) == scans.beams.begin()->first &&
+            std::abs(std::abs(double(scans.first_increment_rad)) - preset.angular_step_rad) <
+                1e-4 * preset.angular_step_rad + 1e-6) {
+          return preset.name;
+        }
+      } catch (const io::InputError&) {
+        continue;  // a broken preset file is calibrate's business, not the suggestion's
+      }
+    }
+  }
+  return "";
+}
+
+std::string FormatTopic(const TopicSummary& t, const std::string& path) {
+  std::ostringstream out;
+  StreamStats stats = ComputeStreamStats(t.info->name + " [" + t.info->type + "]", path,
+                                         t.receive_s, t.lines);
+  out << FormatStream(stats);
+  if (t.undecodable > 0) out << "    damaged   " << t.undecodable << " messages do not decode\n";
+  if (!t.beams.empty()) {
+    out << "    beams    ";
+    for (const auto& [beams, count] : t.beams) out << " " << beams << " beams: " << count << " scans;";
+    out << "\n    geometry  first scan: angle_min " << Fmt("%.3f", t.first_angle_min_rad * kRadToDeg)
+        << "°, increment " << Fmt("%.4f", t.first_increment_rad * kRadToDeg) << "°, range_max "
+        << Fmt("%.2f", t.first_range_max_m) << " m\n";
+    out << "    readings  " << t.in_range << " of " << t.readings
+        << " in [range_min, range_max) (the rest: no return)\n";
+  }
+  if (!t.status.empty()) {
+    out << "    status   ";
+    for (const auto& [status, count] : t.status) out << " " << status << ": " << count << ";";
+    out << "\n    accepted  " << t.fixes_sigma_ok << " fixes with horizontal σ <= "
+        << Fmt("%.3f", io::kDefaultGnssMaxSigmaM) << " m (gnss.max_sigma_m default)";
+    if (t.fixes_no_covariance > 0) {
+      out << "; " << t.fixes_no_covariance << " without covariance (float cannot be told apart)";
+    }
+    out << "\n";
+  }
+  if (!t.headings_rad.empty()) {
+    out << "    headings   " << HistogramAxis() << "\n";
+    out << "    (10° bins) " << Histogram(t.headings_rad) << "\n";
+  }
+  if (!t.sentences.empty()) {
+    out << "    sentences";
+    for (const auto& [type, count] : t.sentences) out << " " << type << ": " << count << ";";
+    out << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace
+
+std::string InspectRecording(const std::string& path) {
+  std::unique_ptr<io::Recording> recording = io::OpenRecording(path);
+  const std::map<std::string, TopicSummary> topics = Summarise(*recording);
+  std::ostringstream out;
+  out << "wallcal inspect " << io::kToolVersion << ": " << path << " ("
+      << io::RecordingFormatName(recording->format()) << ", " << topics.size() << " topics)\n";
+  for (const auto& [name, t] : topics) out << FormatTopic(t, path);
+  for (const std::string& w : recording->warnings()) out << "  warning: " << w << "\n";
+  out << "  (run with --suggest-session for a session.yaml naming the topics)\n";
+  return out.str();
+}
+
+std::string SuggestSession(const std::string& path) {
+  std::unique_ptr<io::Recording> recording = io::OpenRecording(path);
+  const std::map<std::string, TopicSummary> topics = Summarise(*recording);
+  const auto scans = Candidates(topics, io::AcceptedScanTypes(), "");
+  const auto gnss = Candidates(topics, {io::RosType::kNavSatFix, io::RosType::kNmeaSentence}, "GGA");
+  auto heading = Candidates(
+      topics, {io::RosType::kQuaternionStamped, io::RosType::kImu, io::RosType::kNmeaSentence}, "HDT");
+  if (heading.empty()) heading = Candidates(topics, {io::RosType::kNmeaSentence}, "THS");
+  const std::string log = fs::path(path).filename().string();
+  auto topic_line = [](const std::vector<const TopicSummary*>& c, const char* type) {
+    return c.empty() ? std::string("  topic: NONE  # no ") + type + " topic in the recording\n"
+                     : "  topic: " + c.front()->info->name + "  # " + c.front()->info->type + ", " +
+                           std::to_string(c.front()->info->count) + " messages\n";
+  };
+  std::ostringstream out;
+  out << "# session.yaml suggested by wallcal inspect " << io::kToolVersion << " from " << log
+      << "\n# Put it next to the recording, check every line marked CHECK, add the survey.\n";
+  out << "name: " << fs::path(path).stem().string() << "\n";
+  out << "scanner:\n";
+  const std::string preset = scans.empty() ? "" : MatchingPreset(*scans.front());
+  out << "  model: " << (preset.empty() ? "sick_lms291  # CHECK: no preset matches the scans"
+                                        : preset + "  # matches the beam count and increment")
+      << "\n";
+  out << "  log: " << log << "\n" << topic_line(scans, "sensor_msgs/LaserScan") << Why(scans, "scanner");
+  out << "  stamp: header  # or receive: the recorder's time\n  time_offset_s: 0\n";
+  out << "gnss:\n  log: " << log << "\n" << topic_line(gnss, "sensor_msgs/NavSatFix or GGA sentence")
+      << Why(gnss, "GNSS");
+  if (!gnss.empty() && gnss.front()->type == io::RosType::kNavSatFix) {
+    out << "  max_sigma_m: " << Fmt("%.2f", io::kDefaultGnssMaxSigmaM)
+        << "  # fixes with a larger horizontal σ (RTK float) are not used\n";
+  } else {
+    out << "  min_fix_quality: 4  # 4 RTK fixed; 5 also float\n";
+  }
+  out << "heading:\n  log: " << log << "\n"
+      << topic_line(heading, "QuaternionStamped, Imu or HDT/THS sentence") << Why(heading, "heading");
+  out << "  reference: true_north  # CHECK: an INS's ENU yaw is referenced to true north\n";
+  out << "survey:\n  points: survey.csv  # CHECK: the surveyor's file (CSV or Leica GSI)\n"
+      << "  control:\n    - {id: C1, lat: 0.0, lon: 0.0, h: 0.0}  # CHECK: RTK-measured control points\n"
+      << "    - {id: C2, lat: 0.0, lon: 0.0, h: 0.0}\n"
+      << "walls:\n  - {id: wall, code: WALL1}  # CHECK: the survey code of the wall's points\n";
+  return out.str();
+}
+
+void DumpRecording(const std::string& path, DumpKind kind, const std::string& topic,
+                   std::ostream& out) {
+  std::unique_ptr<io::Recording> recording = io::OpenRecording(path);
+  const std::vector<io::RosType> accepted = kind == DumpKind::kScans  ? io::AcceptedScanTypes()
+                                            : kind == DumpKind::kGnss ? io::AcceptedGnssTypes()
+                                                                      : io::AcceptedHeadingTypes();
+  std::string chosen = topic;
+  if (chosen.empty()) {
+    std::vector<std::string> fit;
+    for (const io::TopicInfo& info : recording->topics()) {
+      if (std::find(accepted.begin(), accepted.end(), io::RosTypeFromName(info.type)) !=
+          accepted.end()) {
+        fit.push_back(info.name + " (" + info.type + ")");
+        chosen = info.name;
+      }
+    }
+    if (fit.size() != 1) {
+      std::string list;
+      for (const std::string& f : fit) list += (list.empty() ? "" : ", ") + f;
+      throw io::InputError(io::Where(
+          path, 0,
+          fit.empty() ? "no topic of a type this dump reads"
+                      : "several topics fit: " + list + "; expected --topic NAME to pick one"));
+    }
+  }
+  recording.reset();
+  io::SessionSpec spec;
+  spec.scanner_log = spec.gnss_log = spec.heading_log = path;
+  spec.scanner_topic = spec.gnss_topic = spec.heading_topic = chosen;
+  WriteDumpCsv(spec, kind, nullptr, out);
+}
+
+}  // namespace wallcal::preflight

@@ -1,0 +1,365 @@
+// The pre-flight check of a whole session (InspectSession): preset, logs (session_logs.cc),
+// survey, stations, wall detection by the calibration pipeline itself, and the verdict.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "calib/geodesy.h"
+#include "calib/pose_samples.h"
+#include "calib/survey_tie.h"
+#include "calib/time_alignment.h"
+#include "common/angles.h"
+#include "io/session_reader.h"
+#include "io/survey_reader.h"
+#include "io/version.h"
+#include "pipeline/calibration.h"
+#include "pipeline/config_dirs.h"
+#include "preflight/inspect_internal.h"
+
+namespace wallcal::preflight {
+
+using namespace internal;  // the helpers shared by the inspect files
+
+SessionInspection InspectSession(const std::string& session_path, const std::string& config_path) {
+  SessionInspection result;
+  const io::SessionSpec spec = io::ReadSession(session_path);
+  io::CalibrateOptions options;
+  if (!config_path.empty()) options = io::ReadCalibrateOptions(config_path);
+  options.Validate();
+  auto block = [&](const std::string& text) { result.blockers.push_back(text); };
+  auto warn = [&](const std::string& text) { result.warnings.push_back(text); };
+
+  std::ostringstream out;
+  out << "wallcal inspect " << io::kToolVersion << ": session '" << spec.name << "' ("
+      << spec.file << ")\n";
+
+  // --- Scanner preset ------------------------------------------------------------------
+  std::optional<io::ScannerPreset> preset;
+  try {
+    preset = io::LoadScannerPreset(spec.scanner_model, pipeline::PresetDirs());
+    out << "  scanner   " << preset->name << ": " << preset->num_beams << " beams, "
+        << Fmt("%.2f", preset->rate_hz) << " Hz, max range " << Fmt("%.1f", preset->max_range_m)
+        << " m\n";
+  } catch (const io::InputError& e) {
+    block(std::string("scanner preset: ") + e.what());
+    out << "  scanner   preset '" << spec.scanner_model << "' not found\n";
+  }
+
+
+  // --- Logs ------------------------------------------------------------------------------
+  SessionLogs logs = InspectSessionLogs(spec, options, preset ? &*preset : nullptr, &result, out);
+  std::optional<ScanLogSummary>& scans = logs.scans;
+  std::optional<io::NmeaLog>& gnss = logs.gnss;
+  std::optional<io::NmeaLog>& heading_log = logs.heading_log;
+  const int64_t accepted_fixes = logs.accepted_fixes;
+
+  // --- Survey and control points ------------------------------------------------------------
+  out << "\nsurvey\n";
+  std::optional<calib::LocalFrame> frame;
+  if (!spec.control.empty()) {
+    frame = calib::MakeLocalFrame(spec.control.front().lat_deg, spec.control.front().lon_deg,
+                                  spec.utm_zone);
+  }
+  try {
+    const std::vector<io::SurveyPoint> survey =
+        io::CombineSurveyObservations(io::ReadSurvey(spec.survey_points, spec.survey_columns))
+            .points;
+    out << "  points    " << survey.size() << " in " << FileName(spec.survey_points) << "\n";
+    if (!frame) throw io::InputError(io::Where(spec.file, 0, "no survey.control points"));
+    const calib::SurveyTie tie =
+        calib::TieSurvey(survey, spec.survey_points, spec, *frame, options.solver);
+    out << "  control   " << tie.num_control << " points";
+    if (tie.num_control >= 2) {
+      out << ", fit RMS " << Fmt("%.1f", 1000.0 * tie.control_rms_m) << " mm\n";
+      for (const calib::ControlResidual& r : tie.control_residuals) {
+        out << "    " << r.id << "  residual east " << Fmt("%+.1f", 1000.0 * r.residual_m.x())
+            << " mm, north " << Fmt("%+.1f", 1000.0 * r.residual_m.y()) << " mm ("
+            << Fmt("%.1f", 1000.0 * r.residual_m.norm()) << " mm)\n";
+      }
+      const double expected_m =
+          std::hypot(options.solver.control_sigma_m, options.solver.total_station_sigma_m);
+      if (tie.control_rms_m > 3.0 * expected_m) {
+        warn("control points fit the survey with RMS " + Fmt("%.1f", 1000.0 * tie.control_rms_m) +
+             " mm, more than 3x the expected " + Fmt("%.1f", 1000.0 * expected_m) +
+             " mm: check the control ids and their RTK positions");
+      }
+    } else {
+      out << " (rotation given: no residuals to check)\n";
+    }
+    const std::vector<calib::WallGeometry> walls =
+        calib::FitWalls(survey, spec.survey_points, spec, tie, options.solver);
+    for (size_t w = 0; w < walls.size(); ++w) {
+      out << "  wall      " << walls[w].id << " (" << spec.walls[w].code << "): "
+          << walls[w].num_points << " points over "
+          << Fmt("%.2f", (walls[w].end_b_local - walls[w].end_a_local).norm()) << " m, fit RMS "
+          << Fmt("%.1f", 1000.0 * walls[w].rms_m) << " mm\n";
+    }
+  } catch (const io::InputError& e) {
+    block(std::string("survey: ") + e.what());
+    out << "  unusable: " << e.what() << "\n";
+  }
+
+  // --- Stations from GNSS + heading (as calibrate finds them) -------------------------------
+  std::vector<calib::Dwell> dwells;
+  std::vector<double> logged_grid_headings_rad;
+  bool have_poses = false;
+  if (gnss && heading_log && accepted_fixes >= 2 && heading_log->headings.size() >= 2) {
+    std::vector<calib::PositionSample> positions;
+    std::vector<const io::GnssFix*> used;
+    if (!frame) {
+      const io::GnssFix* first = nullptr;
+      for (const io::GnssFix& fix : gnss->fixes) {
+        if (io::FixQualityAccepted(fix.quality, spec.min_fix_quality)) {
+          first = &fix;
+          break;
+        }
+      }
+      frame = calib::MakeLocalFrame(first->lat_deg, first->lon_deg, spec.utm_zone);
+    }
+    positions = calib::PositionSamples(*gnss, spec.min_fix_quality, *frame, &used);
+    const std::vector<calib::YawSample> yaws =
+        calib::YawSamples(*heading_log, spec.heading_reference, *frame, used);
+    for (const calib::YawSample& sample : yaws) {
+      logged_grid_headings_rad.push_back(kPi / 2.0 - sample.yaw_rad);
+    }
+    if (positions.size() >= 2 && yaws.size() >= 2) {
+      try {
+        const calib::PoseInterpolator poses(positions, yaws, options.alignment);
+        dwells = poses.dwells();
+        have_poses = poses.start_s() < poses.end_s();
+      } catch (const std::exception& e) {
+        block(std::string("poses: ") + e.what());
+      }
+    }
+  } else if (heading_log) {
+    for (const io::HeadingSample& h : heading_log->headings) {
+      logged_grid_headings_rad.push_back(h.heading_rad);
+    }
+  }
+
+  // --- Wall detection: the calibrate pipeline itself -------------------------------------
+  std::optional<pipeline::CalibrationResult> calibration;
+  std::string detection_note;
+  if (result.blockers.empty()) {
+    try {
+      pipeline::CalibrateRequest request;
+      request.session_path = session_path;
+      request.config_path = config_path;
+      calibration = pipeline::RunCalibration(request);
+    } catch (const io::InputError& e) {
+      block(e.what());
+      detection_note = "not run to the end: " + std::string(e.what());
+    }
+  } else {
+    detection_note = "not run: the problems listed in the verdict come first";
+  }
+
+  // The pipeline stops after the first (subsampled, wide-gate) pass when that pass finds no
+  // wall or its estimate is refused; only in the first case are the detections complete.
+  bool detections_complete = false;
+  bool wall_never_seen = false;
+  if (calibration) {
+    const bool first_pass_refused = !calibration->first_pass.usable;
+    wall_never_seen = first_pass_refused && calibration->first_pass.failure ==
+                                                solvers::EstimateFailure::kWallNotDetected;
+    detections_complete = !first_pass_refused || wall_never_seen;
+    if (!detections_complete) {
+      detection_note = "stopped after the first pass (estimate refused: " +
+                       calibration->first_pass.message + ")";
+    }
+  }
+
+  out << "\nstations (stops of at least " << Fmt("%.1f", options.alignment.min_dwell_s)
+      << " s): " << dwells.size() << "\n";
+  std::vector<double> seen_headings_rad;
+  int stations_with_wall = 0;
+  int64_t station_scans_total = 0, station_detections_total = 0;
+  if (!dwells.empty()) {
+    out << "     #  start       dur  heading   scans  wall seen        inliers  fit rms\n";
+    // Each scan's observations (one per wall it saw), by scan index.
+    std::map<int, std::vector<const calib::WallObservation*>> by_scan;
+    if (calibration) {
+      for (const calib::WallObservation& o : calibration->observations) {
+        by_scan[o.scan_index].push_back(&o);
+      }
+    }
+    const double t0 = scans && scans->stats.records > 0 ? scans->stats.start_s : dwells.front().start_s;
+    for (size_t d = 0; d < dwells.size(); ++d) {
+      const calib::Dwell& dwell = dwells[d];
+      int64_t n_scans = 0;
+      if (scans) {
+        for (double t : scans->stamps_s) n_scans += (t >= dwell.start_s && t <= dwell.end_s);
+      }
+      const double heading_deg = std::fmod((kPi / 2.0 - dwell.mean_yaw_rad) * kRadToDeg + 720.0, 360.0);
+      char row[256];
+      std::snprintf(row, sizeof(row), "  %4zu  %+8.1f s %5.1f s %6.1f° %7lld", d + 1,
+                    dwell.start_s - t0, dwell.end_s - dwell.start_s, heading_deg,
+                    static_cast<long long>(n_scans));
+      out << row;
+      station_scans_total += n_scans;
+      if (!detections_complete) {
+        out << "  -\n";
+        continue;
+      }
+      int64_t detected = 0, inliers = 0, fits = 0;
+      double rms_sum = 0.0;
+      for (const auto& [scan_index, list] : by_scan) {
+        const double t = list.front()->pose.stamp_s;
+        if (t < dwell.start_s || t > dwell.end_s) continue;
+        ++detected;
+        for (const calib::WallObservation* o : list) {
+          inliers += o->num_inliers;
+          rms_sum += o->residual_rms_m;
+          ++fits;
+        }
+      }
+      station_detections_total += detected;
+      if (detected > 0) ++stations_with_wall;
+      const double share = n_scans > 0 ? 100.0 * static_cast<double>(detected) / static_cast<double>(n_scans) : 0.0;
+      if (fits > 0) {
+        std::snprintf(row, sizeof(row), "  %6lld (%3.0f%%)   %7.0f  %5.1f mm\n",
+                      static_cast<long long>(detected), share,
+                      static_cast<double>(inliers) / static_cast<double>(fits),
+                      1000.0 * rms_sum / static_cast<double>(fits));
+      } else {
+        std::snprintf(row, sizeof(row), "  %6lld (%3.0f%%)         -        -\n",
+                      static_cast<long long>(detected), share);
+      }
+      out << row;
+    }
+  }
+  if (calibration) {
+    std::set<int> seen_scans;
+    for (const calib::WallObservation& o : calibration->observations) {
+      if (seen_scans.insert(o.scan_index).second) seen_headings_rad.push_back(kPi / 2.0 - o.pose.yaw_rad);
+    }
+  }
+
+  // --- Wall detection and heading coverage ------------------------------------------------
+  out << "\nwall detection\n";
+  if (calibration && detections_complete) {
+    const pipeline::CalibrationResult& c = *calibration;
+    out << "  scans     " << c.scans_total << " in the log, wall seen in " << c.scans_used;
+    for (const auto& [reason, count] : c.scans_skipped) {
+      out << "; " << count << " " << calib::ScanSkipName(reason);
+    }
+    out << "\n";
+    out << "  observations " << c.observations.size();
+    if (!c.observations.empty()) {
+      double inl = 0.0, rms = 0.0;
+      for (const calib::WallObservation& o : c.observations) {
+        inl += o.num_inliers;
+        rms += o.residual_rms_m;
+      }
+      const double n = static_cast<double>(c.observations.size());
+      out << ", mean " << Fmt("%.0f", inl / n) << " inliers, mean fit RMS "
+          << Fmt("%.1f", 1000.0 * rms / n) << " mm";
+    }
+    out << "\n";
+  } else {
+    out << "  " << detection_note << "\n";
+  }
+  out << "  headings (grid, clockwise from grid north)\n";
+  out << "              " << HistogramAxis() << "\n";
+  if (!logged_grid_headings_rad.empty()) {
+    out << "    logged    " << Histogram(logged_grid_headings_rad) << "\n";
+  }
+  const AngleExtent seen = Extent(seen_headings_rad);
+  if (calibration && detections_complete) {
+    out << "    wall seen " << Histogram(seen_headings_rad);
+    if (seen.any) {
+      out << "  " << OccupiedBins(seen_headings_rad) << " bins, " << Fmt("%.1f", seen.min_deg)
+          << "°.." << Fmt("%.1f", seen.max_deg) << "° (" << Fmt("%.1f", seen.width_deg) << "° wide)";
+    }
+    out << "\n";
+  }
+
+  // --- Verdict --------------------------------------------------------------------------------
+  const io::SolverOptions& so = options.solver;
+  const double min_spread_deg = so.min_heading_spread_rad * kRadToDeg;
+  bool geometry_named = false;
+  if (!dwells.empty() && !options.alignment.use_moving_scans) {
+    std::vector<double> station_headings_rad;
+    for (const calib::Dwell& dwell : dwells) station_headings_rad.push_back(kPi / 2.0 - dwell.mean_yaw_rad);
+    const AngleExtent stations = Extent(station_headings_rad);
+    out << "  stations  at grid headings " << Fmt("%.1f", stations.min_deg) << "°.."
+        << Fmt("%.1f", stations.max_deg) << "° (" << Fmt("%.1f", stations.width_deg) << "° wide)\n";
+    if (stations.width_deg < min_spread_deg) {
+      block("narrow heading spread: the stations' grid headings span " +
+            Fmt("%.1f", stations.min_deg) + "°.." + Fmt("%.1f", stations.max_deg) + "° only (" +
+            Fmt("%.1f", stations.width_deg) + "° wide; at least " + Fmt("%.0f", min_spread_deg) +
+            "° needed): stop at more varied headings to the wall");
+      geometry_named = true;
+    }
+  }
+  if (dwells.empty() && have_poses && !options.alignment.use_moving_scans) {
+    block("too few stations: the vehicle never stood still for " +
+          Fmt("%.1f", options.alignment.min_dwell_s) + " s (scans taken while moving are not used)");
+    geometry_named = true;
+  }
+  if (calibration) {
+    const pipeline::CalibrationResult& c = *calibration;
+    if (wall_never_seen) {
+      block("wall never detected: " + c.first_pass.message);
+      geometry_named = true;
+    } else if (detections_complete) {
+      if (stations_with_wall < so.min_stations && !dwells.empty() &&
+          !options.alignment.use_moving_scans) {
+        block("too few stations: the wall was seen at " + std::to_string(stations_with_wall) +
+              " stops (at least " + std::to_string(so.min_stations) +
+              " needed): stop at more places and headings in front of the wall");
+        geometry_named = true;
+      }
+      if (seen.any && seen.width_deg < min_spread_deg && !geometry_named) {
+        block("narrow heading spread: the wall was seen at grid headings " +
+              Fmt("%.1f", seen.min_deg) + "°.." + Fmt("%.1f", seen.max_deg) + "° only (" +
+              Fmt("%.1f", seen.width_deg) + "° wide; at least " + Fmt("%.0f", min_spread_deg) +
+              "° needed): stop at more varied headings to the wall");
+        geometry_named = true;
+      }
+      if (static_cast<int64_t>(c.observations.size()) < so.min_observations) {
+        block("too few observations: " + std::to_string(c.observations.size()) + " (at least " +
+              std::to_string(so.min_observations) + " needed)");
+        geometry_named = true;
+      }
+      if (station_scans_total > 0 && 2 * station_detections_total < station_scans_total) {
+        warn("wall rarely detected: in " + std::to_string(station_detections_total) + " of " +
+             std::to_string(station_scans_total) +
+             " scans at stations (check the wall is in range and unobstructed)");
+      }
+    }
+    if (!c.estimate.usable && !wall_never_seen) {
+      block("calibrate refuses the estimate: " + c.estimate.message);
+    }
+    for (const std::string& w : c.warnings) {
+      if (std::find(result.warnings.begin(), result.warnings.end(), w) == result.warnings.end()) {
+        warn(w);
+      }
+    }
+    if (c.estimate.usable) {
+      out << "  preview   a calibration now gives x = " << Fmt("%.3f", c.estimate.mount.x_m)
+          << " m, y = " << Fmt("%.3f", c.estimate.mount.y_m) << " m, yaw = "
+          << Fmt("%.2f", c.estimate.mount.yaw_rad * kRadToDeg) << "° (residual RMS "
+          << Fmt("%.1f", 1000.0 * c.estimate.residual_rms_m) << " mm)\n";
+    }
+  }
+
+  result.enough = result.blockers.empty();
+  out << "\nverdict\n";
+  for (const std::string& w : result.warnings) out << "  warning: " << w << "\n";
+  if (result.enough) {
+    out << "  VERDICT: enough data for a calibration\n";
+  } else {
+    out << "  VERDICT: NOT enough data for a calibration:\n";
+    for (const std::string& b : result.blockers) out << "    - " << b << "\n";
+  }
+  result.report = out.str();
+  return result;
+}
+
+}  // namespace wallcal::preflight

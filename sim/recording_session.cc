@@ -1,0 +1,245 @@
+#include "sim/recording_session.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <vector>
+
+#include "io/carmen_reader.h"
+#include "io/mcap_writer.h"
+#include "io/nmea_reader.h"
+#include "io/recording.h"
+#include "io/ros_messages.h"
+#include "io/rosbag1_writer.h"
+#include "io/rosbag2_sqlite_writer.h"
+#include "io/types.h"
+#include "common/angles.h"
+
+namespace wallcal::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+// "sensor_msgs/LaserScan" -> "sensor_msgs/msg/LaserScan" (the ROS 2 name).
+std::string Ros2Name(io::RosType type) {
+  const std::string name = io::RosTypeName(type);
+  const size_t slash = name.find('/');
+  return name.substr(0, slash) + "/msg" + name.substr(slash);
+}
+
+// One recording being written, whatever the container: topics, then messages.
+class Sink {
+ public:
+  virtual ~Sink() = default;
+  virtual int Add(const std::string& topic, io::RosType type) = 0;
+  virtual io::WireFormat wire() const = 0;
+  virtual void Write(int id, double stamp_s, const std::vector<uint8_t>& payload) = 0;
+  virtual void Close() = 0;
+};
+
+class Ros1Sink : public Sink {
+ public:
+  Ros1Sink(const std::string& path, io::ChunkCompression c) : writer_(path, c) {}
+  int Add(const std::string& topic, io::RosType type) override {
+    return writer_.AddConnection(topic, type);
+  }
+  io::WireFormat wire() const override { return io::WireFormat::kRos1; }
+  void Write(int id, double stamp_s, const std::vector<uint8_t>& payload) override {
+    writer_.Write(id, stamp_s, payload);
+  }
+  void Close() override { writer_.Close(); }
+
+ private:
+  io::Ros1BagWriter writer_;
+};
+
+class McapSink : public Sink {
+ public:
+  McapSink(const std::string& path, io::ChunkCompression c) : writer_(path, c) {}
+  int Add(const std::string& topic, io::RosType type) override {
+    return writer_.AddChannel(topic, Ros2Name(type), io::RosTypeDefinition(type, io::WireFormat::kCdr));
+  }
+  io::WireFormat wire() const override { return io::WireFormat::kCdr; }
+  void Write(int id, double stamp_s, const std::vector<uint8_t>& payload) override {
+    writer_.Write(static_cast<uint16_t>(id), stamp_s, stamp_s, payload);
+  }
+  void Close() override { writer_.Close(); }
+
+ private:
+  io::McapWriter writer_;
+};
+
+class Db3Sink : public Sink {
+ public:
+  explicit Db3Sink(const std::string& path) : writer_(path, io::Rosbag2Layout::kIron) {}
+  int Add(const std::string& topic, io::RosType type) override {
+    return static_cast<int>(
+        writer_.AddTopic(topic, Ros2Name(type), io::RosTypeDefinition(type, io::WireFormat::kCdr)));
+  }
+  io::WireFormat wire() const override { return io::WireFormat::kCdr; }
+  void Write(int id, double stamp_s, const std::vector<uint8_t>& payload) override {
+    writer_.Write(id, stamp_s, payload);
+  }
+  void Close() override { writer_.Close(); }
+
+ private:
+  io::Rosbag2SqliteWriter writer_;
+};
+
+std::unique_ptr<Sink> MakeSink(const std::string& dir, SessionFormat format, std::string* name) {
+  switch (format) {
+    case SessionFormat::kRos1:
+    case SessionFormat::kRos1Bz2:
+    case SessionFormat::kRos1Lz4: {
+      *name = "session.bag";
+      const io::ChunkCompression c = format == SessionFormat::kRos1Bz2   ? io::ChunkCompression::kBz2
+                                     : format == SessionFormat::kRos1Lz4 ? io::ChunkCompression::kLz4
+                                                                         : io::ChunkCompression::kNone;
+      return std::make_unique<Ros1Sink>((fs::path(dir) / *name).string(), c);
+    }
+    case SessionFormat::kMcap:
+    case SessionFormat::kMcapLz4:
+      *name = "session.mcap";
+      return std::make_unique<McapSink>((fs::path(dir) / *name).string(),
+                                        format == SessionFormat::kMcap ? io::ChunkCompression::kZstd
+                                                                       : io::ChunkCompression::kLz4);
+    case SessionFormat::kDb3:
+      *name = "session.db3";
+      return std::make_unique<Db3Sink>((fs::path(dir) / *name).string());
+    case SessionFormat::kText:
+      break;
+  }
+  return nullptr;
+}
+
+// σ written into a NavSatFix when the GGA had no GST: by quality, so that float and autonomous
+// fixes stay above gnss.max_sigma_m and fixed ones below it.
+double FallbackSigma(int quality) { return quality == 4 ? 0.02 : quality == 5 ? 0.3 : 3.0; }
+
+// session.yaml with each stream's `log:` pointing at the recording and its `topic:` added.
+void RewriteSessionYaml(const std::string& path, const std::string& recording) {
+  std::ifstream in(path);
+  if (!in) throw io::InputError(io::Where(path, 0, "cannot read the session written before"));
+  std::ostringstream out;
+  std::string line, section;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line[0] != ' ') section = line.substr(0, line.find(':'));
+    const bool is_log = line.rfind("  log:", 0) == 0;
+    const char* topic = section == "scanner" ? "/scan"
+                        : section == "gnss"  ? "/fix"
+                        : section == "heading" ? "/heading"
+                                               : nullptr;
+    if (is_log && topic != nullptr) {
+      out << "  log: " << recording << "\n  topic: " << topic << "\n";
+      if (section == "gnss") out << "  max_sigma_m: " << io::kDefaultGnssMaxSigmaM << "\n";
+    } else {
+      out << line << "\n";
+    }
+  }
+  const std::string temp = path + ".tmp";
+  {
+    std::ofstream file(temp, std::ios::trunc);
+    file << out.str();
+    if (!file) throw io::InputError(io::Where(temp, 0, "cannot write"));
+  }
+  fs::rename(temp, path);
+}
+
+}  // namespace
+
+std::optional<SessionFormat> ParseSessionFormat(const std::string& name) {
+  if (name == "text") return SessionFormat::kText;
+  if (name == "ros1") return SessionFormat::kRos1;
+  if (name == "ros1-bz2") return SessionFormat::kRos1Bz2;
+  if (name == "ros1-lz4") return SessionFormat::kRos1Lz4;
+  if (name == "mcap") return SessionFormat::kMcap;
+  if (name == "mcap-lz4") return SessionFormat::kMcapLz4;
+  if (name == "db3") return SessionFormat::kDb3;
+  return std::nullopt;
+}
+
+const char* SessionFormatNames() { return "text, ros1, ros1-bz2, ros1-lz4, mcap, mcap-lz4, db3"; }
+
+void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
+  if (format == SessionFormat::kText) return;
+  const std::string scans_path = (fs::path(dir) / "scans.clf").string();
+  const std::string gnss_path = (fs::path(dir) / "gnss.nmea").string();
+  const std::string heading_path = (fs::path(dir) / "heading.nmea").string();
+  std::string name;
+  std::unique_ptr<Sink> sink = MakeSink(dir, format, &name);
+  const io::WireFormat wire = sink->wire();
+  const int scan_id = sink->Add("/scan", io::RosType::kLaserScan);
+  const int fix_id = sink->Add("/fix", io::RosType::kNavSatFix);
+  const int heading_id = sink->Add("/heading", io::RosType::kQuaternionStamped);
+  {
+    io::CarmenReader reader(scans_path);
+    io::ScanRecord scan;
+    io::LaserScanMsg msg;
+    msg.header.frame_id = "laser";
+    while (reader.Next(&scan)) {
+      msg.header.stamp_s = scan.stamp_s;
+      ++msg.header.seq;
+      msg.angle_min_rad = static_cast<float>(scan.start_angle_rad);
+      msg.angle_increment_rad = static_cast<float>(scan.angular_step_rad);
+      msg.angle_max_rad = static_cast<float>(
+          scan.start_angle_rad +
+          scan.angular_step_rad * static_cast<double>(scan.ranges_m.size() > 0 ? scan.ranges_m.size() - 1 : 0));
+      msg.range_min_m = 0.0f;
+      msg.range_max_m = static_cast<float>(scan.max_range_m);
+      msg.ranges_m = scan.ranges_m;
+      sink->Write(scan_id, scan.stamp_s, io::EncodeLaserScan(msg, wire));
+    }
+  }
+  {
+    const io::NmeaLog gnss = io::ReadNmea(gnss_path);
+    io::NavSatFixMsg msg;
+    msg.header.frame_id = "gps";
+    msg.service = 1;
+    msg.position_covariance_type = 2;  // diagonal known
+    for (const io::GnssFix& fix : gnss.fixes) {
+      msg.header.stamp_s = fix.stamp_s;
+      ++msg.header.seq;
+      msg.status = fix.quality >= 1 ? 2 : -1;
+      msg.latitude_deg = fix.lat_deg;
+      msg.longitude_deg = fix.lon_deg;
+      msg.altitude_m = fix.height_m;
+      const double fallback = FallbackSigma(fix.quality);
+      const double s_lat = std::isfinite(fix.sigma_lat_m) ? fix.sigma_lat_m : fallback;
+      const double s_lon = std::isfinite(fix.sigma_lon_m) ? fix.sigma_lon_m : fallback;
+      for (double& c : msg.position_covariance) c = 0.0;
+      msg.position_covariance[0] = s_lon * s_lon;
+      msg.position_covariance[4] = s_lat * s_lat;
+      msg.position_covariance[8] = 4.0 * std::max(s_lat * s_lat, s_lon * s_lon);
+      sink->Write(fix_id, fix.stamp_s, io::EncodeNavSatFix(msg, wire));
+    }
+  }
+  {
+    const io::NmeaLog headings = io::ReadNmea(heading_path);
+    io::QuaternionMsg msg;
+    msg.header.frame_id = "base_link";
+    for (const io::HeadingSample& h : headings.headings) {
+      msg.header.stamp_s = h.stamp_s;
+      ++msg.header.seq;
+      const double yaw = kPi / 2.0 - h.heading_rad;  // ENU yaw (REP 103)
+      msg.x = msg.y = 0.0;
+      msg.z = std::sin(yaw / 2.0);
+      msg.w = std::cos(yaw / 2.0);
+      sink->Write(heading_id, h.stamp_s, io::EncodeQuaternionStamped(msg, wire));
+    }
+  }
+  sink->Close();
+  RewriteSessionYaml((fs::path(dir) / "session.yaml").string(), name);
+  std::error_code ignored;
+  for (const std::string& p : {scans_path, gnss_path, heading_path}) fs::remove(p, ignored);
+}
+
+SimulateSummary WriteSimulatedSession(const io::SimulationConfig& config, uint64_t seed,
+                                      const std::string& dir, SessionFormat format) {
+  const SimulateSummary summary = WriteSimulatedSession(config, seed, dir);
+  ConvertSessionToRecording(dir, format);
+  return summary;
+}
+
+}  // namespace wallcal::sim

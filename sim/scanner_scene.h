@@ -1,0 +1,193 @@
+#pragma once
+// The simulator's scene (surveyed walls, an unsurveyed wall, trees) and its ray casting, and the
+// scanner's range model (Ye & Borenstein 2002; Okubo, Ye & Borenstein 2009: z = Int(n·y + c + ξ)).
+// Internal to sim/.
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/angles.h"
+#include "io/options.h"
+#include "io/types.h"
+
+#include "sim/trajectory.h"
+
+namespace wallcal::sim::detail {
+
+// ---- Scene and ray casting -------------------------------------------------------------------
+struct Hit {
+  double range_m;
+  double cos_incidence;  // |cos| of the angle between the beam and the surface normal
+  int wall_index;        // into config.walls; -1 for an obstacle
+};
+
+class Scene {
+ public:
+  explicit Scene(const io::SimulationConfig& config) {
+    for (const auto& w : config.walls) walls_.push_back({{w.x0_m, w.y0_m}, {w.x1_m, w.y1_m}});
+    for (const auto& o : config.obstacles) circles_.push_back({{o.x_m, o.y_m}, o.radius_m});
+  }
+
+  // Nearest surface along the ray origin + t·dir, t > 0 (dir a unit vector).
+  std::optional<Hit> Cast(const Eigen::Vector2d& origin, const Eigen::Vector2d& dir) const {
+    constexpr double kMinT = 1e-9;
+    std::optional<Hit> best;
+    auto offer = [&best](double t, double cos_inc, int wall_index) {
+      if (!best || t < best->range_m) best = Hit{t, cos_inc, wall_index};
+    };
+    int wall_index = -1;
+    for (const auto& [p0, p1] : walls_) {
+      ++wall_index;
+      // origin + t·dir = p0 + s·e  =>  t = (w×e)/(dir×e), s = (w×dir)/(dir×e), w = p0 − origin.
+      const Eigen::Vector2d e = p1 - p0;
+      const double denom = Cross(dir, e);
+      const double length = e.norm();
+      if (length <= 0.0 || std::abs(denom) < 1e-12 * length) continue;  // parallel
+      const Eigen::Vector2d w = p0 - origin;
+      const double t = Cross(w, e) / denom;
+      const double s = Cross(w, dir) / denom;
+      if (t > kMinT && s >= 0.0 && s <= 1.0) offer(t, std::abs(denom) / length, wall_index);
+    }
+    for (const auto& [centre, radius] : circles_) {
+      const Eigen::Vector2d f = origin - centre;
+      const double half_b = f.dot(dir);
+      const double disc = half_b * half_b - (f.squaredNorm() - radius * radius);
+      if (disc < 0.0) continue;
+      const double root = std::sqrt(disc);
+      double t = -half_b - root;
+      if (t <= kMinT) t = -half_b + root;  // the scanner inside the obstacle: its far side
+      if (t <= kMinT) continue;
+      const Eigen::Vector2d normal = (origin + t * dir - centre) / radius;
+      offer(t, std::abs(normal.dot(dir)), -1);
+    }
+    return best;
+  }
+
+ private:
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> walls_;
+  std::vector<std::pair<Eigen::Vector2d, double>> circles_;
+};
+
+// ---- Scanner model ----------------------------------------------------------------------------
+class ScannerModel {
+ public:
+  ScannerModel(const io::SimulationConfig& config, const io::ScannerPreset& preset, uint64_t seed)
+      : config_(config),
+        preset_(preset),
+        scene_(config),
+        range_noise_(seed, Stream::kScanNoise),
+        mixed_noise_(seed, Stream::kMixedPixel),
+        cos_max_incidence_(std::cos(preset.max_incidence_rad)) {
+    // Beam directions in the scanner frame, computed once: each scan then only rotates them
+    // (the trigonometry per beam dominated the run time of hour-long sessions).
+    const double half_rad = 0.4 * preset.angular_step_rad;
+    for (int i = 0; i < preset.num_beams; ++i) {
+      const double bearing_rad = preset.start_angle_rad + i * preset.angular_step_rad;
+      beams_.push_back({Direction(bearing_rad), Direction(bearing_rad - half_rad),
+                        Direction(bearing_rad + half_rad)});
+    }
+  }
+
+  io::ScanRecord Scan(const Pose& pose, double stamp_s) {
+    io::ScanRecord scan;
+    scan.stamp_s = stamp_s;
+    scan.start_angle_rad = preset_.start_angle_rad;
+    scan.angular_step_rad = preset_.angular_step_rad;
+    scan.max_range_m = preset_.max_range_m;
+    scan.ranges_m.resize(preset_.num_beams);
+    const Eigen::Vector2d origin =
+        pose.antenna_enu_m + Rotate(pose.yaw_rad, {config_.mount_x_m, config_.mount_y_m});
+    const double scanner_yaw_rad = pose.yaw_rad + config_.mount_yaw_rad;
+    const double c = std::cos(scanner_yaw_rad), s = std::sin(scanner_yaw_rad);
+    const auto to_enu = [c, s](const Eigen::Vector2d& v) {
+      return Eigen::Vector2d(c * v.x() - s * v.y(), s * v.x() + c * v.y());
+    };
+    for (int i = 0; i < preset_.num_beams; ++i) {
+      const BeamDirections& b = beams_[i];
+      scan.ranges_m[i] =
+          static_cast<float>(Beam(origin, to_enu(b.centre), to_enu(b.lower), to_enu(b.upper)));
+    }
+    return scan;
+  }
+
+ private:
+  enum class NoReturn { kNoEcho, kTooOblique, kOutOfRange };
+
+  // What the scanner logs when nothing usable came back. SICK scanners report their maximum
+  // range (seed 001); the URG reports an error code below 20 mm instead of a range (seed 000).
+  // The code values are this simulator's choice (1, 2, 3 mm): the tool only needs them to be
+  // below error_codes_below_m. A preset with neither convention gets its maximum range.
+  double NoReturnValue(NoReturn why) const {
+    if (preset_.max_range_is_no_return) return preset_.max_range_m;
+    const double code_m = why == NoReturn::kNoEcho       ? 0.001
+                          : why == NoReturn::kTooOblique ? 0.002
+                                                         : 0.003;
+    if (code_m < preset_.error_codes_below_m) return code_m;
+    if (preset_.error_codes_below_m > 0.0) return 0.0;
+    return preset_.max_range_m;
+  }
+
+  double Quantise(double range_m) const {
+    const double res = preset_.range_resolution_m;
+    return res > 0.0 ? std::round(range_m / res) * res : range_m;
+  }
+
+  // One beam along `dir`; `lower`, `upper`: the edges of its footprint (±0.4 angular step).
+  double Beam(const Eigen::Vector2d& origin, const Eigen::Vector2d& dir,
+              const Eigen::Vector2d& lower, const Eigen::Vector2d& upper) {
+    const std::optional<Hit> hit = scene_.Cast(origin, dir);
+    // One draw per beam whatever happens, so the noise of a beam does not depend on the others.
+    const double xi_m = range_noise_.Normal(preset_.range_sigma_m);
+
+    // Mixed pixels (seed 001 §4.5, seed 000): a beam whose footprint straddles a depth jump
+    // returns a range between the foreground and the background. Two sub-rays at ±0.4 of the
+    // angular step stand in for the footprint's edges.
+    std::optional<double> true_range_m;
+    if (config_.mixed_pixel_probability > 0.0) {
+      const auto lo = scene_.Cast(origin, lower);
+      const auto hi = scene_.Cast(origin, upper);
+      if (lo && hi && std::abs(lo->range_m - hi->range_m) > 0.1) {
+        const double u = mixed_noise_.Uniform();
+        const double v = mixed_noise_.Uniform();
+        if (u < config_.mixed_pixel_probability)
+          true_range_m = lo->range_m + v * (hi->range_m - lo->range_m);
+      }
+    }
+    if (!true_range_m) {
+      if (!hit) return NoReturnValue(NoReturn::kNoEcho);
+      // Too oblique a surface sends too little light back (seeds 000, 001: incidence limits).
+      if (hit->cos_incidence < cos_max_incidence_) {
+        return NoReturnValue(NoReturn::kTooOblique);
+      }
+      true_range_m = hit->range_m;
+    }
+    if (*true_range_m >= preset_.max_range_m) return NoReturnValue(NoReturn::kOutOfRange);
+    // Seeds 000/001 simulation model: z = Int(n·y + c + ξ), Int the range resolution.
+    const double z_m =
+        Quantise(preset_.sim_scale_n * *true_range_m + preset_.sim_offset_c_m + xi_m);
+    if (z_m >= preset_.max_range_m) return NoReturnValue(NoReturn::kOutOfRange);
+    if (z_m < std::max(preset_.min_range_m, preset_.error_codes_below_m))
+      return NoReturnValue(NoReturn::kNoEcho);
+    return z_m;
+  }
+
+  const io::SimulationConfig& config_;
+  const io::ScannerPreset& preset_;
+  Scene scene_;
+  Noise range_noise_;
+  Noise mixed_noise_;
+  double cos_max_incidence_;
+  struct BeamDirections {
+    Eigen::Vector2d centre, lower, upper;  // unit vectors in the scanner frame
+  };
+  std::vector<BeamDirections> beams_;
+};
+
+
+}  // namespace wallcal::sim::detail
