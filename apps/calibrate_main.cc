@@ -27,7 +27,8 @@ namespace {
 
 constexpr const char* kUsage = R"(usage: calibrate SESSION [--output FILE] [--method ceres|barawid] [--config FILE]
                  [--report DIR] [--emit ros2-static-tf|urdf|json] [--parent-frame NAME]
-                 [--child-frame NAME] [--base-frame NAME] [--force] [--quiet] [--threads N]
+                 [--child-frame NAME] [--base-frame NAME] [--compare PREVIOUS.yaml]
+                 [--force] [--quiet] [--threads N]
 
 Estimates where a 2-D laser scanner sits on a vehicle (x, y, yaw of the scanner in the GNSS
 antenna's frame: x forward, y left, yaw counter-clockwise) from a logged session in front of a
@@ -50,13 +51,21 @@ surveyed wall, and writes offsets.yaml.
                      `ros2 run tf2_ros static_transform_publisher ...` line), urdf (a fixed
                      <joint>), json (mount, sigma, covariance, frames). With --emit, stdout
                      carries ONLY the emitted text (pipe it); the summary goes to stderr.
-                     Emitted only when the mount is determined. When session.yaml gives
-                     antenna_in_base, a base frame -> child frame transform is emitted too
-                     (the laser's z is then the antenna's z: the calibration cannot see it).
+                     Emitted only when the mount is determined. One tree: when session.yaml
+                     gives antenna_in_base, base frame -> antenna frame is emitted too, then
+                     antenna frame -> scanner frame. The scanner's height relative to the
+                     antenna is session.yaml's scanner.z_m (the calibration cannot see it);
+                     without it z = 0 and the emitted text says so.
   --parent-frame N   the antenna frame's name (default gnss_antenna)
   --child-frame N    the scanner frame's name (default laser)
-  --base-frame N     the vehicle frame's name (default base_link)
-  --force            write an estimate the observability checks refuse, with a warning
+  --base-frame N     the vehicle frame's name (default base_link). Frame names as tf2 takes
+                     them: letters, digits, '_', '.', '/', '-', no leading '/'. The names are
+                     written into offsets.yaml.
+  --compare FILE     an earlier offsets.yaml: the change since then (mm, degrees and combined
+                     sigma) in the summary, offsets.yaml and the report; the verdict says
+                     REVIEW when it is beyond the acceptance tolerances
+  --force            write an estimate a check refuses (observability, scanner preset against
+                     the data, scanner.mount_guess tolerance), with a warning
   --quiet            no progress on stderr, only the summary, warnings and errors
   --threads N        threads for wall detection and the solve (default: every core); the
                      result does not depend on N
@@ -65,10 +74,15 @@ surveyed wall, and writes offsets.yaml.
 On a terminal (stderr is a tty) progress is shown on stderr: scans read / total, rate and time
 left, updated in place. When stderr is not a terminal, nothing but the summary and warnings.
 
-Exit status: 0 offsets written; 1 the data cannot determine the mount (nothing written but the
-report); 2 bad input or usage (nothing written); 3 an internal error (a bug: please report it;
-never the answer to any input).
-The reason is one line on stderr.
+The summary starts with the verdict: ACCEPT (within the acceptance tolerances of the options'
+`acceptance:` section), REVIEW (usable, but look first: the reasons follow) or REJECT.
+
+Exit status: 0 offsets written; 1 the data cannot determine the mount, or the estimate is refused
+(outside scanner.mount_guess's tolerance; nothing written but the report); 2 bad input or usage,
+including a scanner preset that does not fit the data or a survey that is not where the GNSS
+track is (nothing written); 3 an internal error (a bug: please report it;
+never the answer to any input). The reason is one line
+on stderr.
 )";
 
 int Usage(const std::string& message) {
@@ -95,7 +109,8 @@ class ProgressLine {
       stage_ = p.stage;
       stage_start_ = now;
       stage_start_done_ = p.done;
-    } else if (now - last_draw_ < std::chrono::milliseconds(200)) {
+    } else if (now - last_draw_ < std::chrono::milliseconds(200) &&
+               !(p.total > 0 && p.done >= p.total)) {  // the last count is always drawn
       return;
     }
     last_draw_ = now;
@@ -156,9 +171,9 @@ int main(int argc, char** argv) {
     auto frame = [&](const char* option, std::string* name) -> int {
       const char* v = value();
       if (v == nullptr) return Usage(std::string(option) + " needs a frame name");
-      if (!outputs::IsValidFrameName(v)) {
-        return Usage(std::string(option) + ": invalid frame name '" + v +
-                     "'; expected letters, digits, '_', '.', '/', '-' (not first)");
+      if (const std::string problem = outputs::FrameNameProblem(v); !problem.empty()) {
+        return Usage(std::string(option) + ": invalid frame name '" + v + "': " + problem +
+                     "; expected a tf2 frame id of letters, digits, '_', '.', '/', '-'");
       }
       *name = v;
       return 0;
@@ -208,6 +223,10 @@ int main(int argc, char** argv) {
       if (const int status = frame("--child-frame", &frames.child); status != 0) return status;
     } else if (arg == "--base-frame") {
       if (const int status = frame("--base-frame", &frames.base); status != 0) return status;
+    } else if (arg == "--compare") {
+      const char* v = value();
+      if (v == nullptr || *v == '\0') return Usage("--compare needs an earlier offsets.yaml");
+      request.compare_path = v;
     } else if (arg == "--threads") {
       const char* v = value();
       char* end = nullptr;
@@ -232,6 +251,10 @@ int main(int argc, char** argv) {
   if (emit && wallcal::io::IsStdoutPath(output)) {
     return Usage("--output - and --emit both want standard output; expected one of them");
   }
+  if (frames.parent == frames.child || frames.parent == frames.base || frames.child == frames.base) {
+    return Usage("--parent-frame, --child-frame and --base-frame must be three different names");
+  }
+  request.command_line.assign(argv, argv + argc);
 
   // With --emit or --output -, stdout is reserved for that text so it can be piped.
   std::ostream& summary_out = emit || wallcal::io::IsStdoutPath(output) ? std::cerr : std::cout;
@@ -276,7 +299,7 @@ int main(int argc, char** argv) {
       return 1;
     }
     const std::string offsets_yaml =
-        wallcal::io::FormatOffsetsYaml(outputs::MakeOffsetsDocument(result));
+        wallcal::io::FormatOffsetsYaml(outputs::MakeOffsetsDocument(result, frames));
     if (wallcal::io::IsStdoutPath(output)) {
       std::cout << offsets_yaml << std::flush;
     } else {
@@ -285,7 +308,8 @@ int main(int argc, char** argv) {
     }
     if (emit) {
       summary_out << std::flush;
-      std::cout << outputs::FormatEmit(*emit, result.estimate, result.session.antenna_in_base, frames)
+      std::cout << outputs::FormatEmit(*emit, result.estimate, result.session.antenna_in_base, frames,
+                                       result.session.scanner_z_m)
                 << std::flush;
     }
     return 0;

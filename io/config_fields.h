@@ -46,6 +46,15 @@ void VisitAlignment(V& v, AlignmentOptions& o) {
 }
 
 template <class V>
+void VisitAcceptance(V& v, AcceptanceOptions& o) {
+  v.Number("max_sigma_xy_m", o.max_sigma_xy_m);
+  v.Scaled("max_sigma_yaw_deg", o.max_sigma_yaw_rad, kRadToDeg);
+  v.Number("max_change_xy_m", o.max_change_xy_m);
+  v.Scaled("max_change_yaw_deg", o.max_change_yaw_rad, kRadToDeg);
+  v.Number("max_change_sigmas", o.max_change_sigmas);
+}
+
+template <class V>
 void VisitSolver(V& v, SolverOptions& o) {
   v.Number("gnss_white_sigma_m", o.gnss_white_sigma_m);
   v.Number("gnss_bias_sigma_m", o.gnss_bias_sigma_m);

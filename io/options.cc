@@ -116,10 +116,19 @@ void SolverOptions::Validate() const {
   CheckAtLeast("solver.bootstrap_samples", bootstrap_samples, 0);
 }
 
+void AcceptanceOptions::Validate() const {
+  CheckPositive("acceptance.max_sigma_xy_m", max_sigma_xy_m);
+  CheckAnglePositive("acceptance.max_sigma_yaw_deg", max_sigma_yaw_rad, 180.0);
+  CheckPositive("acceptance.max_change_xy_m", max_change_xy_m);
+  CheckAnglePositive("acceptance.max_change_yaw_deg", max_change_yaw_rad, 180.0);
+  CheckPositive("acceptance.max_change_sigmas", max_change_sigmas);
+}
+
 void CalibrateOptions::Validate() const {
   detector.Validate();
   alignment.Validate();
   solver.Validate();
+  acceptance.Validate();
   CheckAtLeast("first_pass_max_scans", first_pass_max_scans, 1);
 }
 

@@ -107,10 +107,25 @@ struct SolverOptions {
   void Validate() const;
 };
 
+// The verdict's tolerances (`acceptance:`): a usable mount within all of them is ACCEPT; a σ
+// beyond them is REJECT; a change since the previous calibration (--compare) beyond them is
+// REVIEW (the scanner may have been moved or bumped: a person decides). pipeline/verdict.h.
+struct AcceptanceOptions {
+  double max_sigma_xy_m = 0.02;             // 1σ of x and of y
+  double max_sigma_yaw_rad = 0.0034906585;  // 1σ of yaw, 0.2 deg
+  double max_change_xy_m = 0.02;            // |Δx|, |Δy| since the previous calibration
+  double max_change_yaw_rad = 0.0052359878;  // |Δyaw|, 0.3 deg
+  // A change is also REVIEW when it exceeds this many combined σ (σ_now² + σ_previous²)^½:
+  // larger than the two calibrations' errors explain.
+  double max_change_sigmas = 3.0;
+  void Validate() const;
+};
+
 struct CalibrateOptions {
   DetectorOptions detector;
   AlignmentOptions alignment;
   SolverOptions solver;
+  AcceptanceOptions acceptance;
   int first_pass_max_scans = 3000;  // scans sampled evenly for the first (wide-gate) pass
   void Validate() const;
 };

@@ -314,7 +314,7 @@ SessionSpec ReadSession(const std::string& path) {
   {
     const YAML::Node node = top.Require("scanner", "a map with model and log");
     MapReader scanner = top.Child("scanner", node);
-    scanner.Allow({"model", "log", "time_offset_s", "mount_guess", "topic", "stamp"});
+    scanner.Allow({"model", "log", "time_offset_s", "mount_guess", "z_m", "topic", "stamp"});
     scanner.Finish();
     spec.scanner_model = scanner.ToText(
         scanner.Require("model", "a scanner preset name (configs/scanners/NAME.yaml)"), "model");
@@ -334,8 +334,23 @@ SessionSpec ReadSession(const std::string& path) {
       g.Number("x", mount.x_m);
       g.Number("y", mount.y_m);
       g.Scaled("yaw_deg", mount.yaw_rad, kRadToDeg);
+      if (const YAML::Node t = g.Find("tolerance_m"); t.IsDefined()) {
+        const double tolerance_m = g.ToNumber(t, "tolerance_m");
+        if (!(tolerance_m > 0.0)) g.Bad(t, "tolerance_m", "a distance > 0 in metres");
+        mount.tolerance_m = tolerance_m;
+      }
+      if (const YAML::Node t = g.Find("tolerance_yaw_deg"); t.IsDefined()) {
+        const double tolerance_deg = g.ToNumber(t, "tolerance_yaw_deg");
+        if (!(tolerance_deg > 0.0 && tolerance_deg <= 180.0)) {
+          g.Bad(t, "tolerance_yaw_deg", "an angle in (0, 180] degrees");
+        }
+        mount.tolerance_yaw_rad = tolerance_deg / kRadToDeg;
+      }
       g.Finish();
       spec.mount_guess = mount;
+    }
+    if (const YAML::Node z = scanner.Find("z_m"); z.IsDefined()) {
+      spec.scanner_z_m = scanner.ToNumber(z, "z_m");
     }
     scanner.Finish();
   }
@@ -565,6 +580,11 @@ CalibrateOptions ReadCalibrateOptions(const std::string& file) {
   if (const YAML::Node node = top.Find("solver"); node.IsDefined()) {
     MapReader section = top.Child("solver", node);
     fields::VisitSolver(section, options.solver);
+    section.Finish();
+  }
+  if (const YAML::Node node = top.Find("acceptance"); node.IsDefined()) {
+    MapReader section = top.Child("acceptance", node);
+    fields::VisitAcceptance(section, options.acceptance);
     section.Finish();
   }
   top.Integer("first_pass_max_scans", options.first_pass_max_scans);

@@ -156,10 +156,14 @@ struct UtmZone {
 enum class HeadingReference { kTrueNorth, kGridNorth };
 
 // A rough mount (tape measure) to centre the wall detector's gates. Optional in the session.
+// With a tolerance it is also a gross-error check: an estimate farther from the guess than
+// tolerance_m in x or y, or tolerance_yaw_rad in yaw, is refused (pipeline/checks.h).
 struct MountGuess {
   double x_m = 0.0;
   double y_m = 0.0;
   double yaw_rad = 0.0;
+  std::optional<double> tolerance_m;        // > 0 when given
+  std::optional<double> tolerance_yaw_rad;  // > 0 when given
 };
 
 // Antenna position in the vehicle's base_link frame, when the session gives it.
@@ -194,6 +198,10 @@ struct SessionSpec {
   std::string scanner_topic;
   StampSource scanner_stamp = StampSource::kHeader;
   std::optional<MountGuess> mount_guess;
+  // Height of the scanner's origin relative to the GNSS antenna (m, up +: a scanner below the
+  // antenna is negative), measured by hand: the 2-D calibration cannot see it. Unset: the
+  // emitted transforms carry z = 0 and say so.
+  std::optional<double> scanner_z_m;
 
   std::string gnss_log;
   int min_fix_quality = 4;  // 4 = RTK fixed only; 5 also accepts float
@@ -209,7 +217,7 @@ struct SessionSpec {
   std::string survey_points;  // resolved path
   SurveyColumns survey_columns = SurveyColumns::kHeader;  // CSV only; a GSI file is recognised
   std::vector<ControlPoint> control;
-  std::optional<double> survey_rotation_rad;  // seed 002 Eq. 4-5 rotation, single control point
+  std::optional<double> survey_rotation_rad;  // Barawid 2007 Eq. 4-5 rotation, single control point
 
   std::vector<WallSpec> walls;
   std::optional<AntennaInBase> antenna_in_base;
@@ -238,6 +246,13 @@ struct ScannerPreset {
   std::string source;              // citation for the numbers
 };
 
+// One input file of a calibration, for the provenance of offsets.yaml.
+struct InputFileDigest {
+  std::string role;    // "session", "scanner_log", "gnss_log", ...
+  std::string path;    // as the run opened it
+  std::string sha256;  // 64 lowercase hex digits; empty when the file could not be read
+};
+
 // The output document: offsets.yaml. Filled by the application from the solver's result.
 struct OffsetsDocument {
   std::string parent_frame = "gnss_antenna";
@@ -246,6 +261,7 @@ struct OffsetsDocument {
   double y_m = 0.0;
   double yaw_rad = 0.0;
   double covariance[9] = {0};  // row-major, order x, y, yaw (m, m, rad)
+  bool sigma_known = true;     // false: stddev and covariance are written as null
   std::string method;          // "ceres" or "barawid"
   // quality: ordered key/value lines, numbers already formatted by the writer's caller.
   int64_t scans_total = 0;
@@ -255,8 +271,24 @@ struct OffsetsDocument {
   double residual_rms_m = 0.0;
   std::vector<std::pair<std::string, std::string>> quality_extra;  // more quality keys
   std::vector<std::string> warnings;
+  // More top-level keys (verdict, error budget, change since the previous calibration) with
+  // their values already formatted as YAML (flow style), written after `quality:`.
+  std::vector<std::pair<std::string, std::string>> sections;
+  // Provenance (`source:`): what produced this file, when, and from which inputs.
   std::string session;
   std::string tool_version;
+  std::string created_utc;             // ISO 8601, e.g. 2025-05-12T06:32:02Z
+  std::vector<std::string> command_line;  // argv as given
+  std::vector<InputFileDigest> inputs;
+};
+
+// The parts of an earlier offsets.yaml that `calibrate --compare` reads.
+struct PreviousOffsets {
+  std::string file;
+  double x_m = 0.0, y_m = 0.0, yaw_rad = 0.0;
+  bool sigma_known = false;  // its covariance was written (not null)
+  double covariance[9] = {0};
+  std::string created_utc;  // empty when the file does not say
 };
 
 }  // namespace wallcal::io

@@ -120,6 +120,25 @@ std::string YamlText(const std::string& text) {
   return quoted;
 }
 
+// Always a double-quoted YAML scalar (free text: paths, command-line words, times).
+std::string YamlQuoted(const std::string& text) {
+  std::string out = "\"";
+  for (char ch : text) {
+    const unsigned char u = static_cast<unsigned char>(ch);
+    if (ch == '"' || ch == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (u < 0x20 || u == 0x7f) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof(buffer), "\\x%02x", u);
+      out += buffer;
+    } else {
+      out += ch;
+    }
+  }
+  return out + "\"";
+}
+
 // The writing visitor of config_fields.h: collects `key: value` pairs; lists become one flow
 // map per item.
 class FieldWriter {
@@ -238,17 +257,22 @@ std::string FormatOffsetsYaml(const OffsetsDocument& doc) {
   out += "  y: " + YamlNumber("%.6f", doc.y_m) + "  # m\n";
   out += "  yaw: " + YamlNumber("%.8f", doc.yaw_rad) + "  # rad\n";
   out += "  yaw_deg: " + YamlNumber("%.4f", yaw_deg) + "\n";
-  out += "  stddev: {x: " + YamlNumber("%.6f", stddev(c[0])) +
-         ", y: " + YamlNumber("%.6f", stddev(c[4])) +
-         ", yaw_deg: " + YamlNumber("%.4f", stddev(c[8]) * kRadToDeg) + "}\n";
-  out += "  covariance: [";
-  for (int i = 0; i < 9; ++i) {
-    if (i > 0) out += ", ";
-    out += YamlNumber("%.6e", c[i]);
+  if (doc.sigma_known) {
+    out += "  stddev: {x: " + YamlNumber("%.6f", stddev(c[0])) +
+           ", y: " + YamlNumber("%.6f", stddev(c[4])) +
+           ", yaw_deg: " + YamlNumber("%.4f", stddev(c[8]) * kRadToDeg) + "}\n";
+    out += "  covariance: [";
+    for (int i = 0; i < 9; ++i) {
+      if (i > 0) out += ", ";
+      out += YamlNumber("%.6e", c[i]);
+    }
+    out += "]  # 3x3 row-major, order x, y, yaw (m, m, rad)\n";
+  } else {
+    out += "  stddev: null  # not computed by this method: see warnings\n";
+    out += "  covariance: null\n";
   }
-  out += "]  # 3x3 row-major, order x, y, yaw (m, m, rad)\n";
-  // Seed 002 puts x lateral to the right and y forward: a = -y, b = x, delta = yaw.
-  out += "seed_002_notation: {a: " + YamlNumber("%.6f", -doc.y_m) +
+  // Barawid et al. 2007 put x lateral to the right and y forward: a = -y, b = x, delta = yaw.
+  out += "barawid_2007_notation: {a: " + YamlNumber("%.6f", -doc.y_m) +
          ", b: " + YamlNumber("%.6f", doc.x_m) + ", delta_deg: " + YamlNumber("%.4f", yaw_deg) +
          "}\n";
   out += "quality:\n";
@@ -271,9 +295,26 @@ std::string FormatOffsetsYaml(const OffsetsDocument& doc) {
       out += "  - " + quoted + "\n";
     }
   }
+  for (const auto& [key, value] : doc.sections) out += YamlText(key) + ": " + value + "\n";
   out += "method: " + YamlText(doc.method) + "\n";
-  out += "source: {session: " + YamlText(doc.session) +
-         ", tool_version: " + YamlText(doc.tool_version) + "}\n";
+  out += "source:\n";
+  out += "  session: " + YamlQuoted(doc.session) + "\n";
+  out += "  tool_version: " + YamlQuoted(doc.tool_version) + "\n";
+  if (!doc.created_utc.empty()) out += "  created_utc: " + YamlQuoted(doc.created_utc) + "\n";
+  if (!doc.command_line.empty()) {
+    out += "  command_line: [";
+    for (size_t i = 0; i < doc.command_line.size(); ++i) {
+      out += (i ? ", " : "") + YamlQuoted(doc.command_line[i]);
+    }
+    out += "]\n";
+  }
+  if (!doc.inputs.empty()) {
+    out += "  inputs:\n";
+    for (const InputFileDigest& input : doc.inputs) {
+      out += "    - {role: " + YamlQuoted(input.role) + ", path: " + YamlQuoted(input.path) +
+             ", sha256: " + (input.sha256.empty() ? std::string("null") : input.sha256) + "}\n";
+    }
+  }
   return out;
 }
 

@@ -9,10 +9,10 @@
 // antenna are 0: the 2-D calibration does not see them.
 //
 // base_link: when the session gives the antenna's position in base_link
-// (io::SessionSpec::antenna_in_base), the mount is also composed into base_T_laser =
-// base_T_antenna · antenna_T_laser (the antenna frame is not rotated relative to base_link),
-// and the scanner's z in base_link is taken to be the antenna's z: the calibration does not
-// measure the height difference, and every form says so.
+// (io::SessionSpec::antenna_in_base), base_T_antenna is emitted too (the antenna frame is not
+// rotated relative to base_link): one tree base -> antenna -> laser. The scanner's height
+// relative to the antenna comes from session.yaml `scanner.z_m`; the calibration does not
+// measure it, and when it is not given every form says so.
 
 #include <optional>
 #include <string>
@@ -33,9 +33,12 @@ struct EmitFrames {
   std::string base = "base_link";       // the vehicle frame, used with antenna_in_base
 };
 
-// A frame name that is safe on a shell command line, in XML attributes and JSON strings
-// without quoting: 1..128 characters of [A-Za-z0-9_./-], not starting with '-'.
+// A frame name as tf2 takes it, and safe on a shell command line, in XML attributes and JSON
+// strings without quoting: 1..128 characters of [A-Za-z0-9_./-], not starting with '-' or
+// '/' (tf2 rejects a leading '/'), not ending with '/', no "//" and no "--".
 bool IsValidFrameName(const std::string& name);
+// Why `name` is not valid ("" when it is), for the user.
+std::string FrameNameProblem(const std::string& name);
 
 // A rigid 2-D-on-3-D transform, parent_T_child, metres and radians (roll = pitch = 0).
 struct PlanarTransform {
@@ -43,31 +46,40 @@ struct PlanarTransform {
   double x_m = 0.0, y_m = 0.0, z_m = 0.0, yaw_rad = 0.0;
 };
 
-// antenna_T_laser from the mount (z = 0).
-PlanarTransform AntennaToLaser(const solvers::Mount& mount, const EmitFrames& frames);
+// antenna_T_laser from the mount; z = scanner_z_m (session.yaml scanner.z_m), 0 when unknown.
+PlanarTransform AntennaToLaser(const solvers::Mount& mount, const EmitFrames& frames,
+                               double scanner_z_m = 0.0);
+
+// base_T_antenna: the antenna_in_base translation (the antenna frame has base_link's axes).
+PlanarTransform BaseToAntenna(const io::AntennaInBase& antenna, const EmitFrames& frames);
 
 // base_T_laser = base_T_antenna · antenna_T_laser: translation antenna_in_base + (x, y),
 // z = antenna z, yaw = mount yaw.
 PlanarTransform BaseToLaser(const solvers::Mount& mount, const io::AntennaInBase& antenna,
                             const EmitFrames& frames);
 
-// The emitted text (ends with a newline):
-//  kRos2StaticTf  one `ros2 run tf2_ros static_transform_publisher --x X --y Y --z Z --yaw YAW
-//                 --pitch 0 --roll 0 --frame-id P --child-frame-id C` line for antenna -> laser,
-//                 and with antenna_in_base a second one for base_link -> laser, preceded by a
-//                 `#` comment line (shell comment) saying z is the antenna's height.
-//  kUrdf          one `<joint name="P_to_C" type="fixed">` element with <parent link>,
-//                 <child link> and <origin xyz="X Y Z" rpy="0 0 YAW"/>, per transform; with two
-//                 joints, an XML comment precedes the second one.
+// The emitted text (ends with a newline). One tree: with antenna_in_base the transforms are
+// base -> parent (base_T_antenna) and parent -> child (the mount); a frame never has two
+// parents. When scanner_z_m is unknown, parent -> child carries z = 0 and the text says so
+// (a `#` line, an XML comment, a JSON "z_note").
+//  kRos2StaticTf  `ros2 run tf2_ros static_transform_publisher --x X --y Y --z Z --yaw YAW
+//                 --pitch 0 --roll 0 --frame-id P --child-frame-id C` lines, base -> antenna
+//                 first when given.
+//  kUrdf          a whole well-formed URDF document: <?xml?>, <robot name="wallcal_mount">
+//                 with one <link> per frame and one fixed <joint name="P_to_C"> per transform
+//                 (<parent link>, <child link>, <origin xyz="X Y Z" rpy="0 0 YAW"/>); copy the
+//                 joints into the vehicle's URDF.
 //  kJson          one object: {"method", "parent_frame", "child_frame", "mount": {x_m, y_m, z_m,
-//                 yaw_rad, yaw_deg}, "sigma": {x_m, y_m, yaw_rad, yaw_deg}, "covariance":
-//                 {"order": ["x_m", "y_m", "yaw_rad"], "matrix": [[...], [...], [...]]},
+//                 yaw_rad, yaw_deg}, "z_known", "sigma": {x_m, y_m, yaw_rad, yaw_deg} or null,
+//                 "covariance": {"order": [...], "matrix": [[...], [...], [...]]} or null,
 //                 "base_link": null or {"parent_frame", "child_frame", x_m, y_m, z_m, yaw_rad,
-//                 yaw_deg, "note"}}.
-// Numbers are printed with 9 significant digits. Frame names must satisfy IsValidFrameName
-// (the caller checks; invalid names throw std::invalid_argument here).
+//                 yaw_deg} (base_T_antenna)}.
+// Numbers are printed with 9 significant digits. σ is null when the covariance is not finite
+// (a method without an error model). Frame names must satisfy IsValidFrameName (invalid names
+// throw std::invalid_argument here).
 std::string FormatEmit(EmitFormat format, const solvers::MountEstimate& estimate,
                        const std::optional<io::AntennaInBase>& antenna_in_base,
-                       const EmitFrames& frames);
+                       const EmitFrames& frames,
+                       const std::optional<double>& scanner_z_m = std::nullopt);
 
 }  // namespace wallcal::outputs

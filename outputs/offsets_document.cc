@@ -11,8 +11,58 @@ namespace wallcal::outputs {
 
 using pipeline::CalibrationResult;
 
-io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result) {
+namespace {
+std::string Quoted(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += (static_cast<unsigned char>(c) < 0x20) ? ' ' : c;
+  }
+  return out + "\"";
+}
+// Metres as millimetres, radians as degrees, NaN as null: the YAML reads in the units people use.
+std::string Mm(double m) { return std::isfinite(m) ? Format("%.2f", m * 1e3) : "null"; }
+std::string Deg(double rad) { return std::isfinite(rad) ? Format("%.4f", rad * kRadToDeg) : "null"; }
+std::string Ratio(double v) { return std::isfinite(v) ? Format("%.2f", v) : "null"; }
+}  // namespace
+
+std::string VerdictYaml(const CalibrationResult& result) {
+  std::string out = std::string("{verdict: ") + pipeline::VerdictName(result.decision.verdict) +
+                    ", reasons: [";
+  for (size_t i = 0; i < result.decision.reasons.size(); ++i) {
+    out += (i ? ", " : "") + Quoted(result.decision.reasons[i]);
+  }
+  return out + "]}";
+}
+
+std::string BudgetYaml(const analysis::ErrorBudget& b) {
+  // σ per source (the square root of the variance it explains), mm and degrees.
+  std::string out = "{method: \"variance removed when one source is exact (linearised)\"";
+  out += ", total: {x_mm: " + Mm(std::sqrt(b.total_variance[0])) +
+         ", y_mm: " + Mm(std::sqrt(b.total_variance[1])) +
+         ", yaw_deg: " + Deg(std::sqrt(b.total_variance[2])) + "}";
+  for (int k = 0; k < analysis::kNumErrorSources; ++k) {
+    const Eigen::Vector3d& v = b.variance[k];
+    out += std::string(", ") + analysis::ErrorSourceKey(static_cast<analysis::ErrorSource>(k)) +
+           ": {x_mm: " + Mm(std::sqrt(v[0])) + ", y_mm: " + Mm(std::sqrt(v[1])) +
+           ", yaw_deg: " + Deg(std::sqrt(v[2])) + "}";
+  }
+  return out + "}";
+}
+
+std::string ChangeYaml(const pipeline::Change& c) {
+  return "{previous: " + Quoted(c.previous_file) +
+         (c.previous_created_utc.empty() ? std::string() : ", previous_created_utc: " + Quoted(c.previous_created_utc)) +
+         ", dx_mm: " + Mm(c.dx_m) + ", dy_mm: " + Mm(c.dy_m) + ", dyaw_deg: " + Deg(c.dyaw_rad) +
+         ", combined_sigmas: {x: " + Ratio(c.x_sigmas) + ", y: " + Ratio(c.y_sigmas) +
+         ", yaw: " + Ratio(c.yaw_sigmas) + "}}";
+}
+
+io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const EmitFrames& frames) {
   io::OffsetsDocument doc;
+  doc.parent_frame = frames.parent;
+  doc.child_frame = frames.child;
+  doc.sigma_known = result.sigma_known;
   const solvers::MountEstimate& e = result.estimate;
   doc.x_m = e.mount.x_m;
   doc.y_m = e.mount.y_m;
@@ -131,8 +181,14 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result) {
           " s): a constant heading bias is indistinguishable from mount yaw; the heading drift "
           "after that time is estimated (heading_drift_deg_per_h)\"");
   doc.warnings = result.warnings;
+  doc.sections.emplace_back("verdict", VerdictYaml(result));
+  if (result.budget.done) doc.sections.emplace_back("error_budget", BudgetYaml(result.budget));
+  if (result.change) doc.sections.emplace_back("change_since_previous", ChangeYaml(*result.change));
   doc.session = result.session.file;
   doc.tool_version = io::kToolVersion;
+  doc.created_utc = result.provenance.created_utc;
+  doc.command_line = result.provenance.command_line;
+  doc.inputs = result.provenance.inputs;
   return doc;
 }
 

@@ -1,4 +1,5 @@
 #include "outputs/report.h"
+#include "outputs/report_decision.h"
 
 #include <algorithm>
 #include <cmath>
@@ -128,12 +129,19 @@ class ReportBuilder {
     html << "<p class=\"meta\">session " << Esc(r_.session.file) << " &#183; scanner "
          << Esc(r_.preset.name) << " &#183; wallcal " << Esc(io::kToolVersion) << " &#183; run time "
          << F("%.2f", r_.seconds) << " s</p>\n";
-    html << "<nav><a href=\"#mount\">mount</a> <a href=\"#site-map\">site map</a> "
-         << "<a href=\"#scans\">scans</a> <a href=\"#hough\">Hough accumulator</a> "
-         << "<a href=\"#residuals\">residuals</a> <a href=\"#coverage\">heading coverage</a> "
-         << "<a href=\"#counts\">counts</a></nav>\n";
-    html << MountSection() << SiteMapSection() << ScansSection() << HoughSection()
-         << ResidualsSection() << CoverageSection() << CountsSection();
+    html << "<nav><a href=\"#decision\">verdict</a> <a href=\"#mount\">mount</a> "
+         << "<a href=\"#site-map\">site map</a> <a href=\"#scans\">scans</a> "
+         << "<a href=\"#diagnostics\">diagnostics</a></nav>\n";
+    html << DecisionSectionHtml(r_) << MountSection() << SiteMapSection() << ScansSection();
+    // Diagnostics, folded: what to look at when the verdict is not ACCEPT.
+    html << "<details id=\"diagnostics\">\n<summary>Diagnostics: Hough accumulator, residuals "
+            "and their trends, heading coverage, counts, solver report</summary>\n";
+    html << HoughSection() << ResidualsSection() << CoverageSection() << CountsSection();
+    if (!r_.estimate.solver_report.empty()) {
+      html << "<section id=\"solver\">\n<h2>Solver</h2>\n<pre>" << Esc(r_.estimate.solver_report)
+           << "</pre>\n</section>\n";
+    }
+    html << "</details>\n";
     html << "</body>\n</html>\n";
     return html.str();
   }
@@ -154,7 +162,11 @@ class ReportBuilder {
       "svg text.ptitle{font-size:13px;font-weight:bold}svg text.label{font-size:12px}\n"
       "svg text.legend{font-size:11px}\n"
       ".warn{color:#a15c00}.bad{color:#b00020;font-weight:bold}.ok{color:#1b7a1b}\n"
-      ".big td,.big th{font-size:16px}\n";
+      ".big td,.big th{font-size:16px}\n"
+      ".verdict{font-size:26px;font-weight:bold;padding:6px 14px;display:inline-block;"
+      "border-radius:4px;color:#fff}.v-accept{background:#1b7a1b}.v-review{background:#b36b00}"
+      ".v-reject{background:#b00020}\n"
+      "details{margin-top:28px}summary{font-size:16px;cursor:pointer}\n";
 
   // ---- mount ----
   std::string MountSection() {
@@ -180,7 +192,7 @@ class ReportBuilder {
     }
     s << "<table>\n";
     s << Row("method", Esc(e.method.empty() ? "(none)" : e.method) +
-                           (e.method == "barawid" ? " (closed form, seed 002 Eq. 8-16)"
+                           (e.method == "barawid" ? " (closed form, Barawid et al. 2007, Eq. 8-16)"
                                                   : e.method == "ceres"
                                                         ? " (joint least squares, robust loss)"
                                                         : ""));
@@ -188,7 +200,7 @@ class ReportBuilder {
       const double sxy = e.covariance(0, 1) / std::max(1e-300, SigmaOf(e.covariance, 0) *
                                                                     SigmaOf(e.covariance, 1));
       s << Row("correlation x-y", F("%.3f", sxy));
-      s << Row("seed 002 notation", "a = " + F("%.4f", -e.mount.y_m) + " m, b = " +
+      s << Row("Barawid 2007 notation", "a = " + F("%.4f", -e.mount.y_m) + " m, b = " +
                                         F("%.4f", e.mount.x_m) + " m, &#948; = " +
                                         F("%.3f", e.mount.yaw_rad * kRadToDeg) + "&#176;");
       s << Row("residuals", "RMS " + F("%.2f", e.residual_rms_m * 1000) + " mm over " +
@@ -205,7 +217,6 @@ class ReportBuilder {
       s << Row("scanner clock offset", F("%.4f", r_.time_offset_s) + " &#177; " +
                                            F("%.4f", r_.time_offset_sigma_s) + " s (estimated)");
     }
-    if (!e.solver_report.empty()) s << Row("solver", Esc(e.solver_report));
     s << "</table>\n";
     s << "<h3 id=\"warnings\">Warnings</h3>\n";
     if (r_.warnings.empty()) {
@@ -263,21 +274,22 @@ class ReportBuilder {
     plot.Polyline(e95, kBlue, 1.5, "5 3");
     plot.Polyline(e1, kBlue, 2.0);
     plot.Marker(e.mount.x_m, e.mount.y_m, "plus", 7, kBlue);
+    plot.Legend(kBlue, "marker:plus", "estimate");
     plot.Legend(kBlue, "line", "1\xcf\x83 ellipse (39 %)");
     plot.Legend(kBlue, "dash", "95 % ellipse");
     bool first = true;
     for (const auto& [name, m] : others) {
       const bool fp = name == "first pass";
       plot.Marker(m.x_m, m.y_m, fp ? "ring" : "cross", fp ? 5 : 4, fp ? kOrange : kGrey);
-      if (fp) plot.Legend(kOrange, "dot", "first-pass estimate");
+      if (fp) plot.Legend(kOrange, "marker:ring", "first-pass estimate");
       if (!fp && first) {
-        plot.Legend(kGrey, "dot", "repeatability subsets (table below)");
+        plot.Legend(kGrey, "marker:cross", "repeatability subsets (table below)");
         first = false;
       }
     }
     if (truth) {
       plot.Marker(truth->x_m, truth->y_m, "square", 3.5, kGreen);
-      plot.Legend(kGreen, "dot", "truth (truth.yaml of a simulated session)");
+      plot.Legend(kGreen, "marker:square", "truth (truth.yaml of a simulated session)");
     }
     return Figure(plot.Svg("Uncertainty of the scanner position (x, y)"),
                   "The estimate (+) with its 1&#963; and 95 % ellipses from the estimate's "
@@ -371,8 +383,10 @@ class ReportBuilder {
       plot.Text(a.x(), a.y(), std::to_string(i + 1), kBlue, "middle", 0, 16);
     }
     plot.Legend("#8c8c8c", "line", "vehicle track (GNSS antenna, all fixes with a position)");
-    plot.Legend(kDark, "line", "surveyed wall (fitted line; squares: surveyed points)");
-    plot.Legend(kPurple, "dot", "control points: triangle survey (tied), x RTK");
+    plot.Legend(kDark, "line", "surveyed wall (fitted line)");
+    plot.Legend("#000", "marker:square", "surveyed wall points");
+    plot.Legend(kPurple, "marker:triangle", "control point in the survey (tied)");
+    plot.Legend(kPurple, "marker:cross", "control point by RTK");
     plot.Legend(kBlue, "dot", "stations: antenna, dashed: heading");
     plot.Legend(kRed, "dot", "scanner at each station (" + mount_source_ + ")");
     s << Figure(plot.Svg("Site map"),
@@ -475,7 +489,7 @@ class ReportBuilder {
     plot.Line(0, 0, axis_m, 0, "#000", 2);
     plot.Dot(0, 0, 4, "#000");
     plot.Legend(kBlue, "dot", "inliers (" + N(d.num_inliers) + ")");
-    plot.Legend(kOrange, "dot", "possible mixed pixels (" + N(mixed) + ")");
+    plot.Legend(kOrange, "marker:cross", "possible mixed pixels (" + N(mixed) + ")");
     plot.Legend(kGrey, "dot", "other points: clutter, other surfaces (" + N(clutter) + ")");
     plot.Legend(kRed, "line", "detected wall line (\xcf\x81, \xce\xb8) and its normal");
     plot.Legend(kGreen, "line", "surveyed wall predicted from the mount");
@@ -557,8 +571,8 @@ class ReportBuilder {
     plot.Rect(gt - tg, gate.rho_m - og, gt + tg, gate.rho_m + og, "none", "#fff", "5 4");
     plot.Marker(t0 + peak_row * ts, r0 + peak_col * rs, "ring", 9, "#ff3030");
     if (d.found) plot.Marker(d.theta_rad * kRadToDeg, d.rho_m, "plus", 6, "#ffffff");
-    plot.Legend("#ff3030", "dot", "peak: most votes (" + N(max_votes) + ")");
-    plot.Legend("#ffffff", "dot", "least-squares line (\xcf\x81, \xce\xb8) (white +)");
+    plot.Legend("#ff3030", "marker:ring", "peak: most votes (" + N(max_votes) + ")");
+    plot.Legend("#888", "marker:plus", "least-squares line (\xcf\x81, \xce\xb8) (white +)");
     plot.Legend("#888", "dash", "second-pass gate (white dashes)");
     s << Figure(plot.Svg("Hough accumulator, station " + N(panel->station + 1) + ", scan " + N(o.scan_index)),
                 "Votes of the scan's points (seed 002 Eq. 2, r = x cos &#952; + y sin &#952;) over a window "

@@ -5,9 +5,10 @@
 // The markup is XHTML-like (every element closed, attributes quoted, text escaped) so it can be
 // checked by an XML tokenizer.
 //
-// Sections (by id): "mount" (estimate, σ, (x, y) uncertainty ellipse, method, warnings,
-// residual analysis / repeatability / time offset when present), "site-map", "scans",
-// "hough", "residuals", "coverage", "counts".
+// Sections (by id): "decision" (verdict with reasons, estimate and σ, change since the previous
+// calibration, error against truth, error budget), "mount" ((x, y) uncertainty ellipse, method,
+// warnings, repeatability / time offset when present), "site-map", "scans"; then folded in
+// <details id="diagnostics">: "hough", "residuals", "coverage", "counts", "solver".
 //
 // The page renders the result and its ReportData (pipeline/report_data.h, filled when the run
 // was asked for it): no file is read here and no decision of the pipeline is repeated.

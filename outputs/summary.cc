@@ -17,6 +17,8 @@ std::string FormatSummary(const CalibrationResult& result) {
   char line[512];
   out << "wallcal " << io::kToolVersion << ": session '" << result.session.name << "' ("
       << result.preset.name << ")\n";
+  out << "  verdict    " << pipeline::VerdictName(result.decision.verdict) << "\n";
+  for (const std::string& reason : result.decision.reasons) out << "             - " << reason << "\n";
   std::snprintf(line, sizeof(line), "  scans      %lld read, %lld used",
                 static_cast<long long>(result.scans_total), static_cast<long long>(result.scans_used));
   out << line;
@@ -40,7 +42,14 @@ std::string FormatSummary(const CalibrationResult& result) {
                 result.num_dwells, result.num_segments_used, result.heading_min_deg,
                 result.heading_max_deg, result.wall_angle_min_deg, result.wall_angle_max_deg);
   out << line;
-  if (e.usable) {
+  if (e.usable && !result.sigma_known) {
+    std::snprintf(line, sizeof(line),
+                  "  mount      x = %.4f m   y = %.4f m   yaw = %.3f deg  (%s; no sigma: see the "
+                  "warning)\n",
+                  e.mount.x_m, e.mount.y_m, e.mount.yaw_rad * kRadToDeg, e.method.c_str());
+    out << line;
+  }
+  if (e.usable && result.sigma_known) {
     const double sx = std::sqrt(std::max(0.0, e.covariance(0, 0)));
     const double sy = std::sqrt(std::max(0.0, e.covariance(1, 1)));
     const double syaw = std::sqrt(std::max(0.0, e.covariance(2, 2)));
@@ -50,13 +59,38 @@ std::string FormatSummary(const CalibrationResult& result) {
                   e.mount.x_m, sx, e.mount.y_m, sy, e.mount.yaw_rad * kRadToDeg, syaw * kRadToDeg,
                   e.method.c_str());
     out << line;
+  }
+  if (e.usable) {
     std::snprintf(line, sizeof(line),
-                  "  seed 002   a = %.4f m   b = %.4f m   delta = %.3f deg\n", -e.mount.y_m,
-                  e.mount.x_m, e.mount.yaw_rad * kRadToDeg);
+                  "  Barawid    a = %.4f m   b = %.4f m   delta = %.3f deg  (Barawid et al. 2007's "
+                  "notation)\n",
+                  -e.mount.y_m, e.mount.x_m, e.mount.yaw_rad * kRadToDeg);
     out << line;
+    const analysis::ErrorBudget& b = result.budget;
+    if (b.done) {
+      static const char* const kAxes[3] = {"x", "y", "yaw"};
+      out << "  σ budget  ";
+      for (int axis = 0; axis < 3; ++axis) {
+        out << (axis ? ";" : "") << " " << kAxes[axis] << ": "
+            << analysis::ErrorSourceName(b.dominant[axis]) << " "
+            << static_cast<int>(std::lround(100.0 * b.dominant_share[axis])) << " %";
+      }
+      out << " (largest share of each variance)\n";
+    }
+    if (result.change) {
+      const pipeline::Change& c = *result.change;
+      std::snprintf(line, sizeof(line),
+                    "  change     since %s: x %+.1f mm, y %+.1f mm, yaw %+.3f deg (%.1f, %.1f, "
+                    "%.1f combined sigma)\n",
+                    c.previous_file.c_str(), c.dx_m * 1e3, c.dy_m * 1e3, c.dyaw_rad * kRadToDeg,
+                    c.x_sigmas, c.y_sigmas, c.yaw_sigmas);
+      out << line;
+    }
     std::snprintf(line, sizeof(line),
-                  "  residuals  RMS %.4f m over %d observations, %d outliers (> 3 sigma)\n",
-                  e.residual_rms_m, e.observations_used, e.observations_rejected);
+                  "  residuals  RMS %.4f m over %d of %zu wall observations (%d down-weighted as "
+                  "outliers, > 3 sigma)\n",
+                  e.residual_rms_m, e.observations_used, result.observations.size(),
+                  e.observations_rejected);
     out << line;
     out << "  yaw        relative to the heading sensor's zero at the first scan used (a "
            "constant heading bias is indistinguishable from mount yaw)\n";
@@ -84,12 +118,17 @@ std::string FormatSummary(const CalibrationResult& result) {
     }
     const analysis::Repeatability& rep = result.repeatability;
     if (rep.done) {
+      out << "  repeat    ";
+      if (rep.bootstrap_samples > 0) {
+        std::snprintf(line, sizeof(line), " bootstrap (%d) sigma x %.4f m, y %.4f m, yaw %.3f deg;",
+                      rep.bootstrap_samples, rep.bootstrap_sigma_x_m, rep.bootstrap_sigma_y_m,
+                      rep.bootstrap_sigma_yaw_rad * kRadToDeg);
+        out << line;
+      }
       std::snprintf(line, sizeof(line),
-                    "  repeat     bootstrap (%d) sigma x %.4f m, y %.4f m, yaw %.3f deg; "
-                    "split halves/odd-even move it at most x %.4f m, y %.4f m, yaw %.3f deg\n",
-                    rep.bootstrap_samples, rep.bootstrap_sigma_x_m, rep.bootstrap_sigma_y_m,
-                    rep.bootstrap_sigma_yaw_rad * kRadToDeg, rep.max_split_shift_x_m,
-                    rep.max_split_shift_y_m, rep.max_split_shift_yaw_rad * kRadToDeg);
+                    " split halves/odd-even move it at most x %.4f m, y %.4f m, yaw %.3f deg\n",
+                    rep.max_split_shift_x_m, rep.max_split_shift_y_m,
+                    rep.max_split_shift_yaw_rad * kRadToDeg);
       out << line;
     }
     if (result.forced) out << "  FORCED     written although the data do not determine the mount\n";

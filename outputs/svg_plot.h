@@ -119,25 +119,7 @@ class SvgPlot {
   }
   void Marker(double x, double y, const std::string& shape, double size_px,
               const std::string& color) {
-    const double px = Px(x), py = Py(y), s = size_px;
-    if (shape == "plus" || shape == "cross") {
-      const double a = shape == "plus" ? 0.0 : 0.7071;
-      const double b = shape == "plus" ? 1.0 : 0.7071;
-      data_ << "<path d=\"M" << P(px - s * b) << "," << P(py - s * a) << "L" << P(px + s * b)
-            << "," << P(py + s * a) << "M" << P(px + s * a) << "," << P(py - s * b) << "L"
-            << P(px - s * a) << "," << P(py + s * b) << "\" stroke=\"" << color
-            << "\" stroke-width=\"2\" fill=\"none\"/>";
-    } else if (shape == "triangle") {
-      data_ << "<polygon points=\"" << P(px) << "," << P(py - s) << " " << P(px - s) << ","
-            << P(py + s * 0.8) << " " << P(px + s) << "," << P(py + s * 0.8) << "\" fill=\"none\""
-            << " stroke=\"" << color << "\" stroke-width=\"1.5\"/>";
-    } else if (shape == "square") {
-      data_ << "<rect x=\"" << P(px - s) << "\" y=\"" << P(py - s) << "\" width=\"" << P(2 * s)
-            << "\" height=\"" << P(2 * s) << "\" fill=\"" << color << "\"/>";
-    } else {  // ring
-      data_ << "<circle cx=\"" << P(px) << "\" cy=\"" << P(py) << "\" r=\"" << s
-            << "\" fill=\"none\" stroke=\"" << color << "\" stroke-width=\"1.5\"/>";
-    }
+    MarkerPx(data_, Px(x), Py(y), shape, size_px, color);
   }
   // Axis-aligned rectangle from data corners.
   void Rect(double xa, double ya, double xb, double yb, const std::string& fill,
@@ -166,6 +148,9 @@ class SvgPlot {
       over_ << "<line x1=\"" << P(x) << "\" y1=\"" << P(y - 4) << "\" x2=\"" << P(x + 14)
             << "\" y2=\"" << P(y - 4) << "\" stroke=\"" << swatch_svg_color
             << "\" stroke-width=\"2\" stroke-dasharray=\"4 3\"/>";
+    } else if (kind.rfind("marker:", 0) == 0) {
+      // The same marker the plot draws (plus, cross, triangle, square, ring).
+      MarkerPx(over_, x + 7, y - 4, kind.substr(7), 4.5, swatch_svg_color);
     } else {
       over_ << "<circle cx=\"" << P(x + 7) << "\" cy=\"" << P(y - 4) << "\" r=\"3.5\" fill=\""
             << swatch_svg_color << "\"/>";
@@ -180,6 +165,29 @@ class SvgPlot {
           << "\" class=\"legend\">" << Esc(text) << "</text>";
   }
   void Raw(const std::string& svg_data) { data_ << svg_data; }
+
+  // A marker centred at pixel (px, py), `s` pixels from centre to edge.
+  static void MarkerPx(std::ostringstream& out, double px, double py, const std::string& shape,
+                       double s, const std::string& color) {
+    if (shape == "plus" || shape == "cross") {
+      const double a = shape == "plus" ? 0.0 : 0.7071;
+      const double b = shape == "plus" ? 1.0 : 0.7071;
+      out << "<path d=\"M" << P(px - s * b) << "," << P(py - s * a) << "L" << P(px + s * b)
+          << "," << P(py + s * a) << "M" << P(px + s * a) << "," << P(py - s * b) << "L"
+          << P(px - s * a) << "," << P(py + s * b) << "\" stroke=\"" << color
+          << "\" stroke-width=\"2\" fill=\"none\"/>";
+    } else if (shape == "triangle") {
+      out << "<polygon points=\"" << P(px) << "," << P(py - s) << " " << P(px - s) << ","
+          << P(py + s * 0.8) << " " << P(px + s) << "," << P(py + s * 0.8) << "\" fill=\"none\""
+          << " stroke=\"" << color << "\" stroke-width=\"1.5\"/>";
+    } else if (shape == "square") {
+      out << "<rect x=\"" << P(px - s) << "\" y=\"" << P(py - s) << "\" width=\"" << P(2 * s)
+          << "\" height=\"" << P(2 * s) << "\" fill=\"" << color << "\"/>";
+    } else {  // ring
+      out << "<circle cx=\"" << P(px) << "\" cy=\"" << P(py) << "\" r=\"" << s
+          << "\" fill=\"none\" stroke=\"" << color << "\" stroke-width=\"1.5\"/>";
+    }
+  }
 
   std::string Svg(const std::string& title) const {
     std::ostringstream o;

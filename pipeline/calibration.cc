@@ -11,16 +11,20 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
   const auto start = std::chrono::steady_clock::now();
   CalibrationResult result;
   RunInputs inputs;
-  LoadSessionAndOptions(request, &result);
+  LoadSessionAndOptions(request, &result, &inputs);
   TieSurveyAndFitWalls(&result, &inputs);
   ReadPoses(&result, &inputs);
-  PreparePasses(&result, &inputs);
+  PreparePasses(request, &result, &inputs);
   if (FirstPass(request, progress, &result, &inputs)) {
     SecondPass(progress, &result, &inputs);
     Solve(request, progress, &result, &inputs);
+    FinishEstimate(request, &result);
     Analyse(request, progress, &result);
+    Say(progress, Stage::kErrorBudget, "error budget: what the σ is made of");
+    BudgetAndAdvice(request, &result);
     CountCoverage(&result);
   }
+  Decide(request, &result, inputs);
   if (request.collect_report_data) {
     Say(progress, Stage::kReportData, "collecting the report's scans and site map");
     CollectReportData(&result, inputs);

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,7 +18,9 @@
 #include "calib/observation.h"
 #include "io/options.h"
 #include "io/types.h"
+#include "analysis/error_budget.h"
 #include "pipeline/report_data.h"
+#include "pipeline/verdict.h"
 #include "solvers/mount_solver.h"
 #include "solvers/solve_policy.h"
 
@@ -29,6 +32,8 @@ struct CalibrateRequest {
   solvers::Method method = solvers::Method::kCeres;
   bool force = false;  // write an estimate the observability checks refuse, with a warning
   bool collect_report_data = false;  // fill CalibrationResult::report (one more scan pass)
+  std::string compare_path;  // an earlier offsets.yaml to compare with; empty: none
+  std::vector<std::string> command_line;  // argv, recorded in offsets.yaml's provenance
   // Threads for wall detection, the solve and the information matrix; 0: every core. The
   // result does not depend on it (beyond round-off in the solve, far below 1e-9 m).
   int threads = 0;
@@ -43,6 +48,7 @@ enum class Stage {
   kClockOffsetRound,
   kResidualAnalysis,
   kRepeatability,
+  kErrorBudget,
   kReportData,
   kDone,
 };
@@ -87,6 +93,13 @@ struct CalibrationResult {
   double time_offset_s = 0.0;        // estimated scanner-to-GNSS clock offset (moving data)
   double time_offset_sigma_s = 0.0;  // 0 when not estimated
   bool forced = false;               // written despite a failed observability check
+  // false: the method gives no σ (barawid): estimate.covariance is NaN, and offsets.yaml, the
+  // summary and the emitted JSON say so.
+  bool sigma_known = true;
+  analysis::ErrorBudget budget;      // what the σ is made of (ceres)
+  std::optional<Change> change;      // since the --compare file, when given and usable
+  Decision decision;                 // ACCEPT / REVIEW / REJECT with the reasons
+  Provenance provenance;
   std::vector<std::string> warnings;
   ReportData report;                 // filled when the request asked for it
   double seconds = 0.0;  // wall-clock run time, for the summary

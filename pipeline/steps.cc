@@ -17,6 +17,8 @@
 #include "io/recording_streams.h"
 #include "io/session_reader.h"
 #include "io/survey_reader.h"
+#include "io/offsets_reader.h"
+#include "pipeline/checks.h"
 #include "pipeline/config_dirs.h"
 #include "pipeline/steps.h"
 #include "solvers/solve_policy.h"
@@ -69,7 +71,8 @@ calib::Gates TightGates(const CalibrationResult& result) {
       true};
 }
 
-void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* result) {
+void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* result,
+                           RunInputs* inputs) {
   result->session = io::ReadSession(request.session_path);
   if (!request.config_path.empty()) result->options = io::ReadCalibrateOptions(request.config_path);
   result->options.Validate();
@@ -77,6 +80,8 @@ void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* r
       request.threads > 0 ? request.threads
                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   result->preset = io::LoadScannerPreset(result->session.scanner_model, PresetDirs());
+  // The previous calibration is read now: a bad --compare file fails before the work.
+  if (!request.compare_path.empty()) inputs->previous = io::ReadPreviousOffsets(request.compare_path);
 }
 
 void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs) {
@@ -96,6 +101,8 @@ void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs) {
     throw io::InputError(io::Where(session.file, first_control.line,
                                    std::string("survey.control[0] / utm_zone: ") + e.what()));
   }
+  // Before the tie: a mirrored survey would fail it with a message about one control point.
+  CheckSurveyNotMirrored(inputs->survey, session, result->frame);
   inputs->tie =
       calib::TieSurvey(inputs->survey, session.survey_points, session, result->frame, solver);
   result->control_rms_m = inputs->tie.control_rms_m;
@@ -141,6 +148,14 @@ void ReadPoses(CalibrationResult* result, RunInputs* inputs) {
     throw io::InputError(io::Where(session.gnss_log, 0, e.what()));  // a fix outside the grid
   }
   result->fixes_used = static_cast<int64_t>(positions.size());
+  {
+    // A survey (or control point) far from where the vehicle drove is a survey mistake: say so
+    // now rather than after a search for a wall that cannot be in the scans.
+    std::vector<Eigen::Vector2d> track;
+    track.reserve(positions.size());
+    for (const calib::PositionSample& p : positions) track.push_back(p.p_local_m);
+    CheckTrackNearWalls(track, result->walls, result->preset, session);
+  }
   if (positions.size() < 2) {
     std::ostringstream found;
     for (const auto& [quality, count] : inputs->gnss.fixes_by_quality) {
@@ -200,7 +215,7 @@ void ReadPoses(CalibrationResult* result, RunInputs* inputs) {
   result->num_dwells = static_cast<int>(inputs->poses->dwells().size());
 }
 
-void PreparePasses(CalibrationResult* result, RunInputs* inputs) {
+void PreparePasses(const CalibrateRequest& request, CalibrationResult* result, RunInputs* inputs) {
   const io::CalibrateOptions& options = result->options;
   calib::PassContext& pass = inputs->pass;
   // A CARMEN log, or a recording's LaserScan topic checked against the preset.
@@ -210,6 +225,10 @@ void PreparePasses(CalibrationResult* result, RunInputs* inputs) {
   pass.detector = &options.detector;
   pass.walls = &result->walls;
   pass.poses = inputs->poses.get();
+  // A preset that does not fit the scans (beams, step, range) misplaces every beam: refuse
+  // before the detection passes, naming both, unless forced.
+  EnforcePresetFit(CheckPresetAgainstScans(pass.open_scans, result->preset), result->preset,
+                   result->session, request.force, &result->warnings);
   pass.threads = options.solver.num_threads;
   // Moving scans: when asked for, or when the engineer drove continuously (too few dwells to
   // calibrate from stations alone). The solver then estimates the scanner clock offset too.
@@ -284,14 +303,19 @@ bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
     StopAfterFirstPass(none, first, result);
     return false;
   }
+  // The first pass only starts the second: the σ limits (a refusal of the final estimate, with
+  // every scan counted) do not apply to it.
+  io::SolverOptions first_solver = options.solver;
+  first_solver.max_sigma_xy_m = 1e3;  // finite: the check scales the information by them
+  first_solver.max_sigma_yaw_rad = 1e3;
   const solvers::MountEstimate start = solvers::SolveMountBarawid(
-      first.observations, result->walls, options.solver, request.force);
+      first.observations, result->walls, first_solver, request.force);
   if (!start.usable) {
     StopAfterFirstPass(start, first, result);
     return false;
   }
   const solvers::MountEstimate refined = solvers::SolveMountCeres(
-      first.observations, result->walls, options.solver, start.mount, request.force);
+      first.observations, result->walls, first_solver, start.mount, request.force);
   if (!refined.usable) {
     StopAfterFirstPass(refined, first, result);
     return false;
@@ -321,6 +345,11 @@ void SecondPass(const ProgressFn& progress, CalibrationResult* result, RunInputs
     };
   }
   second = calib::DetectionPass(inputs->pass, pass);
+  if (progress) {
+    // The pass reports every 2000 scans: the last count is said here.
+    progress(Progress{Stage::kSecondPass, "second pass", second.scans_read,
+                      std::max(inputs->scans_in_log, second.scans_read), true});
+  }
   result->observations = std::move(second.observations);
   result->scans_skipped = second.skipped;
   result->scan_lines_skipped = second.line_skips;

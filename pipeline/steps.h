@@ -3,6 +3,7 @@
 // together). Internal to pipeline/.
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "calib/detection_pass.h"
@@ -23,19 +24,21 @@ struct RunInputs {
   std::unique_ptr<calib::PoseInterpolator> poses;
   calib::PassContext pass;
   int64_t scans_in_log = 0;  // scan records the first pass read (the second pass's total)
+  std::optional<io::PreviousOffsets> previous;  // the --compare file, read before the work
 };
 
 // Reports a stage to `progress` (may be empty).
 void Say(const ProgressFn& progress, Stage stage, const std::string& text);
 
 // session.yaml, the options and the scanner preset.
-void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* result);
+void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* result,
+                           RunInputs* inputs);
 // The survey, its tie to UTM and the walls as lines in the local frame.
 void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs);
 // GNSS fixes and headings, the pose interpolator and the dwells.
 void ReadPoses(CalibrationResult* result, RunInputs* inputs);
 // How the detection passes read scans and which scans they use.
-void PreparePasses(CalibrationResult* result, RunInputs* inputs);
+void PreparePasses(const CalibrateRequest& request, CalibrationResult* result, RunInputs* inputs);
 // First pass (wide gates, subsample) and the start estimate. False when the run stops here
 // (result->estimate then says why).
 bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
@@ -52,6 +55,15 @@ void Analyse(const CalibrateRequest& request, const ProgressFn& progress,
 void CountCoverage(CalibrationResult* result);
 // The site map, stations and scan panels of the report (pipeline/report_collect.cc).
 void CollectReportData(CalibrationResult* result, const RunInputs& inputs);
+
+// After the solve: the closed form's σ dropped (no error model), the estimate checked against
+// scanner.mount_guess's tolerance (refused unless forced).
+void FinishEstimate(const CalibrateRequest& request, CalibrationResult* result);
+// The error budget of a ceres estimate (usable or refused for its σ); a σ refusal whose
+// variance one source dominates gets advice about that source.
+void BudgetAndAdvice(const CalibrateRequest& request, CalibrationResult* result);
+// The verdict, the change since the previous calibration and the provenance (last step).
+void Decide(const CalibrateRequest& request, CalibrationResult* result, const RunInputs& inputs);
 
 // The gates of the second pass, from the first pass's covariance.
 calib::Gates TightGates(const CalibrationResult& result);

@@ -28,6 +28,7 @@ enum class EstimateFailure {
   kSolveFailed,      // Ceres could not solve
   kNotConverged,     // ran out of iterations
   kCovariance,       // the mount covariance could not be computed or is not positive
+  kOutsideMountGuess,  // farther from scanner.mount_guess than its tolerance (set by pipeline/)
 };
 
 struct MountEstimate {

@@ -58,6 +58,11 @@ TEST(ShippedConfigTest, CalibrateYamlEqualsBuiltInDefaults) {
   EXPECT_NEAR(file.solver.max_sigma_xy_m, d.solver.max_sigma_xy_m, tol);
   EXPECT_NEAR(file.solver.max_sigma_yaw_rad, d.solver.max_sigma_yaw_rad, tol);
   EXPECT_EQ(file.solver.bootstrap_samples, d.solver.bootstrap_samples);
+  EXPECT_NEAR(file.acceptance.max_sigma_xy_m, d.acceptance.max_sigma_xy_m, tol);
+  EXPECT_NEAR(file.acceptance.max_sigma_yaw_rad, d.acceptance.max_sigma_yaw_rad, tol);
+  EXPECT_NEAR(file.acceptance.max_change_xy_m, d.acceptance.max_change_xy_m, tol);
+  EXPECT_NEAR(file.acceptance.max_change_yaw_rad, d.acceptance.max_change_yaw_rad, tol);
+  EXPECT_NEAR(file.acceptance.max_change_sigmas, d.acceptance.max_change_sigmas, tol);
   EXPECT_EQ(file.alignment.moving_scans_if_few_stations, d.alignment.moving_scans_if_few_stations);
   EXPECT_EQ(file.first_pass_max_scans, d.first_pass_max_scans);
 }

@@ -113,6 +113,10 @@ TEST(EmitTest, FrameNamesMustBeSafeToPrint) {
   EXPECT_TRUE(IsValidFrameName("laser"));
   EXPECT_TRUE(IsValidFrameName("robot1/base_link"));
   EXPECT_TRUE(IsValidFrameName("gnss.antenna-2"));
+  EXPECT_FALSE(IsValidFrameName("/laser"));  // tf2 rejects a leading slash
+  EXPECT_FALSE(IsValidFrameName("laser/"));
+  EXPECT_FALSE(IsValidFrameName("a//b"));
+  EXPECT_NE(FrameNameProblem("/laser").find("leading slash"), std::string::npos);
   EXPECT_FALSE(IsValidFrameName(""));
   EXPECT_FALSE(IsValidFrameName("-x"));
   EXPECT_FALSE(IsValidFrameName("a b"));
@@ -132,8 +136,10 @@ TEST(EmitTest, Ros2StaticTfLineParsesBackToTheEstimate) {
   frames.child = "front_laser";
   const std::vector<std::string> lines =
       Lines(FormatEmit(EmitFormat::kRos2StaticTf, e, std::nullopt, frames));
-  ASSERT_EQ(lines.size(), 1u);
-  const Ros2Command c = ParseRos2(lines[0]);
+  // A shell comment says z = 0 is not measured, then the command.
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0].rfind("# antenna -> front_laser: z = 0", 0), 0u) << lines[0];
+  const Ros2Command c = ParseRos2(lines[1]);
   ASSERT_TRUE(c.ok) << lines[0];
   EXPECT_EQ(c.program, "ros2 run tf2_ros static_transform_publisher");
   EXPECT_EQ(c.flags.size(), 8u);
@@ -147,30 +153,29 @@ TEST(EmitTest, Ros2StaticTfLineParsesBackToTheEstimate) {
   EXPECT_EQ(c.flags.at("--child-frame-id"), "front_laser");
 }
 
-TEST(EmitTest, Ros2WithAntennaInBaseAddsTheComposedBaseLinkTransform) {
+TEST(EmitTest, Ros2WithAntennaInBaseEmitsOneTree) {
   const solvers::MountEstimate e = Estimate();
   const io::AntennaInBase antenna{-0.4, 0.1, 2.1};
   const std::vector<std::string> lines =
-      Lines(FormatEmit(EmitFormat::kRos2StaticTf, e, antenna, EmitFrames()));
+      Lines(FormatEmit(EmitFormat::kRos2StaticTf, e, antenna, EmitFrames(), -0.85));
   std::vector<Ros2Command> commands;
-  bool note = false;
   for (const std::string& line : lines) {
-    if (line.rfind("#", 0) == 0) {
-      note = note || line.find("z") != std::string::npos;
-      continue;
-    }
+    EXPECT_NE(line.rfind("#", 0), 0u) << "no note when the height is known: " << line;
     commands.push_back(ParseRos2(line));
   }
-  EXPECT_TRUE(note) << "the base_link line must say its z is the antenna's";
   ASSERT_EQ(commands.size(), 2u);
-  ASSERT_TRUE(commands[1].ok);
-  EXPECT_EQ(commands[0].flags.at("--frame-id"), "gnss_antenna");
-  EXPECT_EQ(commands[1].flags.at("--frame-id"), "base_link");
+  ASSERT_TRUE(commands[0].ok && commands[1].ok);
+  // base_link -> gnss_antenna -> laser: every frame has one parent.
+  EXPECT_EQ(commands[0].flags.at("--frame-id"), "base_link");
+  EXPECT_EQ(commands[0].flags.at("--child-frame-id"), "gnss_antenna");
+  EXPECT_NEAR(Number(commands[0].flags.at("--x")), -0.4, kTol);
+  EXPECT_NEAR(Number(commands[0].flags.at("--y")), 0.1, kTol);
+  EXPECT_NEAR(Number(commands[0].flags.at("--z")), 2.1, kTol);
+  EXPECT_EQ(Number(commands[0].flags.at("--yaw")), 0.0);
+  EXPECT_EQ(commands[1].flags.at("--frame-id"), "gnss_antenna");
   EXPECT_EQ(commands[1].flags.at("--child-frame-id"), "laser");
-  // base_T_laser = base_T_antenna (translation only) * antenna_T_laser.
-  EXPECT_NEAR(Number(commands[1].flags.at("--x")), -0.4 + e.mount.x_m, kTol);
-  EXPECT_NEAR(Number(commands[1].flags.at("--y")), 0.1 + e.mount.y_m, kTol);
-  EXPECT_NEAR(Number(commands[1].flags.at("--z")), 2.1, kTol);
+  EXPECT_NEAR(Number(commands[1].flags.at("--x")), e.mount.x_m, kTol);
+  EXPECT_NEAR(Number(commands[1].flags.at("--z")), -0.85, kTol);
   EXPECT_NEAR(Number(commands[1].flags.at("--yaw")), e.mount.yaw_rad, kTol);
 }
 
@@ -208,6 +213,13 @@ std::vector<XmlElement> Tags(const std::string& text) {
   std::vector<XmlElement> tags;
   size_t i = 0;
   while ((i = text.find('<', i)) != std::string::npos) {
+    if (text.compare(i, 2, "<?") == 0) {  // the XML declaration
+      const size_t end = text.find("?>", i);
+      EXPECT_NE(end, std::string::npos);
+      if (end == std::string::npos) break;
+      i = end + 2;
+      continue;
+    }
     if (text.compare(i, 4, "<!--") == 0) {
       const size_t end = text.find("-->", i);
       EXPECT_NE(end, std::string::npos);
@@ -252,12 +264,34 @@ std::vector<double> Numbers(const std::string& text) {
   return v;
 }
 
-TEST(EmitTest, UrdfJointOriginParsesBackToTheEstimate) {
+// The tags of the first <joint> ... </joint> in the document.
+std::vector<XmlElement> FirstJoint(const std::vector<XmlElement>& tags, size_t nth = 0) {
+  std::vector<XmlElement> out;
+  size_t seen = 0;
+  bool in = false;
+  for (const XmlElement& t : tags) {
+    if (t.name == "joint" && seen++ == nth) in = true;
+    if (in) out.push_back(t);
+    if (in && t.name == "/joint") break;
+  }
+  return out;
+}
+
+TEST(EmitTest, UrdfIsAWholeDocumentWhoseJointParsesBack) {
   const solvers::MountEstimate e = Estimate();
   const std::string urdf = FormatEmit(EmitFormat::kUrdf, e, std::nullopt, EmitFrames());
-  const std::vector<XmlElement> tags = Tags(urdf);
+  EXPECT_EQ(urdf.rfind("<?xml version=\"1.0\"?>\n", 0), 0u) << urdf;
+  const std::vector<XmlElement> all = Tags(urdf);
+  int robots = 0, links = 0;
+  for (const XmlElement& t : all) {
+    robots += t.name == "robot";
+    links += t.name == "link";
+  }
+  EXPECT_EQ(robots, 1);
+  EXPECT_EQ(links, 2);
+  EXPECT_EQ(all.back().name, "/robot");
+  const std::vector<XmlElement> tags = FirstJoint(all);
   ASSERT_EQ(tags.size(), 5u) << urdf;
-  EXPECT_EQ(tags[0].name, "joint");
   EXPECT_EQ(tags[0].attributes.at("type"), "fixed");
   EXPECT_FALSE(tags[0].attributes.at("name").empty());
   EXPECT_EQ(tags[1].name, "parent");
@@ -275,35 +309,30 @@ TEST(EmitTest, UrdfJointOriginParsesBackToTheEstimate) {
   EXPECT_EQ(rpy[0], 0.0);
   EXPECT_EQ(rpy[1], 0.0);
   EXPECT_NEAR(rpy[2], e.mount.yaw_rad, kTol);
-  EXPECT_EQ(tags[4].name, "/joint");
 }
 
-TEST(EmitTest, UrdfWithAntennaInBaseHasABaseLinkJoint) {
+TEST(EmitTest, UrdfWithAntennaInBaseChainsBaseAntennaLaser) {
   const solvers::MountEstimate e = Estimate();
   EmitFrames frames;
   frames.base = "chassis";
   const std::string urdf = FormatEmit(EmitFormat::kUrdf, e, io::AntennaInBase{1.0, 0.0, 1.5}, frames);
-  const std::vector<XmlElement> tags = Tags(urdf);
-  int joints = 0;
+  const std::vector<XmlElement> all = Tags(urdf);
   bool comment = false;
-  for (size_t i = 0; i < tags.size(); ++i) {
-    if (tags[i].name == "!--") comment = true;
-    if (tags[i].name != "joint") continue;
-    ++joints;
-    if (joints == 2) {
-      ASSERT_LT(i + 3, tags.size());
-      EXPECT_EQ(tags[i + 1].attributes.at("link"), "chassis");
-      EXPECT_EQ(tags[i + 2].attributes.at("link"), "laser");
-      const std::vector<double> xyz = Numbers(tags[i + 3].attributes.at("xyz"));
-      ASSERT_EQ(xyz.size(), 3u);
-      EXPECT_NEAR(xyz[0], 1.0 + e.mount.x_m, kTol);
-      EXPECT_NEAR(xyz[1], e.mount.y_m, kTol);
-      EXPECT_NEAR(xyz[2], 1.5, kTol);
-      EXPECT_NEAR(Numbers(tags[i + 3].attributes.at("rpy"))[2], e.mount.yaw_rad, kTol);
-    }
-  }
-  EXPECT_EQ(joints, 2);
+  for (const XmlElement& t : all) comment = comment || t.name == "!--";
   EXPECT_TRUE(comment);
+  const std::vector<XmlElement> base = FirstJoint(all, 0);
+  const std::vector<XmlElement> mount = FirstJoint(all, 1);
+  ASSERT_EQ(base.size(), 5u) << urdf;
+  ASSERT_EQ(mount.size(), 5u) << urdf;
+  EXPECT_EQ(base[1].attributes.at("link"), "chassis");
+  EXPECT_EQ(base[2].attributes.at("link"), "gnss_antenna");
+  const std::vector<double> xyz = Numbers(base[3].attributes.at("xyz"));
+  ASSERT_EQ(xyz.size(), 3u);
+  EXPECT_NEAR(xyz[0], 1.0, kTol);
+  EXPECT_NEAR(xyz[2], 1.5, kTol);
+  EXPECT_EQ(mount[1].attributes.at("link"), "gnss_antenna");
+  EXPECT_EQ(mount[2].attributes.at("link"), "laser");
+  EXPECT_NEAR(Numbers(mount[3].attributes.at("rpy"))[2], e.mount.yaw_rad, kTol);
 }
 
 // ---- JSON ----
@@ -498,12 +527,12 @@ TEST(EmitTest, JsonWithAntennaInBaseCarriesTheBaseLinkTransform) {
   const Json& b = j["base_link"];
   ASSERT_EQ(b.kind, Json::kObject);
   EXPECT_EQ(b["parent_frame"].text, "base_link");
-  EXPECT_EQ(b["child_frame"].text, "lms");
-  EXPECT_NEAR(b["x_m"].number, -0.4 + e.mount.x_m, kTol);
-  EXPECT_NEAR(b["y_m"].number, 0.2 + e.mount.y_m, kTol);
+  EXPECT_EQ(b["child_frame"].text, j["parent_frame"].text);  // base -> antenna: one tree
+  EXPECT_NEAR(b["x_m"].number, -0.4, kTol);
+  EXPECT_NEAR(b["y_m"].number, 0.2, kTol);
   EXPECT_NEAR(b["z_m"].number, 2.1, kTol);
-  EXPECT_NEAR(b["yaw_rad"].number, e.mount.yaw_rad, kTol);
-  EXPECT_FALSE(b["note"].text.empty());
+  EXPECT_EQ(b["yaw_rad"].number, 0.0);
+  EXPECT_FALSE(j["z_note"].text.empty());
 }
 
 // ---- The program: with --emit, stdout carries only the emitted text ----

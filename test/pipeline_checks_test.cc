@@ -280,3 +280,48 @@ TEST(PipelineChecksTest, ThreadCountDoesNotChangeTheResult) {
 }
 
 }  // namespace wallcal
+
+#include "calib/geodesy.h"
+#include "pipeline/checks.h"
+
+namespace wallcal {
+namespace {
+
+// With three control points a mirrored survey (x and y swapped) fits the RTK positions by a
+// reflection, not by a rotation: refused, naming the survey's columns.
+TEST(PipelineChecksTest, ThreeControlPointsCatchAMirroredSurvey) {
+  const calib::LocalFrame frame = calib::MakeLocalFrame(43.07, 141.34, std::nullopt);
+  io::SessionSpec session;
+  session.file = "session.yaml";
+  session.survey_points = "survey.csv";
+  std::vector<io::SurveyPoint> survey;
+  const double xy[3][2] = {{0.0, 0.0}, {40.0, 5.0}, {10.0, 30.0}};
+  for (int i = 0; i < 3; ++i) {
+    io::ControlPoint control;
+    control.id = "C" + std::to_string(i + 1);
+    // RTK positions: the survey points turned by 0.3 rad and shifted, back to lat/lon.
+    const double c = std::cos(0.3), s = std::sin(0.3);
+    const Eigen::Vector2d local(5.0 + c * xy[i][0] - s * xy[i][1], -3.0 + s * xy[i][0] + c * xy[i][1]);
+    calib::FromUtm(io::UtmZone{frame.zone, frame.north}, frame.origin_e_m + frame.scale_k0 * local.x(),
+                   frame.origin_n_m + frame.scale_k0 * local.y(), &control.lat_deg,
+                   &control.lon_deg);
+    session.control.push_back(control);
+    io::SurveyPoint p;
+    p.id = control.id;
+    p.x_m = xy[i][0];
+    p.y_m = xy[i][1];
+    survey.push_back(p);
+  }
+  EXPECT_NO_THROW(pipeline::CheckSurveyNotMirrored(survey, session, frame));
+  for (io::SurveyPoint& p : survey) std::swap(p.x_m, p.y_m);
+  try {
+    pipeline::CheckSurveyNotMirrored(survey, session, frame);
+    ADD_FAILURE() << "a mirrored survey passed";
+  } catch (const io::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mirrored"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("survey.columns"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace wallcal

@@ -121,7 +121,8 @@ TEST(WritersTest, OffsetsYamlParsesBackToTheSameNumbers) {
   for (int i = 0; i < 9; ++i) {
     EXPECT_NEAR(mount["covariance"][i].as<double>(), cov[i], std::abs(cov[i]) * 1e-6) << i;
   }
-  const YAML::Node seed = root["seed_002_notation"];
+  const YAML::Node seed = root["barawid_2007_notation"];
+  EXPECT_FALSE(root["seed_002_notation"].IsDefined());
   EXPECT_NEAR(seed["a"].as<double>(), -0.0561, 1e-6);
   EXPECT_NEAR(seed["b"].as<double>(), 2.5703, 1e-6);
   EXPECT_NEAR(seed["delta_deg"].as<double>(), 2.8000, 1e-4);

@@ -1,0 +1,140 @@
+#include "analysis/error_budget.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "solvers/mount_solver.h"
+
+namespace wallcal::analysis {
+namespace {
+
+// A source made exact: its σ times this. Not 0: the adjustment holds a zero-σ wall constant
+// but divides by the GNSS and scanner σ.
+constexpr double kExact = 1e-3;
+
+Eigen::Vector3d Diagonal(const Eigen::Matrix3d& covariance) {
+  return Eigen::Vector3d(covariance(0, 0), covariance(1, 1), covariance(2, 2));
+}
+
+}  // namespace
+
+const char* ErrorSourceName(ErrorSource source) {
+  switch (source) {
+    case ErrorSource::kSurvey:
+      return "survey points";
+    case ErrorSource::kControl:
+      return "control points (survey tie)";
+    case ErrorSource::kGnss:
+      return "GNSS position";
+    case ErrorSource::kHeading:
+      return "heading";
+    case ErrorSource::kScanner:
+      return "scanner noise";
+  }
+  return "";
+}
+
+const char* ErrorSourceKey(ErrorSource source) {
+  switch (source) {
+    case ErrorSource::kSurvey:
+      return "survey_points";
+    case ErrorSource::kControl:
+      return "control_points";
+    case ErrorSource::kGnss:
+      return "gnss";
+    case ErrorSource::kHeading:
+      return "heading";
+    case ErrorSource::kScanner:
+      return "scanner_noise";
+  }
+  return "";
+}
+
+ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observations,
+                               const std::vector<calib::WallGeometry>& walls,
+                               const io::SolverOptions& options, const calib::Mount& mount) {
+  ErrorBudget budget;
+  if (observations.empty()) return budget;
+  // Linearised at the estimate: one Gauss-Newton step at most (the estimate is the optimum).
+  auto covariance_of = [&mount](const std::vector<calib::WallObservation>& obs,
+                                const std::vector<calib::WallGeometry>& w,
+                                const io::SolverOptions& o, Eigen::Vector3d* diagonal) {
+    const solvers::Refit refit = solvers::RefitMount(obs, w, o, mount, {}, 1);
+    if (!refit.converged || !refit.covariance.allFinite()) return false;
+    *diagonal = Diagonal(refit.covariance);
+    return true;
+  };
+  if (!covariance_of(observations, walls, options, &budget.total_variance)) return budget;
+
+  for (int k = 0; k < kNumErrorSources; ++k) {
+    const ErrorSource source = static_cast<ErrorSource>(k);
+    std::vector<calib::WallObservation> obs = observations;
+    std::vector<calib::WallGeometry> w = walls;
+    io::SolverOptions o = options;
+    switch (source) {
+      case ErrorSource::kSurvey:
+        // Keep only the tie's part of each wall's prior (calib/survey_tie.cc builds the two
+        // as a sum: fit + tie).
+        for (calib::WallGeometry& wall : w) {
+          const double tie_offset_var = wall.tie_sigma_translation_m * wall.tie_sigma_translation_m +
+                                        std::pow(wall.tie_sigma_rotation_rad * wall.tie_lever_m, 2);
+          const double tie_angle_var = wall.tie_sigma_rotation_rad * wall.tie_sigma_rotation_rad;
+          wall.sigma_offset_m = std::sqrt(std::max(tie_offset_var, kExact * kExact *
+                                                   wall.sigma_offset_m * wall.sigma_offset_m));
+          wall.sigma_angle_rad = std::sqrt(std::max(tie_angle_var, kExact * kExact *
+                                                    wall.sigma_angle_rad * wall.sigma_angle_rad));
+          wall.cov_offset_angle = tie_angle_var * wall.tie_lever_m;
+        }
+        break;
+      case ErrorSource::kControl:
+        // Keep only the survey fit's part: remove the tie's.
+        for (calib::WallGeometry& wall : w) {
+          const double tie_offset_var = wall.tie_sigma_translation_m * wall.tie_sigma_translation_m +
+                                        std::pow(wall.tie_sigma_rotation_rad * wall.tie_lever_m, 2);
+          const double tie_angle_var = wall.tie_sigma_rotation_rad * wall.tie_sigma_rotation_rad;
+          const double floor_offset = kExact * wall.sigma_offset_m;
+          const double floor_angle = kExact * wall.sigma_angle_rad;
+          wall.sigma_offset_m = std::sqrt(std::max(
+              wall.sigma_offset_m * wall.sigma_offset_m - tie_offset_var, floor_offset * floor_offset));
+          wall.sigma_angle_rad = std::sqrt(std::max(
+              wall.sigma_angle_rad * wall.sigma_angle_rad - tie_angle_var, floor_angle * floor_angle));
+          wall.cov_offset_angle -= tie_angle_var * wall.tie_lever_m;
+          wall.tie_sigma_translation_m = 0.0;
+          wall.tie_sigma_rotation_rad = 0.0;
+        }
+        break;
+      case ErrorSource::kGnss:
+        o.gnss_white_sigma_m *= kExact;
+        o.gnss_bias_sigma_m *= kExact;
+        for (calib::WallObservation& ob : obs) ob.pose.gnss_sigma_m *= kExact;
+        break;
+      case ErrorSource::kHeading:
+        o.heading_sigma_rad *= kExact;
+        break;
+      case ErrorSource::kScanner:
+        for (calib::WallObservation& ob : obs) {
+          ob.sigma_rho_m *= kExact;
+          ob.sigma_theta_rad *= kExact;
+          ob.cov_rho_theta *= kExact * kExact;
+        }
+        break;
+    }
+    Eigen::Vector3d without = budget.total_variance;
+    if (!covariance_of(obs, w, o, &without)) return budget;
+    budget.variance[k] = (budget.total_variance - without).cwiseMax(0.0);
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    int best = 0;
+    for (int k = 1; k < kNumErrorSources; ++k) {
+      if (budget.variance[k][axis] > budget.variance[best][axis]) best = k;
+    }
+    budget.dominant[axis] = static_cast<ErrorSource>(best);
+    budget.dominant_share[axis] = budget.total_variance[axis] > 0.0
+                                      ? budget.variance[best][axis] / budget.total_variance[axis]
+                                      : 0.0;
+  }
+  budget.done = true;
+  return budget;
+}
+
+}  // namespace wallcal::analysis

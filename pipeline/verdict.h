@@ -1,0 +1,73 @@
+#pragma once
+// The decision a field engineer acts on: ACCEPT, REVIEW or REJECT against the tolerances of
+// `acceptance:` (io::AcceptanceOptions), with the reasons; the change since the previous
+// calibration (calibrate --compare); and the provenance of the run. Computed once here, shown by
+// the summary, offsets.yaml and the report.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "analysis/error_budget.h"
+#include "io/options.h"
+#include "io/types.h"
+#include "solvers/mount_solver.h"
+
+namespace wallcal::pipeline {
+
+enum class Verdict {
+  kAccept,  // usable, σ within the tolerances, no change beyond them, nothing flagged
+  kReview,  // usable, but a person should look: a change beyond the tolerances, σ unknown,
+            // residual trends flagged
+  kReject,  // not determined, forced, refused by a check, or σ beyond the tolerances
+};
+const char* VerdictName(Verdict verdict);  // "ACCEPT", "REVIEW", "REJECT"
+
+// The change since a previous calibration: now − previous.
+struct Change {
+  std::string previous_file;
+  std::string previous_created_utc;  // empty when that file does not say
+  double dx_m = 0.0, dy_m = 0.0, dyaw_rad = 0.0;
+  // |Δ| / (σ_now² + σ_previous²)^½ per axis; NaN when either σ is unknown.
+  double x_sigmas = 0.0, y_sigmas = 0.0, yaw_sigmas = 0.0;
+};
+
+// Now minus previous (yaw wrapped to (−π, π]); σ units from both covariances (a covariance
+// with a NaN or a non-positive diagonal counts as unknown).
+Change CompareMounts(const solvers::MountEstimate& now, const io::PreviousOffsets& previous);
+
+struct Decision {
+  Verdict verdict = Verdict::kReject;
+  std::vector<std::string> reasons;  // why not ACCEPT (empty for ACCEPT) or what was checked
+};
+
+// `refused` (empty: none) is a refusal by a pipeline check the estimate does not carry itself.
+struct DecisionInputs {
+  const solvers::MountEstimate* estimate = nullptr;
+  bool forced = false;
+  bool sigma_known = true;
+  const std::optional<Change>* change = nullptr;
+  const io::AcceptanceOptions* acceptance = nullptr;
+  int flagged_trends = 0;
+};
+Decision Decide(const DecisionInputs& in);
+
+// Where a run came from, for offsets.yaml.
+struct Provenance {
+  std::string created_utc;  // ISO 8601 UTC, seconds
+  std::string tool_version;
+  std::vector<std::string> command_line;
+  std::vector<io::InputFileDigest> inputs;
+};
+
+// The current time as "YYYY-MM-DDTHH:MM:SSZ".
+std::string NowUtcIso8601();
+
+// The SHA-256 of each input file of the session (session.yaml, scanner, GNSS and heading logs,
+// survey, options file when given, scanner preset file when found), in that order, one entry
+// per distinct path.
+std::vector<io::InputFileDigest> DigestInputs(const io::SessionSpec& session,
+                                              const std::string& config_path,
+                                              const std::string& preset_path);
+
+}  // namespace wallcal::pipeline
