@@ -106,7 +106,7 @@ ResidualAnalysis AnalyseResiduals(const std::vector<calib::WallObservation>& obs
   if (n < 10 || estimate.residual_rho_m.size() != n) return analysis;
   const std::vector<double>& r = estimate.residual_rho_m;
 
-  // Robust spread and the 2σ outliers (seed 003).
+  // Robust spread and the 2σ outliers (Hartzell, Glennie et al.).
   const double median = Median(r);
   std::vector<double> deviation(n);
   for (size_t i = 0; i < n; ++i) deviation[i] = std::abs(r[i] - median);

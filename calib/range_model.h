@@ -20,7 +20,7 @@ struct ScanPoints {
   std::vector<float> range_m;                // corrected range
   std::vector<float> bearing_rad;            // beam bearing (ccw from scanner x)
   std::vector<int> beam;                     // beam index in the scan
-  // 1: next to a range jump (possible mixed pixel, seeds 000/001 §4.5); see ToScanPoints.
+  // 1: next to a range jump (possible mixed pixel, Ye & Borenstein 2002 §4.5; Okubo et al. 2009); see ToScanPoints.
   std::vector<uint8_t> mixed_suspect;
 };
 
@@ -34,16 +34,16 @@ struct RangeCounts {
 // (the log's own geometry, not the preset's). A raw reading is dropped and counted, first match
 // wins:
 //   non_finite  NaN, ±inf, or negative;
-//   error_code  raw < preset.error_codes_below_m (e.g. URG-04LX codes below 20 mm, seed 000);
+//   error_code  raw < preset.error_codes_below_m (e.g. URG-04LX codes below 20 mm, Okubo, Ye & Borenstein 2009);
 //   no_return   raw >= preset.max_range_m when preset.max_range_is_no_return (SICK reports "no
 //               echo" as its maximum), or raw >= scan.max_range_m when that is > 0;
 //   too_close   raw < preset.min_range_m (the sensor's own floor), or the corrected range
 //               < min_range_m (vehicle body, mud on the window), or a corrected range <= 0.
 // Thresholds are compared with the raw reading in float precision (the log's precision).
 // A valid reading is corrected as r = preset.range_scale_k · raw + preset.range_offset_b_m
-// (seeds 000/001, "ŷ = k·μ + b").
+// (Ye & Borenstein 2002; Okubo, Ye & Borenstein 2009, "ŷ = k·μ + b").
 //
-// mixed_suspect (seeds 000/001 §4.5: at a depth edge a beam may return a range between the
+// mixed_suspect (Ye & Borenstein 2002 §4.5; Okubo et al. 2009: at a depth edge a beam may return a range between the
 // foreground and the background): a point is flagged when a neighbouring beam is invalid (any
 // reason above), or when the range step to a neighbour is a depth jump. A step
 // d = r_{i+1} − r_i is a jump when |d| > mixed_jump_m and it is not the continuation of a smooth

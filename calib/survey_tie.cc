@@ -102,7 +102,7 @@ SurveyTie TieSurvey(const std::vector<io::SurveyPoint>& survey, const std::strin
                                      "one control point and no survey.rotation_deg; expected "
                                      "the rotation or a second control point"));
     }
-    // Seed 002, Eq. 4-5: rotate about the control point, then put it at its RTK position.
+    // Barawid 2007, Eq. 4-5: rotate about the control point, then put it at its RTK position.
     tie.local_R_survey = Rotation(*spec.survey_rotation_rad);
     tie.local_t_survey = p_local[0] - tie.local_R_survey * p_survey[0];
     tie.sigma_rotation_rad = options.rotation_sigma_rad;

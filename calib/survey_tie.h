@@ -39,7 +39,7 @@ struct SurveyTie {
 //  - Two or more control points: least-squares rigid fit (rotation + translation) of their
 //    survey coordinates onto their RTK positions ToLocal(frame, lat, lon); residuals reported.
 //    spec.survey_rotation_rad is ignored.
-//  - One control point: seed 002, Eq. 4-5: p_local = R(ρ) (p_survey − p_survey_C) + p_local_C,
+//  - One control point: Barawid 2007, Eq. 4-5: p_local = R(ρ) (p_survey − p_survey_C) + p_local_C,
 //    ρ = spec.survey_rotation_rad, the angle counter-clockwise from grid east to the survey's
 //    x axis (R(ρ) maps survey axes onto grid axes).
 // σ: sigma_rotation = σ / sqrt(Σ|r_i − r̄|²) with σ² = control_sigma² + total_station_sigma²

@@ -271,7 +271,7 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
     return det;
   }
 
-  // ---- Voting (seed 002 Eq. 2: r = x cos θ + y sin θ). ---------------------------------------
+  // ---- Voting (Barawid 2007 Eq. 2: r = x cos θ + y sin θ). ---------------------------------------
   // Stored rho-major (one column of theta cells per rho cell): a point's votes in neighbouring
   // theta rows fall at nearly the same rho, so they land in the same cache lines. Transposed to
   // the documented theta-rows layout only when the caller keeps it.

@@ -1,5 +1,5 @@
 #pragma once
-// Finds the surveyed wall as a straight line in one scan (seed 002 §III.1, Eq. 2–3: the Hough
+// Finds the surveyed wall as a straight line in one scan (Barawid 2007 §III.1, Eq. 2–3: the Hough
 // transform r = x cos θ + y sin θ), improved: the accumulator covers only the gate predicted
 // from the surveyed wall, points next to depth jumps (possible mixed pixels) do not vote, and
 // the Hough line is refined by a trimmed least-squares fit that also gives its covariance.
@@ -54,7 +54,7 @@ struct WallDetection {
 };
 
 // Detects the wall line in `points` inside `gate`:
-//  1. Hough voting (seed 002 Eq. 2) over theta cells of options.hough_theta_step_rad spanning the
+//  1. Hough voting (Barawid 2007 Eq. 2) over theta cells of options.hough_theta_step_rad spanning the
 //     gate's angular range and rho cells of options.hough_rho_step_m spanning its distance range;
 //     mixed_suspect points do not vote. Peaks must be local maxima inside the gate, so a strong
 //     line just outside (another wall, a parallel fence) is not picked through its spill-over.

@@ -26,10 +26,10 @@ OrientedWall OrientWall(const WallGeometry& wall, const Eigen::Vector2d& antenna
 // Scanner origin in the local frame: s = p_antenna + R(ψ) · (x_m, y_m).
 Eigen::Vector2d ScannerPositionLocal(const VehiclePose& pose, const Mount& mount);
 
-// The wall normal in vehicle coordinates, n_v = R(−ψ) n (seed 002's cos φ, sin φ; Eq. 8, 10).
+// The wall normal in vehicle coordinates, n_v = R(−ψ) n (Barawid 2007's cos φ, sin φ; Eq. 8, 10).
 Eigen::Vector2d NormalInVehicle(const OrientedWall& wall, double vehicle_yaw_rad);
 
-// The vehicle-to-wall angle φ = atan2(n) − ψ (seed 002, Eq. 8), wrapped into (−π, π].
+// The vehicle-to-wall angle φ = atan2(n) − ψ (Barawid 2007, Eq. 8), wrapped into (−π, π].
 double VehicleToWallAngle(const OrientedWall& wall, double vehicle_yaw_rad);
 
 // The wall line `observation` should show for `mount`, from the nominal surveyed wall and the

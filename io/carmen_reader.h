@@ -1,5 +1,5 @@
 #pragma once
-// Streaming reader of CARMEN laser logs (RAWLASER1, ROBOTLASER1, FLASER; formats in SESSION.md),
+// Streaming reader of CARMEN laser logs (RAWLASER1, ROBOTLASER1, FLASER; formats in docs/session-format.md),
 // plain or gzip-compressed (detected by zlib). Memory does not grow with the log: one line is
 // held at a time.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// NMEA 0183 reader for the GNSS and heading logs (SESSION.md).
+// NMEA 0183 reader for the GNSS and heading logs (docs/session-format.md).
 //
 // Sentences: GGA (position; height_m = altitude + geoid separation, the separation taken as 0
 // when the field is empty), GST (σ latitude / longitude in metres, attached to the GGA fix with

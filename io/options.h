@@ -78,7 +78,7 @@ struct SolverOptions {
   bool use_gst_sigma = true;              // take the bias σ from GST when the log has it
   double heading_sigma_rad = 0.0017453293;     // heading white noise, 0.1 deg
   double control_sigma_m = 0.015;         // RTK error of each control point
-  double total_station_sigma_m = 0.003;   // total station point error (seed 002: ±3 mm fine)
+  double total_station_sigma_m = 0.003;   // total station point error (Barawid 2007: ±3 mm fine)
   double rotation_sigma_rad = 0.0034906585;    // σ of survey.rotation_deg (one control point), 0.2 deg
   double huber_scale = 2.0;               // robust loss threshold, in units of σ
   int max_iterations = 100;
@@ -95,7 +95,7 @@ struct SolverOptions {
   // Prior σ of the scanner-clock offset to the GNSS/heading clocks, estimated when moving scans
   // are used (0: never estimated).
   double time_offset_sigma_s = 0.1;
-  // Prior σ of the heading sensor's drift rate (rad/s; a FOG drifts linearly, seed 002: ±0.5°/h),
+  // Prior σ of the heading sensor's drift rate (rad/s; a FOG drifts linearly, Barawid 2007: ±0.5°/h),
   // estimated as one rate over the session (0: no drift modelled).
   double heading_drift_sigma_rad_per_s = 2.4240684e-6;  // 0.5 deg/h
   // Largest 1σ accepted for the mount: beyond these (in any combination of x, y, yaw) the mount
@@ -189,7 +189,7 @@ struct SimulationConfig {
   // Heading
   double heading_rate_hz = 20.0;
   double heading_white_sigma_rad = 0.0009;  // 0.05 deg
-  double heading_drift_rad_per_s = 2.42e-6;  // 0.5 deg/h (seed 002 FOG)
+  double heading_drift_rad_per_s = 2.42e-6;  // 0.5 deg/h (Barawid 2007 FOG)
   double heading_bias_rad = 0.0;             // constant heading-sensor zero offset
   // Survey
   double total_station_sigma_m = 0.003;
@@ -198,7 +198,7 @@ struct SimulationConfig {
   double survey_origin_x_m = -3.0;       // total station frame origin in local east/north
   double survey_origin_y_m = 20.0;
   // Scanner effects
-  double lost_scan_fraction = 0.0008;    // seed 001: ≤ 0.08 %
+  double lost_scan_fraction = 0.0008;    // Ye & Borenstein 2002: ≤ 0.08 %
   double mixed_pixel_probability = 0.5;  // chance a beam at a depth jump returns a mixed range
   // Logging clock: UNIX seconds at the start of the run
   double start_time_s = 1747031522.0;

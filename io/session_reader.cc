@@ -299,7 +299,7 @@ SessionSpec ReadSession(const std::string& path) {
   const YAML::Node root = LoadYamlStrict(f);
   MapReader top(root, f, "", 1);
   if (!root.IsMap())
-    throw InputError(Where(f, 0, "empty session; expected the keys of SESSION.md"));
+    throw InputError(Where(f, 0, "empty session; expected the keys of docs/session-format.md"));
 
   top.Allow(
       {"name", "utm_zone", "scanner", "gnss", "heading", "survey", "walls", "antenna_in_base"});
@@ -437,7 +437,7 @@ SessionSpec ReadSession(const std::string& path) {
     }
     if (spec.control.size() == 1 && !spec.survey_rotation_rad) {
       throw InputError(Where(f, survey.line(),
-                             "one control point needs survey.rotation_deg (seed 002 Eq. 4-5); "
+                             "one control point needs survey.rotation_deg (Barawid 2007 Eq. 4-5); "
                              "expected a second control point or the rotation"));
     }
     survey.Finish();

@@ -17,7 +17,7 @@
 
 namespace wallcal::io {
 
-// Reads session.yaml (format: SESSION.md, plus the optional extension keys
+// Reads session.yaml (format: docs/session-format.md, plus the optional extension keys
 // `scanner.mount_guess: {x, y, yaw_deg}` and `antenna_in_base: {x, y, z}`).
 // `path` is the session.yaml itself or the folder holding it. The log and survey paths are
 // resolved against the folder of session.yaml; the files themselves are not opened here (their

@@ -235,10 +235,10 @@ struct ScannerPreset {
   double error_codes_below_m = 0.0;  // readings below this are error codes (URG: 0.020 m)
   bool max_range_is_no_return = true;  // SICK reports no-return as its maximum
   double range_resolution_m = 0.001;   // quantisation of the logged range
-  // Range correction applied by the tool: corrected = k * raw + b (seeds 000/001).
+  // Range correction applied by the tool: corrected = k * raw + b (Ye & Borenstein 2002; Okubo, Ye & Borenstein 2009).
   double range_scale_k = 1.0;
   double range_offset_b_m = 0.0;
-  // Simulation model z = Int(n * true + c + xi), xi ~ N(0, sigma) (seeds 000/001).
+  // Simulation model z = Int(n * true + c + xi), xi ~ N(0, sigma) (Ye & Borenstein 2002; Okubo, Ye & Borenstein 2009).
   double sim_scale_n = 1.0;
   double sim_offset_c_m = 0.0;
   double range_sigma_m = 0.005;

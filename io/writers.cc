@@ -122,21 +122,10 @@ std::string YamlText(const std::string& text) {
 
 // Always a double-quoted YAML scalar (free text: paths, command-line words, times).
 std::string YamlQuoted(const std::string& text) {
-  std::string out = "\"";
-  for (char ch : text) {
-    const unsigned char u = static_cast<unsigned char>(ch);
-    if (ch == '"' || ch == '\\') {
-      out += '\\';
-      out += ch;
-    } else if (u < 0x20 || u == 0x7f) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof(buffer), "\\x%02x", u);
-      out += buffer;
-    } else {
-      out += ch;
-    }
-  }
-  return out + "\"";
+  // Always double-quoted, escaped as YamlText escapes (control characters, bytes that are not
+  // UTF-8 as \xNN).
+  const std::string quoted = YamlText(text);
+  return quoted.front() == '"' ? quoted : "\"" + quoted + "\"";
 }
 
 // The writing visitor of config_fields.h: collects `key: value` pairs; lists become one flow

@@ -17,7 +17,7 @@ namespace wallcal::io {
 // and InputError naming `path` is thrown; `path` is then untouched.
 void WriteFileAtomically(const std::string& path, const std::string& content);
 
-// offsets.yaml with the keys of SESSION.md (scanner_mount, seed_002_notation, quality, warnings,
+// offsets.yaml with the keys of docs/session-format.md (scanner_mount, seed_002_notation, quality, warnings,
 // method, source). The stddev values are the square roots of the covariance diagonal. The
 // quality_extra values are written verbatim (a number or a YAML flow collection).
 std::string FormatOffsetsYaml(const OffsetsDocument& doc);

@@ -575,7 +575,7 @@ class ReportBuilder {
     plot.Legend("#888", "marker:plus", "least-squares line (\xcf\x81, \xce\xb8) (white +)");
     plot.Legend("#888", "dash", "second-pass gate (white dashes)");
     s << Figure(plot.Svg("Hough accumulator, station " + N(panel->station + 1) + ", scan " + N(o.scan_index)),
-                "Votes of the scan's points (seed 002 Eq. 2, r = x cos &#952; + y sin &#952;) over a window "
+                "Votes of the scan's points (Barawid 2007 Eq. 2, r = x cos &#952; + y sin &#952;) over a window "
                 "of &#177;" + F("%.1f", angle_gate * kRadToDeg) + "&#176; and &#177;" + F("%.2f", offset_gate) +
                 " m around the wall predicted from the mount; cells " + F("%.2f", ts) + "&#176; &#215; " +
                 F("%.3f", rs) + " m, colour from few (dark) to most votes (yellow); possible mixed pixels do "
@@ -618,7 +618,7 @@ class ReportBuilder {
     s << "<p>Distance residual of each observation (observed &#8722; adjusted wall line, mm; "
       << N(static_cast<int64_t>(n)) << " observations"
       << (stride > 1 ? ", every " + N(static_cast<int64_t>(stride)) + "th shown" : std::string())
-      << ") against what a systematic error would show up in (seed 003, Fig. 6). Each observation's "
+      << ") against what a systematic error would show up in (Hartzell, Glennie et al., Fig. 6). Each observation's "
          "range and incidence are those of its characteristic beam: the beam at the middle of its "
          "inliers' range span. Dashed: "
       << band_name << ".</p>\n<div class=\"flex\">\n";

@@ -120,7 +120,7 @@ class ScannerModel {
   enum class NoReturn { kNoEcho, kTooOblique, kOutOfRange };
 
   // What the scanner logs when nothing usable came back. SICK scanners report their maximum
-  // range (seed 001); the URG reports an error code below 20 mm instead of a range (seed 000).
+  // range (Ye & Borenstein 2002); the URG reports an error code below 20 mm instead of a range (Okubo, Ye & Borenstein 2009).
   // The code values are this simulator's choice (1, 2, 3 mm): the tool only needs them to be
   // below error_codes_below_m. A preset with neither convention gets its maximum range.
   double NoReturnValue(NoReturn why) const {
@@ -145,7 +145,7 @@ class ScannerModel {
     // One draw per beam whatever happens, so the noise of a beam does not depend on the others.
     const double xi_m = range_noise_.Normal(preset_.range_sigma_m);
 
-    // Mixed pixels (seed 001 §4.5, seed 000): a beam whose footprint straddles a depth jump
+    // Mixed pixels (Ye & Borenstein 2002 §4.5, Okubo, Ye & Borenstein 2009): a beam whose footprint straddles a depth jump
     // returns a range between the foreground and the background. Two sub-rays at ±0.4 of the
     // angular step stand in for the footprint's edges.
     std::optional<double> true_range_m;
@@ -161,7 +161,7 @@ class ScannerModel {
     }
     if (!true_range_m) {
       if (!hit) return NoReturnValue(NoReturn::kNoEcho);
-      // Too oblique a surface sends too little light back (seeds 000, 001: incidence limits).
+      // Too oblique a surface sends too little light back (Okubo et al. 2009; Ye & Borenstein 2002: incidence limits).
       if (hit->cos_incidence < cos_max_incidence_) {
         return NoReturnValue(NoReturn::kTooOblique);
       }

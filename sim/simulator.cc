@@ -47,7 +47,7 @@ std::vector<io::GnssFix> SimulateGnss(const io::SimulationConfig& config,
   const double sigma_b = config.gnss_bias_sigma_m;
   // First-order Gauss–Markov bias, discretised exactly: b' = φ·b + σ·sqrt(1 − φ²)·w,
   // φ = exp(−Δt/τ); started from its stationary distribution N(0, σ²). The RTK error of
-  // seed 002 (±2 cm) is slowly varying (multipath, residual atmosphere), hence the correlation.
+  // Barawid 2007 (±2 cm) is slowly varying (multipath, residual atmosphere), hence the correlation.
   const double phi = config.gnss_bias_tau_s > 0.0 ? std::exp(-dt_s / config.gnss_bias_tau_s) : 0.0;
   const double drive = std::sqrt(std::max(0.0, 1.0 - phi * phi));
   Eigen::Vector2d bias(bias_noise.Normal(sigma_b), bias_noise.Normal(sigma_b));
@@ -94,7 +94,7 @@ std::vector<io::GnssFix> SimulateGnss(const io::SimulationConfig& config,
 
 // ---- Heading --------------------------------------------------------------------------------
 // Measured heading = true heading + bias + drift·t + white. The drift is linear with the
-// configured rate and a sign drawn from the seed (seed 002: FOG drift ±0.5°/h).
+// configured rate and a sign drawn from the seed (Barawid 2007: FOG drift ±0.5°/h).
 std::vector<io::HeadingSample> SimulateHeadings(const io::SimulationConfig& config,
                                                 const Trajectory& trajectory, uint64_t seed) {
   Noise noise(seed, Stream::kHeading);
@@ -334,7 +334,7 @@ SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerP
   for (int64_t k = 0; k < scan_count; ++k) {
     ++session.scans_generated;
     if (k % log_every != 0) continue;
-    // Lost packets on the serial link (seed 001: ≤ 0.08 % at 500 kbaud).
+    // Lost packets on the serial link (Ye & Borenstein 2002: ≤ 0.08 % at 500 kbaud).
     if (lost_noise.Uniform() < config.lost_scan_fraction) {
       ++session.scans_lost;
       continue;

@@ -1,6 +1,6 @@
 #pragma once
 // Synthesises a wall-calibration session with known truth: scans, GNSS fixes, headings, a
-// total-station survey and RTK control points, as a field crew would log them (seed 002 set-up).
+// total-station survey and RTK control points, as a field crew would log them (Barawid 2007 set-up).
 // Plain structs out; writing files is io/'s job (apps/simulate_main.cc).
 //
 // Frames and units:

@@ -1,4 +1,4 @@
-// Seed 002's closed form (Barawid et al. 2007, §III.2(2), Eq. 8-16), kept as published for
+// Barawid 2007's closed form (Barawid et al. 2007, §III.2(2), Eq. 8-16), kept as published for
 // comparison with the joint adjustment: the wall and the GNSS positions are taken as exact, every
 // scan as an independent measurement, and no observation is down-weighted.
 
@@ -33,7 +33,7 @@ MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& obser
   }
   const int n = static_cast<int>(observations.size());
 
-  // Yaw. Seed 002: φ = η − ν (Eq. 8) is the vehicle-to-wall angle, δ = κ − φ (Eq. 9) the
+  // Yaw. Barawid 2007: φ = η − ν (Eq. 8) is the vehicle-to-wall angle, δ = κ − φ (Eq. 9) the
   // scanner yaw, κ the wall direction the scanner saw. In our frame (normals pointing from the
   // vehicle to the wall) that is yaw_i = atan2(n_i) − ψ_i − theta_i; the estimate is their
   // circular mean (the paper averages; the circular mean is the same away from ±π).
@@ -42,7 +42,7 @@ MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& obser
   double sum_cos = 0.0;
   // Position. Eq. 10: the antenna-to-wall distance D and the scanner-to-wall distance E differ
   // by the mount's component along the wall normal. With n_v = R(−ψ) n the normal in vehicle
-  // coordinates, n_v·(x, y) = D − E, D = d − n·p, E = rho. (Seed 002 writes a cos φ + b sin φ =
+  // coordinates, n_v·(x, y) = D − E, D = d − n·p, E = rho. (Barawid 2007 writes a cos φ + b sin φ =
   // E − D with its a lateral and b forward and its own signs; the content is the same.) Least
   // squares through the normal equations (Eq. 13-16).
   Eigen::Matrix2d normal_matrix = Eigen::Matrix2d::Zero();  // Aᵀ A
@@ -109,7 +109,7 @@ MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& obser
   estimate.residual_rms_m = std::sqrt(sum_sq_m2 / n);
   char line[160];
   std::snprintf(line, sizeof line,
-                "barawid closed form (seed 002, Eq. 8-16): %d observations, rho residual RMS "
+                "barawid closed form (Barawid 2007, Eq. 8-16): %d observations, rho residual RMS "
                 "%.4f m, yaw scatter %.4f rad",
                 n, estimate.residual_rms_m, std::sqrt(yaw_variance));
   estimate.solver_report = line;

@@ -1,5 +1,5 @@
-// The joint mount adjustment: seed 002's wall geometry (Eq. 8-10) written as one least-squares
-// problem over every scan, with the things seed 002 treats as exact made uncertain instead:
+// The joint mount adjustment: Barawid 2007's wall geometry (Eq. 8-10) written as one least-squares
+// problem over every scan, with the things Barawid 2007 treats as exact made uncertain instead:
 // the surveyed wall lines (offset and direction) and the RTK-GNSS error that is common to all
 // scans of one station. Estimating those nuisance parameters with their priors is what keeps
 // the mount σ honest: thousands of scans at one station share one GNSS error, so the σ must

@@ -184,7 +184,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
   }
   mp->biases.assign(mp->segment_ids.size(), {0.0, 0.0});
   // Heading offsets: a dwell's mean heading is off by the mean of its samples' white errors,
-  // σ_h / √n (seed 002's FOG: 0.05° white at 20 Hz, 60 s dwell -> 0.002°). Moving segments get
+  // σ_h / √n (Barawid 2007's FOG: 0.05° white at 20 Hz, 60 s dwell -> 0.002°). Moving segments get
   // none (σ 0: the zero block): their scans' heading errors are white and in their covariance.
   // One per station (pose.segment), whatever its GNSS-error slices.
   std::map<int, int> heading_index;

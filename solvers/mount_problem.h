@@ -1,5 +1,5 @@
 #pragma once
-// The joint mount adjustment as a Ceres problem, built apart from solving it (STYLE.md).
+// The joint mount adjustment as a Ceres problem, built apart from solving it.
 // SolveMountCeres (mount_solver.h) is CheckObservability + BuildMountProblem + SolveMountProblem
 // (+ one rebuild when the lever arm used for the noise model moved, see ceres_solver.cc).
 // Exposed for the tests; the pipeline calls SolveMountCeres.

@@ -3,7 +3,7 @@
 // observations. Two methods on the same observations:
 //  - SolveMountCeres: the joint least-squares adjustment (robust loss, nuisance parameters for
 //    the wall lines and the correlated GNSS error per segment, covariance from Ceres);
-//  - SolveMountBarawid: the closed form of seed 002 (Eq. 8-16), for comparison.
+//  - SolveMountBarawid: the closed form of Barawid 2007 (Eq. 8-16), for comparison.
 
 #include <string>
 #include <vector>

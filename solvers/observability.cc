@@ -61,7 +61,7 @@ ObservabilityReport CheckObservability(const std::vector<calib::WallObservation>
     return report;
   }
 
-  // Spread of φ (seed 002, Eq. 8) as axes: double the angles so that φ and φ + π coincide,
+  // Spread of φ (Barawid 2007, Eq. 8) as axes: double the angles so that φ and φ + π coincide,
   // then the narrowest arc holding all of them is 2π minus the widest empty gap.
   std::vector<double> phi_rad;
   std::vector<double> doubled_rad;

@@ -20,7 +20,7 @@ struct ObservabilityReport {
   bool solvable = true;
   int num_observations = 0;
   int num_stations = 0;  // distinct pose.segment >= 0 (segment −1 is not counted as a station)
-  // Vehicle-to-wall angles φ = atan2(n) − ψ (seed 002, Eq. 8), taken as axes (modulo π, since
+  // Vehicle-to-wall angles φ = atan2(n) − ψ (Barawid 2007, Eq. 8), taken as axes (modulo π, since
   // a normal and its opposite constrain the same mount component): the narrowest arc that
   // holds them all, [min, max] (rad), and its width.
   double angle_min_rad = 0.0;

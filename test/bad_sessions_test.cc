@@ -1,4 +1,4 @@
-// Bad input never crashes and never half-writes (issue 4, section 3).
+// Bad input never crashes and never half-writes.
 //
 // Each case starts from a good simulated session (generated once per run with the shipped
 // configs/simulate/lms291_sapporo.yaml, seed 3), breaks it (files stored under

@@ -1,4 +1,4 @@
-// The reported σ against the Cramér–Rao bound of the same simulated run (issue 3 §1).
+// The reported σ against the Cramér–Rao bound of the same simulated run.
 //
 // The σ calibrate prints comes from its own noise model; the bound (bench/crb.h) from the
 // simulator's, with every noise source marginalised exactly. When the solver's model matches

@@ -68,7 +68,7 @@ TEST(GeodesyTest, MatchesIndependentKruegerSeries) {
     int zone;
     bool north;
   };
-  // Sapporo (the seed 002 site), Baghdad (GeographicLib's example point), Sydney (south),
+  // Sapporo (the Barawid 2007 site), Baghdad (GeographicLib's example point), Sydney (south),
   // Quito (just south of the equator, west).
   const Case cases[] = {{43.0712345, 141.3398765, 54, true},
                         {33.3, 44.4, 38, true},

@@ -570,7 +570,7 @@ TEST_F(HostileInputTest, ConcurrentRunsLeaveOneWholeFile) {
   EXPECT_EQ(run.status, 0) << run.err;
   const std::string yaml = ReadText(session_ / "offsets.yaml");
   EXPECT_EQ(yaml.rfind("# Mount of the scanner", 0), 0u);
-  EXPECT_NE(yaml.find("source: {session:"), std::string::npos);
+  EXPECT_NE(yaml.find("source:\n  session:"), std::string::npos);
   ExpectNoTempFiles();
 }
 

@@ -35,7 +35,7 @@ int64_t Count(const NmeaLog& log, const std::string& reason) {
 
 TEST(NmeaReaderTest, ReadsLoggerTimePrefixedSentences) {
   const std::string log =
-      // The example of SESSION.md, checksum as printed there.
+      // The example of docs/session-format.md, checksum as printed there.
       "1747031522.113 $GNGGA,051202.10,4304.27407,N,14120.39259,E,4,14,0.7,53.10,M,19.21,M,"
       "1.0,0000*64\n"
       "1747031522.120 " +

@@ -31,7 +31,7 @@ int IndexOfBeam(const ScanPoints& pts, int beam) {
 TEST(RangeModelTest, UrgErrorCodesAreDroppedAndCounted) {
   const io::ScannerPreset urg = testing_support::ShippedPreset("hokuyo_urg04lx");
   std::vector<float> r(urg.num_beams, 2.0f);
-  r[10] = 0.0f;  // URG error codes are small integers in mm (seed 000)
+  r[10] = 0.0f;  // URG error codes are small integers in mm (Okubo, Ye & Borenstein 2009)
   r[11] = 0.006f;
   r[12] = 0.019f;
   r[13] = 0.020f;  // the smallest real range: kept
@@ -79,7 +79,7 @@ TEST(RangeModelTest, AppliesRangeCorrectionAndLogBearings) {
   scan.angular_step_rad = 0.25 * kDegToRad;
   const ScanPoints pts = ToScanPoints(scan, urg, 0.1, 0.15, nullptr);
   ASSERT_EQ(static_cast<int>(pts.range_m.size()), urg.num_beams);
-  // Seed 000: ŷ = 1.0102 μ − 7.0 mm.
+  // Okubo, Ye & Borenstein 2009: ŷ = 1.0102 μ − 7.0 mm.
   const double expected = 1.0102 * 1.0 - 0.007;
   for (int i : {0, 200, 681}) {
     EXPECT_NEAR(pts.range_m[i], expected, 1e-6);
@@ -121,7 +121,7 @@ TEST(RangeModelTest, CountsAccumulateOverScans) {
 TEST(RangeModelTest, FlagsBothSidesOfARangeJumpAndAMixedPixel) {
   const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   std::vector<float> r(sick.num_beams, 8.0f);
-  // A trunk at 5 m on beams 60..63 in front of the 8 m wall, and a mixed pixel (seed 001 §4.5)
+  // A trunk at 5 m on beams 60..63 in front of the 8 m wall, and a mixed pixel (Ye & Borenstein 2002 §4.5)
   // between trunk and wall on beam 64.
   for (int i = 60; i <= 63; ++i) r[i] = 5.0f;
   r[64] = 6.6f;

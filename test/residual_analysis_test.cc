@@ -1,4 +1,4 @@
-// The residual analysis after the mount solve (apps/residual_analysis.cc, seed 003): trends
+// The residual analysis after the mount solve (apps/residual_analysis.cc, Hartzell, Glennie et al.): trends
 // are flagged when a systematic error is there, and not on clean data.
 
 #include <cmath>

@@ -25,7 +25,7 @@ std::string WriteFile(const std::string& path, const std::string& content) {
   return path;
 }
 
-// The session of SESSION.md, as printed there.
+// The session of docs/session-format.md, as printed there.
 const char kExample[] = R"(name: sapporo-north-wall          # free text
 utm_zone: 54N                     # optional
 scanner:
@@ -43,7 +43,7 @@ survey:
   control:                        # survey points whose position RTK-GNSS also measured (WGS84)
     - {id: C1, lat: 43.0712345, lon: 141.3398765, h: 72.31}
     - {id: C2, lat: 43.0713012, lon: 141.3401123, h: 72.29}
-  # With one control point only, give the rotation of Eq. 4-5 of seed 002 instead:
+  # With one control point only, give the rotation of Eq. 4-5 of Barawid 2007 instead:
   # rotation_deg: 12.5            # counter-clockwise from the local x axis to grid east
 walls:
   - id: north_wall
@@ -243,7 +243,7 @@ TEST(SessionReaderTest, OneControlPointNeedsTheRotation) {
   const std::string one =
       Without(kExample, "    - {id: C2, lat: 43.0713012, lon: 141.3401123, h: 72.29}\n");
   const std::string message = SessionError("one_control", one);
-  EXPECT_NE(message.find("one control point needs survey.rotation_deg (seed 002 Eq. 4-5)"),
+  EXPECT_NE(message.find("one control point needs survey.rotation_deg (Barawid 2007 Eq. 4-5)"),
             std::string::npos)
       << message;
   EXPECT_EQ(SessionError("one_control_ok",

@@ -176,7 +176,7 @@ TEST(SurveyTieTest, OneControlPointUsesGivenRotation) {
               std::hypot(options.control_sigma_m, options.total_station_sigma_m), 1e-12);
   EXPECT_EQ(tie.control_rms_m, 0.0);
   EXPECT_NEAR((tie.control_centroid_local - Eigen::Vector2d(2.0, 3.0)).norm(), 0.0, 1e-6);
-  // Seed 002 Eq. 5 by hand: a wall point p_s maps to R(ρ)(p_s − p_s,C) + p_local,C.
+  // Barawid 2007 Eq. 5 by hand: a wall point p_s maps to R(ρ)(p_s − p_s,C) + p_local,C.
   const Eigen::Vector2d p_s(s.survey.back().x_m, s.survey.back().y_m);
   const Eigen::Vector2d p_c(s.survey.front().x_m, s.survey.front().y_m);
   const Eigen::Vector2d expected = Rot(kTrueRotationRad) * (p_s - p_c) + Eigen::Vector2d(2.0, 3.0);

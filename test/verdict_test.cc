@@ -231,7 +231,7 @@ TEST(VerdictTest, OffsetsCarryProvenanceAndNoInternalNames) {
   for (const auto& entry : fs::directory_iterator(fs::path(WALLCAL_SOURCE_DIR) / "docs")) {
     if (entry.path().extension() != ".md") continue;
     const std::string doc_text = ReadText(entry.path());
-    for (const char* internal : {"SESSION.md", "../shared", "seed 00", "seed_002", "issue 1", "issue 3"}) {
+    for (const char* internal : {"docs/session-format.md", "../shared", "seed 00", "seed_002", "issue 1", "issue 3"}) {
       EXPECT_FALSE(Has(doc_text, internal)) << entry.path() << ": " << internal;
     }
   }

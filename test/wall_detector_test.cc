@@ -75,7 +75,7 @@ std::vector<double> TrueRanges(const Scene& scene, const io::ScannerPreset& pres
   return r;
 }
 
-// Logs true ranges as the scanner would (seeds 000/001: z = Int(n·y + c + ξ)); no-returns at
+// Logs true ranges as the scanner would (Ye & Borenstein 2002; Okubo, Ye & Borenstein 2009: z = Int(n·y + c + ξ)); no-returns at
 // the SICK maximum, out-of-range URG readings as error code 0.
 io::ScanRecord Log(const std::vector<double>& true_r, const io::ScannerPreset& preset,
                    std::mt19937* rng) {
@@ -212,7 +212,7 @@ TEST(WallDetectorTest, FindsWallBehindTrees) {
   const double theta = -0.15, rho = 9.0;
   Scene scene;
   scene.walls.push_back(WallOnLine(theta, rho, -7.0, 7.0));
-  // An orchard row in front of the wall (seed 002 works in an orchard).
+  // An orchard row in front of the wall (Barawid 2007 works in an orchard).
   for (double y : {-5.0, -3.2, -1.5, 0.2, 1.9, 3.6, 5.3}) {
     scene.trunks.push_back({Eigen::Vector2d(5.5 + 0.1 * y, y), 0.25});
   }
@@ -304,7 +304,7 @@ TEST(WallDetectorTest, MixedPixelsDoNotBiasTheLine) {
   scene.walls.push_back(WallOnLine(theta, 14.0, -15.0, 15.0));  // background beyond the ends
   for (double y : {-2.0, -0.7, 0.7, 2.0}) scene.trunks.push_back({Eigen::Vector2d(5.0, y), 0.2});
   const auto true_r = TrueRanges(scene, sick);
-  // Mixed pixels (seeds 000/001 §4.5): a beam at a depth edge returns a range between the two
+  // Mixed pixels (Ye & Borenstein 2002 §4.5; Okubo et al. 2009): a beam at a depth edge returns a range between the two
   // surfaces. Put each one 2.5 cm off the wall, inside the trimming band (3σ = 3 cm), so that
   // only the mixed-pixel flag can keep it out: in front of the wall where the other surface is a
   // trunk, behind it beyond the wall's ends.
@@ -405,7 +405,7 @@ TEST(WallDetectorTest, SegmentGateDropsPointsBeyondWallEnds) {
 }
 
 TEST(WallDetectorTest, HandlesUrgGeometry) {
-  // Hokuyo URG-04LX (seed 000): 682 beams over 240°, 4 m range, error codes for no return,
+  // Hokuyo URG-04LX (Okubo, Ye & Borenstein 2009): 682 beams over 240°, 4 m range, error codes for no return,
   // range correction k = 1.0102, b = −7 mm undoing the simulation model n, c. A room corner.
   const io::ScannerPreset urg = testing_support::ShippedPreset("hokuyo_urg04lx");
   io::DetectorOptions opt;

@@ -1,4 +1,4 @@
-// libFuzzer target: session.yaml. ReadSession must give a complete spec (the keys SESSION.md
+// libFuzzer target: session.yaml. ReadSession must give a complete spec (the keys docs/session-format.md
 // requires) or throw io::InputError: a yaml-cpp exception escaping, a crash or a sanitizer
 // report is a bug.
 
