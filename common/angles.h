@@ -22,8 +22,10 @@ T WrapAngle(const T& angle_rad) {
 
 // An angle wrapped into [0, 2π) (rad): headings.
 inline double WrapTwoPi(double angle_rad) {
-  const double wrapped = angle_rad - kTwoPi * std::floor(angle_rad / kTwoPi);
-  return wrapped >= kTwoPi ? 0.0 : wrapped;
+  double a = std::fmod(angle_rad, kTwoPi);
+  if (a < 0.0) a += kTwoPi;
+  if (a >= kTwoPi) a = 0.0;  // fmod of a tiny negative number plus 2π can round up to 2π
+  return a;
 }
 
 }  // namespace wallcal

@@ -52,13 +52,6 @@ class Noise {
   std::uniform_real_distribution<double> uniform_{0.0, 1.0};
 };
 
-inline double WrapTwoPi(double angle_rad) {
-  double a = std::fmod(angle_rad, kTwoPi);
-  if (a < 0.0) a += kTwoPi;
-  if (a >= kTwoPi) a = 0.0;  // fmod of a tiny negative number plus 2π can round up to 2π
-  return a;
-}
-
 inline Eigen::Vector2d Direction(double angle_rad) { return {std::cos(angle_rad), std::sin(angle_rad)}; }
 
 inline double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {

@@ -13,20 +13,10 @@
 #include "calib/wall_geometry.h"
 #include "solvers/mount_solver.h"
 #include "common/angles.h"
+#include "test/flow_names.h"
 
 namespace wallcal {
 
-// The test reaches every library of the flow by its short names.
-namespace pipeline {}
-namespace outputs {}
-namespace analysis {}
-namespace preflight {}
-namespace sim {}
-using namespace wallcal::pipeline;  // NOLINT
-using namespace wallcal::outputs;   // NOLINT
-using namespace wallcal::analysis;  // NOLINT
-using namespace wallcal::preflight;   // NOLINT
-using namespace wallcal::sim;       // NOLINT
 
 namespace {
 struct Session {
