@@ -74,6 +74,12 @@ std::vector<Scenario> Scenarios() {
        sim + "bench_lms291_continuous_clock.yaml", moving, true},
       {"stopgo_moving_clock", "(h) (a) with moving scans and the scanner clock 150 ms behind",
        sim + "bench_lms291_stopgo_moving_clock.yaml", moving, true},
+      {"delays_stopgo", "(d1) stop-and-go (5 s stops) with the logger's delays 35+U(0,10)/4/13 ms",
+       sim + "bench_lms291_delays_stopgo.yaml", moving, true},
+      {"delays_short_stops", "(d2) 0.3 s stops with the logger's delays",
+       sim + "bench_lms291_delays_short_stops.yaml", moving, true},
+      {"delays_continuous", "(d3) continuous driving with the logger's delays",
+       sim + "bench_lms291_delays_continuous.yaml", moving, true},
   };
 }
 
@@ -87,8 +93,23 @@ struct MethodStats {
   std::map<std::string, int> failures;  // message -> count
   double seconds = 0.0;
   std::vector<double> time_offsets_s, time_offset_sigmas_s;
+  std::vector<double> heading_delays_s, heading_delay_sigmas_s;  // determined or not
+  int heading_delay_determined = 0;
+  std::vector<double> gnss_latencies_s, gnss_jitters_s;
   double observations = 0.0;
 };
+
+// The delays calibrate should find (docs/time-alignment.md): the GGA epochs land on the logger
+// clock at the mean GNSS delay L = latency + jitter/2 (the logger clock is the simulator's UTC);
+// the scanner offset dt = true − stamped scan time on that clock; the heading's delay after it.
+struct DelayTruth {
+  double gnss_s, scanner_offset_s, heading_delay_s;
+};
+DelayTruth TrueDelays(const io::SimulationConfig& config) {
+  const double gnss_s = config.gnss_latency_s + 0.5 * config.gnss_jitter_s;
+  return {gnss_s, config.scanner_time_offset_s + gnss_s - config.scanner_latency_s,
+          config.heading_latency_s - gnss_s};
+}
 
 double Rms(const std::vector<double>& v) {
   if (v.empty()) return std::nan("");
@@ -177,7 +198,8 @@ std::vector<CrbObservation> CrbObservationsOf(const pipeline::CalibrationResult&
     CrbObservation c;
     // pose.stamp_s = logged scan stamp + session time offset (0 in simulated sessions); the
     // logger stamps a scan scanner_time_offset_s early.
-    c.t_s = o.pose.stamp_s - config.start_time_s + config.scanner_time_offset_s;
+    c.t_s = o.pose.stamp_s - config.start_time_s + config.scanner_time_offset_s -
+            config.scanner_latency_s;
     c.surveyed_wall = o.wall_index;
     if (o.wall_index >= 0 && o.wall_index < static_cast<int>(result.walls.size())) {
       const calib::WallGeometry& wall = result.walls[o.wall_index];
@@ -259,6 +281,17 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
       if (result.time_offset_sigma_s > 0.0) {
         s.time_offsets_s.push_back(result.time_offset_s);
         s.time_offset_sigmas_s.push_back(result.time_offset_sigma_s);
+      }
+      if (result.heading_delay.status != pipeline::DelayStatus::kNotEstimated) {
+        s.heading_delays_s.push_back(result.heading_delay.value_s);
+        s.heading_delay_sigmas_s.push_back(result.heading_delay.sigma_s);
+        if (result.heading_delay.status == pipeline::DelayStatus::kDetermined) {
+          ++s.heading_delay_determined;
+        }
+      }
+      if (result.gnss_epochs.status == calib::EpochMappingStatus::kMapped) {
+        s.gnss_latencies_s.push_back(result.gnss_epochs.offset_s);
+        s.gnss_jitters_s.push_back(result.gnss_epochs.jitter_s);
       }
       if (m == 0) {
         // The bound for the observations calibrate extracted in this run, at the truth.
@@ -382,18 +415,41 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
                 1000.0 * std::sqrt(crb_offset(0, 0)), 1000.0 * std::sqrt(crb_offset(1, 1)),
                 kRadToDeg * std::sqrt(crb_offset(2, 2)));
   }
+  const DelayTruth delays = TrueDelays(config);
   if (!c.time_offsets_s.empty()) {
-    // The scanner stamps its scans scanner_time_offset_s early: that is the offset to find.
+    // The scanner stamps its scans scanner_time_offset_s early and scanner_latency_s late, on a
+    // clock the GNSS epochs reach L late: dt = offset + L − latency is the offset to find.
     std::vector<double> errors, normalised;
     for (size_t k = 0; k < c.time_offsets_s.size(); ++k) {
-      errors.push_back(c.time_offsets_s[k] - config.scanner_time_offset_s);
+      errors.push_back(c.time_offsets_s[k] - delays.scanner_offset_s);
       normalised.push_back(errors.back() / c.time_offset_sigmas_s[k]);
     }
     std::printf("ceres scanner clock offset (truth %.1f ms): mean %.2f ms, RMS error %.2f ms, "
                 "mean σ %.2f ms, RMS(error/σ) %.2f over %zu runs.\n",
-                1000.0 * config.scanner_time_offset_s, 1000.0 * Mean(c.time_offsets_s),
+                1000.0 * delays.scanner_offset_s, 1000.0 * Mean(c.time_offsets_s),
                 1000.0 * Rms(errors), 1000.0 * Mean(c.time_offset_sigmas_s), Rms(normalised),
                 c.time_offsets_s.size());
+  }
+  if (!c.heading_delays_s.empty()) {
+    std::vector<double> errors, normalised;
+    for (size_t k = 0; k < c.heading_delays_s.size(); ++k) {
+      errors.push_back(c.heading_delays_s[k] - delays.heading_delay_s);
+      normalised.push_back(errors.back() / c.heading_delay_sigmas_s[k]);
+    }
+    std::printf("ceres heading delay after the GNSS epochs (truth %.1f ms): mean %.2f ms, RMS "
+                "error %.2f ms, mean σ %.2f ms, RMS(error/σ) %.2f over %zu runs (determined in "
+                "%d).\n",
+                1000.0 * delays.heading_delay_s, 1000.0 * Mean(c.heading_delays_s),
+                1000.0 * Rms(errors), 1000.0 * Mean(c.heading_delay_sigmas_s), Rms(normalised),
+                c.heading_delays_s.size(), c.heading_delay_determined);
+  }
+  if (!c.gnss_latencies_s.empty()) {
+    std::vector<double> errors;
+    for (double l : c.gnss_latencies_s) errors.push_back(l - delays.gnss_s);
+    std::printf("GNSS epoch mapping (truth latency + mean jitter %.1f ms): mean %.2f ms, RMS "
+                "error %.2f ms, mean jitter σ %.2f ms over %zu runs.\n",
+                1000.0 * delays.gnss_s, 1000.0 * Mean(c.gnss_latencies_s), 1000.0 * Rms(errors),
+                1000.0 * Mean(c.gnss_jitters_s), c.gnss_latencies_s.size());
   }
   for (int m = 0; m < 2; ++m) {
     for (const auto& [message, count] : stats[m].failures) {

@@ -43,6 +43,7 @@ void VisitAlignment(V& v, AlignmentOptions& o) {
   v.Boolean("use_moving_scans", o.use_moving_scans);
   v.Number("segment_max_s", o.segment_max_s);
   v.Boolean("moving_scans_if_few_stations", o.moving_scans_if_few_stations);
+  v.Boolean("gnss_epoch_time", o.gnss_epoch_time);
 }
 
 template <class V>
@@ -72,6 +73,7 @@ void VisitSolver(V& v, SolverOptions& o) {
   v.Integer("min_stations", o.min_stations);
   v.Number("gnss_bias_tau_s", o.gnss_bias_tau_s);
   v.Number("time_offset_sigma_s", o.time_offset_sigma_s);
+  v.Number("heading_delay_sigma_s", o.heading_delay_sigma_s);
   v.Number("max_sigma_xy_m", o.max_sigma_xy_m);
   v.Scaled("max_sigma_yaw_deg", o.max_sigma_yaw_rad, kRadToDeg);
   v.Integer("bootstrap_samples", o.bootstrap_samples);
@@ -137,6 +139,10 @@ void VisitSimulation(V& v, SimulationConfig& c) {
   v.Number("lost_scan_fraction", c.lost_scan_fraction);
   v.Number("mixed_pixel_probability", c.mixed_pixel_probability);
   v.Number("start_time_s", c.start_time_s);
+  v.Number("gnss_latency_s", c.gnss_latency_s);
+  v.Number("gnss_jitter_s", c.gnss_jitter_s);
+  v.Number("heading_latency_s", c.heading_latency_s);
+  v.Number("scanner_latency_s", c.scanner_latency_s);
 }
 
 }  // namespace wallcal::io::fields

@@ -280,22 +280,31 @@ class NmeaParser {
 
   // The stamp of a sentence with a UTC time of day: the prefix, or date + time of day.
   double Stamp(std::optional<double> prefix_s, double tod_s) {
-    double stamp_s = 0.0;
-    if (prefix_s) {
-      stamp_s = *prefix_s;
-    } else {
-      if (!day_) {
-        day_ = first_date_.value_or(0);
-      } else if (tod_s < last_tod_s_ - 0.5 * kSecondsPerDay) {
-        ++*day_;  // past midnight before the next date sentence
-      } else if (tod_s > last_tod_s_ + 0.5 * kSecondsPerDay) {
-        --*day_;  // a late sentence from before midnight
-      }
-      last_tod_s_ = tod_s;
-      stamp_s = static_cast<double>(*day_) * kSecondsPerDay + tod_s;
-    }
+    const double stamp_s = prefix_s ? *prefix_s : DatedUtc(tod_s);
     last_timed_stamp_s_ = stamp_s;
     return stamp_s;
+  }
+
+  // UTC (s since 1970) of a time of day on the date of the last RMC/ZDA (the first date in the
+  // file before any), advancing the day across midnight.
+  double DatedUtc(double tod_s) {
+    if (!day_) {
+      day_ = first_date_.value_or(0);
+    } else if (tod_s < last_tod_s_ - 0.5 * kSecondsPerDay) {
+      ++*day_;  // past midnight before the next date sentence
+    } else if (tod_s > last_tod_s_ + 0.5 * kSecondsPerDay) {
+      --*day_;  // a late sentence from before midnight
+    }
+    last_tod_s_ = tod_s;
+    return static_cast<double>(*day_) * kSecondsPerDay + tod_s;
+  }
+
+  // The epoch's UTC for a sentence that also has a logger stamp: on the log's dates when it has
+  // RMC/ZDA, else on the day that puts it nearest the logger stamp (the logger clock is taken
+  // to be within 12 h of UTC; calib::MapGnssEpochs checks the difference is consistent).
+  double EpochUtc(double prefix_s, double tod_s) {
+    if (first_date_) return DatedUtc(tod_s);
+    return std::round((prefix_s - tod_s) / kSecondsPerDay) * kSecondsPerDay + tod_s;
   }
 
   void DateAndTime(std::string_view type, std::optional<double> prefix_s) {
@@ -371,6 +380,7 @@ class NmeaParser {
       return;
     }
     fix.stamp_s = Stamp(prefix_s, tod_s);
+    if (prefix_s) fix.utc_epoch_s = EpochUtc(*prefix_s, tod_s);
     fix.line = line;
     ++log_->fixes_by_quality[fix.quality];
     if (!log_->fixes.empty() && !(fix.stamp_s > log_->fixes.back().stamp_s)) {

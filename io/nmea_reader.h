@@ -6,7 +6,9 @@
 // the same UTC time field, before or after it), HDT and THS (heading, degrees clockwise from
 // north -> heading_rad in [0, 2π); THS only with status A), RMC and ZDA (date only). Any talker.
 //
-// Time: a line "<seconds> <sentence>" (logger-time prefix) is stamped with the prefix. A plain
+// Time: a line "<seconds> <sentence>" (logger-time prefix) is stamped with the prefix (its
+// arrival on the logger clock); a GGA so stamped also keeps its epoch's UTC in utc_epoch_s (on
+// the log's RMC/ZDA dates, else on the day nearest the prefix), for calib::MapGnssEpochs. A plain
 // sentence is stamped with its own UTC time of day on the date of the last RMC/ZDA before it
 // (the first date in the file for sentences before any date; across midnight the day is
 // advanced when the time of day drops by more than 12 h); HDT/THS take the stamp of the last

@@ -110,6 +110,7 @@ void SolverOptions::Validate() const {
   CheckAtLeast("solver.min_stations", min_stations, 1);
   CheckNonNegative("solver.gnss_bias_tau_s", gnss_bias_tau_s);
   CheckNonNegative("solver.time_offset_sigma_s", time_offset_sigma_s);
+  CheckNonNegative("solver.heading_delay_sigma_s", heading_delay_sigma_s);
   CheckNonNegative("solver.heading_drift_sigma_deg_per_h", heading_drift_sigma_rad_per_s);
   CheckPositive("solver.max_sigma_xy_m", max_sigma_xy_m);
   CheckAnglePositive("solver.max_sigma_yaw_deg", max_sigma_yaw_rad, 180.0);
@@ -190,6 +191,10 @@ void SimulationConfig::Validate() const {
   }
   CheckRange(s + "mixed_pixel_probability", mixed_pixel_probability, 0.0, 1.0);
   CheckNonNegative(s + "start_time_s", start_time_s);
+  CheckRange(s + "gnss_latency_s", gnss_latency_s, 0.0, 10.0);
+  CheckRange(s + "gnss_jitter_s", gnss_jitter_s, 0.0, 1.0);
+  CheckRange(s + "heading_latency_s", heading_latency_s, 0.0, 10.0);
+  CheckRange(s + "scanner_latency_s", scanner_latency_s, 0.0, 10.0);
 }
 
 }  // namespace wallcal::io

@@ -67,6 +67,9 @@ struct AlignmentOptions {
   // Use moving scans anyway when the session has fewer dwells than solver.min_stations (an
   // engineer drove continuously): the solver then also estimates the scanner clock offset.
   bool moving_scans_if_few_stations = true;
+  // Put each GGA at its epoch mapped onto the logger clock (calib/gnss_epoch_time.h) when the
+  // log has logger stamps and the sentences' UTC; false: at its arrival stamp.
+  bool gnss_epoch_time = true;
   void Validate() const;
 };
 
@@ -95,6 +98,11 @@ struct SolverOptions {
   // Prior σ of the scanner-clock offset to the GNSS/heading clocks, estimated when moving scans
   // are used (0: never estimated).
   double time_offset_sigma_s = 0.1;
+  // Prior σ of the heading stream's delay relative to the GNSS epochs (s; true yaw at a moving
+  // scan = interpolated yaw + ω·(dt + δ_h)), estimated beside the clock offset from the turns
+  // of the moving scans (0: held at 0). Not determined by the data (no turns): marginalised
+  // under this prior, so the mount's σ carries it (docs/time-alignment.md).
+  double heading_delay_sigma_s = 0.05;
   // Prior σ of the heading sensor's drift rate (rad/s; a FOG drifts linearly, Barawid 2007: ±0.5°/h),
   // estimated as one rate over the session (0: no drift modelled).
   double heading_drift_sigma_rad_per_s = 2.4240684e-6;  // 0.5 deg/h
@@ -202,6 +210,14 @@ struct SimulationConfig {
   double mixed_pixel_probability = 0.5;  // chance a beam at a depth jump returns a mixed range
   // Logging clock: UNIX seconds at the start of the run
   double start_time_s = 1747031522.0;
+  // ---- Per-stream logging delays (issue 16). The logger stamps each record when it receives
+  // it: a GGA/GST `gnss_latency_s` + U(0, gnss_jitter_s) after its epoch (the sentence keeps
+  // the epoch's UTC), an HDT `heading_latency_s` after its sample, a scan `scanner_latency_s`
+  // after it was taken (on top of scanner_time_offset_s). 0: stamped at the epoch, as before.
+  double gnss_latency_s = 0.0;
+  double gnss_jitter_s = 0.0;
+  double heading_latency_s = 0.0;
+  double scanner_latency_s = 0.0;
   void Validate() const;
 };
 

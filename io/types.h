@@ -56,6 +56,11 @@ struct GnssFix {
   double hdop = kNaN;
   double sigma_lat_m = kNaN;  // from GST; NaN when the log has no GST for this epoch
   double sigma_lon_m = kNaN;
+  // UTC of the receiver's epoch (s since 1970, from the sentence's time of day and the log's
+  // date), kept when the line also had a logger stamp (then stamp_s is the arrival on the
+  // logger clock until calib::MapGnssEpochs puts the epoch there); NaN otherwise. The NMEA
+  // writer takes the sentence's time from it when finite.
+  double utc_epoch_s = kNaN;
   int line = 0;
 };
 

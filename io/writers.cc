@@ -326,7 +326,8 @@ std::string FormatCarmenRawlaser(const ScanRecord& scan) {
 
 std::string FormatGgaLine(const GnssFix& fix) {
   const std::string hdop = std::isfinite(fix.hdop) ? Format("%.1f", fix.hdop) : std::string();
-  const std::string body = "GNGGA," + UtcTimeField(fix.stamp_s) + "," + NmeaAngle(fix.lat_deg, 2) +
+  const double utc_s = std::isfinite(fix.utc_epoch_s) ? fix.utc_epoch_s : fix.stamp_s;
+  const std::string body = "GNGGA," + UtcTimeField(utc_s) + "," + NmeaAngle(fix.lat_deg, 2) +
                            (fix.lat_deg < 0 ? ",S," : ",N,") + NmeaAngle(fix.lon_deg, 3) +
                            (fix.lon_deg < 0 ? ",W," : ",E,") + std::to_string(fix.quality) + "," +
                            Format("%02d", fix.satellites) + "," + hdop + "," +
@@ -342,7 +343,8 @@ std::string FormatGstLine(const GnssFix& fix) {
   const double minor_m = std::min(fix.sigma_lat_m, fix.sigma_lon_m);
   // Orientation of the major axis from true north: along latitude (0) or longitude (90).
   const double orientation_deg = fix.sigma_lat_m >= fix.sigma_lon_m ? 0.0 : 90.0;
-  const std::string body = "GNGST," + UtcTimeField(fix.stamp_s) + "," +
+  const double utc_s = std::isfinite(fix.utc_epoch_s) ? fix.utc_epoch_s : fix.stamp_s;
+  const std::string body = "GNGST," + UtcTimeField(utc_s) + "," +
                            sigma(std::hypot(fix.sigma_lat_m, fix.sigma_lon_m)) + "," +
                            sigma(major_m) + "," + sigma(minor_m) + "," +
                            Format("%.1f", orientation_deg) + "," + sigma(fix.sigma_lat_m) + "," +

@@ -125,6 +125,23 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const E
   } else {
     add("time_offset_s", "null  # not estimated: every scan used was taken at a station");
   }
+  if (result.heading_delay.status != pipeline::DelayStatus::kNotEstimated) {
+    add("heading_delay_s", Format("%.4f", result.heading_delay.value_s));
+    add("heading_delay_sigma_s", Format("%.4f", result.heading_delay.sigma_s));
+  } else {
+    add("heading_delay_s", "null  # not estimated: no moving scans used");
+  }
+  add("heading_delay_status",
+      "\"" + std::string(pipeline::DelayStatusName(result.heading_delay.status)) + "\"");
+  const calib::GnssEpochMapping& g = result.gnss_epochs;
+  add("gnss_epoch_time",
+      "\"" + std::string(calib::EpochMappingStatusName(g.status)) + "\"");
+  if (std::isfinite(g.offset_s)) {
+    add("gnss_latency_s", Format("%.4f", g.offset_s) +
+                              "  # logger stamp − UTC epoch: latency + logger clock offset");
+    add("gnss_jitter_s", Format("%.4f", g.jitter_s));
+    add("gnss_clock_drift_ppm", Format("%.1f", 1e6 * g.drift));
+  }
   if (!e.weak_direction.empty()) add("weak_direction", "\"" + e.weak_direction + "\"");
   add("forced", result.forced ? "true" : "false");
   const analysis::ResidualAnalysis& ra = result.residual_analysis;

@@ -82,6 +82,17 @@ std::string ReportBuilder::MountSection() {
     s << Row("scanner clock offset", F("%.4f", r_.time_offset_s) + " &#177; " +
                                          F("%.4f", r_.time_offset_sigma_s) + " s (estimated)");
   }
+  s << Row("heading delay after GNSS",
+           r_.heading_delay.status == pipeline::DelayStatus::kNotEstimated
+               ? std::string("not estimated (no moving scans)")
+               : F("%.4f", r_.heading_delay.value_s) + " &#177; " +
+                     F("%.4f", r_.heading_delay.sigma_s) + " s, " +
+                     pipeline::DelayStatusName(r_.heading_delay.status));
+  if (std::isfinite(r_.gnss_epochs.offset_s)) {
+    s << Row("GNSS epoch time", std::string(calib::EpochMappingStatusName(r_.gnss_epochs.status)) +
+                                    ": latency + clock " + F("%.4f", r_.gnss_epochs.offset_s) +
+                                    " s, jitter " + F("%.4f", r_.gnss_epochs.jitter_s) + " s");
+  }
   s << "</table>\n";
   s << "<h3 id=\"warnings\">Warnings</h3>\n";
   if (r_.warnings.empty()) {

@@ -29,6 +29,15 @@ std::string FormatSummary(const CalibrationResult& result) {
   out << "  gnss       " << result.fixes_used << " fixes used (by quality:";
   for (const auto& [q, count] : result.fixes_by_quality) out << " " << q << ":" << count;
   out << "), " << result.headings_used << " headings\n";
+  if (const calib::GnssEpochMapping& g = result.gnss_epochs;
+      g.status != calib::EpochMappingStatus::kNoLoggerStamp) {
+    std::snprintf(line, sizeof(line),
+                  "  gnss time  epoch %s: logger stamp − UTC %.4f s (latency + logger clock "
+                  "offset), jitter %.4f s, drift %.1f ppm over %lld fixes\n",
+                  calib::EpochMappingStatusName(g.status), g.offset_s, g.jitter_s, 1e6 * g.drift,
+                  static_cast<long long>(g.fixes));
+    out << line;
+  }
   std::snprintf(line, sizeof(line),
                 "  survey     %d control points (RMS %.4f m), %zu wall(s), UTM zone %d%s, "
                 "convergence %.3f deg, scale %.6f\n",
@@ -107,6 +116,18 @@ std::string FormatSummary(const CalibrationResult& result) {
                     "offset)\n",
                     result.time_offset_s, result.time_offset_sigma_s);
       out << line;
+    }
+    if (result.heading_delay.status != pipeline::DelayStatus::kNotEstimated) {
+      std::snprintf(line, sizeof(line),
+                    "  clock      heading delay after the GNSS epochs %+.4f ± %.4f s (prior σ "
+                    "%.4f s): %s\n",
+                    result.heading_delay.value_s, result.heading_delay.sigma_s,
+                    result.heading_delay.prior_sigma_s,
+                    pipeline::DelayStatusName(result.heading_delay.status));
+      out << line;
+    } else {
+      out << "  clock      heading delay not estimated (no moving scans used: at a station the "
+             "heading does not change with time)\n";
     }
     const analysis::ResidualAnalysis& ra = result.residual_analysis;
     if (ra.done) {

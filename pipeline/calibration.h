@@ -15,6 +15,7 @@
 #include "analysis/repeatability.h"
 #include "analysis/residual_analysis.h"
 #include "calib/detection_pass.h"
+#include "calib/gnss_epoch_time.h"
 #include "calib/observation.h"
 #include "io/options.h"
 #include "io/types.h"
@@ -64,6 +65,19 @@ struct Progress {
 };
 using ProgressFn = std::function<void(const Progress&)>;
 
+// One stream's delay (docs/time-alignment.md). kNotEstimated: the data hold nothing about it
+// (no moving scans; prior σ 0), value 0; kNotDetermined: estimated, but its σ is more than half
+// its prior's (too few turns for the heading's): the value is the prior's pull, and the mount's
+// σ carries it marginalised under the prior; kDetermined: the data fix it.
+enum class DelayStatus { kNotEstimated, kNotDetermined, kDetermined };
+const char* DelayStatusName(DelayStatus status);  // "not estimated", "not determined", ...
+struct StreamDelay {
+  DelayStatus status = DelayStatus::kNotEstimated;
+  double value_s = 0.0;
+  double sigma_s = 0.0;        // posterior 1σ; 0 when not estimated
+  double prior_sigma_s = 0.0;  // the option's prior σ
+};
+
 // Everything calibrate learned, for the summary, offsets.yaml and the report.
 struct CalibrationResult {
   io::SessionSpec session;
@@ -92,6 +106,13 @@ struct CalibrationResult {
   analysis::Repeatability repeatability;
   double time_offset_s = 0.0;        // estimated scanner-to-GNSS clock offset (moving data)
   double time_offset_sigma_s = 0.0;  // 0 when not estimated
+  // Per-stream delays (issue 16). gnss_epochs: the GGA epochs mapped onto the logger clock
+  // (offset_s = receiver latency + logger clock offset to UTC, jitter_s its scatter);
+  // scanner_offset: time_offset_s above with its status (true scan time = stamp + dt, on the
+  // GNSS-epoch clock); heading_delay: the heading stream's delay after the GNSS epochs.
+  calib::GnssEpochMapping gnss_epochs;
+  StreamDelay scanner_offset;
+  StreamDelay heading_delay;
   bool forced = false;               // written despite a failed observability check
   // false: the method gives no σ (barawid): estimate.covariance is NaN, and offsets.yaml, the
   // summary and the emitted JSON say so.

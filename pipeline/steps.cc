@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "calib/geodesy.h"
+#include "calib/gnss_epoch_time.h"
 #include "calib/pose_samples.h"
 #include "common/angles.h"
 #include "common/circular.h"
@@ -56,7 +57,28 @@ void StopAfterFirstPass(const solvers::MountEstimate& estimate, const calib::Pas
   result->scans_total = pass.scans_read + pass.line_skips.Problems();
 }
 
+// A delay is determined when the data shrink its prior σ to less than half.
+StreamDelay ClassifyDelay(bool estimated, double value_s, double sigma_s, double prior_sigma_s) {
+  StreamDelay delay;
+  delay.prior_sigma_s = prior_sigma_s;
+  if (!estimated) return delay;
+  delay.value_s = value_s;
+  delay.sigma_s = sigma_s;
+  delay.status = sigma_s > 0.0 && sigma_s < 0.5 * prior_sigma_s ? DelayStatus::kDetermined
+                                                               : DelayStatus::kNotDetermined;
+  return delay;
+}
+
 }  // namespace
+
+const char* DelayStatusName(DelayStatus status) {
+  switch (status) {
+    case DelayStatus::kNotEstimated: return "not estimated";
+    case DelayStatus::kNotDetermined: return "not determined (marginalised under its prior)";
+    case DelayStatus::kDetermined: return "determined";
+  }
+  return "?";
+}
 
 void Say(const ProgressFn& progress, Stage stage, const std::string& text) {
   if (progress) progress(Progress{stage, text, 0, 0, false});
@@ -127,6 +149,19 @@ void ReadPoses(CalibrationResult* result, RunInputs* inputs) {
   inputs->gnss = std::move(logs.gnss);
   inputs->headings = std::move(logs.headings);
   for (std::string& w : logs.warnings) result->warnings.push_back(std::move(w));
+  // Each GGA at its epoch on the logger clock, not at its jittered arrival (docs/time-alignment.md).
+  result->gnss_epochs =
+      calib::MapGnssEpochs(&inputs->gnss.fixes, options.alignment.gnss_epoch_time);
+  if (result->gnss_epochs.status == calib::EpochMappingStatus::kInconsistent ||
+      result->gnss_epochs.status == calib::EpochMappingStatus::kTooFew) {
+    result->warnings.push_back(
+        "GNSS epoch time " + std::string(calib::EpochMappingStatusName(result->gnss_epochs.status)) +
+        ": logger stamp − UTC over " + std::to_string(result->gnss_epochs.fixes) +
+        " fixes has scatter " + Format("%.1f", 1000.0 * result->gnss_epochs.jitter_s) +
+        " ms, drift " + Format("%.0f", 1e6 * result->gnss_epochs.drift) + " ppm, " +
+        std::to_string(result->gnss_epochs.outliers) +
+        " outliers; the fixes keep their arrival stamps");
+  }
   result->fixes_by_quality = inputs->gnss.fixes_by_quality;
   result->gnss_skipped = inputs->gnss.skipped;
   result->heading_skipped = inputs->headings.skipped;
@@ -396,6 +431,12 @@ void Solve(const CalibrateRequest& request, const ProgressFn& progress,
     result->time_offset_s = estimate.time_offset_s;
     result->time_offset_sigma_s = estimate.time_offset_sigma_s;
   }
+  result->scanner_offset = ClassifyDelay(estimate.time_offset_estimated, estimate.time_offset_s,
+                                         estimate.time_offset_sigma_s,
+                                         result->options.solver.time_offset_sigma_s);
+  result->heading_delay = ClassifyDelay(estimate.heading_delay_estimated, estimate.heading_delay_s,
+                                        estimate.heading_delay_sigma_s,
+                                        estimate.heading_delay_prior_sigma_s);
 }
 
 void Analyse(const CalibrateRequest& request, const ProgressFn& progress,

@@ -50,6 +50,7 @@ std::vector<io::GnssFix> SimulateGnss(const io::SimulationConfig& config,
   // Barawid 2007 (±2 cm) is slowly varying (multipath, residual atmosphere), hence the correlation.
   const double phi = config.gnss_bias_tau_s > 0.0 ? std::exp(-dt_s / config.gnss_bias_tau_s) : 0.0;
   const double drive = std::sqrt(std::max(0.0, 1.0 - phi * phi));
+  Noise jitter_noise(seed, Stream::kGnssJitter);  // its own stream: other draws unchanged
   Eigen::Vector2d bias(bias_noise.Normal(sigma_b), bias_noise.Normal(sigma_b));
   // GST σ per horizontal axis: the bias and white parts are independent.
   const double sigma_fixed_m = std::hypot(sigma_b, config.gnss_white_sigma_m);
@@ -79,6 +80,11 @@ std::vector<io::GnssFix> SimulateGnss(const io::SimulationConfig& config,
 
     io::GnssFix fix;
     fix.stamp_s = config.start_time_s + t_s;
+    if (config.gnss_latency_s > 0.0 || config.gnss_jitter_s > 0.0) {
+      // The sentence keeps its epoch; the logger stamps its arrival.
+      fix.utc_epoch_s = fix.stamp_s;
+      fix.stamp_s += config.gnss_latency_s + config.gnss_jitter_s * jitter_noise.Uniform();
+    }
     enu.Reverse(p.x(), p.y(), scale * up_m, fix.lat_deg, fix.lon_deg, fix.height_m);
     fix.quality = is_float ? 5 : 4;
     fix.satellites = 14;
@@ -108,7 +114,7 @@ std::vector<io::HeadingSample> SimulateHeadings(const io::SimulationConfig& conf
     const double t_s = j / config.heading_rate_hz;
     const double true_heading_rad = kPi / 2.0 - trajectory.At(t_s).yaw_rad;  // cw from true north
     io::HeadingSample sample;
-    sample.stamp_s = config.start_time_s + t_s;
+    sample.stamp_s = config.start_time_s + t_s + config.heading_latency_s;
     sample.heading_rad =
         WrapTwoPi(true_heading_rad + config.heading_bias_rad + drift_rad_per_s * t_s +
                   noise.Normal(config.heading_white_sigma_rad));
@@ -344,7 +350,8 @@ SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerP
     // ≤ 13 mm during a sweep. At the stations that is exact; in continuous mode it leaves out
     // the sweep's motion skew (the tool treats scans as instantaneous too).
     const io::ScanRecord scan =
-        scanner.Scan(trajectory.At(t_s), config.start_time_s + t_s - config.scanner_time_offset_s);
+        scanner.Scan(trajectory.At(t_s), config.start_time_s + t_s - config.scanner_time_offset_s +
+                                             config.scanner_latency_s);
     ++session.scans_written;
     if (sink) sink(scan);
   }

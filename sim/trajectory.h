@@ -34,6 +34,7 @@ enum class Stream : uint32_t {
   kHeading = 7,
   kSurvey = 8,
   kControl = 9,
+  kGnssJitter = 10,
 };
 
 class Noise {

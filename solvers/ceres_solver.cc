@@ -79,6 +79,9 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
   estimate.mount.yaw_rad = WrapAngle(estimate.mount.yaw_rad);
   estimate.time_offset_estimated = mp.time_offset_estimated;
   estimate.time_offset_s = mp.time_offset[0];
+  estimate.heading_delay_estimated = mp.time_offset_estimated && mp.heading_delay_estimated;
+  estimate.heading_delay_s = mp.time_offset[1];
+  estimate.heading_delay_prior_sigma_s = options.heading_delay_sigma_s;
   estimate.heading_drift_estimated = mp.heading_drift_estimated;
   estimate.heading_drift_rad_per_s = mp.heading_drift[0];
   estimate.heading_reference_s = mp.heading_reference_s;
@@ -171,6 +174,10 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
   if (dt_free) {
     estimate.time_offset_sigma_s = std::sqrt(std::max(0.0, covariance(next, next)));
     ++next;
+    if (estimate.heading_delay_estimated) {
+      estimate.heading_delay_sigma_s = std::sqrt(std::max(0.0, covariance(next, next)));
+      ++next;
+    }
   }
   if (drift_free) {
     estimate.heading_drift_sigma_rad_per_s = std::sqrt(std::max(0.0, covariance(next, next)));

@@ -15,7 +15,7 @@ Eigen::MatrixXd MarginalInformation(MountProblem& mp, const std::vector<double*>
   int k = 0;
   for (double* block : kept) {
     if (!mp.problem.HasParameterBlock(block)) return Eigen::MatrixXd();
-    k += mp.problem.ParameterBlockSize(block);
+    k += mp.problem.ParameterBlockTangentSize(block);  // a held coordinate has no column
   }
   std::vector<double*> blocks;
   mp.problem.GetParameterBlocks(&blocks);

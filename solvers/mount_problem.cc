@@ -412,10 +412,20 @@ std::unique_ptr<MountProblem> BuildMountProblem(
   if (uses_no_bias) mp->problem.SetParameterBlockConstant(mp->no_bias.data());
   // The clock offset: a prior of σ_dt when moving scans can tell it; otherwise held at 0 (at
   // a station the pose does not change with time, so dt is not in the data).
+  // The heading delay rides in the same block: estimated with a prior of σ_δh beside dt (only
+  // turns tell it, through ω), held at 0 when σ_δh is 0 (a constant coordinate, its prior
+  // residual then a constant 0).
   if (mp->problem.HasParameterBlock(mp->time_offset.data())) {
     if (mp->time_offset_estimated) {
-      mp->problem.AddResidualBlock(ScalarPriorCost::Create(options.time_offset_sigma_s), nullptr,
-                                   mp->time_offset.data());
+      mp->heading_delay_estimated = options.heading_delay_sigma_s > 0.0;
+      mp->problem.AddResidualBlock(
+          ZeroMeanPriorCost::Create(Eigen::Vector2d(
+              options.time_offset_sigma_s,
+              mp->heading_delay_estimated ? options.heading_delay_sigma_s : 1.0)),
+          nullptr, mp->time_offset.data());
+      if (!mp->heading_delay_estimated) {
+        mp->problem.SetManifold(mp->time_offset.data(), new ceres::SubsetManifold(2, {1}));
+      }
     } else {
       mp->problem.SetParameterBlockConstant(mp->time_offset.data());
     }

@@ -39,9 +39,11 @@ struct MountProblem {
   // between each and the previous one in that order (0 for the first).
   std::vector<int> segment_order;
   std::vector<double> segment_rho;
-  // Scanner clock offset [dt_s]; constant at 0 unless time_offset_estimated.
-  std::array<double, 1> time_offset{};
+  // Scanner clock offset and heading delay [dt_s, δh_s]; constant at 0 unless
+  // time_offset_estimated (δh also held at 0 when options.heading_delay_sigma_s is 0).
+  std::array<double, 2> time_offset{};
   bool time_offset_estimated = false;
+  bool heading_delay_estimated = false;
   // Heading errors (docs/method.md, "Heading errors"). Per segment (same index as segment_ids):
   // the heading offset h [rad] common to a dwell's scans (true yaw = dwell mean yaw − h − r·τ),
   // starting at 0, and its prior σ (σ_heading / √(heading samples averaged)); 0 for a moving

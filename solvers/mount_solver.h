@@ -56,6 +56,13 @@ struct MountEstimate {
   bool time_offset_estimated = false;
   double time_offset_s = 0.0;
   double time_offset_sigma_s = 0.0;
+  // The heading stream's delay relative to the GNSS epochs (s; see wall_line_cost.h), estimated
+  // beside the clock offset when solver.heading_delay_sigma_s > 0; its prior σ, for the
+  // determination check (pipeline: determined when σ < half the prior).
+  bool heading_delay_estimated = false;
+  double heading_delay_s = 0.0;
+  double heading_delay_sigma_s = 0.0;
+  double heading_delay_prior_sigma_s = 0.0;
   // Heading drift rate (rad/s, true yaw = used yaw − r·(t − t_ref)) and the reference time t_ref
   // (s, the earliest observation) at which the mount yaw is relative to the heading sensor's
   // zero. Estimated (ceres) when options.heading_drift_sigma_rad_per_s > 0.

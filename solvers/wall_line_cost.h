@@ -12,12 +12,14 @@
 //   p' = p + v·dt                           the antenna at the scan's true time: the scan stamp
 //                                           is dt early on the GNSS/heading clock (v, ω the
 //                                           vehicle's velocity and yaw rate; ~0 at a station)
-//   ψ' = ψ − h − r·τ + ω·dt                 the true vehicle yaw: ψ the yaw used (a dwell's mean
+//   ψ' = ψ − h − r·τ + ω·(dt + δh)          the true vehicle yaw: ψ the yaw used (a dwell's mean
 //                                           heading at a station, the interpolated heading
 //                                           while moving), h the heading error common to the
 //                                           segment (0 for moving scans), r the heading drift
 //                                           rate, τ = t − t_ref the scan's (dwell's) time from
-//                                           the session's reference time
+//                                           the session's reference time; δh the heading
+//                                           stream's delay relative to the GNSS epochs (its
+//                                           samples are stamped δh later than the positions)
 //   s = p' − b + R(ψ')·(x, y)               scanner origin: the true antenna is the measured
 //                                           one minus the segment's GNSS bias b
 //   rho_pred   = d − n·s                    [m], > 0 when the scanner is in front of the wall
@@ -27,7 +29,8 @@
 //
 // Parameter blocks: mount [x_m, y_m, yaw_rad] (vehicle frame: x forward, y left, yaw ccw),
 // wall [δd_m, δα_rad], GNSS bias [b_east_m, b_north_m] (measured = true + b), time offset
-// [dt_s] (true scan time = stamped time + dt; held constant at 0 unless moving scans are used),
+// [dt_s, δh_s] (true scan time = stamped time + dt; heading delay δh; held constant at 0 unless
+// moving scans are used),
 // heading offset [h_rad] of the segment (a constant zero block for moving scans), heading drift
 // [r_rad_per_s] (one for the session; constant 0 when not modelled).
 // The robust loss is chosen where the block is added (HuberLoss on these whitened units).
@@ -92,8 +95,9 @@ class WallLineCost {
         nx * m_.wall_centre_local_m.x() + ny * m_.wall_centre_local_m.y() + m_.sign * delta_d_m;
     // Scanner origin in the local frame.
     const T& dt_s = time_offset[0];
+    const T& heading_delay_s = time_offset[1];
     const T psi = m_.vehicle_yaw_rad - heading_offset[0] - heading_drift[0] * m_.drift_time_s +
-                  m_.yaw_rate_rps * dt_s;
+                  m_.yaw_rate_rps * (dt_s + heading_delay_s);
     const T cpsi = cos(psi);
     const T spsi = sin(psi);
     const T sx = m_.antenna_local_m.x() + m_.velocity_local_mps.x() * dt_s - bias[0] +
@@ -110,7 +114,7 @@ class WallLineCost {
   const WallLineMeasurement& measurement() const { return m_; }
 
   static ceres::CostFunction* Create(const WallLineMeasurement& measurement) {
-    return new ceres::AutoDiffCostFunction<WallLineCost, 2, 3, 2, 2, 1, 1, 1>(
+    return new ceres::AutoDiffCostFunction<WallLineCost, 2, 3, 2, 2, 2, 1, 1>(
         new WallLineCost(measurement));
   }
 

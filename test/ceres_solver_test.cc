@@ -95,7 +95,7 @@ TEST(WallLineCostTest, EvaluatesHandWorkedValue) {
   const double mount[3] = {2.0, 0.5, 0.05};
   const double wall[2] = {0.02, 0.0};
   const double bias[2] = {0.1, -0.2};
-  const double time_offset[1] = {0.0};
+  const double time_offset[2] = {0.0, 0.0};
   const double heading_offset[1] = {0.0};
   const double heading_drift[1] = {0.0};
   const double* parameters[6] = {mount, wall, bias, time_offset, heading_offset, heading_drift};
@@ -103,6 +103,26 @@ TEST(WallLineCostTest, EvaluatesHandWorkedValue) {
   ASSERT_TRUE(cost->Evaluate(parameters, residual, nullptr));
   EXPECT_NEAR(residual[0], 82.0, 1e-9);
   EXPECT_NEAR(residual[1], -50.4, 1e-9);
+}
+
+TEST(WallLineCostTest, HeadingDelayTurnsTheYawByRateTimesDelay) {
+  // A turning scan (ω = 0.2 rad/s) with the heading stream 0.1 s late: the true yaw is
+  // ψ + ω·(dt + δh) = π/2 + 0.02, so theta_pred = π/2 − (π/2 + 0.02) − 0.05 = −0.07 and the
+  // theta error −0.17; the same as a clock offset dt = 0.1 would give for the yaw alone.
+  WallLineMeasurement m = HandMeasurement();
+  m.yaw_rate_rps = 0.2;
+  const WallLineCost cost(m);
+  const double mount[3] = {2.0, 0.5, 0.05};
+  const double wall[2] = {0.02, 0.0};
+  const double bias[2] = {0.1, -0.2};
+  const double delayed[2] = {0.0, 0.1};
+  const double zero[1] = {0.0};
+  double error[2];
+  cost.Errors(mount, wall, bias, delayed, zero, zero, error);
+  EXPECT_NEAR(error[1], -0.17, 1e-12);
+  const double yaw = 0.5 * kPi + 0.02;
+  const double s_y = 2.2 + std::sin(yaw) * 2.0 + std::cos(yaw) * 0.5;
+  EXPECT_NEAR(error[0], 10.02 - s_y - 5.0, 1e-12);
 }
 
 TEST(WallLineCostTest, HeadingOffsetAndDriftTurnTheLeverArmAndTheta) {
@@ -116,7 +136,7 @@ TEST(WallLineCostTest, HeadingOffsetAndDriftTurnTheLeverArmAndTheta) {
   const double mount[3] = {2.0, 0.5, 0.05};
   const double wall[2] = {0.02, 0.0};
   const double bias[2] = {0.1, -0.2};
-  const double time_offset[1] = {0.0};
+  const double time_offset[2] = {0.0, 0.0};
   const double heading_offset[1] = {0.01};
   const double heading_drift[1] = {1e-4};
   double error[2];
@@ -195,7 +215,7 @@ TEST(WallLineCostTest, JacobiansMatchNumericDifferentiation) {
   const double wall[2] = {0.013, -0.004};
   const double bias[2] = {0.011, -0.017};
   m.drift_time_s = 250.0;
-  const double time_offset[1] = {0.07};
+  const double time_offset[2] = {0.07, -0.03};
   const double heading_offset[1] = {0.003};
   const double heading_drift[1] = {2e-6};
   const double* parameters[6] = {mount, wall, bias, time_offset, heading_offset, heading_drift};
