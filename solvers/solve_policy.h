@@ -3,7 +3,8 @@
 // adjustment estimates a scanner clock offset; its p + v·dt, ψ + ω·dt is a linearisation, poor
 // where the vehicle accelerates (a simulated 150 ms offset came back as 135 ± 2 ms from it
 // alone), so the poses are re-interpolated at the estimated scan times and the problem solved
-// again until the offset left over is below a tolerance.
+// again until the offset left over is below a tolerance. The heading delay estimated beside it
+// (wall_line_cost.h) is not re-interpolated: its ω·δh stays linear (tens of ms at ≤ 12°/s).
 
 #include <functional>
 #include <vector>
