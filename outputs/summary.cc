@@ -126,8 +126,10 @@ std::string FormatSummary(const CalibrationResult& result) {
                     pipeline::DelayStatusName(result.heading_delay.status));
       out << line;
     } else {
-      out << "  clock      heading delay not estimated (no moving scans used: at a station the "
-             "heading does not change with time)\n";
+      out << "  clock      heading delay not estimated (" << e.method
+          << (e.method == "ceres" ? ": no moving scans in the adjustment, and at a station the "
+                                    "heading does not change with time)\n"
+                                  : " does not model it)\n");
     }
     const analysis::ResidualAnalysis& ra = result.residual_analysis;
     if (ra.done) {
