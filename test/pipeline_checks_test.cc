@@ -108,9 +108,13 @@ TEST(PipelineChecksTest, MovingScansRecoverAKnownScannerClockOffset) {
   io::SimulationConfig config = Sapporo();
   config.scanner_time_offset_s = 0.15;  // the scanner stamps 150 ms early
   const fs::path dir = Simulated(config, 9, "clock_offset");
-  const CalibrationResult result = Calibrate(dir, false, "alignment:\n  use_moving_scans: true\n");
+  // The simulated heading is on the GNSS clock: with its delay held at 0 the turns tell dt as
+  // well as the drives do (with it free, below, they tell only dt + δh).
+  const CalibrationResult result = Calibrate(
+      dir, false, "alignment:\n  use_moving_scans: true\nsolver:\n  heading_delay_sigma_s: 0\n");
   ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
   ASSERT_TRUE(result.estimate.time_offset_estimated);
+  EXPECT_EQ(result.heading_delay.status, DelayStatus::kNotEstimated);
   std::printf("[ clock    ] time offset %.4f ± %.4f s (true 0.15)\n", result.time_offset_s,
               result.time_offset_sigma_s);
   EXPECT_GT(result.time_offset_sigma_s, 0.0);
@@ -119,6 +123,17 @@ TEST(PipelineChecksTest, MovingScansRecoverAKnownScannerClockOffset) {
   EXPECT_LT(std::abs(result.time_offset_s - 0.15), 4.0 * result.time_offset_sigma_s);
   EXPECT_LT(std::abs(result.time_offset_s - 0.15), 0.005);
   EXPECT_LT(std::abs(result.estimate.mount.x_m - config.mount_x_m), 4.0 * Sigma(result, 0));
+
+  // The heading's delay free (the default): dt from the drives' velocity across the wall alone,
+  // a wider σ that still covers the truth; the heading delay is reported with its status.
+  const CalibrationResult free_delay =
+      Calibrate(dir, false, "alignment:\n  use_moving_scans: true\n");
+  ASSERT_TRUE(free_delay.estimate.usable) << free_delay.estimate.message;
+  EXPECT_NE(free_delay.heading_delay.status, DelayStatus::kNotEstimated);
+  EXPECT_GE(free_delay.time_offset_sigma_s, result.time_offset_sigma_s);
+  EXPECT_LT(std::abs(free_delay.time_offset_s - 0.15), 4.0 * free_delay.time_offset_sigma_s);
+  EXPECT_LT(std::abs(free_delay.heading_delay.value_s),
+            4.0 * free_delay.heading_delay.sigma_s);  // the simulated heading has no delay
 
   // Stations only: the offset is not estimated and says so.
   const CalibrationResult still = Calibrate(dir);
