@@ -101,6 +101,7 @@ BeamSet CollectBeams(const pipeline::CalibrationResult& calibration, const calib
     station.antenna_local_m = sum.p / sum.n;
     station.yaw_rad = sum.dwell_samples > 0 ? sum.dwell_yaw : CircularMean(sum.yaws);
     station.time_s = 0.5 * (sum.t0 + sum.t1) - first_s;
+    station.dwell_s = sum.t1 - sum.t0;
     const double sigma = sum.sigma / sum.n;
     station.gnss_sigma_m =
         sigma > 0.0 && calibration.options.solver.use_gst_sigma

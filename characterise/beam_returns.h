@@ -21,6 +21,7 @@ struct StationPose {
   double yaw_rad = 0.0;     // vehicle yaw (ccw from grid east), heading drift removed
   double time_s = 0.0;      // middle of the dwell, s since the first used scan
   double gnss_sigma_m = 0.0;  // per-axis 1σ of its position (GST or the options' default)
+  double dwell_s = 0.0;       // first to last used scan of the station
 };
 
 enum class BeamKind : uint8_t {

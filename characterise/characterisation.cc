@@ -107,6 +107,8 @@ Characterisation Characterise(const CharacteriseRequest& request) {
   setup.walls = &calibration.walls;
   setup.gnss_tau_s = calibration.options.solver.gnss_bias_tau_s;
   setup.heading_sigma_rad = calibration.options.solver.heading_sigma_rad;
+  setup.gnss_white_sigma_m = calibration.options.solver.gnss_white_sigma_m;
+  setup.gnss_bias_sigma_m = calibration.options.solver.gnss_bias_sigma_m;
   setup.quantum_m = quantum_m;
   setup.angular_step_rad = std::abs(preset.angular_step_rad);
   setup.start_n = 1.0 / preset.range_scale_k;

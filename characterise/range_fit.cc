@@ -137,6 +137,35 @@ FitOutput FitRangeModel(const FitSetup& setup) {
     std::vector<double> abs_residuals;
     const double n = x[iN];
     const calib::Mount mount{x[iM], x[iM + 1], x[iM + 2]};
+    // Each scan's own pose error (2-D position, yaw: the GNSS error wandering within the dwell,
+    // white GNSS and heading noise) as three parameters eliminated scan by scan (Schur
+    // complement), with priors: σ² = white² + σ_bias²·min(1, 2·dwell/(3τ)) per axis (the
+    // Gauss–Markov error's spread about its dwell mean) and the heading σ.
+    Eigen::MatrixXd Hgs = Eigen::MatrixXd::Zero(P, 3);
+    Eigen::Matrix3d Hss = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d gs = Eigen::Vector3d::Zero();
+    int current_scan = -1, current_station = 0;
+    double explained = 0.0;  // Σ g_sᵀ H_ss⁻¹ g_s: what the scans' own errors take out
+    auto flush = [&]() {
+      if (current_scan < 0) return;
+      const StationPose& st = set.stations[current_station];
+      const double wander = setup.gnss_tau_s > 0.0
+                                ? std::min(1.0, 2.0 * st.dwell_s / (3.0 * setup.gnss_tau_s))
+                                : 1.0;
+      const double var_p = setup.gnss_white_sigma_m * setup.gnss_white_sigma_m +
+                           setup.gnss_bias_sigma_m * setup.gnss_bias_sigma_m * wander;
+      Hss += Eigen::Vector3d(1.0 / var_p, 1.0 / var_p,
+                             1.0 / (setup.heading_sigma_rad * setup.heading_sigma_rad))
+                 .asDiagonal();
+      const Eigen::Matrix3d inv = Hss.inverse();
+      H.noalias() -= Hgs * inv * Hgs.transpose();
+      g.noalias() -= Hgs * (inv * gs);
+      explained += gs.dot(inv * gs);
+      Hgs.setZero();
+      Hss.setZero();
+      gs.setZero();
+      current_scan = -1;
+    };
     for (size_t b = 0; b < num_beams; ++b) {
       const BeamReturn& beam = set.beams[b];
       StationPose station = set.stations[beam.station];
@@ -204,7 +233,18 @@ FitOutput FitRangeModel(const FitSetup& setup) {
         g[idx[a]] += w * val[a] * r;
         for (int c = 0; c < m; ++c) H(idx[a], idx[c]) += w * val[a] * val[c];
       }
+      if (beam.scan != current_scan) {
+        flush();
+        current_scan = beam.scan;
+        current_station = beam.station;
+      }
+      // The scan's pose error moves the range as the station's does (same partials).
+      const Eigen::Vector3d u(val[m - 4], val[m - 3], val[m - 2]);
+      for (int a = 0; a < m; ++a) Hgs.row(idx[a]) += w * val[a] * u.transpose();
+      Hss += w * u * u.transpose();
+      gs += w * u * r;
     }
+    flush();
     if (used < 10) break;
     H += prior;
     g -= prior * (x - prior_mean);
@@ -213,7 +253,8 @@ FitOutput FitRangeModel(const FitSetup& setup) {
     x += step;
     // The next pass: weights from the RMS, the gate at 4 robust σ.
     const double dof = std::max(1, used - P);
-    sigma_w = std::max(1e-5, std::sqrt(sum_r2 / dof));
+    const double within_r2 = sum_r2 - explained * sigma_w * sigma_w;
+    sigma_w = std::max(1e-5, std::sqrt(std::max(0.0, within_r2) / dof));
     out.robust_sigma_m = 1.4826 * Median(abs_residuals);
     gate_m = std::max(4.0 * out.robust_sigma_m, 1e-3);
   }

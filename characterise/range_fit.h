@@ -8,6 +8,7 @@
 //   - per station: the antenna's GNSS error (2-D, first-order Gauss–Markov prior with the
 //     options' τ and the station's GST σ, as the mount solver's), the heading's error (prior
 //     solver.heading_sigma);
+//   - per scan: its own pose error about the station's (eliminated scan by scan, see the .cc);
 //   - per wall: its offset (prior: the survey's σ, calib/observation.h);
 //   - the mount x, y, yaw (prior: --mount's covariance, or a loose one when estimated here).
 // drift is piecewise linear in time (knots at 0, 7.5, 15, 30, 60, 120, 240 min and the end,
@@ -37,6 +38,7 @@ struct FitSetup {
   bool mount_given = false, mount_sigma_given = false;
   double gnss_tau_s = 60.0;
   double heading_sigma_rad = 0.0017;
+  double gnss_white_sigma_m = 0.005, gnss_bias_sigma_m = 0.015;  // calibrate's solver options
   double quantum_m = 0.0;  // for Sheppard's correction of σ
   double angular_step_rad = 0.0175;  // |step| between beams (the footprint's width)
   double start_n = 1.0, start_c_m = 0.0;
