@@ -158,8 +158,26 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
                           mp.problem.HasParameterBlock(mp.heading_drift.data()) &&
                           !mp.problem.IsParameterBlockConstant(mp.heading_drift.data());
   if (drift_free) kept.push_back(mp.heading_drift.data());
+  const Eigen::MatrixXd kept_information = MarginalInformation(mp, kept, options.num_threads);
+  if (kept_information.rows() >= 3) {
+    // The mount alone: the clock offset and the drift marginalised out of the kept blocks'
+    // information (a Schur complement of a Schur complement is the Schur complement).
+    const int extra = static_cast<int>(kept_information.rows()) - 3;
+    Eigen::Matrix3d mount_information = kept_information.topLeftCorner(3, 3);
+    if (extra > 0) {
+      const Eigen::MatrixXd cross = kept_information.topRightCorner(3, extra);
+      const Eigen::LDLT<Eigen::MatrixXd> ldlt(kept_information.bottomRightCorner(extra, extra));
+      if (ldlt.info() == Eigen::Success) {
+        mount_information -= cross * ldlt.solve(cross.transpose());
+        mp.has_mount_information = true;
+      }
+    } else {
+      mp.has_mount_information = true;
+    }
+    mp.mount_information = 0.5 * (mount_information + mount_information.transpose());
+  }
   Eigen::MatrixXd covariance;
-  if (!CovarianceOfKept(MarginalInformation(mp, kept, options.num_threads), &covariance)) {
+  if (!CovarianceOfKept(kept_information, &covariance)) {
     estimate.failure = EstimateFailure::kCovariance;
     estimate.message =
         "the mount covariance could not be computed: the Jacobian is rank deficient (a mount or "
@@ -240,18 +258,27 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
   if (estimate.usable && moved_m > kLeverRebuildDistanceM) {
     // The heading-noise lever arms were computed from a mount far from the solution: rebuild
     // the noise model from the solution and solve again from there.
+    // The first problem goes before the second is built: two of them would double the peak
+    // memory of a long session. (Should the second not build, the first is built again.)
     const Mount first = estimate.mount;
+    mp.reset();
     auto second = BuildMountProblem(observations, walls, options, first, first, &error);
     if (second) {
       const std::string first_report = estimate.solver_report;
       estimate = SolveMountProblem(*second, options);
       estimate.solver_report = first_report + "\n" + estimate.solver_report;
       mp = std::move(second);
+    } else {
+      mp = BuildMountProblem(observations, walls, options, initial, initial, &error);
+      if (!mp) return Refused(initial, EstimateFailure::kBadInput, error);
+      estimate = SolveMountProblem(*mp, options);
     }
   }
   // After solving: the same check at the solution (the noise model's lever arms and the robust
   // loss's weights have changed).
-  const Eigen::Matrix3d information = MountInformation(*mp, options.num_threads);
+  const Eigen::Matrix3d information = mp->has_mount_information
+                                           ? mp->mount_information
+                                           : MountInformation(*mp, options.num_threads);
   const DeterminationReport after = CheckDetermination(information, observations, walls, options);
   if (!after.ok) {
     estimate.weak_direction = after.weak_direction;
