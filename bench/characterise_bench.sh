@@ -37,3 +37,19 @@ run() {
 }
 run characterise_lms291 0.9992 0.006 0.008
 run characterise_urg04lx 0.9899 0.007 0.0029
+
+# The warm-up drift over the first hour (8.4 mm · (1 − e^−3) = 7.98 mm), DRIFT_SEEDS seeds
+# (default 10: each session is an hour long).
+drift_seeds=${DRIFT_SEEDS:-10}
+: > "$work/drift.txt"
+for seed in $(seq 1 "$drift_seeds"); do
+  "$build/simulate" --config "$src/configs/simulate/characterise_lms291_warmup.yaml" \
+      --seed "$seed" --output "$work/s" > /dev/null
+  "$build/characterise" "$work/s" --config "$work/fast.yaml" --output "$work/p.yaml" \
+      > "$work/out.txt" || true
+  awk '$1 == "drift_mm" { printf "%.3f\n", ($3 - 7.98) / $5 }' "$work/out.txt" >> "$work/drift.txt"
+  rm -rf "$work/s"
+done
+awk -v n="$drift_seeds" '{ m++; d += $1 * $1 }
+  END { printf "%-24s %2d runs of %d  RMS(err/sigma): drift over the first hour %.2f\n",
+               "characterise_lms291_warmup", m, n, sqrt(d / m) }' "$work/drift.txt"

@@ -243,6 +243,34 @@ TEST(CharacteriseTest, AGivenMountIsUsedWithItsSigma) {
   EXPECT_LE(r.model.mount_x_m.sigma, 0.0101);  // the prior's 1 cm, or better
 }
 
+TEST(CharacteriseScenarioTest, ScannerTruthRoundTripsThroughTruthYamlOnlyWhenSet) {
+  const fs::path dir = TempDir("truth");
+  io::SimulationConfig plain;
+  EXPECT_EQ(io::FormatTruthYaml(plain, 1).find("scanner_truth"), std::string::npos);
+  EXPECT_EQ(io::FormatTruthYaml(plain, 1).find("station_distance_far_m"), std::string::npos);
+  io::SimulationConfig config = Scenario("characterise_lms291_warmup");
+  ASSERT_DOUBLE_EQ(config.truth_scale_n, 0.9992);
+  ASSERT_DOUBLE_EQ(config.truth_drift_time_constant_s, 1200.0);
+  config.truth_max_incidence_rad = 60.0 * kDegToRad;
+  io::WriteFileAtomically((dir / "truth.yaml").string(), io::FormatTruthYaml(config, 1));
+  const io::SimulationConfig back = io::ReadTruthYaml((dir / "truth.yaml").string());
+  EXPECT_DOUBLE_EQ(back.truth_scale_n, 0.9992);
+  EXPECT_DOUBLE_EQ(back.truth_offset_c_m, 0.006);
+  EXPECT_DOUBLE_EQ(back.truth_sigma_m, 0.008);
+  EXPECT_DOUBLE_EQ(back.truth_resolution_m, 0.01);
+  EXPECT_NEAR(back.truth_max_incidence_rad, 60.0 * kDegToRad, 1e-12);
+  EXPECT_DOUBLE_EQ(back.truth_drift_amplitude_m, 0.0084);
+  EXPECT_DOUBLE_EQ(back.station_distance_far_m, 17.6);
+  // A bad value is refused with its key.
+  std::ofstream((dir / "bad.yaml").string()) << "scanner_truth: {n: 3.0}\n";
+  try {
+    io::ReadSimulationConfig((dir / "bad.yaml").string());
+    FAIL() << "n = 3 accepted";
+  } catch (const io::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scanner_truth.n"), std::string::npos) << e.what();
+  }
+}
+
 // The program: usage and exit codes.
 int RunProgram(const std::string& command) {
   const int raw = std::system((command + " > /dev/null 2>&1").c_str());
