@@ -34,12 +34,12 @@ std::string Summary(const Characterisation& r) {
     return out.str();
   }
   out << "  range correction (y = k*z + b):\n";
-  out << "k = " << Pm(m.k, "%.6f") << "\n";
-  out << "b_mm = " << Pm(m.b_m, "%.2f", 1e3) << Format("   (corr(k, b) %.2f)\n", m.corr_k_b);
+  out << "k = " << Pm(m.k, "%.7f") << "\n";
+  out << "b_mm = " << Pm(m.b_m, "%.3f", 1e3) << Format("   (corr(k, b) %.2f)\n", m.corr_k_b);
   out << "  simulation model (z = n*true + c):\n";
   out << "n = " << Pm(m.n, "%.6f") << "\n";
-  out << "c_mm = " << Pm(m.c_m, "%.2f", 1e3) << "\n";
-  out << "sigma_mm = " << Pm(m.sigma_m, "%.3f", 1e3)
+  out << "c_mm = " << Pm(m.c_m, "%.3f", 1e3) << "\n";
+  out << "sigma_mm = " << Pm(m.sigma_m, "%.4f", 1e3)
       << Format("   (residual RMS %.3f mm, quantum included)\n", 1e3 * m.residual_rms_m);
   out << "  noise growth: "
       << Pm(s.noise_vs_range.slope, "%.3f", 1e3) << " mm/m with range"
