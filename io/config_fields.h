@@ -139,10 +139,6 @@ void VisitSimulation(V& v, SimulationConfig& c) {
   v.Number("lost_scan_fraction", c.lost_scan_fraction);
   v.Number("mixed_pixel_probability", c.mixed_pixel_probability);
   v.Number("start_time_s", c.start_time_s);
-  v.Number("gnss_latency_s", c.gnss_latency_s);
-  v.Number("gnss_jitter_s", c.gnss_jitter_s);
-  v.Number("heading_latency_s", c.heading_latency_s);
-  v.Number("scanner_latency_s", c.scanner_latency_s);
 }
 
 }  // namespace wallcal::io::fields

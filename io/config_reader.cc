@@ -125,6 +125,11 @@ namespace {
 // The characterisation keys of a scenario (SimulationConfig's last block): read beside the
 // visitor's keys, since truth.yaml writes them only when set.
 void ReadCharacterisationKeys(MapReader& section, SimulationConfig& config) {
+  // The per-stream delays, likewise written only when set.
+  section.Number("gnss_latency_s", config.gnss_latency_s);
+  section.Number("gnss_jitter_s", config.gnss_jitter_s);
+  section.Number("heading_latency_s", config.heading_latency_s);
+  section.Number("scanner_latency_s", config.scanner_latency_s);
   section.Number("station_distance_far_m", config.station_distance_far_m);
   const YAML::Node node = section.Find("scanner_truth");
   if (!node.IsDefined()) return;

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <utility>
 
 #include "io/config_fields.h"
 #include "io/input_file.h"
@@ -429,7 +430,15 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
   out += "seed: " + std::to_string(seed) + "\n";
   out += "simulation:\n";
   out += simulation.Block(2);
-  // The characterisation keys only when set: older scenarios' truth.yaml stays as it was.
+  // The per-stream delays and the characterisation keys only when set: older scenarios'
+  // truth.yaml stays as it was.
+  for (const auto& [key, value] :
+       {std::pair<const char*, double>{"gnss_latency_s", config.gnss_latency_s},
+        {"gnss_jitter_s", config.gnss_jitter_s},
+        {"heading_latency_s", config.heading_latency_s},
+        {"scanner_latency_s", config.scanner_latency_s}}) {
+    if (value != 0.0) out += std::string("  ") + key + ": " + ShortestNumber(value) + "\n";
+  }
   if (config.station_distance_far_m != 0.0) {
     out += "  station_distance_far_m: " + ShortestNumber(config.station_distance_far_m) + "\n";
   }
