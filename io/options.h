@@ -67,6 +67,13 @@ struct AlignmentOptions {
   // Use moving scans anyway when the session has fewer dwells than solver.min_stations (an
   // engineer drove continuously): the solver then also estimates the scanner clock offset.
   bool moving_scans_if_few_stations = true;
+  // Stop-and-go sessions: the scans taken while driving between the stops are used too, each
+  // with its pose uncertainty (solver.moving_timing_sigma_s, interpolation, scans per GNSS fix)
+  // in its covariance, when the scanner clock offset they need is determined (estimated with
+  // σ <= moving_max_time_offset_sigma_s); otherwise they are dropped again and the standing
+  // scans solved alone. false: standing scans only (unless use_moving_scans or too few stations).
+  bool moving_scans_in_stop_and_go = true;
+  double moving_max_time_offset_sigma_s = 0.005;
   void Validate() const;
 };
 
@@ -95,6 +102,11 @@ struct SolverOptions {
   // Prior σ of the scanner-clock offset to the GNSS/heading clocks, estimated when moving scans
   // are used (0: never estimated).
   double time_offset_sigma_s = 0.1;
+  // A moving scan's pose timing uncertainty that no parameter takes up (s, 1σ, white per scan):
+  // stamp jitter of the scanner and of the GNSS / heading sentences, the spread of their delays
+  // about the estimated offset. Moves the pose by speed × σ along the track and the yaw by yaw
+  // rate × σ (solvers/mount_problem.cc, MovingPoseCovariance).
+  double moving_timing_sigma_s = 0.002;
   // Prior σ of the heading sensor's drift rate (rad/s; a FOG drifts linearly, Barawid 2007: ±0.5°/h),
   // estimated as one rate over the session (0: no drift modelled).
   double heading_drift_sigma_rad_per_s = 2.4240684e-6;  // 0.5 deg/h
