@@ -7,7 +7,13 @@
 //
 //   accuracy_bench [--runs N] [--scenario NAME] [--first-seed S] [--csv FILE] [--breakdown]
 //                  [--max-crb-obs M] [--max-all-obs M] [--delay-prior S] [--options FILE]
-//                  [--keep] [--list]
+//                  [--sim FILE] [--crb-only] [--keep] [--list]
+//
+// --crb-only: only the all-data bound per scenario (on --max-all-obs wall lines and on half as
+// many), no simulated runs: how the bound and its cost scale with the subsample.
+//
+// --sim FILE: one scenario simulated from FILE (a configs/simulate/ style config) with
+// bench/calibrate_matched.yaml, for experiments.
 //
 // Two bounds per scenario: over the scans calibrate used in each run (mean over the runs), and
 // over ALL the data the session holds (bench/crb.h AllSessionObservations: every logged scan,
@@ -137,13 +143,15 @@ struct Args {
   int max_all_obs = 2400;
   double delay_prior_s = 0.05;
   std::string options;  // calibrate options for every scenario instead of bench/calibrate_*.yaml
+  std::string sim;      // --sim FILE: one scenario from this simulate config instead
+  bool crb_only = false;  // --crb-only: the all-data bound (and on half the scans), no runs
 };
 
 [[noreturn]] void Usage(const std::string& why) {
   std::fprintf(stderr,
                "accuracy_bench: %s\nusage: accuracy_bench [--runs N] [--scenario NAME] "
                "[--first-seed S] [--csv FILE] [--breakdown] [--max-crb-obs M] [--max-all-obs M] "
-               "[--delay-prior S] [--options FILE] [--keep] [--list]\n",
+               "[--delay-prior S] [--options FILE] [--sim FILE] [--crb-only] [--keep] [--list]\n",
                why.c_str());
   std::exit(2);
 }
@@ -171,6 +179,10 @@ Args ParseArgs(int argc, char** argv) {
       args.max_all_obs = std::atoi(value().c_str());
     } else if (a == "--delay-prior") {
       args.delay_prior_s = std::atof(value().c_str());
+    } else if (a == "--crb-only") {
+      args.crb_only = true;
+    } else if (a == "--sim") {
+      args.sim = value();
     } else if (a == "--options") {
       args.options = value();
     } else if (a == "--breakdown") {
@@ -242,6 +254,16 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
   const int half = std::max(3, all_crb.observations_used / 2);
   const CrbResult all_half = ComputeCrb(config, preset, all_obs, kAllSources, all_delays, half);
   if (!all_crb.ok) throw std::runtime_error(scenario.name + ": all-data CRB: " + all_crb.message);
+  if (args.crb_only) {
+    std::printf("%s: all-data CRB on %d of %d wall lines (%.1f s): x %.2f mm, y %.2f mm, yaw %.4f "
+                "deg; on %d: x %.2f mm, y %.2f mm, yaw %.4f deg\n",
+                scenario.name.c_str(), all_crb.observations_used, all_crb.observations_given,
+                all_seconds, 1000.0 * std::sqrt(all_crb.crb(0, 0)),
+                1000.0 * std::sqrt(all_crb.crb(1, 1)), kRadToDeg * std::sqrt(all_crb.crb(2, 2)),
+                all_half.observations_used, 1000.0 * std::sqrt(all_half.crb(0, 0)),
+                1000.0 * std::sqrt(all_half.crb(1, 1)), kRadToDeg * std::sqrt(all_half.crb(2, 2)));
+    return;
+  }
 
   MethodStats stats[2];
   const char* methods[2] = {"ceres", "barawid"};
@@ -495,7 +517,15 @@ int main(int argc, char** argv) {
   }
   bool any = false;
   try {
+    if (!args.sim.empty()) {
+      any = true;
+      const Scenario custom{"custom", "custom: " + args.sim, args.sim,
+                            std::string(WALLCAL_SOURCE_DIR) + "/bench/calibrate_matched.yaml",
+                            false};
+      RunScenario(custom, args, csv);
+    }
     for (const Scenario& s : Scenarios()) {
+      if (!args.sim.empty()) break;
       if (!args.scenario.empty() && args.scenario != s.name) continue;
       any = true;
       RunScenario(s, args, csv);
