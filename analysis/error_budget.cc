@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "analysis/repeatability.h"
+#include "common/parallel_for.h"
 #include "solvers/mount_solver.h"
 
 namespace wallcal::analysis {
@@ -55,22 +57,45 @@ ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observ
                                const io::SolverOptions& options, const calib::Mount& mount) {
   ErrorBudget budget;
   if (observations.empty()) return budget;
+  // Long sessions are thinned as the repeatability's re-solves are (every stride-th
+  // observation, its information multiplied by the stride): the shares are ratios of
+  // variances, which the thinning leaves as they are to the sampling of the scans.
+  const size_t stride =
+      std::max<size_t>(1, (observations.size() + kMaxRefitObservations - 1) / kMaxRefitObservations);
+  std::vector<calib::WallObservation> thinned;
+  if (stride > 1) {
+    thinned.reserve(observations.size() / stride + 1);
+    for (size_t i = 0; i < observations.size(); i += stride) thinned.push_back(observations[i]);
+  }
+  const std::vector<calib::WallObservation>& base = stride > 1 ? thinned : observations;
+  const std::vector<double> weights =
+      stride > 1 ? std::vector<double>(base.size(), static_cast<double>(stride))
+                 : std::vector<double>();
   // Linearised at the estimate: one Gauss-Newton step at most (the estimate is the optimum).
-  auto covariance_of = [&mount](const std::vector<calib::WallObservation>& obs,
-                                const std::vector<calib::WallGeometry>& w,
-                                const io::SolverOptions& o, Eigen::Vector3d* diagonal) {
-    const solvers::Refit refit = solvers::RefitMount(obs, w, o, mount, {}, 1);
+  io::SolverOptions one_thread = options;
+  one_thread.num_threads = 1;
+  auto covariance_of = [&](const std::vector<calib::WallObservation>& obs,
+                           const std::vector<calib::WallGeometry>& w, const io::SolverOptions& o,
+                           Eigen::Vector3d* diagonal) {
+    const solvers::Refit refit = solvers::RefitMount(obs, w, o, mount, weights, 1);
     if (!refit.converged || !refit.covariance.allFinite()) return false;
     *diagonal = Diagonal(refit.covariance);
     return true;
   };
-  if (!covariance_of(observations, walls, options, &budget.total_variance)) return budget;
 
-  for (int k = 0; k < kNumErrorSources; ++k) {
-    const ErrorSource source = static_cast<ErrorSource>(k);
-    std::vector<calib::WallObservation> obs = observations;
+  // Slot 0: every source as it is; slot 1 + k: source k made exact. Solved over the threads,
+  // one Ceres thread each; each slot is its own.
+  std::array<Eigen::Vector3d, kNumErrorSources + 1> variances{};
+  std::array<bool, kNumErrorSources + 1> ok{};
+  ParallelFor(kNumErrorSources + 1, options.num_threads, [&](int slot) {
+    if (slot == 0) {
+      ok[0] = covariance_of(base, walls, one_thread, &variances[0]);
+      return;
+    }
+    const ErrorSource source = static_cast<ErrorSource>(slot - 1);
+    std::vector<calib::WallObservation> obs;
     std::vector<calib::WallGeometry> w = walls;
-    io::SolverOptions o = options;
+    io::SolverOptions o = one_thread;
     switch (source) {
       case ErrorSource::kSurvey:
         // Keep only the tie's part of each wall's prior (calib/survey_tie.cc builds the two
@@ -106,12 +131,14 @@ ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observ
       case ErrorSource::kGnss:
         o.gnss_white_sigma_m *= kExact;
         o.gnss_bias_sigma_m *= kExact;
+        obs = base;
         for (calib::WallObservation& ob : obs) ob.pose.gnss_sigma_m *= kExact;
         break;
       case ErrorSource::kHeading:
         o.heading_sigma_rad *= kExact;
         break;
       case ErrorSource::kScanner:
+        obs = base;
         for (calib::WallObservation& ob : obs) {
           ob.sigma_rho_m *= kExact;
           ob.sigma_theta_rad *= kExact;
@@ -119,9 +146,15 @@ ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observ
         }
         break;
     }
-    Eigen::Vector3d without = budget.total_variance;
-    if (!covariance_of(obs, w, o, &without)) return budget;
-    budget.variance[k] = (budget.total_variance - without).cwiseMax(0.0);
+    ok[slot] = covariance_of(obs.empty() ? base : obs, w, o, &variances[slot]);
+  });
+  if (!ok[0]) return budget;
+  budget.total_variance = variances[0];
+  for (bool slot_ok : ok) {
+    if (!slot_ok) return budget;
+  }
+  for (int k = 0; k < kNumErrorSources; ++k) {
+    budget.variance[k] = (budget.total_variance - variances[k + 1]).cwiseMax(0.0);
   }
   for (int axis = 0; axis < 3; ++axis) {
     int best = 0;

@@ -6,6 +6,9 @@
 // with one source made exact (its σ multiplied by 10⁻³); the variance that goes away is that
 // source's share. The shares need not add up to the whole: the remainder is what the
 // geometry of the session does with the sources together (reported as `other`).
+// Sessions of more than kMaxRefitObservations observations are thinned for it as the
+// repeatability's re-solves are (analysis/repeatability.h). The six re-solves run over
+// options.num_threads threads; the result does not depend on the count.
 
 #include <array>
 #include <string>

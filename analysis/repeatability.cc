@@ -7,6 +7,7 @@
 
 #include "calib/wall_geometry.h"
 #include "common/angles.h"
+#include "common/parallel_for.h"
 
 namespace wallcal::analysis {
 namespace {
@@ -36,20 +37,28 @@ Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& obs
   std::map<int, int> rank;
   for (int k = 0; k < num_stations; ++k) rank[order[k].second] = k;
 
-  // Thinning: every stride-th observation, weighted by the stride.
+  // Thinning: every stride-th observation, weighted by the stride. The re-solves get only the
+  // thinned observations (an hour-long session's re-solves would otherwise walk 90 times as
+  // many observations of weight 0 each).
   const size_t stride =
       std::max<size_t>(1, (observations.size() + kMaxRefitObservations - 1) / kMaxRefitObservations);
-  std::vector<int> station_of(observations.size());
-  for (size_t i = 0; i < observations.size(); ++i) station_of[i] = rank[observations[i].pose.segment];
+  std::vector<calib::WallObservation> thinned;
+  std::vector<int> station_of;
+  for (size_t i = 0; i < observations.size(); i += stride) {
+    thinned.push_back(observations[i]);
+    station_of.push_back(rank[observations[i].pose.segment]);
+  }
   const auto weights_for = [&](const std::vector<double>& station_weight) {
-    std::vector<double> w(observations.size(), 0.0);
-    for (size_t i = 0; i < observations.size(); i += stride) {
+    std::vector<double> w(thinned.size(), 0.0);
+    for (size_t i = 0; i < thinned.size(); ++i) {
       w[i] = station_weight[station_of[i]] * static_cast<double>(stride);
     }
     return w;
   };
 
-  // Splits.
+  // Splits, then the bootstrap by station: the station weights of every re-solve are drawn
+  // first (in order, from one generator), the re-solves then run over the threads, each with
+  // one Ceres thread, and are summed in order: the outcome does not depend on the count.
   struct SplitSpec {
     const char* name;
     bool (*take)(int k, int n);
@@ -60,13 +69,32 @@ Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& obs
       {"odd stations", [](int k, int) { return k % 2 == 0; }},  // 1st, 3rd, ... (1-based odd)
       {"even stations", [](int k, int) { return k % 2 == 1; }},
   };
+  constexpr int kNumSplits = 4;
+  std::vector<std::vector<double>> station_weights;
   for (const SplitSpec& spec : specs) {
     std::vector<double> station_weight(num_stations, 0.0);
     for (int k = 0; k < num_stations; ++k) station_weight[k] = spec.take(k, num_stations) ? 1.0 : 0.0;
-    const solvers::Refit refit = solvers::RefitMount(observations, walls, options, full,
-                                                     weights_for(station_weight), kRefitIterations);
+    station_weights.push_back(std::move(station_weight));
+  }
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<int> pick(0, num_stations - 1);
+  for (int b = 0; b < samples; ++b) {
+    std::vector<double> station_weight(num_stations, 0.0);
+    for (int k = 0; k < num_stations; ++k) station_weight[pick(rng)] += 1.0;
+    station_weights.push_back(std::move(station_weight));
+  }
+  io::SolverOptions one_thread = options;
+  one_thread.num_threads = 1;
+  std::vector<solvers::Refit> refits(station_weights.size());
+  ParallelFor(static_cast<int>(refits.size()), options.num_threads, [&](int r) {
+    refits[r] = solvers::RefitMount(thinned, walls, one_thread, full,
+                                    weights_for(station_weights[r]), kRefitIterations);
+  });
+
+  for (int r = 0; r < kNumSplits; ++r) {
+    const solvers::Refit& refit = refits[r];
     RepeatabilitySplit split;
-    split.name = spec.name;
+    split.name = specs[r].name;
     split.mount = refit.mount;
     split.usable = refit.converged && refit.determined;
     if (split.usable) {
@@ -79,17 +107,11 @@ Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& obs
     out.splits.push_back(split);
   }
 
-  // Bootstrap by station.
-  std::mt19937_64 rng(seed);
-  std::uniform_int_distribution<int> pick(0, num_stations - 1);
   double sum_sq[3] = {0.0, 0.0, 0.0};
   double sum[3] = {0.0, 0.0, 0.0};
   int used = 0;
-  for (int b = 0; b < samples; ++b) {
-    std::vector<double> station_weight(num_stations, 0.0);
-    for (int k = 0; k < num_stations; ++k) station_weight[pick(rng)] += 1.0;
-    const solvers::Refit refit = solvers::RefitMount(observations, walls, options, full,
-                                                     weights_for(station_weight), kRefitIterations);
+  for (size_t r = kNumSplits; r < refits.size(); ++r) {
+    const solvers::Refit& refit = refits[r];
     if (!refit.converged || !refit.determined) continue;
     const double d[3] = {refit.mount.x_m - full.x_m, refit.mount.y_m - full.y_m,
                          WrapAngle(refit.mount.yaw_rad - full.yaw_rad)};

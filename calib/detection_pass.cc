@@ -1,6 +1,7 @@
 #include "calib/detection_pass.h"
 
 #include <algorithm>
+#include <future>
 #include <thread>
 #include <utility>
 
@@ -106,8 +107,9 @@ void DetectInScan(const PassContext& context, const PassRequest& request, Pendin
   const io::DetectorOptions& detector = *context.detector;
   const VehiclePose& pose = pending->pose;
   ScanSkip* why = &pending->why;
-  const ScanPoints points = ToScanPoints(pending->scan, *context.preset, detector.min_range_m,
-                                         detector.mixed_pixel_jump_m, &pending->range_counts);
+  thread_local ScanPoints points;  // reused: no allocation per scan once warm
+  FillScanPoints(pending->scan, *context.preset, detector.min_range_m,
+                 detector.mixed_pixel_jump_m, &pending->range_counts, &points);
   *why = ScanSkip::kWallNotDetected;
   for (size_t w = 0; w < context.walls->size(); ++w) {
     const WallGeometry& wall = (*context.walls)[w];
@@ -184,46 +186,118 @@ void DetectBatch(const PassContext& context, const PassRequest& request,
 
 }  // namespace
 
-PassOutcome DetectionPass(const PassContext& context, const PassRequest& request) {
-  PassOutcome outcome;
-  const std::unique_ptr<io::ScanSource> scans = context.open_scans();
-  std::vector<PendingScan> batch;
-  batch.reserve(kBatchScans);
-  io::ScanRecord scan;
-  double last_examined_s = -1e300;
-  int scan_index = -1;
-  while (scans->Next(&scan)) {
-    ++scan_index;
-    const double stamp_s = scan.stamp_s + context.scanner_time_offset_s;
-    TrackStamp(stamp_s, scan_index, scan.line, &outcome);
-    if (request.progress && scan_index % 2000 == 0) request.progress(scan_index);
-    if (request.min_interval_s > 0.0) {
-      if (stamp_s - last_examined_s < request.min_interval_s) continue;
-      last_examined_s = stamp_s;
+namespace {
+
+// What reading a batch found besides its scans (the reader's own counts, merged at the end).
+struct ReadBatch {
+  std::vector<PendingScan> scans;
+  bool at_end = false;
+};
+
+// Reads scans in file order until kBatchScans wait for detection or the source ends. With
+// request.min_interval_s > 0 only the stamps of the scans passed over are read (skimming,
+// io/scan_source.h). Counts into *reading (stamps, skips before detection).
+class BatchReader {
+ public:
+  BatchReader(const PassContext& context, const PassRequest& request, io::ScanSource* scans,
+              PassOutcome* reading)
+      : context_(context), request_(request), scans_(scans), reading_(reading) {}
+
+  ReadBatch Read() {
+    ReadBatch batch;
+    batch.scans.reserve(kBatchScans);
+    const bool skim = request_.min_interval_s > 0.0;
+    io::ScanRecord scan;
+    while (batch.scans.size() < kBatchScans) {
+      double raw_stamp_s = 0.0;
+      int line = 0;
+      if (skim) {
+        if (!scans_->NextStamp(&raw_stamp_s, &line)) {
+          batch.at_end = true;
+          break;
+        }
+      } else {
+        if (!scans_->Next(&scan)) {
+          batch.at_end = true;
+          break;
+        }
+        raw_stamp_s = scan.stamp_s;
+        line = scan.line;
+      }
+      ++scan_index_;
+      const double stamp_s = raw_stamp_s + context_.scanner_time_offset_s;
+      TrackStamp(stamp_s, scan_index_, line, reading_);
+      if (request_.progress && scan_index_ % 2000 == 0) request_.progress(scan_index_);
+      if (skim) {
+        if (stamp_s - last_examined_s_ < request_.min_interval_s) continue;
+        if (!scans_->ParseCurrent(&scan)) continue;  // malformed: counted by the source
+        last_examined_s_ = stamp_s;
+      }
+      ++reading_->scans_examined;
+      if (static_cast<int>(scan.ranges_m.size()) != context_.preset->num_beams &&
+          reading_->beam_count_mismatch++ == 0) {
+        reading_->first_mismatch_beams = static_cast<int>(scan.ranges_m.size());
+      }
+      VehiclePose pose;
+      const PoseStatus status = context_.poses->At(stamp_s, &pose);
+      if (status != PoseStatus::kOk) {
+        ++reading_->skipped[ScanSkipFor(status)];
+        continue;
+      }
+      if (!pose.stationary && !context_.use_moving) {
+        ++reading_->skipped[ScanSkip::kVehicleMoving];
+        continue;
+      }
+      PendingScan pending;
+      pending.scan = std::move(scan);
+      pending.index = static_cast<int>(scan_index_);
+      pending.pose = pose;
+      batch.scans.push_back(std::move(pending));
     }
-    ++outcome.scans_examined;
-    if (static_cast<int>(scan.ranges_m.size()) != context.preset->num_beams &&
-        outcome.beam_count_mismatch++ == 0) {
-      outcome.first_mismatch_beams = static_cast<int>(scan.ranges_m.size());
-    }
-    VehiclePose pose;
-    const PoseStatus status = context.poses->At(stamp_s, &pose);
-    if (status != PoseStatus::kOk) {
-      ++outcome.skipped[ScanSkipFor(status)];
-      continue;
-    }
-    if (!pose.stationary && !context.use_moving) {
-      ++outcome.skipped[ScanSkip::kVehicleMoving];
-      continue;
-    }
-    PendingScan pending;
-    pending.scan = std::move(scan);
-    pending.index = scan_index;
-    pending.pose = pose;
-    batch.push_back(std::move(pending));
-    if (batch.size() >= kBatchScans) DetectBatch(context, request, &batch, &outcome);
+    return batch;
   }
-  if (!batch.empty()) DetectBatch(context, request, &batch, &outcome);
+
+ private:
+  const PassContext& context_;
+  const PassRequest& request_;
+  io::ScanSource* scans_;
+  PassOutcome* reading_;
+  int64_t scan_index_ = -1;
+  double last_examined_s_ = -1e300;
+};
+
+}  // namespace
+
+PassOutcome DetectionPass(const PassContext& context, const PassRequest& request) {
+  PassOutcome outcome;  // detection's part: observations, detection skips, range counts
+  PassOutcome reading;  // the reader's part: stamps, examined scans, skips before detection
+  const std::unique_ptr<io::ScanSource> scans = context.open_scans();
+  BatchReader reader(context, request, scans.get(), &reading);
+  if (context.threads <= 1) {
+    for (bool more = true; more;) {
+      ReadBatch batch = reader.Read();
+      more = !batch.at_end;
+      if (!batch.scans.empty()) DetectBatch(context, request, &batch.scans, &outcome);
+    }
+  } else {
+    // Reading (parsing) the next batch overlaps the detection of this one: one reader at a
+    // time, so the reader's state needs no lock; batches are detected in file order.
+    std::future<ReadBatch> next = std::async(std::launch::async, [&reader]() { return reader.Read(); });
+    for (bool more = true; more;) {
+      ReadBatch batch = next.get();
+      more = !batch.at_end;
+      if (more) next = std::async(std::launch::async, [&reader]() { return reader.Read(); });
+      if (!batch.scans.empty()) DetectBatch(context, request, &batch.scans, &outcome);
+    }
+  }
+  for (const auto& [reason, count] : reading.skipped) outcome.skipped[reason] += count;
+  outcome.scans_examined = reading.scans_examined;
+  outcome.beam_count_mismatch = reading.beam_count_mismatch;
+  outcome.first_mismatch_beams = reading.first_mismatch_beams;
+  outcome.not_increasing = reading.not_increasing;
+  outcome.first_not_increasing_line = reading.first_not_increasing_line;
+  outcome.first_stamp_s = reading.first_stamp_s;
+  outcome.last_stamp_s = reading.last_stamp_s;
   outcome.scans_read = scans->scans_read();
   outcome.line_skips = scans->skipped();
   return outcome;

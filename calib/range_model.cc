@@ -33,11 +33,53 @@ Fate Classify(float raw_m, double corrected_m, const io::ScanRecord& scan,
 
 }  // namespace
 
+namespace {
+
+// The beams' cosines and sines for one scan geometry, computed once per thread while the
+// geometry stays the same (every scan of a log, as a rule): bit-identical to computing them
+// per scan.
+struct BearingTable {
+  int n = -1;
+  double start_rad = 0.0, step_rad = 0.0;
+  std::vector<double> cos, sin;
+
+  void For(const io::ScanRecord& scan) {
+    const int beams = static_cast<int>(scan.ranges_m.size());
+    if (beams == n && scan.start_angle_rad == start_rad && scan.angular_step_rad == step_rad) {
+      return;
+    }
+    n = beams;
+    start_rad = scan.start_angle_rad;
+    step_rad = scan.angular_step_rad;
+    cos.resize(static_cast<size_t>(n));
+    sin.resize(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      const double bearing = scan.start_angle_rad + i * scan.angular_step_rad;
+      cos[static_cast<size_t>(i)] = std::cos(bearing);
+      sin[static_cast<size_t>(i)] = std::sin(bearing);
+    }
+  }
+};
+
+}  // namespace
+
 ScanPoints ToScanPoints(const io::ScanRecord& scan, const io::ScannerPreset& preset,
                         double min_range_m, double mixed_jump_m, RangeCounts* counts) {
+  ScanPoints out;
+  FillScanPoints(scan, preset, min_range_m, mixed_jump_m, counts, &out);
+  return out;
+}
+
+void FillScanPoints(const io::ScanRecord& scan, const io::ScannerPreset& preset,
+                    double min_range_m, double mixed_jump_m, RangeCounts* counts,
+                    ScanPoints* points) {
   const int n = static_cast<int>(scan.ranges_m.size());
-  std::vector<double> r(n, 0.0);
-  std::vector<uint8_t> valid(n, 0);
+  thread_local std::vector<double> r;
+  thread_local std::vector<uint8_t> valid;
+  thread_local BearingTable bearings;
+  r.assign(static_cast<size_t>(n), 0.0);
+  valid.assign(static_cast<size_t>(n), 0);
+  bearings.For(scan);
   RangeCounts local;
   for (int i = 0; i < n; ++i) {
     const float raw = scan.ranges_m[i];
@@ -88,7 +130,12 @@ ScanPoints ToScanPoints(const io::ScanRecord& scan, const io::ScannerPreset& pre
     return !has_neighbour;
   };
 
-  ScanPoints out;
+  ScanPoints& out = *points;
+  out.p_scanner_m.clear();
+  out.range_m.clear();
+  out.bearing_rad.clear();
+  out.beam.clear();
+  out.mixed_suspect.clear();
   out.p_scanner_m.reserve(local.valid);
   out.range_m.reserve(local.valid);
   out.bearing_rad.reserve(local.valid);
@@ -100,13 +147,12 @@ ScanPoints ToScanPoints(const io::ScanRecord& scan, const io::ScannerPreset& pre
     if (i > 0) suspect = suspect || !valid[i - 1] || is_jump(i - 1);
     if (i + 1 < n) suspect = suspect || !valid[i + 1] || is_jump(i);
     const double bearing = scan.start_angle_rad + i * scan.angular_step_rad;
-    out.p_scanner_m.emplace_back(r[i] * std::cos(bearing), r[i] * std::sin(bearing));
+    out.p_scanner_m.emplace_back(r[i] * bearings.cos[i], r[i] * bearings.sin[i]);
     out.range_m.push_back(static_cast<float>(r[i]));
     out.bearing_rad.push_back(static_cast<float>(bearing));
     out.beam.push_back(i);
     out.mixed_suspect.push_back(suspect ? 1 : 0);
   }
-  return out;
 }
 
 }  // namespace wallcal::calib

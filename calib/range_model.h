@@ -56,5 +56,10 @@ struct RangeCounts {
 // counts may be null. Never throws.
 ScanPoints ToScanPoints(const io::ScanRecord& scan, const io::ScannerPreset& preset,
                         double min_range_m, double mixed_jump_m, RangeCounts* counts);
+// The same into *points, reusing its storage (a pass converts every scan into one per thread).
+// The beams' sines and cosines are computed once per scan geometry and thread.
+void FillScanPoints(const io::ScanRecord& scan, const io::ScannerPreset& preset,
+                    double min_range_m, double mixed_jump_m, RangeCounts* counts,
+                    ScanPoints* points);
 
 }  // namespace wallcal::calib

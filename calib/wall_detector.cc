@@ -275,36 +275,60 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   // Stored rho-major (one column of theta cells per rho cell): a point's votes in neighbouring
   // theta rows fall at nearly the same rho, so they land in the same cache lines. Transposed to
   // the documented theta-rows layout only when the caller keeps it.
-  cv::Mat_<int> acc_t(n_rho, n_theta, 0);
-  std::vector<double> cos_t(n_theta), sin_t(n_theta);
+  // The accumulator, the angle table and the per-point flags live in per-thread storage that
+  // grows to the largest gate seen: a pass over a long log allocates nothing per scan. One cell
+  // past the end takes the votes that fall outside the accumulator (no branch in the loop).
+  thread_local std::vector<int> acc_storage;
+  thread_local std::vector<double> cos_t, sin_t, cell_f;
+  thread_local std::vector<uint8_t> voter, withdrawn;
+  const int cells = n_rho * n_theta;
+  acc_storage.assign(static_cast<size_t>(cells) + 1, 0);
+  int* const acc = acc_storage.data();
+  const cv::Mat_<int> acc_t(n_rho, n_theta, acc);  // a view, no copy
+  cos_t.resize(static_cast<size_t>(n_theta));
+  sin_t.resize(static_cast<size_t>(n_theta));
+  cell_f.resize(static_cast<size_t>(n_theta));
   for (int k = 0; k < n_theta; ++k) {
     cos_t[k] = std::cos(theta0 + k * theta_step);
     sin_t[k] = std::sin(theta0 + k * theta_step);
   }
   const double inv_r_step = 1.0 / r_step;
   const double min_voting_range = rho0 - 0.5 * r_step;  // |rho| <= range
-  // Cells reaching two votes are the only possible peaks: listing them as they fill spares a
-  // scan of the whole accumulator (most of a wide gate's cells stay empty).
-  std::vector<int> busy_cells;
-  // delta = +1 casts point i's votes, −1 withdraws them.
+  const double* const cos_k = cos_t.data();
+  const double* const sin_k = sin_t.data();
+  double* const f_k = cell_f.data();
+  const double n_rho_d = n_rho;
+  // delta = +1 casts point i's votes, −1 withdraws them. Cell (j, k) is acc[j·n_theta + k].
   auto vote = [&](int i, int delta) {
     const double x = points.p_scanner_m[i].x(), y = points.p_scanner_m[i].y();
     for (int k = 0; k < n_theta; ++k) {
-      const double rho = x * cos_t[k] + y * sin_t[k];
-      const double f = (rho - rho0) * inv_r_step + 0.5;  // cell j covers f in [j, j + 1)
-      if (!(f >= 0.0 && f < n_rho)) continue;
-      const int j = static_cast<int>(f);
-      if ((acc_t(j, k) += delta) == 2 && delta > 0) busy_cells.push_back(j * n_theta + k);
+      const double rho = x * cos_k[k] + y * sin_k[k];
+      f_k[k] = (rho - rho0) * inv_r_step + 0.5;  // cell j covers f in [j, j + 1)
+    }
+    for (int k = 0; k < n_theta; ++k) {
+      const double f = f_k[k];
+      const bool inside = f >= 0.0 && f < n_rho_d;
+      acc[inside ? static_cast<int>(inside ? f : 0.0) * n_theta + k : cells] += delta;
     }
   };
   // Points that vote: not mixed (they lie between two surfaces and must not build or shift a
   // peak), and not closer than the gate (|rho| <= range).
-  std::vector<uint8_t> voter(num_points, 0);
+  voter.assign(static_cast<size_t>(num_points), 0);
   for (int i = 0; i < num_points; ++i) {
     voter[i] = !points.mixed_suspect[i] && points.range_m[i] >= min_voting_range;
     if (voter[i]) vote(i, +1);
   }
-  std::vector<uint8_t> withdrawn(num_points, 0);  // given to a line outside the gate
+  // Cells with two votes or more are the only possible peaks (votes are only ever withdrawn
+  // afterwards): listed once, in-gate rows and columns only.
+  thread_local std::vector<int> busy_cells;
+  busy_cells.clear();
+  for (int j = 1; j <= n_in; ++j) {
+    const int* column = acc + static_cast<size_t>(j) * n_theta;
+    for (int k = row_first; k <= row_last; ++k) {
+      if (column[k] >= 2) busy_cells.push_back(j * n_theta + k);
+    }
+  }
+  withdrawn.assign(static_cast<size_t>(num_points), 0);  // given to a line outside the gate
   if (keep_accumulator) {
     det.accumulator = acc_t.t();
     det.acc_theta0_rad = theta0;

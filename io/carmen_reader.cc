@@ -47,6 +47,28 @@ bool ParseInt(std::string_view token, int* value) {
   return result.ec == std::errc() && result.ptr == end;
 }
 
+bool IsScanKeyword(std::string_view keyword) {
+  return keyword == "RAWLASER1" || keyword == "ROBOTLASER1" || keyword == "FLASER";
+}
+
+std::string_view FirstToken(const std::string& line) {
+  const char* p = line.data();
+  const char* end = p + line.size();
+  while (p < end && IsSpace(*p)) ++p;
+  const char* start = p;
+  while (p < end && !IsSpace(*p)) ++p;
+  return std::string_view(start, static_cast<size_t>(p - start));
+}
+
+std::string_view LastToken(const std::string& line) {
+  const char* begin = line.data();
+  const char* p = begin + line.size();
+  while (p > begin && IsSpace(p[-1])) --p;
+  const char* end = p;
+  while (p > begin && !IsSpace(p[-1])) --p;
+  return std::string_view(p, static_cast<size_t>(end - p));
+}
+
 // FLASER lines carry no geometry. CARMEN's own readers (carmen_laser_get_fov /
 // _get_angle_increment) take a 180° field from −90°: 1° steps for 180/181 beams (a 180-beam
 // scan drops the last beam), 0.5° for 360/361, 0.25° over 100° for 400/401, else π/(n−1).
@@ -170,33 +192,67 @@ bool CarmenReader::Next(ScanRecord* scan) {
   return false;
 }
 
-bool CarmenReader::ParseLine(ScanRecord* scan) {
-  Tokenize(line_, &tokens_);
-  if (tokens_.empty()) {
+void CarmenReader::SkipNonScan(std::string_view keyword) {
+  if (keyword.empty()) {
     Skip("blank line", SkipSeverity::kInformational);
-    return false;
+    return;
   }
-  const std::string_view keyword = tokens_[0];
   if (keyword[0] == '#') {
     Skip("comment", SkipSeverity::kInformational);
+    return;
+  }
+  // CARMEN message names are upper-case words (PARAM, ODOM, TRUEPOS, NMEAGGA): only such a
+  // word is named in the count; anything else is described, never quoted, so that a file
+  // named by mistake does not show its contents.
+  bool word = keyword.size() <= 24 && std::isupper(static_cast<unsigned char>(keyword[0]));
+  for (char c : keyword) {
+    word = word && (std::isupper(static_cast<unsigned char>(c)) ||
+                    std::isdigit(static_cast<unsigned char>(c)) || c == '_');
+  }
+  Skip("not a scan: " + (word ? std::string(keyword) : std::string("not a CARMEN line")),
+       SkipSeverity::kInformational);
+}
+
+bool CarmenReader::NextStamp(double* stamp_s, int* line) {
+  while (ReadLine()) {
+    ++lines_read_;
+    if (lines_read_ == 1 && line_.compare(0, 3, "\xEF\xBB\xBF") == 0) line_.erase(0, 3);  // BOM
+    if (std::memchr(line_.data(), '\0', line_.size()) != nullptr) {
+      Skip("line with a NUL byte");
+      continue;
+    }
+    const std::string_view keyword = FirstToken(line_);
+    if (!IsScanKeyword(keyword)) {
+      SkipNonScan(keyword);
+      continue;
+    }
+    double t = 0.0;
+    if (!ParseDouble(LastToken(line_), &t) || !std::isfinite(t)) {
+      // Parsed whole to count it under its precise reason (a scan line whose last field is
+      // not a finite number is malformed).
+      ScanRecord discard;
+      if (!ParseLine(&discard)) continue;
+      t = discard.stamp_s;
+    }
+    ++scans_read_;
+    *stamp_s = t;
+    *line = static_cast<int>(lines_read_);
+    return true;
+  }
+  return false;
+}
+
+bool CarmenReader::ParseCurrent(ScanRecord* scan) { return ParseLine(scan); }
+
+bool CarmenReader::ParseLine(ScanRecord* scan) {
+  Tokenize(line_, &tokens_);
+  const std::string_view keyword = tokens_.empty() ? std::string_view() : tokens_[0];
+  if (!IsScanKeyword(keyword)) {
+    SkipNonScan(keyword);
     return false;
   }
-  const bool raw = keyword == "RAWLASER1";
   const bool robot = keyword == "ROBOTLASER1";
   const bool flaser = keyword == "FLASER";
-  if (!raw && !robot && !flaser) {
-    // CARMEN message names are upper-case words (PARAM, ODOM, TRUEPOS, NMEAGGA): only such a
-    // word is named in the count; anything else is described, never quoted, so that a file
-    // named by mistake does not show its contents.
-    bool word = keyword.size() <= 24 && std::isupper(static_cast<unsigned char>(keyword[0]));
-    for (char c : keyword) {
-      word = word && (std::isupper(static_cast<unsigned char>(c)) ||
-                      std::isdigit(static_cast<unsigned char>(c)) || c == '_');
-    }
-    Skip("not a scan: " + (word ? std::string(keyword) : std::string("not a CARMEN line")),
-         SkipSeverity::kInformational);
-    return false;
-  }
   const std::string name(keyword);
   auto malformed = [&](const std::string& reason) {
     Skip(name + ": " + reason);

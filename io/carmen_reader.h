@@ -40,6 +40,12 @@ class CarmenReader : public ScanSource {
   // error of the file itself (corrupt gzip stream).
   bool Next(ScanRecord* scan) override;
 
+  // Skimming (io/scan_source.h): NextStamp reads up to the next line whose keyword is a scan's
+  // and whose last field (the logger timestamp) is a finite number, without reading its
+  // ranges; non-scan lines are counted as by Next. ParseCurrent parses that line whole.
+  bool NextStamp(double* stamp_s, int* line) override;
+  bool ParseCurrent(ScanRecord* scan) override;
+
   const SkipCounts& skipped() const override { return skipped_; }
   int64_t lines_read() const { return lines_read_; }
   int64_t scans_read() const override { return scans_read_; }
@@ -53,6 +59,8 @@ class CarmenReader : public ScanSource {
   bool FillChunk();
   // Parses line_ as a scan; false (and counted) when it is not a usable one.
   bool ParseLine(ScanRecord* scan);
+  // Counts a line that is not a scan by its keyword (empty: blank; '#': comment; else kind).
+  void SkipNonScan(std::string_view keyword);
   void Skip(const std::string& reason, SkipSeverity how = SkipSeverity::kProblem);
 
   std::string path_;

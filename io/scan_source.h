@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "io/types.h"
 
@@ -20,6 +21,26 @@ class ScanSource {
   virtual const SkipCounts& skipped() const = 0;
   virtual int64_t scans_read() const = 0;
   virtual const std::string& path() const = 0;
+
+  // Skimming: a pass that examines only some scans (the first, wide-gate pass) asks for each
+  // scan's stamp first and parses the ranges of the scans it keeps. NextStamp returns the next
+  // scan's stamp (s) and line, or false at the end; ParseCurrent then fills *scan with that
+  // scan, or returns false (counted in skipped()) when it turns out malformed. A source may
+  // check a scan's ranges only when it is parsed: scans_read() then counts the scans whose
+  // stamps were read. The default reads every scan whole.
+  virtual bool NextStamp(double* stamp_s, int* line) {
+    if (!Next(&held_)) return false;
+    *stamp_s = held_.stamp_s;
+    *line = held_.line;
+    return true;
+  }
+  virtual bool ParseCurrent(ScanRecord* scan) {
+    std::swap(*scan, held_);
+    return true;
+  }
+
+ private:
+  ScanRecord held_;  // the scan NextStamp read (default skimming)
 };
 
 }  // namespace wallcal::io

@@ -12,6 +12,7 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
   CalibrationResult result;
   RunInputs inputs;
   LoadSessionAndOptions(request, &result, &inputs);
+  StartDigests(request, result, &inputs);
   TieSurveyAndFitWalls(&result, &inputs);
   ReadPoses(&result, &inputs);
   PreparePasses(request, &result, &inputs);

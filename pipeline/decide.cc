@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <future>
 #include <limits>
 
 #include "common/angles.h"
@@ -134,17 +135,31 @@ void Decide(const CalibrateRequest& request, CalibrationResult* result, const Ru
   p.created_utc = NowUtcIso8601();
   p.tool_version = io::kToolVersion;
   p.command_line = request.command_line;
-  std::string preset_path;
+  p.inputs = inputs.digests.valid()
+                 ? inputs.digests.get()
+                 : DigestInputs(result->session, request.config_path,
+                                PresetPath(result->session.scanner_model));
+}
+
+std::string PresetPath(const std::string& model) {
   std::error_code ec;
   for (const std::string& dir : PresetDirs()) {
-    const std::filesystem::path candidate =
-        std::filesystem::path(dir) / (result->session.scanner_model + ".yaml");
-    if (std::filesystem::is_regular_file(candidate, ec)) {
-      preset_path = candidate.string();
-      break;
-    }
+    const std::filesystem::path candidate = std::filesystem::path(dir) / (model + ".yaml");
+    if (std::filesystem::is_regular_file(candidate, ec)) return candidate.string();
   }
-  p.inputs = DigestInputs(result->session, request.config_path, preset_path);
+  return "";
+}
+
+void StartDigests(const CalibrateRequest& request, const CalibrationResult& result,
+                  RunInputs* inputs) {
+  const io::SessionSpec session = result.session;
+  const std::string config_path = request.config_path;
+  const std::string preset_path = PresetPath(session.scanner_model);
+  const auto policy = result.options.solver.num_threads > 1 ? std::launch::async
+                                                            : std::launch::deferred;
+  inputs->digests = std::async(policy, [session, config_path, preset_path]() {
+                      return DigestInputs(session, config_path, preset_path);
+                    }).share();
 }
 
 }  // namespace wallcal::pipeline

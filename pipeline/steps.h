@@ -2,6 +2,7 @@
 // The steps RunCalibration takes, one function each (pipeline/calibration.cc strings them
 // together). Internal to pipeline/.
 
+#include <future>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -28,6 +29,9 @@ struct RunInputs {
   // Moving scans are in the passes only by alignment.moving_scans_in_stop_and_go: the solve
   // drops them again unless the clock offset comes out determined (Solve).
   bool moving_by_default = false;
+  // The inputs' SHA-256 digests for the provenance (StartDigests): computed on their own
+  // thread while the passes run when there is more than one thread, else when Decide asks.
+  std::shared_future<std::vector<io::InputFileDigest>> digests;
 };
 
 // Reports a stage to `progress` (may be empty).
@@ -36,6 +40,11 @@ void Say(const ProgressFn& progress, Stage stage, const std::string& text);
 // session.yaml, the options and the scanner preset.
 void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* result,
                            RunInputs* inputs);
+// The scanner preset file calibrate would read for `model`, or "" (not found).
+std::string PresetPath(const std::string& model);
+// Starts the SHA-256 digests of the inputs (after LoadSessionAndOptions).
+void StartDigests(const CalibrateRequest& request, const CalibrationResult& result,
+                  RunInputs* inputs);
 // The survey, its tie to UTM and the walls as lines in the local frame.
 void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs);
 // GNSS fixes and headings, the pose interpolator and the dwells.

@@ -158,8 +158,26 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
                           mp.problem.HasParameterBlock(mp.heading_drift.data()) &&
                           !mp.problem.IsParameterBlockConstant(mp.heading_drift.data());
   if (drift_free) kept.push_back(mp.heading_drift.data());
+  const Eigen::MatrixXd kept_information = MarginalInformation(mp, kept, options.num_threads);
+  if (kept_information.rows() >= 3) {
+    // The mount alone: the clock offset and the drift marginalised out of the kept blocks'
+    // information (a Schur complement of a Schur complement is the Schur complement).
+    const int extra = static_cast<int>(kept_information.rows()) - 3;
+    Eigen::Matrix3d mount_information = kept_information.topLeftCorner(3, 3);
+    if (extra > 0) {
+      const Eigen::MatrixXd cross = kept_information.topRightCorner(3, extra);
+      const Eigen::LDLT<Eigen::MatrixXd> ldlt(kept_information.bottomRightCorner(extra, extra));
+      if (ldlt.info() == Eigen::Success) {
+        mount_information -= cross * ldlt.solve(cross.transpose());
+        mp.has_mount_information = true;
+      }
+    } else {
+      mp.has_mount_information = true;
+    }
+    mp.mount_information = 0.5 * (mount_information + mount_information.transpose());
+  }
   Eigen::MatrixXd covariance;
-  if (!CovarianceOfKept(MarginalInformation(mp, kept, options.num_threads), &covariance)) {
+  if (!CovarianceOfKept(kept_information, &covariance)) {
     estimate.failure = EstimateFailure::kCovariance;
     estimate.message =
         "the mount covariance could not be computed: the Jacobian is rank deficient (a mount or "
@@ -251,7 +269,9 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
   }
   // After solving: the same check at the solution (the noise model's lever arms and the robust
   // loss's weights have changed).
-  const Eigen::Matrix3d information = MountInformation(*mp, options.num_threads);
+  const Eigen::Matrix3d information = mp->has_mount_information
+                                           ? mp->mount_information
+                                           : MountInformation(*mp, options.num_threads);
   const DeterminationReport after = CheckDetermination(information, observations, walls, options);
   if (!after.ok) {
     estimate.weak_direction = after.weak_direction;

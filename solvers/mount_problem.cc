@@ -270,20 +270,27 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     const calib::WallObservation& observation = observations[i];
     const calib::WallGeometry& wall = walls[observation.wall_index];
     const calib::OrientedWall oriented = calib::OrientWall(wall, observation.pose.antenna_local_m);
-    const Eigen::Matrix2d covariance =
-        ObservationCovariance(observation, wall, options, lever_mount,
-                              PoseBiasSigma(observation.pose, options), scans_per_fix);
-    const Eigen::LLT<Eigen::Matrix2d> llt(covariance);
-    if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().minCoeff() > 0.0)) {
-      if (error != nullptr) {
-        *error = "observation " + std::to_string(i) + " (scan " +
-                 std::to_string(observation.scan_index) +
-                 ") has no usable noise model: its covariance is not positive definite (line "
-                 "fit σ and every noise σ in the options are zero?)";
-      }
-      return nullptr;
-    }
     const double weight = weight_of(i);
+    // An observation of weight 0 gets no residual block: its noise model is never used (the
+    // re-solves of the repeatability pass most observations with weight 0).
+    Eigen::Matrix2d sqrt_information = Eigen::Matrix2d::Identity();
+    if (weight > 0.0) {
+      const Eigen::Matrix2d covariance =
+          ObservationCovariance(observation, wall, options, lever_mount,
+                                PoseBiasSigma(observation.pose, options), scans_per_fix);
+      const Eigen::LLT<Eigen::Matrix2d> llt(covariance);
+      if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().minCoeff() > 0.0)) {
+        if (error != nullptr) {
+          *error = "observation " + std::to_string(i) + " (scan " +
+                   std::to_string(observation.scan_index) +
+                   ") has no usable noise model: its covariance is not positive definite (line "
+                   "fit σ and every noise σ in the options are zero?)";
+        }
+        return nullptr;
+      }
+      sqrt_information =
+          std::sqrt(weight) * Eigen::Matrix2d(llt.matrixL().solve(Eigen::Matrix2d::Identity()));
+    }
     WallLineMeasurement m;
     m.antenna_local_m = observation.pose.antenna_local_m;
     m.vehicle_yaw_rad = observation.pose.yaw_rad;
@@ -317,8 +324,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     m.wall_normal_angle_rad = oriented.normal_angle_rad;
     m.rho_m = observation.rho_m;
     m.theta_rad = observation.theta_rad;
-    m.sqrt_information = std::sqrt(weight > 0.0 ? weight : 1.0) *
-                         Eigen::Matrix2d(llt.matrixL().solve(Eigen::Matrix2d::Identity()));
+    m.sqrt_information = sqrt_information;
     mp->measurements.push_back(m);
     mp->weights.push_back(weight);
     if (weight > 0.0) walls_used.insert(observation.wall_index);

@@ -300,3 +300,56 @@ TEST(CarmenReaderTest, ReadsRealCsailLog) {
 
 }  // namespace
 }  // namespace wallcal::io
+
+namespace wallcal::io {
+namespace {
+
+// Skimming (the first pass) must see the same scans, at the same lines, as reading whole, and
+// count a malformed scan line when it is parsed.
+TEST(CarmenReaderTest, SkimmingSeesTheScansNextReads) {
+  std::string text = "# comment\nPARAM robot_width 0.5\n";
+  for (int k = 0; k < 6; ++k) text += Rawlaser(181, 1000.0 + 0.1 * k) + "\n";
+  // Line 9: a scan line whose beam count disagrees with its ranges, stamp still readable.
+  text += "RAWLASER1 0 -1.5707963 3.1415927 0.017453293 80.0 0.01 0 181 1.0 2.0 0 host 1000.7\n";
+  text += "\n" + Rawlaser(181, 1000.8) + "\n";
+  const std::string path = WriteFile("skim.clf", text);
+
+  CarmenReader whole(path);
+  const std::vector<ScanRecord> scans = ReadAll(whole);
+  ASSERT_EQ(scans.size(), 7u);
+
+  CarmenReader skim(path);
+  std::vector<ScanRecord> parsed;
+  std::vector<int> lines;
+  double stamp_s = 0.0;
+  int line = 0;
+  while (skim.NextStamp(&stamp_s, &line)) {
+    lines.push_back(line);
+    ScanRecord scan;
+    if (skim.ParseCurrent(&scan)) {
+      EXPECT_DOUBLE_EQ(scan.stamp_s, stamp_s);
+      EXPECT_EQ(scan.line, line);
+      parsed.push_back(scan);
+    }
+  }
+  // The malformed line's stamp is read (8 stamps), its parse refused (7 scans).
+  EXPECT_EQ(lines.size(), 8u);
+  EXPECT_EQ(lines[6], 9);
+  ASSERT_EQ(parsed.size(), scans.size());
+  for (size_t i = 0; i < scans.size(); ++i) {
+    EXPECT_EQ(parsed[i].line, scans[i].line);
+    EXPECT_EQ(parsed[i].ranges_m, scans[i].ranges_m);
+  }
+  EXPECT_EQ(skim.skipped().Problems(), whole.skipped().Problems());
+  EXPECT_EQ(skim.skipped().Problems(), 1);
+
+  // Skimming without parsing: stamps only, the malformed line never looked into.
+  CarmenReader stamps_only(path);
+  int count = 0;
+  while (stamps_only.NextStamp(&stamp_s, &line)) ++count;
+  EXPECT_EQ(count, 8);
+  EXPECT_EQ(stamps_only.skipped().Problems(), 0);
+}
+
+}  // namespace
+}  // namespace wallcal::io
