@@ -1,7 +1,7 @@
 // Scans taken while driving (issue 16 §3): their pose uncertainty in the observation covariance
 // (solvers/mount_problem.h MovingPoseCovariance, MovingScansPerGnssFix), and their use by
-// default in stop-and-go sessions when the scanner clock offset is determined, σ honest against
-// the simulator's truth.
+// stop-and-go sessions (alignment.moving_scans_in_stop_and_go) when the scanner clock offset is
+// determined, σ honest against the simulator's truth.
 
 #include <unistd.h>
 
@@ -135,7 +135,7 @@ TEST(MovingPoseTest, ScansPerFixFromTheMovingScansSpacing) {
   EXPECT_EQ(solvers::MovingScansPerGnssFix(obs), 1.0);
 }
 
-// A stop-and-go session calibrated with the defaults (the solver's noise σ set to the
+// A stop-and-go session calibrated with the drives (the solver's noise σ set to the
 // simulator's, as bench/calibrate_matched.yaml): the drives between the stops are used, the
 // scanner clock offset is estimated, σ shrinks against the standing scans alone, and the
 // errors stay within 3.5 σ (with an honest σ, |error| > 3.5 σ has probability 5e-4 per axis:
@@ -143,6 +143,8 @@ TEST(MovingPoseTest, ScansPerFixFromTheMovingScansSpacing) {
 constexpr char kMatched[] =
     "solver:\n  gnss_white_sigma_m: 0.003\n  heading_sigma_deg: 0.05\n"
     "  control_sigma_m: 0.015\n  total_station_sigma_m: 0.003\n";
+
+constexpr char kDrives[] = "alignment:\n  moving_scans_in_stop_and_go: true\n";
 
 pipeline::CalibrationResult Calibrate(const fs::path& dir, const std::string& extra,
                                       solvers::Method method = solvers::Method::kCeres) {
@@ -165,7 +167,7 @@ TEST(MovingPoseTest, StopAndGoUsesTheDrivesWithAnHonestSigma) {
                           std::to_string(seed));
     fs::remove_all(dir);
     sim::WriteSimulatedSession(config, seed, dir.string());
-    const pipeline::CalibrationResult with = Calibrate(dir, "");
+    const pipeline::CalibrationResult with = Calibrate(dir, kDrives);
     ASSERT_TRUE(with.estimate.usable) << with.estimate.message;
     EXPECT_GT(with.scans_used_moving, 50) << "seed " << seed;
     EXPECT_GT(with.scans_used - with.scans_used_moving, 300) << "seed " << seed;
@@ -205,7 +207,7 @@ TEST(MovingPoseTest, DrivesAreDroppedWhenTheOffsetIsNotDetermined) {
   sim::WriteSimulatedSession(config, 21, dir.string());
   // No offset σ is this small: the drives go, with a warning, and the counts say so.
   const pipeline::CalibrationResult strict =
-      Calibrate(dir, "alignment:\n  moving_max_time_offset_sigma_s: 0.000001\n");
+      Calibrate(dir, std::string(kDrives) + "  moving_max_time_offset_sigma_s: 0.000001\n");
   ASSERT_TRUE(strict.estimate.usable) << strict.estimate.message;
   EXPECT_EQ(strict.scans_used_moving, 0);
   EXPECT_GT(strict.scans_skipped.at(calib::ScanSkip::kVehicleMoving), 50);
@@ -215,7 +217,8 @@ TEST(MovingPoseTest, DrivesAreDroppedWhenTheOffsetIsNotDetermined) {
   }
   EXPECT_TRUE(warned);
   // barawid estimates no clock offset: standing scans only.
-  const pipeline::CalibrationResult barawid = Calibrate(dir, "", solvers::Method::kBarawid);
+  const pipeline::CalibrationResult barawid =
+      Calibrate(dir, kDrives, solvers::Method::kBarawid);
   ASSERT_TRUE(barawid.estimate.usable) << barawid.estimate.message;
   EXPECT_EQ(barawid.scans_used_moving, 0);
   fs::remove_all(dir);
