@@ -12,7 +12,7 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
   CalibrationResult result;
   RunInputs inputs;
   LoadSessionAndOptions(request, &result, &inputs);
-  StartDigests(request, result, &inputs);
+  if (!request.preview) StartDigests(request, result, &inputs);
   TieSurveyAndFitWalls(&result, &inputs);
   ReadPoses(&result, &inputs);
   PreparePasses(request, &result, &inputs);
@@ -21,8 +21,10 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
     Solve(request, progress, &result, &inputs);
     FinishEstimate(request, &result);
     Analyse(request, progress, &result);
-    Say(progress, Stage::kErrorBudget, "error budget: what the σ is made of");
-    BudgetAndAdvice(request, &result);
+    if (!request.preview) {
+      Say(progress, Stage::kErrorBudget, "error budget: what the σ is made of");
+      BudgetAndAdvice(request, &result);
+    }
     CountCoverage(&result);
   }
   Decide(request, &result, inputs);

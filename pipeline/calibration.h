@@ -37,6 +37,9 @@ struct CalibrateRequest {
   // Threads for wall detection, the solve and the information matrix; 0: every core. The
   // result does not depend on it (beyond round-off in the solve, far below 1e-9 m).
   int threads = 0;
+  // A preview (inspect): the mount and its σ only; no repeatability re-solves, no error budget,
+  // no input digests.
+  bool preview = false;
 };
 
 // The stages of a run, in order.

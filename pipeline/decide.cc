@@ -135,6 +135,7 @@ void Decide(const CalibrateRequest& request, CalibrationResult* result, const Ru
   p.created_utc = NowUtcIso8601();
   p.tool_version = io::kToolVersion;
   p.command_line = request.command_line;
+  if (request.preview) return;
   p.inputs = inputs.digests.valid()
                  ? inputs.digests.get()
                  : DigestInputs(result->session, request.config_path,

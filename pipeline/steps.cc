@@ -354,6 +354,8 @@ void SecondPass(const ProgressFn& progress, CalibrationResult* result, RunInputs
                       std::max(inputs->scans_in_log, second.scans_read), true});
   }
   result->observations = std::move(second.observations);
+  // The vector grew by doubling: up to half of it is spare capacity, held through the solve.
+  result->observations.shrink_to_fit();
   result->scans_skipped = second.skipped;
   result->scan_lines_skipped = second.line_skips;
   result->scans_total = second.scans_read + second.line_skips.Problems();
@@ -456,7 +458,8 @@ void Analyse(const CalibrateRequest& request, const ProgressFn& progress,
     result->warnings.push_back("residuals: " + flag);
   }
   const io::SolverOptions& solver = result->options.solver;
-  if (request.method == solvers::Method::kCeres && solver.bootstrap_samples >= 0) {
+  if (request.method == solvers::Method::kCeres && solver.bootstrap_samples >= 0 &&
+      !request.preview) {
     Say(progress, Stage::kRepeatability,
         "repeatability: split halves and " + std::to_string(solver.bootstrap_samples) +
             " bootstrap resamples of the stations");

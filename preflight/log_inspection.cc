@@ -36,6 +36,7 @@ ScanLogSummary ReadScanLog(const std::string& path, double time_offset_s,
   io::ScanSource& reader = *source;
   io::ScanRecord scan;
   std::vector<int> lines;
+  calib::ScanPoints points;  // reused for every scan
   while (reader.Next(&scan)) {
     if (summary.stamps_s.empty()) {
       summary.first_start_rad = scan.start_angle_rad;
@@ -46,7 +47,7 @@ ScanLogSummary ReadScanLog(const std::string& path, double time_offset_s,
     lines.push_back(scan.line);
     ++summary.beams[scan.ranges_m.size()];
     if (preset != nullptr) {
-      calib::ToScanPoints(scan, *preset, min_range_m, mixed_jump_m, &summary.readings);
+      calib::FillScanPoints(scan, *preset, min_range_m, mixed_jump_m, &summary.readings, &points);
       summary.have_readings = true;
     }
   }
@@ -108,7 +109,8 @@ std::string InspectLogFile(const std::string& path) {
       io::ScanRecord scan;
       int64_t total = 0, valid = 0;
       float lo = 1e30f, hi = 0.0f;
-      while (reader.Next(&scan)) {
+      calib::ScanPoints points;  // reused for every scan
+  while (reader.Next(&scan)) {
         total += static_cast<int64_t>(scan.ranges_m.size());
         valid += LogValid(scan, &lo, &hi);
       }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <future>
 #include <map>
 #include <optional>
 #include <set>
@@ -50,6 +51,19 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     out << "  scanner   preset '" << spec.scanner_model << "' not found\n";
   }
 
+
+  // --- Wall detection starts now, on its own thread: the calibrate pipeline itself (its
+  // preview: no repeatability, no error budget) reads the scan log while the logs are
+  // inspected here. Its outcome is used below only when nothing blocks it.
+  std::future<pipeline::CalibrationResult> preview;
+  if (preset) {
+    pipeline::CalibrateRequest request;
+    request.session_path = session_path;
+    request.config_path = config_path;
+    request.preview = true;
+    preview = std::async(std::launch::async,
+                         [request]() { return pipeline::RunCalibration(request); });
+  }
 
   // --- Logs ------------------------------------------------------------------------------
   SessionLogs logs = InspectSessionLogs(spec, options, preset ? &*preset : nullptr, &result, out);
@@ -145,17 +159,15 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
   // --- Wall detection: the calibrate pipeline itself -------------------------------------
   std::optional<pipeline::CalibrationResult> calibration;
   std::string detection_note;
-  if (result.blockers.empty()) {
+  if (result.blockers.empty() && preview.valid()) {
     try {
-      pipeline::CalibrateRequest request;
-      request.session_path = session_path;
-      request.config_path = config_path;
-      calibration = pipeline::RunCalibration(request);
+      calibration = preview.get();
     } catch (const io::InputError& e) {
       block(e.what());
       detection_note = "not run to the end: " + std::string(e.what());
     }
   } else {
+    if (preview.valid()) preview.wait();  // its outcome is not used (an error in it neither)
     detection_note = "not run: the problems listed in the verdict come first";
   }
 

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages wallcal builds with, if any is missing. Needs root (or sudo).
-# Usage: install-deps.sh [fuzz]   fuzz: also clang with its libFuzzer/sanitizer runtimes
-# (scripts/fuzz.sh). The sanitizer build (scripts/sanitize.sh) needs nothing more: g++'s
+# Usage: install-deps.sh [fuzz] [bench]
+#   fuzz: also clang with its libFuzzer/sanitizer runtimes (scripts/fuzz.sh);
+#   bench: also /usr/bin/time (package time), for bench/speed_bench.sh.
+# The sanitizer build (scripts/sanitize.sh) needs nothing more: g++'s
 # AddressSanitizer and UBSan runtimes come with build-essential.
 set -euo pipefail
 packages=(build-essential cmake pkg-config libeigen3-dev libceres-dev libopencv-dev
@@ -10,7 +12,8 @@ packages=(build-essential cmake pkg-config libeigen3-dev libceres-dev libopencv-
 for extra in "$@"; do
   case "$extra" in
     fuzz) packages+=(clang libclang-rt-dev) ;;
-    *) echo "install-deps: unknown option '$extra'; expected fuzz" >&2; exit 2 ;;
+    bench) packages+=(time) ;;
+    *) echo "install-deps: unknown option '$extra'; expected fuzz or bench" >&2; exit 2 ;;
   esac
 done
 missing=()

@@ -258,13 +258,20 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
   if (estimate.usable && moved_m > kLeverRebuildDistanceM) {
     // The heading-noise lever arms were computed from a mount far from the solution: rebuild
     // the noise model from the solution and solve again from there.
+    // The first problem goes before the second is built: two of them would double the peak
+    // memory of a long session. (Should the second not build, the first is built again.)
     const Mount first = estimate.mount;
+    mp.reset();
     auto second = BuildMountProblem(observations, walls, options, first, first, &error);
     if (second) {
       const std::string first_report = estimate.solver_report;
       estimate = SolveMountProblem(*second, options);
       estimate.solver_report = first_report + "\n" + estimate.solver_report;
       mp = std::move(second);
+    } else {
+      mp = BuildMountProblem(observations, walls, options, initial, initial, &error);
+      if (!mp) return Refused(initial, EstimateFailure::kBadInput, error);
+      estimate = SolveMountProblem(*mp, options);
     }
   }
   // After solving: the same check at the solution (the noise model's lever arms and the robust

@@ -361,7 +361,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     }
     loss_used = true;
     mp->residual_blocks.push_back(mp->problem.AddResidualBlock(
-        WallLineCost::Create(mp->measurements[i]), loss, mp->mount.data(), mp->wall_block[i],
+        WallLineCost::CreateReferencing(mp->measurements[i]), loss, mp->mount.data(), mp->wall_block[i],
         mp->bias_block[i], mp->time_offset.data(), mp->heading_block[i],
         mp->heading_drift.data()));
   }

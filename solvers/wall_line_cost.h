@@ -37,6 +37,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <memory>
 #include "common/angles.h"
 
 namespace wallcal::solvers {
@@ -59,7 +60,8 @@ struct WallLineMeasurement {
 
 class WallLineCost {
  public:
-  explicit WallLineCost(const WallLineMeasurement& measurement) : m_(measurement) {}
+  // Refers to `measurement`, which must outlive the cost (Create makes an owning one).
+  explicit WallLineCost(const WallLineMeasurement& measurement) : m_(&measurement) {}
 
   template <typename T>
   bool operator()(const T* const mount, const T* const wall_delta, const T* const bias,
@@ -67,7 +69,7 @@ class WallLineCost {
                   const T* const heading_drift, T* residual) const {
     T error[2];
     Errors(mount, wall_delta, bias, time_offset, heading_offset, heading_drift, error);
-    const Eigen::Matrix2d& w = m_.sqrt_information;
+    const Eigen::Matrix2d& w = m_->sqrt_information;
     residual[0] = w(0, 0) * error[0] + w(0, 1) * error[1];
     residual[1] = w(1, 0) * error[0] + w(1, 1) * error[1];
     return true;
@@ -86,36 +88,46 @@ class WallLineCost {
     // Moved wall line, oriented towards the vehicle.
     const T ca = cos(delta_alpha_rad);
     const T sa = sin(delta_alpha_rad);
-    const T nx = m_.sign * (ca * m_.wall_normal_local.x() - sa * m_.wall_normal_local.y());
-    const T ny = m_.sign * (sa * m_.wall_normal_local.x() + ca * m_.wall_normal_local.y());
+    const T nx = m_->sign * (ca * m_->wall_normal_local.x() - sa * m_->wall_normal_local.y());
+    const T ny = m_->sign * (sa * m_->wall_normal_local.x() + ca * m_->wall_normal_local.y());
     const T d_m =
-        nx * m_.wall_centre_local_m.x() + ny * m_.wall_centre_local_m.y() + m_.sign * delta_d_m;
+        nx * m_->wall_centre_local_m.x() + ny * m_->wall_centre_local_m.y() + m_->sign * delta_d_m;
     // Scanner origin in the local frame.
     const T& dt_s = time_offset[0];
-    const T psi = m_.vehicle_yaw_rad - heading_offset[0] - heading_drift[0] * m_.drift_time_s +
-                  m_.yaw_rate_rps * dt_s;
+    const T psi = m_->vehicle_yaw_rad - heading_offset[0] - heading_drift[0] * m_->drift_time_s +
+                  m_->yaw_rate_rps * dt_s;
     const T cpsi = cos(psi);
     const T spsi = sin(psi);
-    const T sx = m_.antenna_local_m.x() + m_.velocity_local_mps.x() * dt_s - bias[0] +
+    const T sx = m_->antenna_local_m.x() + m_->velocity_local_mps.x() * dt_s - bias[0] +
                  cpsi * mount[0] - spsi * mount[1];
-    const T sy = m_.antenna_local_m.y() + m_.velocity_local_mps.y() * dt_s - bias[1] +
+    const T sy = m_->antenna_local_m.y() + m_->velocity_local_mps.y() * dt_s - bias[1] +
                  spsi * mount[0] + cpsi * mount[1];
-    error[0] = d_m - (nx * sx + ny * sy) - m_.rho_m;
+    error[0] = d_m - (nx * sx + ny * sy) - m_->rho_m;
     T theta_error_rad =
-        m_.wall_normal_angle_rad + delta_alpha_rad - psi - mount[2] - m_.theta_rad;
+        m_->wall_normal_angle_rad + delta_alpha_rad - psi - mount[2] - m_->theta_rad;
     // Wrapped into (−π, π]; the wrap's ceil has a zero derivative, so the Jacobian is unaffected.
     error[1] = WrapAngle(theta_error_rad);
   }
 
-  const WallLineMeasurement& measurement() const { return m_; }
+  const WallLineMeasurement& measurement() const { return *m_; }
 
+  // A cost that holds its own copy of the measurement.
   static ceres::CostFunction* Create(const WallLineMeasurement& measurement) {
+    auto* cost = new WallLineCost(measurement);
+    cost->owned_ = std::make_unique<const WallLineMeasurement>(measurement);
+    cost->m_ = cost->owned_.get();
+    return new ceres::AutoDiffCostFunction<WallLineCost, 2, 3, 2, 2, 1, 1, 1>(cost);
+  }
+  // A cost that refers to `measurement` (kept alive and unmoved by the caller: a problem's
+  // measurements vector, 160 bytes an observation not held twice).
+  static ceres::CostFunction* CreateReferencing(const WallLineMeasurement& measurement) {
     return new ceres::AutoDiffCostFunction<WallLineCost, 2, 3, 2, 2, 1, 1, 1>(
         new WallLineCost(measurement));
   }
 
  private:
-  WallLineMeasurement m_;
+  const WallLineMeasurement* m_;
+  std::unique_ptr<const WallLineMeasurement> owned_;  // set by Create
 };
 
 }  // namespace wallcal::solvers
