@@ -203,6 +203,11 @@ class BatchReader {
               PassOutcome* reading)
       : context_(context), request_(request), scans_(scans), reading_(reading) {}
 
+  // Skimming: the scans read, those parsed whole and found sound plus those whose stamp alone
+  // was read. A log whose every scan line is malformed gets each of them parsed (none becomes
+  // the examined scan the interval counts from), so it reads no scan.
+  int64_t skimmed_scans() const { return parsed_ + stamps_only_; }
+
   ReadBatch Read() {
     ReadBatch batch;
     batch.scans.reserve(kBatchScans);
@@ -229,8 +234,12 @@ class BatchReader {
       TrackStamp(stamp_s, scan_index_, line, reading_);
       if (request_.progress && scan_index_ % 2000 == 0) request_.progress(scan_index_);
       if (skim) {
-        if (stamp_s - last_examined_s_ < request_.min_interval_s) continue;
+        if (stamp_s - last_examined_s_ < request_.min_interval_s) {
+          ++stamps_only_;
+          continue;
+        }
         if (!scans_->ParseCurrent(&scan)) continue;  // malformed: counted by the source
+        ++parsed_;
         last_examined_s_ = stamp_s;
       }
       ++reading_->scans_examined;
@@ -264,6 +273,8 @@ class BatchReader {
   PassOutcome* reading_;
   int64_t scan_index_ = -1;
   double last_examined_s_ = -1e300;
+  int64_t parsed_ = 0;
+  int64_t stamps_only_ = 0;
 };
 
 }  // namespace
@@ -298,7 +309,8 @@ PassOutcome DetectionPass(const PassContext& context, const PassRequest& request
   outcome.first_not_increasing_line = reading.first_not_increasing_line;
   outcome.first_stamp_s = reading.first_stamp_s;
   outcome.last_stamp_s = reading.last_stamp_s;
-  outcome.scans_read = scans->scans_read();
+  outcome.scans_read = request.min_interval_s > 0.0 ? reader.skimmed_scans()
+                                                    : scans->scans_read();
   outcome.line_skips = scans->skipped();
   return outcome;
 }

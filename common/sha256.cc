@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <vector>
 
@@ -114,12 +115,19 @@ std::string Sha256Hex(const std::string& bytes) {
   return hash.Hex();
 }
 
-std::string Sha256OfFile(const std::string& path) {
+std::string Sha256OfFile(const std::string& path) { return Sha256OfFile(path, nullptr); }
+
+std::string Sha256OfFile(const std::string& path, const std::atomic<bool>* cancel) {
+  // Only a regular file: a FIFO would block the open, a device never end (the digests are
+  // computed on their own thread while the run checks its inputs, which refuses such files).
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return std::string();
   std::ifstream in(path, std::ios::binary);
   if (!in) return std::string();
   Sha256 hash;
   std::vector<char> block(1 << 20);
   while (in) {
+    if (cancel != nullptr && cancel->load()) return std::string();
     in.read(block.data(), static_cast<std::streamsize>(block.size()));
     const std::streamsize got = in.gcount();
     if (got > 0) hash.Update(block.data(), static_cast<size_t>(got));

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <atomic>
 #include <string>
 
 namespace wallcal {
@@ -28,8 +29,10 @@ class Sha256 {
 // The SHA-256 of a string's bytes, 64 lowercase hex digits.
 std::string Sha256Hex(const std::string& bytes);
 
-// The SHA-256 of a file's bytes (read in 1 MiB blocks), or an empty string when the file
-// cannot be read.
+// The SHA-256 of a file's bytes (read in 1 MiB blocks), or an empty string when the path is not
+// a regular file (never opened then) or cannot be read.
 std::string Sha256OfFile(const std::string& path);
+// The same, giving up (empty string) as soon as *cancel is true (checked between blocks).
+std::string Sha256OfFile(const std::string& path, const std::atomic<bool>* cancel);
 
 }  // namespace wallcal

@@ -227,7 +227,9 @@ bool CarmenReader::NextStamp(double* stamp_s, int* line) {
       continue;
     }
     double t = 0.0;
-    if (!ParseDouble(LastToken(line_), &t) || !std::isfinite(t)) {
+    // A last line without its newline may be cut off anywhere: its last field would be a range,
+    // not the stamp. It is parsed whole, as is a line whose last field is not a finite number.
+    if (!line_has_newline_ || !ParseDouble(LastToken(line_), &t) || !std::isfinite(t)) {
       // Parsed whole to count it under its precise reason (a scan line whose last field is
       // not a finite number is malformed).
       ScanRecord discard;

@@ -120,11 +120,37 @@ CalibrateOptions ReadCalibrateOptions(const std::string& file) {
   return options;
 }
 
+namespace {
+
+// The characterisation keys of a scenario (SimulationConfig's last block): read beside the
+// visitor's keys, since truth.yaml writes them only when set.
+void ReadCharacterisationKeys(MapReader& section, SimulationConfig& config) {
+  section.Number("station_distance_far_m", config.station_distance_far_m);
+  const YAML::Node node = section.Find("scanner_truth");
+  if (!node.IsDefined()) return;
+  MapReader truth = section.Child("scanner_truth", node);
+  truth.Number("n", config.truth_scale_n);
+  truth.Number("c_m", config.truth_offset_c_m);
+  truth.Number("sigma_m", config.truth_sigma_m);
+  truth.Number("resolution_m", config.truth_resolution_m);
+  truth.Scaled("max_incidence_deg", config.truth_max_incidence_rad, kRadToDeg);
+  if (const YAML::Node drift_node = truth.Find("drift"); drift_node.IsDefined()) {
+    MapReader drift = truth.Child("drift", drift_node);
+    drift.Number("amplitude_m", config.truth_drift_amplitude_m);
+    drift.Number("time_constant_s", config.truth_drift_time_constant_s);
+    drift.Finish();
+  }
+  truth.Finish();
+}
+
+}  // namespace
+
 SimulationConfig ReadSimulationConfig(const std::string& file) {
   const YAML::Node root = LoadYamlStrict(file);
   MapReader top(root, file, "", 1);
   SimulationConfig config;
   fields::VisitSimulation(top, config);
+  ReadCharacterisationKeys(top, config);
   top.Finish();
   ValidateIn(file, config, root);
   return config;
@@ -137,6 +163,7 @@ SimulationConfig ReadTruthYaml(const std::string& file) {
   MapReader section = top.Child("simulation", simulation);
   SimulationConfig config;
   fields::VisitSimulation(section, config);
+  ReadCharacterisationKeys(section, config);
   section.Finish();
   if (const YAML::Node truth = top.Find("truth"); truth.IsDefined()) {
     // The truth mount in radians is exact; simulation.mount_yaw_deg went through degrees.

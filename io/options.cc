@@ -192,6 +192,17 @@ void SimulationConfig::Validate() const {
   }
   CheckRange(s + "mixed_pixel_probability", mixed_pixel_probability, 0.0, 1.0);
   CheckNonNegative(s + "start_time_s", start_time_s);
+  const std::string t = s + "scanner_truth.";
+  if (!std::isnan(truth_scale_n)) CheckRange(t + "n", truth_scale_n, 0.5, 1.5);
+  if (!std::isnan(truth_offset_c_m)) CheckRange(t + "c_m", truth_offset_c_m, -1.0, 1.0);
+  if (!std::isnan(truth_sigma_m)) CheckRange(t + "sigma_m", truth_sigma_m, 0.0, 1.0);
+  if (!std::isnan(truth_resolution_m)) CheckRange(t + "resolution_m", truth_resolution_m, 1e-6, 1.0);
+  if (!std::isnan(truth_max_incidence_rad)) {
+    CheckRange(t + "max_incidence_deg", truth_max_incidence_rad * kRadToDeg, 1.0, 90.0);
+  }
+  CheckRange(t + "drift.amplitude_m", truth_drift_amplitude_m, -1.0, 1.0);
+  CheckNonNegative(t + "drift.time_constant_s", truth_drift_time_constant_s);
+  CheckNonNegative(s + "station_distance_far_m", station_distance_far_m);
 }
 
 }  // namespace wallcal::io

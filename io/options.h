@@ -3,6 +3,7 @@
 // the same defaults as YAML. Validate() throws io::InputError naming the first bad field.
 // Angles are radians here; the YAML files give them in degrees (keys ending in _deg).
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -217,6 +218,29 @@ struct SimulationConfig {
   double mixed_pixel_probability = 0.5;  // chance a beam at a depth jump returns a mixed range
   // Logging clock: UNIX seconds at the start of the run
   double start_time_s = 1747031522.0;
+  // ---- Characterisation (characterise): the scanner's true range model and the stations'
+  // distances. Not written to truth.yaml unless set, so older scenarios simulate unchanged.
+  // scanner_truth: {n:, c_m:, sigma_m:, resolution_m:, max_incidence_deg:, drift: {amplitude_m:,
+  // time_constant_s:}}; NaN: the preset's value (simulation.n, c_m, sigma_m, range_resolution_m,
+  // max_incidence_deg). The logged range is z = Int(n·true + c + drift(t) + ξ) (Ye & Borenstein
+  // 2002; Okubo, Ye & Borenstein 2009), drift(t) = amplitude·(1 − exp(−t/time_constant)), t from
+  // the run's start: a warm-up (Okubo et al. 2009 saw the URG's ranges drift for hours).
+  double truth_scale_n = kNaN;
+  double truth_offset_c_m = kNaN;
+  double truth_sigma_m = kNaN;
+  double truth_resolution_m = kNaN;
+  double truth_max_incidence_rad = kNaN;
+  double truth_drift_amplitude_m = 0.0;
+  double truth_drift_time_constant_s = 0.0;  // 0 with amplitude != 0: a step at t = 0
+  // > 0: the stations' antenna distances spread from station_distance_m to this (metres), in a
+  // shuffled order so that distance and heading are not tied; 0: all at station_distance_m.
+  double station_distance_far_m = 0.0;
+  bool HasScannerTruth() const {
+    return !std::isnan(truth_scale_n) || !std::isnan(truth_offset_c_m) ||
+           !std::isnan(truth_sigma_m) || !std::isnan(truth_resolution_m) ||
+           !std::isnan(truth_max_incidence_rad) || truth_drift_amplitude_m != 0.0 ||
+           truth_drift_time_constant_s != 0.0;
+  }
   void Validate() const;
 };
 

@@ -427,6 +427,26 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
   out += "seed: " + std::to_string(seed) + "\n";
   out += "simulation:\n";
   out += simulation.Block(2);
+  // The characterisation keys only when set: older scenarios' truth.yaml stays as it was.
+  if (config.station_distance_far_m != 0.0) {
+    out += "  station_distance_far_m: " + ShortestNumber(config.station_distance_far_m) + "\n";
+  }
+  if (config.HasScannerTruth()) {
+    std::string truth;
+    auto add = [&truth](const char* key, double value) {
+      if (std::isnan(value)) return;
+      truth += std::string(truth.empty() ? "" : ", ") + key + ": " + ShortestNumber(value);
+    };
+    add("n", config.truth_scale_n);
+    add("c_m", config.truth_offset_c_m);
+    add("sigma_m", config.truth_sigma_m);
+    add("resolution_m", config.truth_resolution_m);
+    add("max_incidence_deg", config.truth_max_incidence_rad * kRadToDeg);
+    truth += std::string(truth.empty() ? "" : ", ") +
+             "drift: {amplitude_m: " + ShortestNumber(config.truth_drift_amplitude_m) +
+             ", time_constant_s: " + ShortestNumber(config.truth_drift_time_constant_s) + "}";
+    out += "  scanner_truth: {" + truth + "}\n";
+  }
   return out;
 }
 
@@ -434,6 +454,34 @@ std::string NmeaChecksum(const std::string& body) {
   unsigned char sum = 0;
   for (char c : body) sum ^= static_cast<unsigned char>(c);
   return Format("%02X", static_cast<unsigned>(sum));
+}
+
+std::string FormatScannerPreset(const ScannerPreset& preset,
+                                const std::vector<std::string>& comment_lines) {
+  std::string out;
+  for (const std::string& line : comment_lines) out += "# " + line + "\n";
+  auto number = [&out](const char* key, double value) {
+    out += std::string(key) + ": " + ShortestNumber(value) + "\n";
+  };
+  out += "name: " + YamlText(preset.name) + "\n";
+  out += "source: " + YamlText(preset.source) + "\n";
+  out += "num_beams: " + std::to_string(preset.num_beams) + "\n";
+  number("start_angle_deg", preset.start_angle_rad * kRadToDeg);
+  number("angular_step_deg", preset.angular_step_rad * kRadToDeg);
+  number("rate_hz", preset.rate_hz);
+  number("min_range_m", preset.min_range_m);
+  number("max_range_m", preset.max_range_m);
+  number("error_codes_below_m", preset.error_codes_below_m);
+  out += std::string("max_range_is_no_return: ") +
+         (preset.max_range_is_no_return ? "true" : "false") + "\n";
+  number("range_resolution_m", preset.range_resolution_m);
+  out += "range_correction: {k: " + ShortestNumber(preset.range_scale_k) +
+         ", b_m: " + ShortestNumber(preset.range_offset_b_m) + "}\n";
+  out += "simulation: {n: " + ShortestNumber(preset.sim_scale_n) +
+         ", c_m: " + ShortestNumber(preset.sim_offset_c_m) +
+         ", sigma_m: " + ShortestNumber(preset.range_sigma_m) + "}\n";
+  number("max_incidence_deg", preset.max_incidence_rad * kRadToDeg);
+  return out;
 }
 
 }  // namespace wallcal::io

@@ -48,6 +48,11 @@ std::string FormatSessionYaml(const SessionSpec& spec);
 // every SimulationConfig key (names as in ReadSimulationConfig). ReadTruthYaml reads it back.
 std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed);
 
+// A scanner preset in the shipped presets' format (configs/scanners/*.yaml: the keys
+// ReadScannerPreset reads, angles in degrees), headed by `comment_lines` as "# " lines.
+std::string FormatScannerPreset(const ScannerPreset& preset,
+                                const std::vector<std::string>& comment_lines);
+
 // Two upper-case hex digits: XOR of the bytes of `body` (the text between '$' and '*').
 std::string NmeaChecksum(const std::string& body);
 

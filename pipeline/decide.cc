@@ -158,8 +158,9 @@ void StartDigests(const CalibrateRequest& request, const CalibrationResult& resu
   const std::string preset_path = PresetPath(session.scanner_model);
   const auto policy = result.options.solver.num_threads > 1 ? std::launch::async
                                                             : std::launch::deferred;
-  inputs->digests = std::async(policy, [session, config_path, preset_path]() {
-                      return DigestInputs(session, config_path, preset_path);
+  const std::shared_ptr<std::atomic<bool>> cancel = inputs->cancel_digests.flag;
+  inputs->digests = std::async(policy, [session, config_path, preset_path, cancel]() {
+                      return DigestInputs(session, config_path, preset_path, cancel.get());
                     }).share();
 }
 

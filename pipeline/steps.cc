@@ -79,7 +79,11 @@ void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* r
   result->options.solver.num_threads =
       request.threads > 0 ? request.threads
                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  result->preset = io::LoadScannerPreset(result->session.scanner_model, PresetDirs());
+  // A measured preset beside the session (characterise writes <session>/scanners/NAME.yaml)
+  // is found first, then the shipped ones.
+  std::vector<std::string> preset_dirs = PresetDirs();
+  preset_dirs.insert(preset_dirs.begin(), (fs::path(result->session.dir) / "scanners").string());
+  result->preset = io::LoadScannerPreset(result->session.scanner_model, preset_dirs);
   // The previous calibration is read now: a bad --compare file fails before the work.
   if (!request.compare_path.empty()) inputs->previous = io::ReadPreviousOffsets(request.compare_path);
 }

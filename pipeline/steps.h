@@ -2,6 +2,7 @@
 // The steps RunCalibration takes, one function each (pipeline/calibration.cc strings them
 // together). Internal to pipeline/.
 
+#include <atomic>
 #include <future>
 #include <memory>
 #include <optional>
@@ -32,6 +33,12 @@ struct RunInputs {
   // The inputs' SHA-256 digests for the provenance (StartDigests): computed on their own
   // thread while the passes run when there is more than one thread, else when Decide asks.
   std::shared_future<std::vector<io::InputFileDigest>> digests;
+  // Set when the run ends (declared after `digests`, so destroyed first): a run that fails
+  // early does not wait for the digests of a large log.
+  struct CancelOnExit {
+    std::shared_ptr<std::atomic<bool>> flag = std::make_shared<std::atomic<bool>>(false);
+    ~CancelOnExit() { flag->store(true); }
+  } cancel_digests;
 };
 
 // Reports a stage to `progress` (may be empty).

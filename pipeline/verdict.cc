@@ -119,12 +119,13 @@ std::string NowUtcIso8601() {
 
 std::vector<io::InputFileDigest> DigestInputs(const io::SessionSpec& session,
                                               const std::string& config_path,
-                                              const std::string& preset_path) {
+                                              const std::string& preset_path,
+                                              const std::atomic<bool>* cancel) {
   std::vector<io::InputFileDigest> out;
   std::set<std::string> seen;
   auto add = [&](const std::string& role, const std::string& path) {
     if (path.empty() || !seen.insert(path).second) return;
-    out.push_back(io::InputFileDigest{role, path, Sha256OfFile(path)});
+    out.push_back(io::InputFileDigest{role, path, Sha256OfFile(path, cancel)});
   };
   add("session", session.file);
   add("scanner_log", session.scanner_log);

@@ -94,6 +94,9 @@ class ScannerModel {
     }
   }
 
+  // A range offset added to every return of the following scans (warm-up drift, m).
+  void set_drift_m(double drift_m) { drift_m_ = drift_m; }
+
   io::ScanRecord Scan(const Pose& pose, double stamp_s) {
     io::ScanRecord scan;
     scan.stamp_s = stamp_s;
@@ -170,7 +173,7 @@ class ScannerModel {
     if (*true_range_m >= preset_.max_range_m) return NoReturnValue(NoReturn::kOutOfRange);
     // Seeds 000/001 simulation model: z = Int(n·y + c + ξ), Int the range resolution.
     const double z_m =
-        Quantise(preset_.sim_scale_n * *true_range_m + preset_.sim_offset_c_m + xi_m);
+        Quantise(preset_.sim_scale_n * *true_range_m + preset_.sim_offset_c_m + drift_m_ + xi_m);
     if (z_m >= preset_.max_range_m) return NoReturnValue(NoReturn::kOutOfRange);
     if (z_m < std::max(preset_.min_range_m, preset_.error_codes_below_m))
       return NoReturnValue(NoReturn::kNoEcho);
@@ -183,6 +186,7 @@ class ScannerModel {
   Noise range_noise_;
   Noise mixed_noise_;
   double cos_max_incidence_;
+  double drift_m_ = 0.0;
   struct BeamDirections {
     Eigen::Vector2d centre, lower, upper;  // unit vectors in the scanner frame
   };

@@ -130,6 +130,25 @@ struct SurveyFrame {
 
 }  // namespace
 
+io::ScannerPreset TrueScannerPreset(const io::SimulationConfig& config,
+                                    const io::ScannerPreset& preset) {
+  io::ScannerPreset truth = preset;
+  if (!std::isnan(config.truth_scale_n)) truth.sim_scale_n = config.truth_scale_n;
+  if (!std::isnan(config.truth_offset_c_m)) truth.sim_offset_c_m = config.truth_offset_c_m;
+  if (!std::isnan(config.truth_sigma_m)) truth.range_sigma_m = config.truth_sigma_m;
+  if (!std::isnan(config.truth_resolution_m)) truth.range_resolution_m = config.truth_resolution_m;
+  if (!std::isnan(config.truth_max_incidence_rad)) {
+    truth.max_incidence_rad = config.truth_max_incidence_rad;
+  }
+  return truth;
+}
+
+double RangeDriftM(const io::SimulationConfig& config, double t_s) {
+  if (config.truth_drift_amplitude_m == 0.0) return 0.0;
+  if (config.truth_drift_time_constant_s <= 0.0) return config.truth_drift_amplitude_m;
+  return config.truth_drift_amplitude_m * (1.0 - std::exp(-t_s / config.truth_drift_time_constant_s));
+}
+
 io::SimulationConfig WithDefaultWalls(io::SimulationConfig config) {
   if (!config.walls.empty()) return config;
   io::SimWall wall;
@@ -167,6 +186,9 @@ const io::SimWall& CheckTrajectoryConfig(const io::SimulationConfig& config) {
           "(else the "
           "scanner would stand at or behind the wall), got " +
               std::to_string(config.station_distance_m));
+  Require(config.station_distance_far_m == 0.0 || config.station_distance_far_m > reach_m,
+          "simulation.station_distance_far_m must be 0 or exceed the mount's distance from the "
+          "antenna + 0.1 m, got " + std::to_string(config.station_distance_far_m));
   if (config.continuous) {
     Require(std::isfinite(config.weave_amplitude_m) && config.weave_amplitude_m >= 0.0,
             "simulation.weave_amplitude_m must be >= 0, got " +
@@ -325,8 +347,10 @@ SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerP
     }
   }
 
-  // Scans: k/rate true time; the logger stamps them scanner_time_offset_s early.
-  ScannerModel scanner(config, preset, seed);
+  // Scans: k/rate true time; the logger stamps them scanner_time_offset_s early. The scanner
+  // measures with the scenario's scanner_truth where it overrides the preset.
+  const io::ScannerPreset true_preset = TrueScannerPreset(config, preset);
+  ScannerModel scanner(config, true_preset, seed);
   Noise lost_noise(seed, Stream::kLostScan);
   const int64_t log_every = std::max<int64_t>(1, std::llround(config.log_every_n));
   const int64_t scan_count =
@@ -343,6 +367,7 @@ SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerP
     // The whole scan is taken at one instant: at ≤ 1 m/s and 13 ms per sweep the vehicle moves
     // ≤ 13 mm during a sweep. At the stations that is exact; in continuous mode it leaves out
     // the sweep's motion skew (the tool treats scans as instantaneous too).
+    scanner.set_drift_m(RangeDriftM(config, t_s));
     const io::ScanRecord scan =
         scanner.Scan(trajectory.At(t_s), config.start_time_s + t_s - config.scanner_time_offset_s);
     ++session.scans_written;

@@ -94,6 +94,13 @@ struct SimBeamHit {
 
 // The noise-free scan the scanner would take at `pose` (its mount from `config`), beam by beam,
 // occlusions included. Does not check `config` (call RunDurationS or Simulate for that).
+// The scanner the simulation measures with: `preset` with the scenario's scanner_truth
+// overrides (SimulationConfig's characterisation block) applied.
+io::ScannerPreset TrueScannerPreset(const io::SimulationConfig& config,
+                                    const io::ScannerPreset& preset);
+// The scenario's warm-up range drift at true time t_s after the start (m, added to every range).
+double RangeDriftM(const io::SimulationConfig& config, double t_s);
+
 std::vector<SimBeamHit> TrueBeamHits(const io::SimulationConfig& config,
                                      const io::ScannerPreset& preset, const SimTruthPose& pose);
 

@@ -157,12 +157,27 @@ inline Trajectory PlanTrajectory(const io::SimulationConfig& config, const io::S
   const Eigen::Vector2d middle = 0.5 * (a + b);
 
   const int n = config.num_stations;
+  // station_distance_far_m > 0: distances from near to far in the order i·p mod n (p the first
+  // of 3, 5, 7, 11 prime to n), so that distance does not follow heading.
+  int stride = 1;
+  for (int p : {3, 5, 7, 11}) {
+    if (n % p != 0) {
+      stride = p;
+      break;
+    }
+  }
   std::vector<Eigen::Vector2d> positions;
   std::vector<double> yaws;
   for (int i = 0; i < n; ++i) {
     const double frac = static_cast<double>(i) / (n - 1);
+    const double distance_m =
+        config.station_distance_far_m > 0.0
+            ? config.station_distance_m +
+                  (config.station_distance_far_m - config.station_distance_m) *
+                      static_cast<double>((static_cast<int64_t>(i) * stride) % n) / (n - 1)
+            : config.station_distance_m;
     yaws.push_back(facing_yaw_rad + config.heading_spread_rad * (frac - 0.5));
-    positions.push_back(middle + config.station_distance_m * out_normal +
+    positions.push_back(middle + distance_m * out_normal +
                         config.lateral_spread_m * (frac - 0.5) * right);
   }
 

@@ -16,6 +16,7 @@ rm -f "$work/session/offsets.yaml"
 cd "$work"
 unset WALLCAL_CONFIG_DIR
 "$work/prefix/bin/calibrate" --version
+"$work/prefix/bin/characterise" --version
 "$work/prefix/bin/calibrate" session --output "$work/offsets.yaml" --quiet > "$work/summary.txt"
 grep -q "x = 2.5402" "$work/summary.txt" || { cat "$work/summary.txt"; echo "install_test: installed calibrate gave another mount" >&2; exit 1; }
 test -s "$work/offsets.yaml"

@@ -1,0 +1,132 @@
+// characterise: measure the scanner itself (range model, noise, quantum, incidence limit,
+// mixed pixels, warm-up drift) on a wall session and write its preset. Argument parsing and
+// wiring only; the work is characterise/.
+
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "characterise/characterisation.h"
+#include "io/output_file.h"
+#include "io/version.h"
+#include "io/writers.h"
+
+namespace {
+
+constexpr const char* kUsage = R"(usage: characterise SESSION [--mount OFFSETS.yaml] [--output PRESET.yaml] [--report DIR]
+                    [--config FILE] [--threads N]
+
+Measures the laser scanner on a wall session (docs/field-guide.md, "Characterising the
+scanner"): every beam that hits the surveyed wall has a true range from the vehicle's pose and
+the mount, so the session fits the range model z = n*true + c of Ye & Borenstein 2002 and
+Okubo, Ye & Borenstein 2009, with sigma for every number: the range correction k, b
+(y = k*z + b), the noise sigma and its growth with range and incidence, the range quantum, the
+incidence limit, the mixed-pixel rate at the wall's ends and the warm-up drift over time.
+
+  SESSION              a session.yaml, or the folder holding one (docs/session-format.md)
+  --mount FILE         an earlier calibration's offsets.yaml: its scanner_mount (and covariance,
+                       when given) is used; without it the mount is estimated jointly
+  --output FILE        the measured preset (default: SESSION_DIR/scanners/MODEL_measured.yaml,
+                       which calibrate finds as scanner.model: MODEL_measured). Only a regular
+                       file or a new path is replaced, never an input
+  --report DIR         also write SVG plots of the range error against true range, incidence
+                       and time into DIR
+  --config FILE        calibration options (YAML; defaults: configs/calibrate.yaml)
+  --threads N          threads for the wall detection (default: every core)
+  --help               this text;  --version  the tool version
+
+Exit status: 0 preset written; 1 a parameter not determined (the reason names it and what to
+collect); 2 bad input or usage; 3 an internal error (a bug: please report it).
+)";
+
+int Usage(const std::string& message) {
+  std::cerr << "characterise: " << message << "\n(run 'characterise --help' for usage)\n";
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  namespace fs = std::filesystem;
+  wallcal::characterise::CharacteriseRequest request;
+  std::string output, report_dir;
+  for (int i = 0; i < argc; ++i) request.command_line.push_back(argv[i]);
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      std::cout << kUsage;
+      return 0;
+    } else if (arg == "--version") {
+      std::cout << "wallcal characterise " << wallcal::io::kToolVersion << "\n";
+      return 0;
+    } else if (arg == "--mount" || arg == "--output" || arg == "--report" || arg == "--config" ||
+               arg == "--threads") {
+      if (i + 1 >= argc) return Usage(arg + " needs a value");
+      const std::string v = argv[++i];
+      if (v.empty()) return Usage(arg + " needs a non-empty value");
+      if (arg == "--mount") request.mount_path = v;
+      if (arg == "--output") output = v;
+      if (arg == "--report") report_dir = v;
+      if (arg == "--config") request.config_path = v;
+      if (arg == "--threads") {
+        char* end = nullptr;
+        const long n = std::strtol(v.c_str(), &end, 10);
+        if (*end != '\0' || n < 1 || n > 1024) return Usage("--threads: expected 1..1024, got '" + v + "'");
+        request.threads = static_cast<int>(n);
+      }
+    } else if (!arg.empty() && arg[0] == '-') {
+      return Usage("unknown option '" + arg + "'");
+    } else if (request.session_path.empty()) {
+      request.session_path = arg;
+    } else {
+      return Usage("more than one SESSION given ('" + request.session_path + "', '" + arg + "')");
+    }
+  }
+  if (request.session_path.empty()) return Usage("SESSION is required");
+  try {
+    const std::vector<std::string> inputs = {request.session_path, request.mount_path,
+                                             request.config_path};
+    if (!output.empty()) {
+      if (wallcal::io::IsStdoutPath(output)) return Usage("--output: a file is needed, not -");
+      wallcal::io::CheckOutputPath("--output", output, inputs);
+      request.preset_name = fs::path(output).stem().string();
+    }
+    if (!report_dir.empty()) wallcal::io::CheckOutputFolder("--report", report_dir);
+
+    const wallcal::characterise::Characterisation result =
+        wallcal::characterise::Characterise(request);
+    std::cout << wallcal::characterise::Summary(result);
+    if (!report_dir.empty()) {
+      fs::create_directories(report_dir);
+      for (const auto& [name, svg] : wallcal::characterise::Plots(result)) {
+        wallcal::io::WriteFileAtomically((fs::path(report_dir) / name).string(), svg);
+      }
+      std::cout << "characterise: plots written to " << report_dir << "\n";
+    }
+    if (!result.ok()) return 1;
+    if (output.empty()) {
+      const fs::path dir = fs::path(result.calibration.session.dir) / "scanners";
+      fs::create_directories(dir);
+      output = (dir / (result.preset.name + ".yaml")).string();
+      wallcal::io::CheckOutputPath("--output", output, inputs);
+    }
+    const std::vector<std::string> header = {
+        "Measured by wallcal characterise on session '" + result.calibration.session.name + "'.",
+        "Use it with scanner.model: " + result.preset.name +
+            " (calibrate finds it in the session's scanners/ folder or a preset folder).",
+        "sigma of k, b and the noise: see the summary printed with it."};
+    wallcal::io::WriteFileAtomically(output,
+                                     wallcal::io::FormatScannerPreset(result.preset, header));
+    std::cout << "characterise: preset written to " << output << "\n";
+    return 0;
+  } catch (const wallcal::io::InputError& error) {
+    std::cerr << "characterise: " << error.what() << "\n";
+    return 2;
+  } catch (const std::exception& error) {
+    std::cerr << "characterise: internal error: " << error.what() << "\n";
+    return 3;
+  }
+}

@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# characterise's honesty over seeds: for each characterisation scenario, SEEDS simulated
+# sessions, characterise on each, and RMS((estimate − truth) / reported σ) of k, b and σ
+# (honest σ: 0.8–1.25). Usage: bench/characterise_bench.sh BUILD_DIR [SEEDS=20]
+# Needs build/simulate and build/characterise (cmake --build BUILD --target simulate characterise).
+set -euo pipefail
+build=${1:?usage: characterise_bench.sh BUILD_DIR [SEEDS]}
+seeds=${2:-20}
+src=$(cd "$(dirname "$0")/.." && pwd)
+work=$(mktemp -d "${TMPDIR:-/tmp}/wallcal_char_bench.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+printf 'solver:\n  bootstrap_samples: 0\n' > "$work/fast.yaml"
+
+# scenario  true n  true c (m)  true sigma (m)
+run() {
+  local scenario=$1 n=$2 c=$3 sigma=$4
+  : > "$work/$scenario.txt"
+  for seed in $(seq 1 "$seeds"); do
+    "$build/simulate" --config "$src/configs/simulate/$scenario.yaml" --seed "$seed" \
+        --output "$work/s" > /dev/null
+    "$build/characterise" "$work/s" --config "$work/fast.yaml" --output "$work/p.yaml" \
+        > "$work/out.txt" || true
+    awk -v n="$n" -v c="$c" -v s="$sigma" -v seed="$seed" '
+      $1 == "k" { k = $3; sk = $5 }
+      $1 == "b_mm" { b = $3; sb = $5 }
+      $1 == "sigma_mm" { sg = $3; ssg = $5 }
+      END { if (sk == "" || sb == "" || ssg == "") { print seed, "failed"; exit }
+            printf "%d %.3f %.3f %.3f\n", seed, (k - 1 / n) / sk, (b - (-1000 * c / n)) / sb,
+                   (sg - 1000 * s) / ssg }' "$work/out.txt" >> "$work/$scenario.txt"
+    rm -rf "$work/s"
+  done
+  awk -v name="$scenario" '
+    $2 == "failed" { failed++; next }
+    { m++; k += $2 * $2; b += $3 * $3; s += $4 * $4 }
+    END { printf "%-24s %2d runs (%d failed)  RMS(err/sigma): k %.2f  b %.2f  sigma %.2f\n",
+                 name, m, failed, sqrt(k / m), sqrt(b / m), sqrt(s / m) }' "$work/$scenario.txt"
+}
+run characterise_lms291 0.9992 0.006 0.008
+run characterise_urg04lx 0.9899 0.007 0.0029
+
+# The warm-up drift over the first hour (8.4 mm · (1 − e^−3) = 7.98 mm), DRIFT_SEEDS seeds
+# (default 10: each session is an hour long).
+drift_seeds=${DRIFT_SEEDS:-10}
+: > "$work/drift.txt"
+for seed in $(seq 1 "$drift_seeds"); do
+  "$build/simulate" --config "$src/configs/simulate/characterise_lms291_warmup.yaml" \
+      --seed "$seed" --output "$work/s" > /dev/null
+  "$build/characterise" "$work/s" --config "$work/fast.yaml" --output "$work/p.yaml" \
+      > "$work/out.txt" || true
+  awk '$1 == "drift_mm" { printf "%.3f\n", ($3 - 7.98) / $5 }' "$work/out.txt" >> "$work/drift.txt"
+  rm -rf "$work/s"
+done
+awk -v n="$drift_seeds" '{ m++; d += $1 * $1 }
+  END { printf "%-24s %2d runs of %d  RMS(err/sigma): drift over the first hour %.2f\n",
+               "characterise_lms291_warmup", m, n, sqrt(d / m) }' "$work/drift.txt"
