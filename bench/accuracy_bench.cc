@@ -110,7 +110,7 @@ struct MethodStats {
   double seconds = 0.0;
   std::vector<double> time_offsets_s, time_offset_sigmas_s;
   double observations = 0.0;
-  // Clutter diagnostics (item 6 of issue 16): observations whose line-fit σ was raised by the
+  // Clutter diagnostics: observations whose line-fit σ was raised by the
   // fit's residual RMS (σ = max(preset σ, RMS), calib/wall_detector.cc) and by how much, and
   // observations beyond the solver's rejection threshold.
   double lines = 0.0, lines_raised = 0.0, raise_factor_sum = 0.0, rejected = 0.0;

@@ -1,4 +1,4 @@
-// Scans taken while driving (issue 16 §3): their pose uncertainty in the observation covariance
+// Scans taken while driving: their pose uncertainty in the observation covariance
 // (solvers/mount_problem.h MovingPoseCovariance, MovingScansPerGnssFix), and their use by
 // stop-and-go sessions (alignment.moving_scans_in_stop_and_go) when the scanner clock offset is
 // determined, σ honest against the simulator's truth.
