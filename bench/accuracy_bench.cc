@@ -6,14 +6,31 @@
 // --csv, one line per run and method.
 //
 //   accuracy_bench [--runs N] [--scenario NAME] [--first-seed S] [--csv FILE] [--breakdown]
-//                  [--max-crb-obs M] [--options FILE] [--keep] [--list]
+//                  [--max-crb-obs M] [--max-all-obs M] [--delay-prior S] [--options FILE]
+//                  [--sim FILE] [--crb-only] [--keep] [--list]
+//
+// --crb-only: only the all-data bound per scenario (on --max-all-obs wall lines and on half as
+// many), no simulated runs: how the bound and its cost scale with the subsample.
+//
+// --sim FILE: one scenario simulated from FILE (a configs/simulate/ style config) with
+// bench/calibrate_matched.yaml, for experiments.
+//
+// Two bounds per scenario: over the scans calibrate used in each run (mean over the runs), and
+// over ALL the data the session holds (bench/crb.h AllSessionObservations: every logged scan,
+// standing and moving, from the truth; the same for every seed, so computed once), with the
+// scanner clock offset (flat prior) and the GNSS and heading delays (prior --delay-prior S,
+// default 0.05 s) as marginalised unknowns. RMS/CRB and the targets are against the all-data
+// bound. Beyond --max-all-obs wall lines (default 2400) an even subsample by time is used, and
+// the bound of half as many is printed beside it to show what subsampling costs.
 //
 // --options FILE: calibrate options for every scenario (default: bench/calibrate_matched.yaml,
-// bench/calibrate_matched_moving.yaml for continuous driving); for experiments.
+// bench/calibrate_matched_moving.yaml for continuous driving, bench/calibrate_matched_drives.yaml
+// for (i) and (j)); for experiments.
 // Not a test: no assertions, no ctest registration. Its numbers go into docs/results.md.
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -60,6 +77,7 @@ std::vector<Scenario> Scenarios() {
   const std::string sim = src + "/configs/simulate/";
   const std::string matched = src + "/bench/calibrate_matched.yaml";
   const std::string moving = src + "/bench/calibrate_matched_moving.yaml";
+  const std::string drives = src + "/bench/calibrate_matched_drives.yaml";
   return {
       {"lms291_stopgo", "(a) LMS 291 stop-and-go", sim + "bench_lms291_stopgo.yaml", matched, false},
       {"lms291_continuous", "(b) LMS 291 continuous driving", sim + "bench_lms291_continuous.yaml",
@@ -74,6 +92,10 @@ std::vector<Scenario> Scenarios() {
        sim + "bench_lms291_continuous_clock.yaml", moving, true},
       {"stopgo_moving_clock", "(h) (a) with moving scans and the scanner clock 150 ms behind",
        sim + "bench_lms291_stopgo_moving_clock.yaml", moving, true},
+      {"stopgo_drives", "(i) (a) with the drives between the stops used",
+       sim + "bench_lms291_stopgo.yaml", drives, true},
+      {"two_walls_drives", "(j) (f) with the drives between the stops used",
+       sim + "bench_lms291_two_walls.yaml", drives, true},
       {"delays_stopgo", "(d1) stop-and-go (5 s stops) with the logger's delays 35+U(0,10)/4/13 ms",
        sim + "bench_lms291_delays_stopgo.yaml", moving, true},
       {"delays_short_stops", "(d2) 0.3 s stops with the logger's delays",
@@ -98,6 +120,11 @@ struct MethodStats {
   int heading_delay_determined = 0;
   std::vector<double> gnss_latencies_s, gnss_jitters_s;
   double observations = 0.0;
+  // Clutter diagnostics: observations whose line-fit σ was raised by the
+  // fit's residual RMS (σ = max(preset σ, RMS), calib/wall_detector.cc) and by how much, and
+  // observations beyond the solver's rejection threshold.
+  double lines = 0.0, lines_raised = 0.0, raise_factor_sum = 0.0, rejected = 0.0;
+  double moving_scans = 0.0, standing_scans = 0.0;
 };
 
 // The delays calibrate should find (docs/time-alignment.md): the GGA epochs land on the logger
@@ -140,14 +167,20 @@ struct Args {
   bool breakdown = false;
   bool keep = false;
   int max_crb_obs = 1600;
+  // The all-data bound: at most this many scans' wall lines (an even subsample by time beyond),
+  // and the priors of the GNSS and heading delays (the scanner offset's is flat).
+  int max_all_obs = 2400;
+  double delay_prior_s = 0.05;
   std::string options;  // calibrate options for every scenario instead of bench/calibrate_*.yaml
+  std::string sim;      // --sim FILE: one scenario from this simulate config instead
+  bool crb_only = false;  // --crb-only: the all-data bound (and on half the scans), no runs
 };
 
 [[noreturn]] void Usage(const std::string& why) {
   std::fprintf(stderr,
                "accuracy_bench: %s\nusage: accuracy_bench [--runs N] [--scenario NAME] "
-               "[--first-seed S] [--csv FILE] [--breakdown] [--max-crb-obs M] [--options FILE] "
-               "[--keep] [--list]\n",
+               "[--first-seed S] [--csv FILE] [--breakdown] [--max-crb-obs M] [--max-all-obs M] "
+               "[--delay-prior S] [--options FILE] [--sim FILE] [--crb-only] [--keep] [--list]\n",
                why.c_str());
   std::exit(2);
 }
@@ -171,6 +204,14 @@ Args ParseArgs(int argc, char** argv) {
       args.csv = value();
     } else if (a == "--max-crb-obs") {
       args.max_crb_obs = std::atoi(value().c_str());
+    } else if (a == "--max-all-obs") {
+      args.max_all_obs = std::atoi(value().c_str());
+    } else if (a == "--delay-prior") {
+      args.delay_prior_s = std::atof(value().c_str());
+    } else if (a == "--crb-only") {
+      args.crb_only = true;
+    } else if (a == "--sim") {
+      args.sim = value();
     } else if (a == "--options") {
       args.options = value();
     } else if (a == "--breakdown") {
@@ -229,8 +270,35 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
   const fs::path root = fs::temp_directory_path() /
                         ("wallcal_bench_" + std::to_string(::getpid()) + "_" + scenario.name);
 
+  // The all-data bound (deterministic: from the truth), and the same on half the wall lines.
+  CrbDelays all_delays;
+  all_delays.scanner_offset_prior_sigma_s = kFlatDelayPriorS;
+  all_delays.gnss_delay_prior_sigma_s = args.delay_prior_s;
+  all_delays.heading_delay_prior_sigma_s = args.delay_prior_s;
+  const std::vector<CrbObservation> all_obs = AllSessionObservations(config, preset, 2);
+  const auto all_t0 = std::chrono::steady_clock::now();
+  const CrbResult all_crb =
+      ComputeCrb(config, preset, all_obs, kAllSources, all_delays, args.max_all_obs);
+  const double all_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - all_t0).count();
+  const int half = std::max(3, all_crb.observations_used / 2);
+  const CrbResult all_half = ComputeCrb(config, preset, all_obs, kAllSources, all_delays, half);
+  if (!all_crb.ok) throw std::runtime_error(scenario.name + ": all-data CRB: " + all_crb.message);
+  if (args.crb_only) {
+    std::printf("%s: all-data CRB on %d of %d wall lines (%.1f s): x %.2f mm, y %.2f mm, yaw %.4f "
+                "deg; on %d: x %.2f mm, y %.2f mm, yaw %.4f deg\n",
+                scenario.name.c_str(), all_crb.observations_used, all_crb.observations_given,
+                all_seconds, 1000.0 * std::sqrt(all_crb.crb(0, 0)),
+                1000.0 * std::sqrt(all_crb.crb(1, 1)), kRadToDeg * std::sqrt(all_crb.crb(2, 2)),
+                all_half.observations_used, 1000.0 * std::sqrt(all_half.crb(0, 0)),
+                1000.0 * std::sqrt(all_half.crb(1, 1)), kRadToDeg * std::sqrt(all_half.crb(2, 2)));
+    return;
+  }
+
   MethodStats stats[2];
   const char* methods[2] = {"ceres", "barawid"};
+  CrbDelays offset_unknown;
+  offset_unknown.scanner_offset_prior_sigma_s = kFlatDelayPriorS;
   std::vector<Eigen::Matrix3d> crbs, crbs_offset;
   AxisStats oracle[3];
   int crb_failures = 0, crb_subsampled = 0;
@@ -256,6 +324,16 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
       }
       s.seconds += result.seconds;
       s.observations += static_cast<double>(result.observations.size());
+      for (const calib::WallObservation& o : result.observations) {
+        s.lines += 1.0;
+        if (o.residual_rms_m > preset.range_sigma_m) {
+          s.lines_raised += 1.0;
+          s.raise_factor_sum += o.residual_rms_m / preset.range_sigma_m;
+        }
+      }
+      s.rejected += result.estimate.observations_rejected;
+      s.moving_scans += static_cast<double>(result.scans_used_moving);
+      s.standing_scans += static_cast<double>(result.scans_used - result.scans_used_moving);
       const solvers::MountEstimate& e = result.estimate;
       const double est[3] = {e.mount.x_m, e.mount.y_m, e.mount.yaw_rad};
       double err[3], sig[3];
@@ -304,7 +382,7 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
       if (m == 0) {
         // The bound for the observations calibrate extracted in this run, at the truth.
         const std::vector<CrbObservation> obs = CrbObservationsOf(result, config);
-        const CrbResult crb = ComputeCrb(config, preset, obs, kAllSources, false, args.max_crb_obs);
+        const CrbResult crb = ComputeCrb(config, preset, obs, kAllSources, CrbDelays{}, args.max_crb_obs);
         if (!crb.ok) {
           ++crb_failures;
         } else {
@@ -314,13 +392,38 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
           }
           crb_obs += crb.observations_used;
           crb_subsampled += crb.subsampled;
-          if (scenario.moving) {
+          const bool any_moving =
+              std::any_of(result.observations.begin(), result.observations.end(),
+                          [](const calib::WallObservation& o) { return !o.pose.stationary; });
+          if (scenario.moving || any_moving) {
             const CrbResult with_offset =
-                ComputeCrb(config, preset, obs, kAllSources, true, args.max_crb_obs);
+                ComputeCrb(config, preset, obs, kAllSources, offset_unknown, args.max_crb_obs);
             if (with_offset.ok) crbs_offset.push_back(with_offset.crb);
           }
         }
         if (args.breakdown && r == 0) {
+          // The observations at the truth, by kind: a mean far from 0 (against RMS/√n) is a
+          // biased wall line, which no estimator can undo.
+          std::map<std::pair<int, int>, std::vector<Eigen::Vector2d>> groups;  // (moving, wall)
+          for (size_t k = 0; k < obs.size(); ++k) {
+            if (!obs[k].has_residual) continue;
+            groups[{result.observations[k].pose.stationary ? 0 : 1, obs[k].surveyed_wall}]
+                .push_back(obs[k].residual);
+          }
+          std::printf("\nResiduals at the true mount, %s seed %llu (observed − predicted):\n",
+                      scenario.name.c_str(), static_cast<unsigned long long>(seed));
+          for (const auto& [key, list] : groups) {
+            Eigen::Vector2d mean = Eigen::Vector2d::Zero(), sq = Eigen::Vector2d::Zero();
+            for (const auto& v : list) {
+              mean += v / static_cast<double>(list.size());
+              sq += v.cwiseProduct(v) / static_cast<double>(list.size());
+            }
+            std::printf("  %-8s wall %d: %4zu lines, rho mean %+.2f mm RMS %.2f mm, theta mean "
+                        "%+.4f deg RMS %.4f deg\n",
+                        key.first ? "moving" : "standing", key.second, list.size(),
+                        1000.0 * mean.x(), 1000.0 * std::sqrt(sq.x()), kRadToDeg * mean.y(),
+                        kRadToDeg * std::sqrt(sq.y()));
+          }
           std::printf("\nCRB breakdown, %s, seed %llu (%zu observations; sources on top of the "
                       "line fit):\n",
                       scenario.name.c_str(), static_cast<unsigned long long>(seed), obs.size());
@@ -334,7 +437,7 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
               {"all sources", kAllSources},
           };
           for (const auto& [label, mask] : parts) {
-            const CrbResult b = ComputeCrb(config, preset, obs, mask, false, args.max_crb_obs);
+            const CrbResult b = ComputeCrb(config, preset, obs, mask, CrbDelays{}, args.max_crb_obs);
             if (!b.ok) {
               std::printf("  %-30s %s\n", label, b.message.c_str());
               continue;
@@ -379,9 +482,19 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
               c.usable, c.runs, b.usable, b.runs, c.runs ? c.observations / c.runs : 0.0,
               crbs.size(), crbs.empty() ? 0.0 : crb_obs / crbs.size(),
               crb_subsampled ? ", subsampled evenly" : "", elapsed_s);
-  std::printf("| axis | RMS err ceres | mean σ ceres | RMS(err/σ) | CRB | RMS/CRB | RMS err "
-              "barawid | barawid/CRB | RMS ≤ 1.1 CRB | 0.8 ≤ RMS(err/σ) ≤ 1.25 |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("All-data CRB: %d of the %d wall lines in the scans the session holds%s (%.1f s to "
+              "compute); on about half as many (%d): x %.2f mm, y %.2f mm, yaw %.4f deg; on %d: "
+              "x %.2f mm, y %.2f mm, yaw %.4f deg.\n\n",
+              all_crb.observations_used, all_crb.observations_given,
+              all_crb.subsampled ? ", subsampled evenly by scan" : "", all_seconds,
+              all_half.observations_used, 1000.0 * std::sqrt(all_half.crb(0, 0)),
+              1000.0 * std::sqrt(all_half.crb(1, 1)), kRadToDeg * std::sqrt(all_half.crb(2, 2)),
+              all_crb.observations_used, 1000.0 * std::sqrt(all_crb.crb(0, 0)),
+              1000.0 * std::sqrt(all_crb.crb(1, 1)), kRadToDeg * std::sqrt(all_crb.crb(2, 2)));
+  std::printf("| axis | RMS err ceres | mean σ ceres | RMS(err/σ) | CRB used scans | CRB all "
+              "data | RMS/CRB all | RMS err barawid | barawid/CRB all | RMS ≤ 1.1 CRB all | "
+              "0.8 ≤ RMS(err/σ) ≤ 1.25 |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int a = 0; a < 3; ++a) {
     const double rms = Rms(c.axis[a].errors);
     const double mean_sigma = Mean(c.axis[a].sigmas);
@@ -390,12 +503,15 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
       if (c.axis[a].sigmas[i] > 0.0) z.push_back(c.axis[a].errors[i] / c.axis[a].sigmas[i]);
     }
     const double rms_z = Rms(z);
-    const double bound = std::sqrt(crb(a, a));
+    // The used-scans bound: with the scanner clock offset unknown when moving scans are used.
+    const double used_bound =
+        std::sqrt(crbs_offset.empty() ? crb(a, a) : crb_offset(a, a));
+    const double bound = std::sqrt(all_crb.crb(a, a));
     const double rms_b = Rms(b.axis[a].errors);
     const int prec = a < 2 ? 2 : 4;
-    std::printf("| %s (%s) | %.*f | %.*f | %.2f | %.*f | %.2f | %.*f | %.2f | %s | %s |\n",
+    std::printf("| %s (%s) | %.*f | %.*f | %.2f | %.*f | %.*f | %.2f | %.*f | %.2f | %s | %s |\n",
                 kAxisName[a], Unit(a), prec, Show(a, rms), prec, Show(a, mean_sigma), rms_z, prec,
-                Show(a, bound), rms / bound, prec, Show(a, rms_b), rms_b / bound,
+                Show(a, used_bound), prec, Show(a, bound), rms / bound, prec, Show(a, rms_b), rms_b / bound,
                 rms <= 1.1 * bound ? "met" : "NOT met",
                 (rms_z >= 0.8 && rms_z <= 1.25) ? "met" : "NOT met");
   }
@@ -465,6 +581,14 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
       std::printf("%s not usable in %d run(s): %s\n", methods[m], count, message.c_str());
     }
   }
+  if (c.lines > 0.0) {
+    std::printf("ceres per run: %.0f standing and %.0f moving scans used; %.1f %% of the wall "
+                "lines had their fit σ raised by the fit's RMS (mean factor %.2f); %.2f "
+                "observations rejected (whitened residual beyond the threshold).\n",
+                c.standing_scans / c.runs, c.moving_scans / c.runs, 100.0 * c.lines_raised / c.lines,
+                c.lines_raised > 0.0 ? c.raise_factor_sum / c.lines_raised : 1.0,
+                c.rejected / c.runs);
+  }
   if (crb_failures > 0) std::printf("CRB failed in %d run(s)\n", crb_failures);
   std::printf("mean calibrate time: ceres %.2f s, barawid %.2f s\n",
               c.runs ? c.seconds / c.runs : 0.0, b.runs ? b.seconds / b.runs : 0.0);
@@ -486,7 +610,15 @@ int main(int argc, char** argv) {
   }
   bool any = false;
   try {
+    if (!args.sim.empty()) {
+      any = true;
+      const Scenario custom{"custom", "custom: " + args.sim, args.sim,
+                            std::string(WALLCAL_SOURCE_DIR) + "/bench/calibrate_matched.yaml",
+                            false};
+      RunScenario(custom, args, csv);
+    }
     for (const Scenario& s : Scenarios()) {
+      if (!args.sim.empty()) break;
       if (!args.scenario.empty() && args.scenario != s.name) continue;
       any = true;
       RunScenario(s, args, csv);

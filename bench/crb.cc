@@ -175,7 +175,14 @@ struct Row {
   double sign = 1.0;                             // n = sign · (cos α_w, sin α_w)
   Eigen::Vector2d scanner_enu_m = Eigen::Vector2d::Zero();
   Eigen::Matrix2d fit_cov = Eigen::Matrix2d::Zero();
-  Eigen::Matrix<double, 2, 4> J = Eigen::Matrix<double, 2, 4>::Zero();  // x, y, yaw, clock
+  // x, y, yaw, then the pose's time shifts: the position part (antenna velocity) and the
+  // heading part (yaw rate, through the lever arm too) of d(rho, theta)/d(time). A scanner
+  // clock offset moves both, a GNSS delay the first, a heading delay the second.
+  Eigen::Matrix<double, 2, 3> J = Eigen::Matrix<double, 2, 3>::Zero();
+  Eigen::Vector2d J_position_time = Eigen::Vector2d::Zero();
+  Eigen::Vector2d J_heading_time = Eigen::Vector2d::Zero();
+  double n_dot_v = 0.0;   // n · antenna velocity (m/s)
+  double yaw_rate = 0.0;  // rad/s
   Eigen::Vector2d B = Eigen::Vector2d::Zero();       // d(rho, theta)/d heading error
   Eigen::Matrix2d W = Eigen::Matrix2d::Zero();       // d(rho, theta)/d(α_w, d_w)
   Interp gnss, heading;
@@ -187,7 +194,7 @@ struct Row {
 
 CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset& preset,
                      const std::vector<CrbObservation>& observations, unsigned sources,
-                     bool estimate_time_offset, int max_observations) {
+                     const CrbDelays& delays, int max_observations) {
   CrbResult result;
   result.observations_given = static_cast<int>(observations.size());
   if (observations.empty()) {
@@ -199,9 +206,21 @@ CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset
     return a.t_s < b.t_s || (a.t_s == b.t_s && a.surveyed_wall < b.surveyed_wall);
   });
   if (max_observations > 0 && static_cast<int>(obs.size()) > max_observations) {
+    // Evenly by scan: every wall line of a kept scan time is kept (a stride over the lines
+    // would keep one wall's lines only when each scan sees two).
+    std::vector<size_t> scan_start;  // first line of each distinct time
+    for (size_t i = 0; i < obs.size(); ++i) {
+      if (i == 0 || obs[i].t_s != obs[i - 1].t_s) scan_start.push_back(i);
+    }
+    const double lines_per_scan = static_cast<double>(obs.size()) / scan_start.size();
+    const size_t keep_scans = std::max<size_t>(
+        1, static_cast<size_t>(std::floor(max_observations / lines_per_scan)));
     std::vector<CrbObservation> kept;
-    const double stride = static_cast<double>(obs.size()) / max_observations;
-    for (int i = 0; i < max_observations; ++i) kept.push_back(obs[static_cast<size_t>(i * stride)]);
+    const double stride = static_cast<double>(scan_start.size()) / keep_scans;
+    for (size_t k = 0; k < keep_scans && k < scan_start.size(); ++k) {
+      const size_t s = scan_start[static_cast<size_t>(k * stride)];
+      for (size_t i = s; i < obs.size() && obs[i].t_s == obs[s].t_s; ++i) kept.push_back(obs[i]);
+    }
     obs = kept;
     result.subsampled = true;
   }
@@ -273,15 +292,16 @@ CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset
     // Mount Jacobian: rho = d − n·(a + R m), theta = angle(n) − ψ − yaw.
     row.J.block<1, 2>(0, 0) = -row.n.transpose() * R;
     row.J(1, 2) = -1.0;
-    // Clock offset: the pose at t + δ: d rho/dδ = −n·ṡ, d theta/dδ = −ψ̇.
-    const Eigen::Vector2d s_before =
-        poses_before[i].antenna_enu_m + Rotation(poses_before[i].yaw_enu_rad) * lever;
-    const Eigen::Vector2d s_after =
-        poses_after[i].antenna_enu_m + Rotation(poses_after[i].yaw_enu_rad) * lever;
-    row.J(0, 3) = -row.n.dot(s_after - s_before) / (2.0 * kDt);
-    row.J(1, 3) = -(poses_after[i].yaw_enu_rad - poses_before[i].yaw_enu_rad) / (2.0 * kDt);
     // Heading error turns the lever arm and the scanner.
     row.B << -row.n.dot(kQuarterTurn * R * lever), -1.0;
+    // The pose at t + δ: the antenna moves by v δ (d rho = −n·v δ), the yaw by ψ̇ δ (through
+    // B). A scanner clock offset is both; a GNSS or heading delay one of them.
+    const Eigen::Vector2d velocity =
+        (poses_after[i].antenna_enu_m - poses_before[i].antenna_enu_m) / (2.0 * kDt);
+    row.yaw_rate = (poses_after[i].yaw_enu_rad - poses_before[i].yaw_enu_rad) / (2.0 * kDt);
+    row.n_dot_v = row.n.dot(velocity);
+    row.J_position_time << -row.n_dot_v, 0.0;
+    row.J_heading_time = row.B * row.yaw_rate;
     // Wall line: rho = sign·(d_w − n_w·s), theta = angle(sign·n_w) − φ.
     const Eigen::Vector2d n_wall_turned(-std::sin(alpha), std::cos(alpha));
     row.W << -row.sign * n_wall_turned.dot(row.scanner_enu_m), row.sign, 1.0, 0.0;
@@ -302,6 +322,8 @@ CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset
   const double var_gw = std::pow(config.gnss_white_sigma_m, 2);
   const double var_hw = std::pow(config.heading_white_sigma_rad, 2);
   const double var_drift = std::pow(config.heading_drift_rad_per_s, 2);
+  const double var_gj = std::pow(delays.gnss_jitter_sigma_s, 2);
+  const double var_hj = std::pow(delays.heading_jitter_sigma_s, 2);
   Eigen::MatrixXd C = Eigen::MatrixXd::Zero(2 * n, 2 * n);
   for (int a = 0; a < n; ++a) {
     const Row& ra = rows[a];
@@ -316,8 +338,11 @@ CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset
       }
       if (sources & kGnssWhite) g += var_gw * Overlap(ra.gnss, rb.gnss);
       block(0, 0) += g * ra.n.dot(rb.n);
+      // Stamp jitter: fix j's position is off by −v ε_j (v taken at the scans' times).
+      if (var_gj > 0.0) block(0, 0) += var_gj * Overlap(ra.gnss, rb.gnss) * ra.n_dot_v * rb.n_dot_v;
       double h = 0.0;  // covariance of the two heading errors
       if (sources & kHeadingWhite) h += var_hw * Overlap(ra.heading, rb.heading);
+      if (var_hj > 0.0) h += var_hj * Overlap(ra.heading, rb.heading) * ra.yaw_rate * rb.yaw_rate;
       if (sources & kHeadingDrift) h += var_drift * ra.t_s * rb.t_s;
       block += h * ra.B * rb.B.transpose();
       if (sources & kSurvey) {
@@ -328,15 +353,37 @@ CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset
       C.block<2, 2>(2 * b, 2 * a) = block.transpose();
     }
   }
-  const int p = estimate_time_offset ? 4 : 3;
+  // Unknowns: the mount, then each delay with a prior (its information on the diagonal of P).
+  std::vector<double> prior_information;
+  std::vector<int> delay_kind;  // 0 scanner offset, 1 GNSS delay, 2 heading delay
+  const double prior_sigma[3] = {delays.scanner_offset_prior_sigma_s,
+                                 delays.gnss_delay_prior_sigma_s,
+                                 delays.heading_delay_prior_sigma_s};
+  for (int kind = 0; kind < 3; ++kind) {
+    if (prior_sigma[kind] > 0.0) {
+      delay_kind.push_back(kind);
+      prior_information.push_back(1.0 / (prior_sigma[kind] * prior_sigma[kind]));
+    }
+  }
+  const int p = 3 + static_cast<int>(delay_kind.size());
   Eigen::MatrixXd J(2 * n, p);
-  for (int a = 0; a < n; ++a) J.block(2 * a, 0, 2, p) = rows[a].J.leftCols(p);
+  for (int a = 0; a < n; ++a) {
+    J.block(2 * a, 0, 2, 3) = rows[a].J;
+    for (size_t d = 0; d < delay_kind.size(); ++d) {
+      const Row& r = rows[a];
+      J.block(2 * a, 3 + static_cast<int>(d), 2, 1) =
+          delay_kind[d] == 0   ? Eigen::Vector2d(r.J_position_time + r.J_heading_time)
+          : delay_kind[d] == 1 ? Eigen::Vector2d(-r.J_position_time)
+                               : Eigen::Vector2d(-r.J_heading_time);
+    }
+  }
   const Eigen::LLT<Eigen::MatrixXd> llt(C);
   if (llt.info() != Eigen::Success) {
     result.message = "the observation covariance is not positive definite";
     return result;
   }
-  const Eigen::MatrixXd fisher = J.transpose() * llt.solve(J);
+  Eigen::MatrixXd fisher = J.transpose() * llt.solve(J);
+  for (size_t d = 0; d < prior_information.size(); ++d) fisher(3 + d, 3 + d) += prior_information[d];
   const Eigen::FullPivLU<Eigen::MatrixXd> lu(fisher);
   if (!lu.isInvertible()) {
     result.message = "the Fisher information is singular (the mount is not observable)";
@@ -348,11 +395,47 @@ CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset
   if (std::all_of(rows.begin(), rows.end(), [](const Row& r) { return r.has_residual; })) {
     Eigen::VectorXd r(2 * n);
     for (int a = 0; a < n; ++a) r.segment<2>(2 * a) = rows[a].residual;
-    // r ≈ J δm + ε, J = ∂(rho, theta)/∂m as above.
+    // r ≈ J δm + ε, J = ∂(rho, theta)/∂m as above (the delays' priors are centred on the
+    // truth, so they add nothing to the right-hand side).
     result.oracle_error = (bound * (J.transpose() * llt.solve(r))).head<3>();
     result.has_oracle = true;
   }
   return result;
+}
+
+std::vector<CrbObservation> AllSessionObservations(const io::SimulationConfig& config,
+                                                   const io::ScannerPreset& preset,
+                                                   int min_wall_beams) {
+  std::vector<CrbObservation> out;
+  const double duration_s = sim::RunDurationS(config);
+  const int64_t log_every = std::max<int64_t>(1, std::llround(config.log_every_n));
+  // As sim::Simulate: scan k at true time k / rate, every log_every-th logged.
+  const int64_t scan_count = static_cast<int64_t>(std::floor(duration_s * preset.rate_hz + 1e-9)) + 1;
+  std::vector<double> times;
+  for (int64_t k = 0; k < scan_count; k += log_every) times.push_back(k / preset.rate_hz);
+  const std::vector<sim::SimTruthPose> poses = sim::TruePosesAt(config, times);
+  std::vector<int> surveyed_of(config.walls.size(), -1);  // config.walls index -> surveyed
+  int surveyed = 0;
+  for (size_t i = 0; i < config.walls.size(); ++i) {
+    if (!config.walls[i].code.empty()) surveyed_of[i] = surveyed++;
+  }
+  constexpr double kMinRangeM = 0.5;  // as ComputeCrb
+  for (size_t i = 0; i < times.size(); ++i) {
+    std::vector<int> beams(static_cast<size_t>(surveyed), 0);
+    for (const sim::SimBeamHit& h : sim::TrueBeamHits(config, preset, poses[i])) {
+      if (!h.returned || h.footprint_edge || h.wall_index < 0 || h.range_m < kMinRangeM) continue;
+      const int w = surveyed_of[static_cast<size_t>(h.wall_index)];
+      if (w >= 0) ++beams[static_cast<size_t>(w)];
+    }
+    for (int w = 0; w < surveyed; ++w) {
+      if (beams[static_cast<size_t>(w)] < min_wall_beams) continue;
+      CrbObservation o;
+      o.t_s = times[i];
+      o.surveyed_wall = w;
+      out.push_back(o);
+    }
+  }
+  return out;
 }
 
 }  // namespace wallcal::bench

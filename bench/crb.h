@@ -15,9 +15,17 @@
 //     (its sign is random: covariance r² t_k t_l);
 //   - the wall lines: total-station noise on every surveyed point and on the control points,
 //     RTK noise on the control points, through the two-point tie and the wall fit.
-// CRB = (Jᵀ C⁻¹ J)⁻¹ with J the Jacobian of the observations with respect to the mount (and,
-// optionally, a scanner-clock offset as a fourth parameter, whose row/column is then
-// marginalised). Frames: the simulator's local ENU (the mount does not depend on the frame).
+//   - optionally, per-fix stamp jitter of the GNSS and heading streams (white, s): the pose is
+//     off by velocity × jitter (position) and yaw rate × jitter (heading), interpolated.
+// CRB = (Jᵀ C⁻¹ J + P)⁻¹ with J the Jacobian of the observations with respect to the mount and
+// the delay unknowns (CrbDelays: the scanner clock offset, the GNSS stream's delay, the heading
+// stream's delay, each with a zero-mean prior of information P), whose rows/columns are then
+// marginalised (the top-left 3 × 3 of the inverse). Frames: the simulator's local ENU (the
+// mount does not depend on the frame).
+//
+// Over which scans: ComputeCrb bounds any set of scans; AllSessionObservations gives every scan
+// the simulated session holds (standing and moving, from the truth, not the scans calibrate
+// chose), for the all-data bound.
 
 #include <Eigen/Core>
 #include <string>
@@ -64,12 +72,35 @@ struct CrbResult {
   Eigen::Vector3d oracle_error = Eigen::Vector3d::Zero();
 };
 
+// The delays as unknowns. Each prior σ > 0 makes that delay an unknown of the bound with a
+// zero-mean Gaussian prior of that σ (s), marginalised; 0: known exactly (no unknown). The
+// three are not separable from the data alone (the scanner offset shifts the position and the
+// heading alike, which a GNSS delay plus an equal heading delay also do): their priors decide
+// how the common part is shared, the data decide the rest (a position shift from driving, a
+// heading shift from turning). Jitter: white per-fix stamp noise (s, 1σ) of each stream.
+struct CrbDelays {
+  double scanner_offset_prior_sigma_s = 0.0;
+  double gnss_delay_prior_sigma_s = 0.0;
+  double heading_delay_prior_sigma_s = 0.0;
+  double gnss_jitter_sigma_s = 0.0;
+  double heading_jitter_sigma_s = 0.0;
+};
+// A prior this wide is flat for any session (an offset known to ±10 s carries no information).
+inline constexpr double kFlatDelayPriorS = 10.0;
+
 // The bound for `observations` (any order). At most max_observations are used (an even
-// subsample by time when more are given: C is dense, 2N × 2N). `sources`: CrbSource flags;
-// kLineFit should always be among them (without it C is singular). With estimate_time_offset
-// a common scanner-clock offset is a fourth unknown (its information comes from the motion).
+// subsample by time when more are given: C is dense, 2N × 2N, O(N³) to factor; <= 0: all).
+// `sources`: CrbSource flags; kLineFit should always be among them (without it C is singular).
 CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset& preset,
                      const std::vector<CrbObservation>& observations, unsigned sources,
-                     bool estimate_time_offset, int max_observations);
+                     const CrbDelays& delays, int max_observations);
+
+// Every scan the simulated session holds (each log_every_n-th scan of the preset's rate over the
+// run, at its true time; lost scans are random and left in) paired with every surveyed wall it
+// sees with at least min_wall_beams returned, unoccluded beams (sim::TrueBeamHits), standing
+// and moving alike. No residuals (the truth has none).
+std::vector<CrbObservation> AllSessionObservations(const io::SimulationConfig& config,
+                                                   const io::ScannerPreset& preset,
+                                                   int min_wall_beams);
 
 }  // namespace wallcal::bench

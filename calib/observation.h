@@ -75,6 +75,9 @@ struct VehiclePose {
   // slightly different time: p(t + dt) ≈ p + v·dt, ψ(t + dt) ≈ ψ + ω·dt (scanner clock offset).
   Eigen::Vector2d velocity_local_mps = Eigen::Vector2d::Zero();  // antenna, local frame
   double yaw_rate_rps = 0.0;  // ccw
+  // The median GNSS sample period of the stream the position was interpolated from (s; 0:
+  // unknown): a moving scan's interpolation error and how many scans share one fix's noise.
+  double gnss_period_s = 0.0;
   // Inside a dwell (stationary): the circular mean of the heading samples over the whole dwell
   // (rad, same frame as yaw_rad), how many samples it averages, and the dwell's middle time (s).
   // The vehicle's true yaw is constant over a dwell, so the solver uses this mean instead of the

@@ -155,6 +155,7 @@ PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
   pose->antenna_local_m = p_local_m;
   pose->yaw_rad = yaw_rad;
   pose->gnss_sigma_m = sigma_m;
+  pose->gnss_period_s = gnss_period_s_;
   pose->stationary = false;
   // The last dwell starting at or before stamp_s is the only one that can contain it.
   const auto it = std::upper_bound(dwells_.begin(), dwells_.end(), stamp_s,

@@ -44,6 +44,8 @@ void VisitAlignment(V& v, AlignmentOptions& o) {
   v.Number("segment_max_s", o.segment_max_s);
   v.Boolean("moving_scans_if_few_stations", o.moving_scans_if_few_stations);
   v.Boolean("gnss_epoch_time", o.gnss_epoch_time);
+  v.Boolean("moving_scans_in_stop_and_go", o.moving_scans_in_stop_and_go);
+  v.Number("moving_max_time_offset_sigma_s", o.moving_max_time_offset_sigma_s);
 }
 
 template <class V>
@@ -74,6 +76,7 @@ void VisitSolver(V& v, SolverOptions& o) {
   v.Number("gnss_bias_tau_s", o.gnss_bias_tau_s);
   v.Number("time_offset_sigma_s", o.time_offset_sigma_s);
   v.Number("heading_delay_sigma_s", o.heading_delay_sigma_s);
+  v.Number("moving_timing_sigma_s", o.moving_timing_sigma_s);
   v.Number("max_sigma_xy_m", o.max_sigma_xy_m);
   v.Scaled("max_sigma_yaw_deg", o.max_sigma_yaw_rad, kRadToDeg);
   v.Integer("bootstrap_samples", o.bootstrap_samples);

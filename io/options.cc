@@ -94,6 +94,7 @@ void AlignmentOptions::Validate() const {
   CheckNonNegative("alignment.min_dwell_s", min_dwell_s);
   CheckNonNegative("alignment.dwell_guard_s", dwell_guard_s);
   CheckPositive("alignment.segment_max_s", segment_max_s);
+  CheckNonNegative("alignment.moving_max_time_offset_sigma_s", moving_max_time_offset_sigma_s);
 }
 
 void SolverOptions::Validate() const {
@@ -111,6 +112,7 @@ void SolverOptions::Validate() const {
   CheckNonNegative("solver.gnss_bias_tau_s", gnss_bias_tau_s);
   CheckNonNegative("solver.time_offset_sigma_s", time_offset_sigma_s);
   CheckNonNegative("solver.heading_delay_sigma_s", heading_delay_sigma_s);
+  CheckNonNegative("solver.moving_timing_sigma_s", moving_timing_sigma_s);
   CheckNonNegative("solver.heading_drift_sigma_deg_per_h", heading_drift_sigma_rad_per_s);
   CheckPositive("solver.max_sigma_xy_m", max_sigma_xy_m);
   CheckAnglePositive("solver.max_sigma_yaw_deg", max_sigma_yaw_rad, 180.0);

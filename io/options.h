@@ -71,6 +71,16 @@ struct AlignmentOptions {
   // Put each GGA at its epoch mapped onto the logger clock (calib/gnss_epoch_time.h) when the
   // log has logger stamps and the sentences' UTC; false: at its arrival stamp.
   bool gnss_epoch_time = true;
+  // Stop-and-go sessions: the scans taken while driving between the stops are used too, each
+  // with its pose uncertainty (solver.moving_timing_sigma_s, interpolation, scans per GNSS fix)
+  // in its covariance, when the scanner clock offset they need is determined (estimated with
+  // σ <= moving_max_time_offset_sigma_s); otherwise they are dropped again and the standing
+  // scans solved alone. false: standing scans only (unless use_moving_scans or too few stations).
+  // Off by default for now: with a second surveyed wall the drives' observations bias x by about
+  // −18 mm (benchmark (j), docs/results.md; cause not found), with one wall they bring the
+  // estimate to the all-data bound (benchmark (i)).
+  bool moving_scans_in_stop_and_go = false;
+  double moving_max_time_offset_sigma_s = 0.005;
   void Validate() const;
 };
 
@@ -104,6 +114,11 @@ struct SolverOptions {
   // of the moving scans (0: held at 0). Not determined by the data (no turns): marginalised
   // under this prior, so the mount's σ carries it (docs/time-alignment.md).
   double heading_delay_sigma_s = 0.05;
+  // A moving scan's pose timing uncertainty that no parameter takes up (s, 1σ, white per scan):
+  // stamp jitter of the scanner and of the GNSS / heading sentences, the spread of their delays
+  // about the estimated offset. Moves the pose by speed × σ along the track and the yaw by yaw
+  // rate × σ (solvers/mount_problem.cc, MovingPoseCovariance).
+  double moving_timing_sigma_s = 0.002;
   // Prior σ of the heading sensor's drift rate (rad/s; a FOG drifts linearly, Barawid 2007: ±0.5°/h),
   // estimated as one rate over the session (0: no drift modelled).
   double heading_drift_sigma_rad_per_s = 2.4240684e-6;  // 0.5 deg/h

@@ -19,8 +19,10 @@ std::string FormatSummary(const CalibrationResult& result) {
       << result.preset.name << ")\n";
   out << "  verdict    " << pipeline::VerdictName(result.decision.verdict) << "\n";
   for (const std::string& reason : result.decision.reasons) out << "             - " << reason << "\n";
-  std::snprintf(line, sizeof(line), "  scans      %lld read, %lld used",
-                static_cast<long long>(result.scans_total), static_cast<long long>(result.scans_used));
+  std::snprintf(line, sizeof(line), "  scans      %lld read, %lld used (%lld standing, %lld moving)",
+                static_cast<long long>(result.scans_total), static_cast<long long>(result.scans_used),
+                static_cast<long long>(result.scans_used - result.scans_used_moving),
+                static_cast<long long>(result.scans_used_moving));
   out << line;
   for (const auto& [reason, count] : result.scans_skipped) {
     out << "; " << count << " " << calib::ScanSkipName(reason);

@@ -98,6 +98,7 @@ struct CalibrationResult {
   // Scan accounting: every scan line of the log is in exactly one bucket.
   int64_t scans_total = 0;  // valid scan records read + malformed scan lines skipped
   int64_t scans_used = 0;   // scans with at least one wall observation in the final solve
+  int64_t scans_used_moving = 0;  // of which taken while driving (the rest at stations)
   std::map<calib::ScanSkip, int64_t> scans_skipped;
   std::map<int, int64_t> fixes_by_quality;
   int64_t fixes_used = 0;

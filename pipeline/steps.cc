@@ -274,7 +274,10 @@ void PreparePasses(const CalibrateRequest& request, CalibrationResult* result, R
   pass.use_moving = options.alignment.use_moving_scans ||
                     (options.alignment.moving_scans_if_few_stations &&
                      result->num_dwells < options.solver.min_stations);
-  if (pass.use_moving && !options.alignment.use_moving_scans) {
+  // Stop-and-go: the drives between the stops too, kept if the clock offset is determined.
+  inputs->moving_by_default = !pass.use_moving && options.alignment.moving_scans_in_stop_and_go;
+  pass.use_moving = pass.use_moving || inputs->moving_by_default;
+  if (pass.use_moving && !options.alignment.use_moving_scans && !inputs->moving_by_default) {
     result->warnings.push_back("only " + std::to_string(result->num_dwells) +
                                " stations (dwells) found: scans taken while moving are used, with "
                                "an estimated scanner clock offset (stop-and-go is more accurate)");
@@ -419,13 +422,57 @@ void Solve(const CalibrateRequest& request, const ProgressFn& progress,
   Say(progress, Stage::kSolving,
       std::string("solving (") + solvers::MethodName(request.method) + ") on " +
           std::to_string(result->observations.size()) + " observations");
-  const solvers::PolicyOutcome outcome = solvers::SolveWithPolicy(
+  const auto on_round = [&progress](double shift_s) {
+    Say(progress, Stage::kClockOffsetRound,
+        "clock offset " + Format("%.4f", shift_s) +
+            " s: poses interpolated at the shifted scan times, solving again");
+  };
+  // Drops the observations of moving scans; returns how many scans that was.
+  const auto drop_moving = [result]() {
+    auto& obs = result->observations;
+    const auto moving = std::stable_partition(
+        obs.begin(), obs.end(), [](const calib::WallObservation& o) { return o.pose.stationary; });
+    std::set<int> scans;
+    for (auto it = moving; it != obs.end(); ++it) scans.insert(it->scan_index);
+    obs.erase(moving, obs.end());
+    return static_cast<int64_t>(scans.size());
+  };
+  // Moving scans by default only where their clock offset is estimated: not for barawid.
+  int64_t moving_dropped = 0;
+  if (inputs->moving_by_default && request.method != solvers::Method::kCeres) {
+    moving_dropped = drop_moving();
+  }
+  solvers::PolicyOutcome outcome = solvers::SolveWithPolicy(
       request.method, &result->observations, result->walls, result->options.solver,
-      result->first_pass.mount, request.force, *inputs->poses, [&progress](double shift_s) {
-        Say(progress, Stage::kClockOffsetRound,
-            "clock offset " + Format("%.4f", shift_s) +
-                " s: poses interpolated at the shifted scan times, solving again");
-      });
+      result->first_pass.mount, request.force, *inputs->poses, on_round);
+  const double max_offset_sigma_s = result->options.alignment.moving_max_time_offset_sigma_s;
+  if (inputs->moving_by_default && moving_dropped == 0 &&
+      !(outcome.estimate.time_offset_estimated &&
+        outcome.estimate.time_offset_sigma_s <= max_offset_sigma_s)) {
+    // The drives' clock offset is not determined: their scans would misplace the wall by
+    // speed × offset. Standing scans alone, from the poses at their stamps.
+    // Back to the poses at the scans' own stamps first (the policy moved them by the offset).
+    if (outcome.estimate.time_offset_s != 0.0) {
+      for (calib::WallObservation& o : result->observations) {
+        calib::VehiclePose pose;
+        if (inputs->poses->At(o.pose.stamp_s - outcome.estimate.time_offset_s, &pose) ==
+            calib::PoseStatus::kOk) {
+          o.pose = pose;
+        }
+      }
+    }
+    moving_dropped = drop_moving();
+    if (moving_dropped > 0) {
+      result->warnings.push_back(
+          std::to_string(moving_dropped) +
+          " scans taken while driving were not used: the scanner clock "
+          "offset they need was not determined (σ above alignment.moving_max_time_offset_sigma_s)");
+      outcome = solvers::SolveWithPolicy(request.method, &result->observations, result->walls,
+                                         result->options.solver, result->first_pass.mount,
+                                         request.force, *inputs->poses, on_round);
+    }
+  }
+  if (moving_dropped > 0) result->scans_skipped[calib::ScanSkip::kVehicleMoving] += moving_dropped;
   result->estimate = outcome.estimate;
   if (outcome.dropped_at_shifted_time > 0) {
     result->scans_skipped[calib::ScanSkip::kNoPoseAtShiftedTime] += outcome.dropped_at_shifted_time;
@@ -467,10 +514,11 @@ void Analyse(const CalibrateRequest& request, const ProgressFn& progress,
 }
 
 void CountCoverage(CalibrationResult* result) {
-  std::set<int> used_scans, used_segments;
+  std::set<int> used_scans, used_segments, moving_scans;
   std::vector<double> grid_headings, wall_angles;
   for (const calib::WallObservation& o : result->observations) {
     used_scans.insert(o.scan_index);
+    if (!o.pose.stationary) moving_scans.insert(o.scan_index);
     used_segments.insert(calib::GnssSegment(o));
     grid_headings.push_back(kPi / 2.0 - o.pose.yaw_rad);
     const calib::WallGeometry& wall = result->walls[o.wall_index];
@@ -481,6 +529,7 @@ void CountCoverage(CalibrationResult* result) {
         std::atan2(side * wall.normal_local.y(), side * wall.normal_local.x()) - o.pose.yaw_rad));
   }
   result->scans_used = static_cast<int64_t>(used_scans.size());
+  result->scans_used_moving = static_cast<int64_t>(moving_scans.size());
   result->num_segments_used = static_cast<int>(used_segments.size());
   const CircularExtent headings = CircularExtentOf(grid_headings);
   const CircularExtent angles = CircularExtentOf(wall_angles);

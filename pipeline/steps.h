@@ -27,6 +27,9 @@ struct RunInputs {
   calib::PassContext pass;
   int64_t scans_in_log = 0;  // scan records the first pass read (the second pass's total)
   std::optional<io::PreviousOffsets> previous;  // the --compare file, read before the work
+  // Moving scans are in the passes only by alignment.moving_scans_in_stop_and_go: the solve
+  // drops them again unless the clock offset comes out determined (Solve).
+  bool moving_by_default = false;
   // The inputs' SHA-256 digests for the provenance (StartDigests): computed on their own
   // thread while the passes run when there is more than one thread, else when Decide asks.
   std::shared_future<std::vector<io::InputFileDigest>> digests;

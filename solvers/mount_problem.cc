@@ -36,10 +36,51 @@ double PoseBiasSigma(const calib::VehiclePose& pose, const io::SolverOptions& op
 
 }  // namespace
 
+double MovingScansPerGnssFix(const std::vector<calib::WallObservation>& observations) {
+  std::vector<double> stamps;
+  double period_s = 0.0;
+  for (const auto& o : observations) {
+    if (UsesDwellHeading(o)) continue;
+    stamps.push_back(o.pose.stamp_s);
+    period_s = std::max(period_s, o.pose.gnss_period_s);
+  }
+  std::sort(stamps.begin(), stamps.end());
+  std::vector<double> steps;
+  for (size_t i = 1; i < stamps.size(); ++i) {
+    if (stamps[i] > stamps[i - 1]) steps.push_back(stamps[i] - stamps[i - 1]);
+  }
+  if (steps.empty() || !(period_s > 0.0)) return 1.0;
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  return std::max(1.0, period_s / steps[steps.size() / 2]);
+}
+
+Eigen::Matrix2d MovingPoseCovariance(const calib::WallObservation& observation,
+                                     const Eigen::Vector2d& normal_local, double ell_m,
+                                     const io::SolverOptions& options) {
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+  if (UsesDwellHeading(observation)) return covariance;
+  const calib::VehiclePose& pose = observation.pose;
+  // Timing: the position sample late by δ puts the antenna −v δ off (rho: n·v δ), the heading
+  // sample late by δ' turns the vehicle by −ω δ' (rho: ℓ ω δ', theta: ω δ'); the two streams'
+  // timing errors independent, σ each.
+  const double sigma_t2 = options.moving_timing_sigma_s * options.moving_timing_sigma_s;
+  const Eigen::Vector2d g_position(normal_local.dot(pose.velocity_local_mps), 0.0);
+  const Eigen::Vector2d g_heading(ell_m * pose.yaw_rate_rps, pose.yaw_rate_rps);
+  covariance += sigma_t2 * (g_position * g_position.transpose() +
+                            g_heading * g_heading.transpose());
+  // Linear interpolation between GNSS fixes T apart on a path curving with acceleration
+  // a = |v| |ω|: off by a T² f (1 − f) / 2 at fraction f, RMS a T² / (2 √30) over f (taken
+  // along the normal in full: the direction of a is not kept).
+  const double a_mps2 = pose.velocity_local_mps.norm() * std::abs(pose.yaw_rate_rps);
+  const double interp_m = a_mps2 * pose.gnss_period_s * pose.gnss_period_s / (2.0 * std::sqrt(30.0));
+  covariance(0, 0) += interp_m * interp_m;
+  return covariance;
+}
+
 Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       const calib::WallGeometry& wall,
                                       const io::SolverOptions& options, const Mount& lever_mount,
-                                      double bias_sigma_m) {
+                                      double bias_sigma_m, double scans_per_gnss_fix) {
   const calib::OrientedWall oriented = calib::OrientWall(wall, observation.pose.antenna_local_m);
   Eigen::Matrix2d covariance;
   covariance << observation.sigma_rho_m * observation.sigma_rho_m, observation.cov_rho_theta,
@@ -50,6 +91,10 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
   // (optimistic for that observation, but such observations are rare: moving scans outside
   // any segment).
   double position_variance_m2 = options.gnss_white_sigma_m * options.gnss_white_sigma_m;
+  // A moving scan: the scans between the same two fixes share their white noise (the bias
+  // slices, tied by the Gauss–Markov chain, do not take it up). Counted as white at the
+  // variance times the scans per fix, the mean over those scans gets the fix's variance.
+  if (!UsesDwellHeading(observation)) position_variance_m2 *= std::max(1.0, scans_per_gnss_fix);
   if (calib::GnssSegment(observation) < 0) {
     position_variance_m2 += bias_sigma_m * bias_sigma_m;
   }
@@ -75,7 +120,7 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
   covariance(0, 1) += ell_m * heading_variance;
   covariance(1, 0) += ell_m * heading_variance;
   covariance(1, 1) += heading_variance;
-  return covariance;
+  return covariance + MovingPoseCovariance(observation, oriented.normal_local, ell_m, options);
 }
 
 Eigen::MatrixXd WallPriorCovariance(const std::vector<calib::WallGeometry>& walls,
@@ -212,6 +257,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
                              : 0.0;
   }
   mp->time_offset_estimated = options.time_offset_sigma_s > 0.0 && moving >= kMinMovingObservations;
+  const double scans_per_fix = MovingScansPerGnssFix(observations);
 
   // Everything fixed per observation, including W = L⁻¹ of its covariance, before the problem
   // takes any ownership (so that a bad covariance leaves nothing half-built).
@@ -231,7 +277,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     if (weight > 0.0) {
       const Eigen::Matrix2d covariance =
           ObservationCovariance(observation, wall, options, lever_mount,
-                                PoseBiasSigma(observation.pose, options));
+                                PoseBiasSigma(observation.pose, options), scans_per_fix);
       const Eigen::LLT<Eigen::Matrix2d> llt(covariance);
       if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().minCoeff() > 0.0)) {
         if (error != nullptr) {

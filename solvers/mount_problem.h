@@ -116,10 +116,28 @@ std::unique_ptr<MountProblem> BuildMountProblem(
 // an observation that uses its own per-scan yaw (moving, see UsesDwellHeading): a dwell's
 // scans use the dwell's mean heading, whose error is the segment's heading-offset parameter.
 // `bias_sigma_m` is the σ that goes into the white part for segment −1 (ignored otherwise).
+// A moving observation (one that does not use its dwell's heading) also gets
+// MovingPoseCovariance, and its GNSS white variance times scans_per_gnss_fix (>= 1; the scans
+// between two fixes share their noise: MovingScansPerGnssFix).
 Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       const calib::WallGeometry& wall,
                                       const io::SolverOptions& options, const Mount& lever_mount,
-                                      double bias_sigma_m);
+                                      double bias_sigma_m, double scans_per_gnss_fix = 1.0);
+
+// The pose uncertainty of a moving scan in its [rho; theta] (m², m·rad, rad²); zero for a scan
+// that uses its dwell's heading. The position and the heading samples each off in time by
+// options.moving_timing_sigma_s (white): rho by (n·v) δ, the heading by ω δ' (through the lever
+// arm's along-wall part ell_m into rho too); plus linear interpolation between GNSS fixes on a
+// curve, RMS |v| |ω| T² / (2 √30) with T = pose.gnss_period_s, into rho. normal_local: the
+// wall's normal oriented from the scanner to the wall.
+Eigen::Matrix2d MovingPoseCovariance(const calib::WallObservation& observation,
+                                     const Eigen::Vector2d& normal_local, double ell_m,
+                                     const io::SolverOptions& options);
+
+// How many of the moving observations fall between two GNSS fixes, on the median: the GNSS
+// period (pose.gnss_period_s) over the median step between distinct moving scan stamps;
+// >= 1, 1 when there are no moving observations or no period.
+double MovingScansPerGnssFix(const std::vector<calib::WallObservation>& observations);
 
 // Solves and fills the estimate (mount, covariance from ceres::Covariance with every nuisance
 // block free, residuals, report). Never throws; failures come back as usable = false.
