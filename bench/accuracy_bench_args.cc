@@ -1,0 +1,99 @@
+#include "bench/accuracy_bench_args.h"
+
+#include <cstdio>
+#include <cstdlib>
+
+#ifndef WALLCAL_SOURCE_DIR
+#define WALLCAL_SOURCE_DIR "."
+#endif
+
+namespace wallcal::bench {
+[[noreturn]] void Usage(const std::string& why) {
+  std::fprintf(stderr,
+               "accuracy_bench: %s\nusage: accuracy_bench [--runs N] [--scenario NAME] "
+               "[--first-seed S] [--csv FILE] [--breakdown] [--max-crb-obs M] [--max-all-obs M] "
+               "[--delay-prior S] [--options FILE] [--sim FILE] [--crb-only] [--keep] [--list]\n",
+               why.c_str());
+  std::exit(2);
+}
+
+
+std::vector<Scenario> Scenarios() {
+  const std::string src = WALLCAL_SOURCE_DIR;
+  const std::string sim = src + "/configs/simulate/";
+  const std::string matched = src + "/bench/calibrate_matched.yaml";
+  const std::string moving = src + "/bench/calibrate_matched_moving.yaml";
+  const std::string drives = src + "/bench/calibrate_matched_drives.yaml";
+  return {
+      {"lms291_stopgo", "(a) LMS 291 stop-and-go", sim + "bench_lms291_stopgo.yaml", matched, false},
+      {"lms291_continuous", "(b) LMS 291 continuous driving", sim + "bench_lms291_continuous.yaml",
+       moving, true},
+      {"urg04lx", "(c) URG-04LX", sim + "bench_urg04lx.yaml", matched, false},
+      {"high_latitude", "(d) convergence 2.7 deg", sim + "bench_lms291_high_latitude.yaml", matched,
+       false},
+      {"clutter", "(e) clutter", sim + "bench_lms291_clutter.yaml", matched, false},
+      {"two_walls", "(f) second perpendicular surveyed wall", sim + "bench_lms291_two_walls.yaml",
+       matched, false},
+      {"continuous_clock", "(g) (b) with the scanner clock 150 ms behind",
+       sim + "bench_lms291_continuous_clock.yaml", moving, true},
+      {"stopgo_moving_clock", "(h) (a) with moving scans and the scanner clock 150 ms behind",
+       sim + "bench_lms291_stopgo_moving_clock.yaml", moving, true},
+      {"stopgo_drives", "(i) (a) with the drives between the stops used",
+       sim + "bench_lms291_stopgo.yaml", drives, true},
+      {"two_walls_drives", "(j) (f) with the drives between the stops used",
+       sim + "bench_lms291_two_walls.yaml", drives, true},
+      {"delays_stopgo", "(d1) stop-and-go (5 s stops) with the logger's delays 35+U(0,10)/4/13 ms",
+       sim + "bench_lms291_delays_stopgo.yaml", moving, true},
+      {"delays_short_stops", "(d2) 0.3 s stops with the logger's delays",
+       sim + "bench_lms291_delays_short_stops.yaml", moving, true},
+      {"delays_continuous", "(d3) continuous driving with the logger's delays",
+       sim + "bench_lms291_delays_continuous.yaml", moving, true},
+  };
+}
+
+Args ParseArgs(int argc, char** argv) {
+  Args args;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) Usage(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--runs") {
+      args.runs = std::atoi(value().c_str());
+      if (args.runs < 1) Usage("--runs must be >= 1");
+    } else if (a == "--first-seed") {
+      args.first_seed = std::atoi(value().c_str());
+    } else if (a == "--scenario") {
+      args.scenario = value();
+    } else if (a == "--csv") {
+      args.csv = value();
+    } else if (a == "--max-crb-obs") {
+      args.max_crb_obs = std::atoi(value().c_str());
+    } else if (a == "--max-all-obs") {
+      args.max_all_obs = std::atoi(value().c_str());
+    } else if (a == "--delay-prior") {
+      args.delay_prior_s = std::atof(value().c_str());
+    } else if (a == "--crb-only") {
+      args.crb_only = true;
+    } else if (a == "--sim") {
+      args.sim = value();
+    } else if (a == "--options") {
+      args.options = value();
+    } else if (a == "--breakdown") {
+      args.breakdown = true;
+    } else if (a == "--keep") {
+      args.keep = true;
+    } else if (a == "--list") {
+      for (const Scenario& s : Scenarios()) {
+        std::printf("%-18s %s  (%s)\n", s.name.c_str(), s.label.c_str(), s.sim_file.c_str());
+      }
+      std::exit(0);
+    } else {
+      Usage("unknown argument " + a);
+    }
+  }
+  return args;
+}
+
+}  // namespace wallcal::bench
