@@ -332,6 +332,7 @@ void ExpectHeadingsMatchChk(const std::string& name, size_t expected_headings) {
 
 TEST(NmeaReaderTest, RealTrimbleRtkLogMatchesGpsd) {
   ExpectFixesMatchChk("nmea-rtk.log", 122, 122);
+  if (IsSkipped()) return;  // the real data is absent (the helper skipped)
   const NmeaLog nmea = ReadNmea(kRealNmeaDir + "nmea-rtk.log");
   EXPECT_EQ(nmea.fixes_by_quality.at(2), 104);
   EXPECT_EQ(nmea.fixes_by_quality.at(4), 18);
@@ -348,6 +349,7 @@ TEST(NmeaReaderTest, RealHemisphereLogMatchesGpsd) {
   ExpectHeadingsMatchChk("hemi.log", 4);
   // gpsd reports a position for only 6 of the 21 GGA epochs (mode 1 before that).
   ExpectFixesMatchChk("hemi.log", 21, 6);
+  if (IsSkipped()) return;  // the real data is absent (the helper skipped)
   const NmeaLog nmea = ReadNmea(kRealNmeaDir + "hemi.log");
   // The log has exactly 211 "$GPHDT,,T" lines (grep -c): each one counted, none used.
   EXPECT_EQ(Count(nmea, "empty field"), 211);
