@@ -183,11 +183,12 @@ TEST(WallLineCostTest, OrientsTheWallTowardsAnAntennaOnItsPositiveSide) {
   const double still[2] = {0.0, 0.0};
   const double moved[2] = {0.1, 0.0};
   const double no_offset[1] = {0.0};
+  const double no_delays[2] = {0.0, 0.0};  // [scanner clock offset, heading delay] (s)
   double error[2];
-  cost.Errors(mount, still, bias, no_offset, no_offset, no_offset, error);
+  cost.Errors(mount, still, bias, no_delays, no_offset, no_offset, error);
   EXPECT_NEAR(error[0], 0.0, 1e-12);
   EXPECT_NEAR(error[1], 0.0, 1e-12);
-  cost.Errors(mount, moved, bias, no_offset, no_offset, no_offset, error);
+  cost.Errors(mount, moved, bias, no_delays, no_offset, no_offset, error);
   EXPECT_NEAR(error[0], -0.1, 1e-12);
 
   calib::WallObservation observation;
