@@ -57,20 +57,12 @@ ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observ
                                const io::SolverOptions& options, const calib::Mount& mount) {
   ErrorBudget budget;
   if (observations.empty()) return budget;
-  // Long sessions are thinned as the repeatability's re-solves are (every stride-th
-  // observation, its information multiplied by the stride): the shares are ratios of
-  // variances, which the thinning leaves as they are to the sampling of the scans.
-  const size_t stride =
-      std::max<size_t>(1, (observations.size() + kMaxRefitObservations - 1) / kMaxRefitObservations);
-  std::vector<calib::WallObservation> thinned;
-  if (stride > 1) {
-    thinned.reserve(observations.size() / stride + 1);
-    for (size_t i = 0; i < observations.size(); i += stride) thinned.push_back(observations[i]);
-  }
-  const std::vector<calib::WallObservation>& base = stride > 1 ? thinned : observations;
-  const std::vector<double> weights =
-      stride > 1 ? std::vector<double>(base.size(), static_cast<double>(stride))
-                 : std::vector<double>();
+  // Long sessions are thinned as the repeatability's re-solves are (ThinForRefits): the
+  // shares are ratios of variances, which the thinning leaves as they are to the sampling of
+  // the scans.
+  const ThinnedObservations thin = ThinForRefits(observations);
+  const std::vector<calib::WallObservation>& base = thin.observations;
+  const std::vector<double> weights(base.size(), thin.stride);
   // Linearised at the estimate: one Gauss-Newton step at most (the estimate is the optimum).
   io::SolverOptions one_thread = options;
   one_thread.num_threads = 1;

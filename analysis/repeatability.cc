@@ -17,6 +17,18 @@ constexpr int kRefitIterations = 15;
 
 }  // namespace
 
+ThinnedObservations ThinForRefits(const std::vector<calib::WallObservation>& observations) {
+  const size_t stride =
+      std::max<size_t>(1, (observations.size() + kMaxRefitObservations - 1) / kMaxRefitObservations);
+  ThinnedObservations thin;
+  thin.stride = static_cast<double>(stride);
+  thin.observations.reserve(observations.size() / stride + 1);
+  for (size_t i = 0; i < observations.size(); i += stride) {
+    thin.observations.push_back(observations[i]);
+  }
+  return thin;
+}
+
 Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& observations,
                                   const std::vector<calib::WallGeometry>& walls,
                                   const io::SolverOptions& options, const solvers::Mount& full,
@@ -37,21 +49,16 @@ Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& obs
   std::map<int, int> rank;
   for (int k = 0; k < num_stations; ++k) rank[order[k].second] = k;
 
-  // Thinning: every stride-th observation, weighted by the stride. The re-solves get only the
-  // thinned observations (an hour-long session's re-solves would otherwise walk 90 times as
-  // many observations of weight 0 each).
-  const size_t stride =
-      std::max<size_t>(1, (observations.size() + kMaxRefitObservations - 1) / kMaxRefitObservations);
-  std::vector<calib::WallObservation> thinned;
+  // The re-solves get only the thinned observations (an hour-long session's re-solves would
+  // otherwise walk 90 times as many observations of weight 0 each).
+  const ThinnedObservations thin = ThinForRefits(observations);
+  const std::vector<calib::WallObservation>& thinned = thin.observations;
   std::vector<int> station_of;
-  for (size_t i = 0; i < observations.size(); i += stride) {
-    thinned.push_back(observations[i]);
-    station_of.push_back(rank[observations[i].pose.segment]);
-  }
+  for (const calib::WallObservation& o : thinned) station_of.push_back(rank[o.pose.segment]);
   const auto weights_for = [&](const std::vector<double>& station_weight) {
     std::vector<double> w(thinned.size(), 0.0);
     for (size_t i = 0; i < thinned.size(); ++i) {
-      w[i] = station_weight[station_of[i]] * static_cast<double>(stride);
+      w[i] = station_weight[station_of[i]] * thin.stride;
     }
     return w;
   };

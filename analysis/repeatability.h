@@ -37,6 +37,14 @@ struct Repeatability {
 
 inline constexpr int kMaxRefitObservations = 3000;
 
+// The observations a re-solve gets: every stride-th (at most kMaxRefitObservations), each to
+// be weighted by the stride. stride 1: all of them.
+struct ThinnedObservations {
+  std::vector<calib::WallObservation> observations;
+  double stride = 1.0;
+};
+ThinnedObservations ThinForRefits(const std::vector<calib::WallObservation>& observations);
+
 // A split is usable when its re-solve converged and passes the solver's determination check
 // (options.max_sigma_*): half the stations may see the wall from one side only. Bootstrap σ
 // is the standard deviation of the resamples that converged and are determined (yaw wrapped

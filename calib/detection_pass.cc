@@ -280,8 +280,8 @@ class BatchReader {
 }  // namespace
 
 PassOutcome DetectionPass(const PassContext& context, const PassRequest& request) {
-  PassOutcome outcome;  // detection's part: observations, detection skips, range counts
   PassOutcome reading;  // the reader's part: stamps, examined scans, skips before detection
+  PassOutcome outcome;  // detection's part: observations, detection skips, range counts
   const std::unique_ptr<io::ScanSource> scans = context.open_scans();
   BatchReader reader(context, request, scans.get(), &reading);
   if (context.threads <= 1) {
@@ -301,18 +301,14 @@ PassOutcome DetectionPass(const PassContext& context, const PassRequest& request
       if (!batch.scans.empty()) DetectBatch(context, request, &batch.scans, &outcome);
     }
   }
-  for (const auto& [reason, count] : reading.skipped) outcome.skipped[reason] += count;
-  outcome.scans_examined = reading.scans_examined;
-  outcome.beam_count_mismatch = reading.beam_count_mismatch;
-  outcome.first_mismatch_beams = reading.first_mismatch_beams;
-  outcome.not_increasing = reading.not_increasing;
-  outcome.first_not_increasing_line = reading.first_not_increasing_line;
-  outcome.first_stamp_s = reading.first_stamp_s;
-  outcome.last_stamp_s = reading.last_stamp_s;
-  outcome.scans_read = request.min_interval_s > 0.0 ? reader.skimmed_scans()
+  // The reader's counts, with detection's observations, skips and range counts added.
+  reading.observations = std::move(outcome.observations);
+  reading.range_counts = outcome.range_counts;
+  for (const auto& [reason, count] : outcome.skipped) reading.skipped[reason] += count;
+  reading.scans_read = request.min_interval_s > 0.0 ? reader.skimmed_scans()
                                                     : scans->scans_read();
-  outcome.line_skips = scans->skipped();
-  return outcome;
+  reading.line_skips = scans->skipped();
+  return reading;
 }
 
 int ShiftObservations(const PoseInterpolator& poses, double dt_s,

@@ -308,6 +308,7 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
     for (int k = 0; k < n_theta; ++k) {
       const double f = f_k[k];
       const bool inside = f >= 0.0 && f < n_rho_d;
+      // (f is cast only when inside: outside, it may not fit an int)
       acc[inside ? static_cast<int>(inside ? f : 0.0) * n_theta + k : cells] += delta;
     }
   };

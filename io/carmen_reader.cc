@@ -176,7 +176,7 @@ void CarmenReader::Skip(const std::string& reason, SkipSeverity how) {
   skipped_.Add(reason, static_cast<int>(lines_read_), 1, how);
 }
 
-bool CarmenReader::Next(ScanRecord* scan) {
+bool CarmenReader::ReadUsableLine() {
   while (ReadLine()) {
     ++lines_read_;
     if (lines_read_ == 1 && line_.compare(0, 3, "\xEF\xBB\xBF") == 0) line_.erase(0, 3);  // BOM
@@ -184,6 +184,13 @@ bool CarmenReader::Next(ScanRecord* scan) {
       Skip("line with a NUL byte");
       continue;
     }
+    return true;
+  }
+  return false;
+}
+
+bool CarmenReader::Next(ScanRecord* scan) {
+  while (ReadUsableLine()) {
     if (ParseLine(scan)) {
       ++scans_read_;
       return true;
@@ -214,13 +221,7 @@ void CarmenReader::SkipNonScan(std::string_view keyword) {
 }
 
 bool CarmenReader::NextStamp(double* stamp_s, int* line) {
-  while (ReadLine()) {
-    ++lines_read_;
-    if (lines_read_ == 1 && line_.compare(0, 3, "\xEF\xBB\xBF") == 0) line_.erase(0, 3);  // BOM
-    if (std::memchr(line_.data(), '\0', line_.size()) != nullptr) {
-      Skip("line with a NUL byte");
-      continue;
-    }
+  while (ReadUsableLine()) {
     const std::string_view keyword = FirstToken(line_);
     if (!IsScanKeyword(keyword)) {
       SkipNonScan(keyword);

@@ -55,6 +55,9 @@ class CarmenReader : public ScanSource {
   // Reads one line into line_ (without its newline). Returns false at end of file. Throws
   // InputError for a line longer than WALLCAL_MAX_LINE_BYTES (io/input_file.h).
   bool ReadLine();
+  // Reads up to the next line that is not skipped whole (a NUL byte), counting it; strips a
+  // UTF-8 byte-order mark from line 1. False at the end of the file.
+  bool ReadUsableLine();
   // Refills chunk_ from the file; false at its end.
   bool FillChunk();
   // Parses line_ as a scan; false (and counted) when it is not a usable one.

@@ -94,26 +94,18 @@ CalibrateOptions ReadCalibrateOptions(const std::string& file) {
   const YAML::Node root = LoadYamlStrict(file);
   MapReader top(root, file, "", 1);
   CalibrateOptions options;
-  if (const YAML::Node node = top.Find("detector"); node.IsDefined()) {
-    MapReader section = top.Child("detector", node);
-    fields::VisitDetector(section, options.detector);
-    section.Finish();
-  }
-  if (const YAML::Node node = top.Find("alignment"); node.IsDefined()) {
-    MapReader section = top.Child("alignment", node);
-    fields::VisitAlignment(section, options.alignment);
-    section.Finish();
-  }
-  if (const YAML::Node node = top.Find("solver"); node.IsDefined()) {
-    MapReader section = top.Child("solver", node);
-    fields::VisitSolver(section, options.solver);
-    section.Finish();
-  }
-  if (const YAML::Node node = top.Find("acceptance"); node.IsDefined()) {
-    MapReader section = top.Child("acceptance", node);
-    fields::VisitAcceptance(section, options.acceptance);
-    section.Finish();
-  }
+  // Each section is optional; present, it is read with its key table and its unknown keys refused.
+  const auto section = [&top](const char* key, auto&& visit) {
+    if (const YAML::Node node = top.Find(key); node.IsDefined()) {
+      MapReader reader = top.Child(key, node);
+      visit(reader);
+      reader.Finish();
+    }
+  };
+  section("detector", [&](MapReader& r) { fields::VisitDetector(r, options.detector); });
+  section("alignment", [&](MapReader& r) { fields::VisitAlignment(r, options.alignment); });
+  section("solver", [&](MapReader& r) { fields::VisitSolver(r, options.solver); });
+  section("acceptance", [&](MapReader& r) { fields::VisitAcceptance(r, options.acceptance); });
   top.Integer("first_pass_max_scans", options.first_pass_max_scans);
   top.Finish();
   ValidateIn(file, options, root);
