@@ -3,6 +3,7 @@
 
 #include "characterise/characterisation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 
@@ -185,6 +186,21 @@ Characterisation Characterise(const CharacteriseRequest& request) {
       "(%.0f-%.0f deg), which tell a range offset from a shift of the wall or the vehicle",
       result.distance_min_m, result.distance_max_m, result.incidence_min_rad * kRadToDeg,
       result.incidence_max_rad * kRadToDeg));
+  if (model.k.known() && model.b_m.known()) {
+    // σ of the correction k·z + b at a reading z: the range error the preset may add there.
+    auto sigma_at = [&model](double z_m) {
+      const double var = z_m * z_m * model.k.sigma * model.k.sigma +
+                         model.b_m.sigma * model.b_m.sigma +
+                         2.0 * z_m * model.corr_k_b * model.k.sigma * model.b_m.sigma;
+      return std::sqrt(std::max(0.0, var));
+    };
+    result.notes.push_back(Format(
+        "the correction k*z + b is known to +- %.1f mm at %.1f m and +- %.1f mm at %.1f m: the "
+        "range error this preset may add there; it corrects a range offset only when that is "
+        "well above these (sigma falls as 1/sqrt(stations))",
+        1e3 * sigma_at(result.distance_min_m), result.distance_min_m,
+        1e3 * sigma_at(result.distance_max_m), result.distance_max_m));
+  }
   if (std::abs(model.corr_b_mount_x) > 0.9) {
     result.notes.push_back(Format(
         "b and the mount's x are not separable here (correlation %.2f): the wall was seen "
