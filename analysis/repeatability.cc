@@ -32,7 +32,8 @@ ThinnedObservations ThinForRefits(const std::vector<calib::WallObservation>& obs
 Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& observations,
                                   const std::vector<calib::WallGeometry>& walls,
                                   const io::SolverOptions& options, const solvers::Mount& full,
-                                  int samples, uint64_t seed) {
+                                  int samples, uint64_t seed,
+                                  const std::array<double, 2>* held_time_block) {
   Repeatability out;
   // Stations in time order.
   std::map<int, std::pair<double, int>> sums;
@@ -95,7 +96,8 @@ Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& obs
   std::vector<solvers::Refit> refits(station_weights.size());
   ParallelFor(static_cast<int>(refits.size()), options.num_threads, [&](int r) {
     refits[r] = solvers::RefitMount(thinned, walls, one_thread, full,
-                                    weights_for(station_weights[r]), kRefitIterations);
+                                    weights_for(station_weights[r]), kRefitIterations,
+                                    held_time_block);
   });
 
   for (int r = 0; r < kNumSplits; ++r) {

@@ -9,6 +9,7 @@
 // weight ×k), which keeps the cost bounded; the station-level spread it measures is set by the
 // GNSS and wall errors, not by the scan count.
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -49,10 +50,14 @@ ThinnedObservations ThinForRefits(const std::vector<calib::WallObservation>& obs
 // (options.max_sigma_*): half the stations may see the wall from one side only. Bootstrap σ
 // is the standard deviation of the resamples that converged and are determined (yaw wrapped
 // about the full solution). Deterministic for a given `seed`. Never throws; with fewer than 4
-// stations it is left not done.
+// stations it is left not done. held_time_block: the full solution's clock (scanner offset,
+// heading delay: MountEstimate::time_block_s), held in every re-solve; a half of the stations
+// may not fix the drives' timing that the whole session does, and would turn the mount by
+// yaw rate × its error.
 Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& observations,
                                   const std::vector<calib::WallGeometry>& walls,
                                   const io::SolverOptions& options, const solvers::Mount& full,
-                                  int samples, uint64_t seed = 2007);
+                                  int samples, uint64_t seed = 2007,
+                                  const std::array<double, 2>* held_time_block = nullptr);
 
 }  // namespace wallcal::analysis

@@ -23,7 +23,7 @@ std::vector<Scenario> Scenarios() {
   const std::string sim = src + "/configs/simulate/";
   const std::string matched = src + "/bench/calibrate_matched.yaml";
   const std::string moving = src + "/bench/calibrate_matched_moving.yaml";
-  const std::string drives = src + "/bench/calibrate_matched_drives.yaml";
+  const std::string standing = src + "/bench/calibrate_matched_standing.yaml";
   return {
       {"lms291_stopgo", "(a) LMS 291 stop-and-go", sim + "bench_lms291_stopgo.yaml", matched, false},
       {"lms291_continuous", "(b) LMS 291 continuous driving", sim + "bench_lms291_continuous.yaml",
@@ -38,10 +38,10 @@ std::vector<Scenario> Scenarios() {
        sim + "bench_lms291_continuous_clock.yaml", moving, true},
       {"stopgo_moving_clock", "(h) (a) with moving scans and the scanner clock 150 ms behind",
        sim + "bench_lms291_stopgo_moving_clock.yaml", moving, true},
-      {"stopgo_drives", "(i) (a) with the drives between the stops used",
-       sim + "bench_lms291_stopgo.yaml", drives, true},
-      {"two_walls_drives", "(j) (f) with the drives between the stops used",
-       sim + "bench_lms291_two_walls.yaml", drives, true},
+      {"stopgo_standing", "(i) (a) with standing scans only (the drives left out)",
+       sim + "bench_lms291_stopgo.yaml", standing, false},
+      {"two_walls_standing", "(j) (f) with standing scans only (the drives left out)",
+       sim + "bench_lms291_two_walls.yaml", standing, false},
       {"delays_stopgo", "(d1) stop-and-go (5 s stops) with the logger's delays 35+U(0,10)/4/13 ms",
        sim + "bench_lms291_delays_stopgo.yaml", moving, true},
       {"delays_short_stops", "(d2) 0.3 s stops with the logger's delays",

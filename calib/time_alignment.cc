@@ -1,6 +1,7 @@
 #include "calib/time_alignment.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -16,6 +17,9 @@ namespace {
 
 // Moving data: the length of the stretches that count as one "station" (pose.segment).
 constexpr double kMovingStretchS = 5.0;
+// A moving stretch at most this long between two dwells is a drive between stops (rates over a
+// narrow window: PoseInterpolator::At).
+constexpr double kShortDriveS = 10.0;
 
 // floor(elapsed_s / length_s) as an int, 0 for a non-positive length or elapsed time, clamped
 // below INT_MAX (a slice key must never overflow, whatever the stamps).
@@ -65,6 +69,19 @@ size_t Bracket(const std::vector<Sample>& samples, double stamp_s) {
   return hi - 1;
 }
 
+
+// Cubic Hermite weights at fraction f of [t0, t1] with the tangents from central differences
+// over the neighbours t_-1 and t2 (non-uniform spacing allowed): the value is
+// w[0]·v_-1 + w[1]·v0 + w[2]·v1 + w[3]·v2. Exact for quadratics (a vehicle speeding up or
+// slowing down), where the straight chord between two samples is off by a·T²/8 at the middle.
+std::array<double, 4> HermiteWeights(double tm1, double t0, double t1, double t2, double f) {
+  const double h = t1 - t0;
+  const double h00 = 2 * f * f * f - 3 * f * f + 1, h10 = f * f * f - 2 * f * f + f;
+  const double h01 = -2 * f * f * f + 3 * f * f, h11 = f * f * f - f * f;
+  // m0 = (v1 − v_-1)/(t1 − t_-1), m1 = (v2 − v0)/(t2 − t0), each scaled by h.
+  const double a = h * h10 / (t1 - tm1), b = h * h11 / (t2 - t0);
+  return {-a, h00 - b, h01 + a, b};
+}
 }  // namespace
 
 const char* PoseStatusName(PoseStatus status) {
@@ -142,6 +159,33 @@ bool PoseInterpolator::YawAt(double stamp_s, double* yaw_rad, PoseStatus* failur
   return true;
 }
 
+bool PoseInterpolator::CubicAt(double stamp_s, Eigen::Vector2d* p_local_m, double* yaw_rad) const {
+  // Four samples of each stream around stamp_s, every gap bridgeable; otherwise no cubic.
+  const size_t lo = Bracket(positions_, stamp_s);
+  const size_t yo = Bracket(yaws_, stamp_s);
+  if (lo < 1 || lo + 2 >= positions_.size() || yo < 1 || yo + 2 >= yaws_.size()) return false;
+  for (size_t k = lo - 1; k < lo + 2; ++k) {
+    if (positions_[k + 1].stamp_s - positions_[k].stamp_s > gnss_max_gap_s_) return false;
+  }
+  for (size_t k = yo - 1; k < yo + 2; ++k) {
+    if (yaws_[k + 1].stamp_s - yaws_[k].stamp_s > heading_max_gap_s_) return false;
+  }
+  const auto weights = [stamp_s](const auto& v, size_t k) {
+    const double f = (stamp_s - v[k].stamp_s) / (v[k + 1].stamp_s - v[k].stamp_s);
+    return HermiteWeights(v[k - 1].stamp_s, v[k].stamp_s, v[k + 1].stamp_s, v[k + 2].stamp_s, f);
+  };
+  const std::array<double, 4> wp = weights(positions_, lo);
+  *p_local_m = Eigen::Vector2d::Zero();
+  for (int j = 0; j < 4; ++j) *p_local_m += wp[j] * positions_[lo - 1 + j].p_local_m;
+  // Yaw: the samples unwrapped about yaws_[yo] (shorter arcs), then wrapped back.
+  const std::array<double, 4> wy = weights(yaws_, yo);
+  const double base = yaws_[yo].yaw_rad;
+  double yaw = 0.0;
+  for (int j = 0; j < 4; ++j) yaw += wy[j] * WrapAngle(yaws_[yo - 1 + j].yaw_rad - base);
+  *yaw_rad = WrapAngle(base + yaw);
+  return true;
+}
+
 PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
   if (!(stamp_s >= start_s_)) return PoseStatus::kBeforeStart;
   if (stamp_s > end_s_) return PoseStatus::kAfterEnd;
@@ -173,6 +217,10 @@ PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
     pose->dwell_yaw_rad = 0.0;
     pose->dwell_yaw_samples = 0;
     pose->dwell_mid_s = 0.0;
+    // Driving: the pose from cubics through the samples around (a straight chord between two
+    // GNSS fixes misplaces a vehicle speeding up at a m/s² by up to a·T²/8: 4 mm at 3 m/s² and
+    // 10 Hz, the same sign over half a drive). Linear where a neighbour is missing.
+    CubicAt(stamp_s, &pose->antenna_local_m, &pose->yaw_rad);
     // Moving scans count in stretches of kMovingStretchS as "stations" (geometry checks,
     // bootstrap by station); their GNSS error is sliced finer, below.
     pose->segment = static_cast<int>(dwells_.size()) + SliceIndex(stamp_s - start_s_, kMovingStretchS);
@@ -185,19 +233,43 @@ PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
   // The window is clipped to the span where both streams interpolate. Computed inside dwells
   // too: a scan stamped at a dwell's edge may have been taken as the vehicle moved off, and
   // the rate is what lets the solver's clock offset account for it (mm/s of noise otherwise).
-  const double half_s = std::max(0.5 * options_.stationary_window_s,
+  // The yaw rate of a scan on a drive between two stops over ±one sample period instead: such
+  // a drive turns through its whole angle in about a second, and the wide window smoothed its
+  // rate so much that the offset + heading delay the turns fix came out 4× further off than
+  // its σ (benchmark (a)). Not while driving on (continuous driving, turns over tens of
+  // seconds): there the heading's noise in a narrow window's rate (about 6 mrad/s) is a fair
+  // share of the slow turn rates and shrank a 36 ms heading delay's estimate by 5 ms
+  // (errors in variables). The velocity keeps the wide window everywhere: over ±0.1 s its
+  // noise (30 mm/s) made the clock offset look determined where drives run along the wall.
+  const double wide_s = std::max(0.5 * options_.stationary_window_s,
                                  std::max(gnss_period_s_, heading_period_s_));
-  const double t0 = std::max(start_s_, stamp_s - half_s);
-  const double t1 = std::min(end_s_, stamp_s + half_s);
-  Eigen::Vector2d p0, p1;
-  double s0 = 0.0, s1 = 0.0, y0 = 0.0, y1 = 0.0;
-  PoseStatus ignored = PoseStatus::kOk;
-  if (t1 > t0 && PositionAt(t0, &p0, &s0, &ignored) && PositionAt(t1, &p1, &s1, &ignored)) {
-    pose->velocity_local_mps = (p1 - p0) / (t1 - t0);
+  // A drive between two stops: the moving stretch between the dwell before and the one after.
+  bool between_stops = false;
+  if (!pose->stationary && it != dwells_.begin() && it != dwells_.end()) {
+    between_stops = it->start_s - std::prev(it)->end_s <= kShortDriveS;
   }
-  if (t1 > t0 && YawAt(t0, &y0, &ignored) && YawAt(t1, &y1, &ignored)) {
-    pose->yaw_rate_rps = WrapAngle(y1 - y0) / (t1 - t0);
-  }
+  const double narrow_s =
+      between_stops ? std::max(gnss_period_s_, heading_period_s_) : wide_s;
+  const auto rates = [&](double half_s, bool velocity) {
+    const double t0 = std::max(start_s_, stamp_s - half_s);
+    const double t1 = std::min(end_s_, stamp_s + half_s);
+    if (!(t1 > t0)) return;
+    PoseStatus ignored = PoseStatus::kOk;
+    if (velocity) {
+      Eigen::Vector2d p0, p1;
+      double s0 = 0.0, s1 = 0.0;
+      if (PositionAt(t0, &p0, &s0, &ignored) && PositionAt(t1, &p1, &s1, &ignored)) {
+        pose->velocity_local_mps = (p1 - p0) / (t1 - t0);
+      }
+    } else {
+      double y0 = 0.0, y1 = 0.0;
+      if (YawAt(t0, &y0, &ignored) && YawAt(t1, &y1, &ignored)) {
+        pose->yaw_rate_rps = WrapAngle(y1 - y0) / (t1 - t0);
+      }
+    }
+  };
+  rates(wide_s, true);
+  rates(narrow_s, false);
   return PoseStatus::kOk;
 }
 

@@ -57,7 +57,8 @@ class PoseInterpolator {
   PoseInterpolator(std::vector<PositionSample> positions, std::vector<YawSample> yaws,
                    const io::AlignmentOptions& options);
 
-  // The pose at stamp_s: position (and σ) interpolated linearly, yaw along the shorter arc.
+  // The pose at stamp_s: position (and σ) interpolated linearly, yaw along the shorter arc;
+  // outside a dwell, position and yaw by cubics through two samples each side (CubicAt).
   // Never extrapolates: outside [start_s(), end_s()] -> kBeforeStart / kAfterEnd; a bracketing
   // pair of samples further apart than the stream's max gap -> kGnssGap / kHeadingGap (GNSS
   // checked first). On kOk fills every field of *pose: stationary = inside a dwell; segment =
@@ -82,6 +83,9 @@ class PoseInterpolator {
   bool PositionAt(double stamp_s, Eigen::Vector2d* p_local_m, double* sigma_m,
                   PoseStatus* failure) const;
   bool YawAt(double stamp_s, double* yaw_rad, PoseStatus* failure) const;
+  // Cubic Hermite interpolation of both streams (central-difference tangents) for a moving
+  // vehicle; false (outputs untouched) unless two samples each side lie within the max gaps.
+  bool CubicAt(double stamp_s, Eigen::Vector2d* p_local_m, double* yaw_rad) const;
   void FindDwells();
 
   std::vector<PositionSample> positions_;

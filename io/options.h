@@ -73,13 +73,11 @@ struct AlignmentOptions {
   bool gnss_epoch_time = true;
   // Stop-and-go sessions: the scans taken while driving between the stops are used too, each
   // with its pose uncertainty (solver.moving_timing_sigma_s, interpolation, scans per GNSS fix)
-  // in its covariance, when the scanner clock offset they need is determined (estimated with
-  // σ <= moving_max_time_offset_sigma_s); otherwise they are dropped again and the standing
-  // scans solved alone. false: standing scans only (unless use_moving_scans or too few stations).
-  // Off by default for now: with a second surveyed wall the drives' observations bias x by about
-  // −18 mm (benchmark (j), docs/results.md; cause not found), with one wall they bring the
-  // estimate to the all-data bound (benchmark (i)).
-  bool moving_scans_in_stop_and_go = false;
+  // in its covariance, when the timing their poses need is determined (the clock offset, or
+  // offset + heading delay when turning: solvers::DrivesTimingSigma <=
+  // moving_max_time_offset_sigma_s); otherwise they are dropped again and the standing scans
+  // solved alone. false: standing scans only (unless use_moving_scans or too few stations).
+  bool moving_scans_in_stop_and_go = true;
   double moving_max_time_offset_sigma_s = 0.005;
   void Validate() const;
 };

@@ -90,11 +90,16 @@ std::string FormatSummary(const CalibrationResult& result) {
     }
     if (result.change) {
       const pipeline::Change& c = *result.change;
+      // A change below the printed digit is shown as +0.0, not −0.0 (the previous file's
+      // rounding alone makes the same data differ by a few µm).
+      const auto shown = [](double value, double digit) {
+        return std::abs(value) < 0.5 * digit ? 0.0 : value;
+      };
       std::snprintf(line, sizeof(line),
                     "  change     since %s: x %+.1f mm, y %+.1f mm, yaw %+.3f deg (%.1f, %.1f, "
                     "%.1f combined sigma)\n",
-                    c.previous_file.c_str(), c.dx_m * 1e3, c.dy_m * 1e3, c.dyaw_rad * kRadToDeg,
-                    c.x_sigmas, c.y_sigmas, c.yaw_sigmas);
+                    c.previous_file.c_str(), shown(c.dx_m * 1e3, 0.1), shown(c.dy_m * 1e3, 0.1),
+                    shown(c.dyaw_rad * kRadToDeg, 0.001), c.x_sigmas, c.y_sigmas, c.yaw_sigmas);
       out << line;
     }
     std::snprintf(line, sizeof(line),
@@ -118,6 +123,14 @@ std::string FormatSummary(const CalibrationResult& result) {
                     "offset)\n",
                     result.time_offset_s, result.time_offset_sigma_s);
       out << line;
+      if (result.drives_timing_sigma_s > 0.0) {
+        std::snprintf(line, sizeof(line),
+                      "  clock      the moving scans' timing known to ± %.4f s (what their poses "
+                      "need: the offset when driving towards a wall, offset + heading delay "
+                      "when turning)\n",
+                      result.drives_timing_sigma_s);
+        out << line;
+      }
     }
     if (result.heading_delay.status != pipeline::DelayStatus::kNotEstimated) {
       std::snprintf(line, sizeof(line),

@@ -110,6 +110,10 @@ struct CalibrationResult {
   analysis::Repeatability repeatability;
   double time_offset_s = 0.0;        // estimated scanner-to-GNSS clock offset (moving data)
   double time_offset_sigma_s = 0.0;  // 0 when not estimated
+  // How well the timing the drives' poses need is known (s; solvers::DrivesTimingSigma): the
+  // clock offset when driving towards a wall, offset + heading delay when turning in front of
+  // it. 0 when no moving scan is used.
+  double drives_timing_sigma_s = 0.0;
   // Per-stream delays (issue 16). gnss_epochs: the GGA epochs mapped onto the logger clock
   // (offset_s = receiver latency + logger clock offset to UTC, jitter_s its scatter);
   // scanner_offset: time_offset_s above with its status (true scan time = stamp + dt, on the

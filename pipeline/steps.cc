@@ -22,6 +22,7 @@
 #include "pipeline/checks.h"
 #include "pipeline/config_dirs.h"
 #include "pipeline/steps.h"
+#include "solvers/mount_problem.h"
 #include "solvers/solve_policy.h"
 
 namespace wallcal::pipeline {
@@ -448,9 +449,11 @@ void Solve(const CalibrateRequest& request, const ProgressFn& progress,
   const double max_offset_sigma_s = result->options.alignment.moving_max_time_offset_sigma_s;
   if (inputs->moving_by_default && moving_dropped == 0 &&
       !(outcome.estimate.time_offset_estimated &&
-        outcome.estimate.time_offset_sigma_s <= max_offset_sigma_s)) {
-    // The drives' clock offset is not determined: their scans would misplace the wall by
-    // speed × offset. Standing scans alone, from the poses at their stamps.
+        solvers::DrivesTimingSigma(result->observations, result->walls, outcome.estimate.mount,
+                                   outcome.estimate.time_covariance) <= max_offset_sigma_s)) {
+    // The timing the drives' poses need (the clock offset when driving towards a wall, the
+    // clock offset plus the heading delay when turning in front of it) is not determined: their
+    // scans would misplace the wall by speed × offset. Standing scans alone, from the poses at their stamps.
     // Back to the poses at the scans' own stamps first (the policy moved them by the offset).
     if (outcome.estimate.time_offset_s != 0.0) {
       for (calib::WallObservation& o : result->observations) {
@@ -465,8 +468,9 @@ void Solve(const CalibrateRequest& request, const ProgressFn& progress,
     if (moving_dropped > 0) {
       result->warnings.push_back(
           std::to_string(moving_dropped) +
-          " scans taken while driving were not used: the scanner clock "
-          "offset they need was not determined (σ above alignment.moving_max_time_offset_sigma_s)");
+          " scans taken while driving were not used: the timing their poses need (scanner "
+          "clock offset, heading delay) was not determined (σ above "
+          "alignment.moving_max_time_offset_sigma_s)");
       outcome = solvers::SolveWithPolicy(request.method, &result->observations, result->walls,
                                          result->options.solver, result->first_pass.mount,
                                          request.force, *inputs->poses, on_round);
@@ -483,6 +487,8 @@ void Solve(const CalibrateRequest& request, const ProgressFn& progress,
   if (estimate.time_offset_estimated) {
     result->time_offset_s = estimate.time_offset_s;
     result->time_offset_sigma_s = estimate.time_offset_sigma_s;
+    result->drives_timing_sigma_s = solvers::DrivesTimingSigma(
+        result->observations, result->walls, estimate.mount, estimate.time_covariance);
   }
   result->scanner_offset = ClassifyDelay(estimate.time_offset_estimated, estimate.time_offset_s,
                                          estimate.time_offset_sigma_s,
@@ -509,7 +515,8 @@ void Analyse(const CalibrateRequest& request, const ProgressFn& progress,
         "repeatability: split halves and " + std::to_string(solver.bootstrap_samples) +
             " bootstrap resamples of the stations");
     result->repeatability = analysis::AssessRepeatability(
-        result->observations, result->walls, solver, estimate.mount, solver.bootstrap_samples);
+        result->observations, result->walls, solver, estimate.mount, solver.bootstrap_samples,
+        2007, estimate.time_offset_estimated ? &estimate.time_block_s : nullptr);
   }
 }
 

@@ -81,6 +81,7 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
   estimate.time_offset_s = mp.time_offset[0];
   estimate.heading_delay_estimated = mp.time_offset_estimated && mp.heading_delay_estimated;
   estimate.heading_delay_s = mp.time_offset[1];
+  estimate.time_block_s = mp.time_offset;
   estimate.heading_delay_prior_sigma_s = options.heading_delay_sigma_s;
   estimate.heading_drift_estimated = mp.heading_drift_estimated;
   estimate.heading_drift_rad_per_s = mp.heading_drift[0];
@@ -190,10 +191,14 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
   estimate.covariance = covariance.topLeftCorner(3, 3);
   int next = 3;
   if (dt_free) {
+    const int dt_index = next;
     estimate.time_offset_sigma_s = std::sqrt(std::max(0.0, covariance(next, next)));
+    estimate.time_covariance(0, 0) = covariance(next, next);
     ++next;
     if (estimate.heading_delay_estimated) {
       estimate.heading_delay_sigma_s = std::sqrt(std::max(0.0, covariance(next, next)));
+      estimate.time_covariance(1, 1) = covariance(next, next);
+      estimate.time_covariance(0, 1) = estimate.time_covariance(1, 0) = covariance(dt_index, next);
       ++next;
     }
   }
@@ -326,12 +331,17 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
 
 Refit RefitMount(const std::vector<calib::WallObservation>& observations,
                  const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
-                 const Mount& initial, const std::vector<double>& weights, int max_iterations) {
+                 const Mount& initial, const std::vector<double>& weights, int max_iterations,
+                 const std::array<double, 2>* held_time_block) {
   Refit refit;
   refit.mount = initial;
   std::string error;
   auto mp = BuildMountProblem(observations, walls, options, initial, initial, &error, weights);
   if (!mp || !mp->problem.HasParameterBlock(mp->mount.data())) return refit;
+  if (held_time_block != nullptr && mp->problem.HasParameterBlock(mp->time_offset.data())) {
+    mp->time_offset = *held_time_block;
+    mp->problem.SetParameterBlockConstant(mp->time_offset.data());
+  }
   io::SolverOptions quick = options;
   quick.max_iterations = std::max(1, max_iterations);
   const MountEstimate estimate = SolveMountProblem(*mp, quick, /*compute_covariance=*/false);

@@ -70,11 +70,38 @@ Eigen::Matrix2d MovingPoseCovariance(const calib::WallObservation& observation,
                             g_heading * g_heading.transpose());
   // Linear interpolation between GNSS fixes T apart on a path curving with acceleration
   // a = |v| |ω|: off by a T² f (1 − f) / 2 at fraction f, RMS a T² / (2 √30) over f (taken
-  // along the normal in full: the direction of a is not kept).
+  // along the normal in full: the direction of a is not kept). The poses of moving scans are
+  // cubics through the fixes (calib::PoseInterpolator::CubicAt), whose error is of order
+  // jerk·T³; this term is kept for the linear fallback at gaps and is an over-estimate (a few
+  // tenths of a mm) otherwise.
   const double a_mps2 = pose.velocity_local_mps.norm() * std::abs(pose.yaw_rate_rps);
   const double interp_m = a_mps2 * pose.gnss_period_s * pose.gnss_period_s / (2.0 * std::sqrt(30.0));
   covariance(0, 0) += interp_m * interp_m;
   return covariance;
+}
+
+double DrivesTimingSigma(const std::vector<calib::WallObservation>& observations,
+                         const std::vector<calib::WallGeometry>& walls, const Mount& lever_mount,
+                         const Eigen::Matrix2d& time_covariance) {
+  double shift_m2 = 0.0, sensitivity_m2_per_s2 = 0.0;
+  for (const calib::WallObservation& observation : observations) {
+    if (UsesDwellHeading(observation)) continue;
+    const calib::VehiclePose& pose = observation.pose;
+    const calib::OrientedWall oriented =
+        calib::OrientWall(walls[observation.wall_index], pose.antenna_local_m);
+    const double c = std::cos(pose.yaw_rad), s = std::sin(pose.yaw_rad);
+    const Eigen::Vector2d lever(c * lever_mount.x_m - s * lever_mount.y_m,
+                                s * lever_mount.x_m + c * lever_mount.y_m);
+    const double ell_m = oriented.normal_local.dot(Eigen::Vector2d(-lever.y(), lever.x()));
+    const double turn_mps = ell_m * pose.yaw_rate_rps;
+    const double arc_mps = observation.rho_m * pose.yaw_rate_rps;
+    const Eigen::Vector2d rho_row(oriented.normal_local.dot(pose.velocity_local_mps) + turn_mps,
+                                  turn_mps);
+    const Eigen::Vector2d theta_row(arc_mps, arc_mps);
+    shift_m2 += rho_row.dot(time_covariance * rho_row) + theta_row.dot(time_covariance * theta_row);
+    sensitivity_m2_per_s2 += rho_row.x() * rho_row.x() + theta_row.x() * theta_row.x();
+  }
+  return sensitivity_m2_per_s2 > 0.0 ? std::sqrt(shift_m2 / sensitivity_m2_per_s2) : 0.0;
 }
 
 Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,

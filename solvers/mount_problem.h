@@ -134,6 +134,17 @@ Eigen::Matrix2d MovingPoseCovariance(const calib::WallObservation& observation,
                                      const Eigen::Vector2d& normal_local, double ell_m,
                                      const io::SolverOptions& options);
 
+// How well the time block fixes the drives' poses (s): the σ of the rho shift that the
+// uncertainty of [clock offset dt, heading delay δh] (time_covariance, s²) puts on the moving
+// observations, over their sensitivity to dt. A moving scan's rho moves by (n·v + ℓω)·dt +
+// ℓω·δh and its theta by ω·(dt + δh) (wall_line_cost.h; theta counted in metres at the
+// observation's range): driving towards a wall needs dt itself, turning in front of it only
+// dt + δh, which the turns fix even when dt and δh are not separable (drives along one wall).
+// 0 when no observation is moving.
+double DrivesTimingSigma(const std::vector<calib::WallObservation>& observations,
+                         const std::vector<calib::WallGeometry>& walls, const Mount& lever_mount,
+                         const Eigen::Matrix2d& time_covariance);
+
 // How many of the moving observations fall between two GNSS fixes, on the median: the GNSS
 // period (pose.gnss_period_s) over the median step between distinct moving scan stamps;
 // >= 1, 1 when there are no moving observations or no period.

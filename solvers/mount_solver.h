@@ -5,6 +5,7 @@
 //    the wall lines and the correlated GNSS error per segment, covariance from Ceres);
 //  - SolveMountBarawid: the closed form of Barawid 2007 (Eq. 8-16), for comparison.
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,13 @@ struct MountEstimate {
   double heading_delay_s = 0.0;
   double heading_delay_sigma_s = 0.0;
   double heading_delay_prior_sigma_s = 0.0;
+  // Covariance (s²) of [clock offset, heading delay] when the clock offset is estimated (the
+  // heading delay's row and column zero when it is not): what the drives' poses depend on
+  // (DrivesTimingSigma).
+  Eigen::Matrix2d time_covariance = Eigen::Matrix2d::Zero();
+  // The last solve's time block as it stands: [clock offset left after the poses were shifted
+  // (solve_policy.h), heading delay] (s). What the repeatability's re-solves hold.
+  std::array<double, 2> time_block_s{};
   // Heading drift rate (rad/s, true yaw = used yaw − r·(t − t_ref)) and the reference time t_ref
   // (s, the earliest observation) at which the mount yaw is relative to the heading sensor's
   // zero. Estimated (ceres) when options.heading_drift_sigma_rad_per_s > 0.
@@ -94,7 +102,9 @@ MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& obser
 // each observation's information multiplied by weights[i] (>= 0; 0 drops it; weights empty:
 // all 1), started from `initial`, at most `max_iterations`, no Ceres covariance. `covariance`
 // is the mount covariance from the information matrix (nuisance parameters marginalised),
-// `determined` whether it passes options.max_sigma_*. Never throws.
+// `determined` whether it passes options.max_sigma_*. held_time_block: when the problem has a
+// time block, it is held at these values (the full solution's clock, MountEstimate::time_block_s)
+// instead of re-estimated from the subset. Never throws.
 struct Refit {
   bool converged = false;
   bool determined = false;
@@ -103,6 +113,7 @@ struct Refit {
 };
 Refit RefitMount(const std::vector<calib::WallObservation>& observations,
                  const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
-                 const Mount& initial, const std::vector<double>& weights, int max_iterations);
+                 const Mount& initial, const std::vector<double>& weights, int max_iterations,
+                 const std::array<double, 2>* held_time_block = nullptr);
 
 }  // namespace wallcal::solvers

@@ -85,7 +85,7 @@ TEST(DelaysTest, StationaryOnlySessionSaysTheHeadingDelayIsNotEstimated) {
   sim::WriteSimulatedSession(config, 3, dir.string());
   pipeline::CalibrateRequest request;
   request.session_path = dir.string();
-  request.config_path = std::string(WALLCAL_SOURCE_DIR) + "/bench/calibrate_matched.yaml";
+  request.config_path = std::string(WALLCAL_SOURCE_DIR) + "/bench/calibrate_matched_standing.yaml";
   const pipeline::CalibrationResult result = pipeline::RunCalibration(request, nullptr);
   fs::remove_all(dir);
   ASSERT_TRUE(result.estimate.usable) << result.estimate.message;

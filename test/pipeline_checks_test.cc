@@ -136,7 +136,8 @@ TEST(PipelineChecksTest, MovingScansRecoverAKnownScannerClockOffset) {
             4.0 * free_delay.heading_delay.sigma_s);  // the simulated heading has no delay
 
   // Stations only: the offset is not estimated and says so.
-  const CalibrationResult still = Calibrate(dir);
+  const CalibrationResult still =
+      Calibrate(dir, false, "alignment:\n  moving_scans_in_stop_and_go: false\n");
   ASSERT_TRUE(still.estimate.usable) << still.estimate.message;
   EXPECT_FALSE(still.estimate.time_offset_estimated);
   EXPECT_EQ(still.time_offset_sigma_s, 0.0);
@@ -216,14 +217,16 @@ TEST(PipelineChecksTest, PerfectObservationsReturnTheTruth) {
   config.heading_white_sigma_rad = config.heading_drift_rad_per_s = 0.0;
   config.total_station_sigma_m = config.control_sigma_m = 0.0;
   const fs::path dir = Simulated(config, 2, "perfect");
+  // Standing scans only: the test is about the dwells' edges.
   const std::string solver_yaml = "solver:\n  use_gst_sigma: false\n  gnss_bias_sigma_m: 0.015\n";
-  const solvers::Mount m = SolvePerfectObservations(dir, config, solver_yaml);
+  const std::string standing = "alignment:\n  moving_scans_in_stop_and_go: false\n";
+  const solvers::Mount m = SolvePerfectObservations(dir, config, solver_yaml + standing);
   EXPECT_NEAR(m.x_m, config.mount_x_m, 1e-5);
   EXPECT_NEAR(m.y_m, config.mount_y_m, 1e-5);
   EXPECT_NEAR(m.yaw_rad, config.mount_yaw_rad, 1e-6);
   // The contrast: without the guard the dwells hold the end of the turn into each stop.
   const solvers::Mount unguarded = SolvePerfectObservations(
-      dir, config, solver_yaml + "alignment:\n  dwell_guard_s: 0\n");
+      dir, config, solver_yaml + standing + "  dwell_guard_s: 0\n");
   std::printf("[ perfect  ] x error %+.4f mm with the dwell guard, %+.2f mm without\n",
               1e3 * (m.x_m - config.mount_x_m), 1e3 * (unguarded.x_m - config.mount_x_m));
   EXPECT_GT(std::abs(unguarded.x_m - config.mount_x_m), 1e-3);

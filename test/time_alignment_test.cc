@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -58,6 +59,37 @@ TEST(TimeAlignmentTest, InterpolationIsExactForLinearMotion) {
   VehiclePose pose;
   EXPECT_EQ(poses.At(110.0, &pose), PoseStatus::kOk);  // the last instant is inside
   EXPECT_NEAR((pose.antenna_local_m - Line(110.0)).norm(), 0.0, 1e-9);
+}
+
+Eigen::Vector2d SpeedingUp(double t) {  // 3 m/s² from rest at t = 100 s, along (0.6, 0.8)
+  const double s = 1.5 * (t - 100.0) * (t - 100.0);
+  return Eigen::Vector2d(1.0 + 0.6 * s, -3.0 + 0.8 * s);
+}
+double TurningFaster(double t) { return 0.2 + 0.3 * (t - 100.0) * (t - 100.0); }  // 0.6 rad/s²
+
+TEST(TimeAlignmentTest, MovingPoseIsExactForAnAcceleratingVehicle) {
+  // Between two 10 Hz fixes a straight chord misplaces a vehicle speeding up at 3 m/s² by up to
+  // a·T²/8 = 3.75 mm (same sign over the whole acceleration); the moving pose is a cubic through
+  // two samples each side, exact for this quadratic motion (and the yaw's).
+  const PoseInterpolator poses(Positions(100.0, 102.0, 10.0, SpeedingUp),
+                               Yaws(100.0, 102.0, 20.0, TurningFaster), io::AlignmentOptions{});
+  double worst_chord_m = 0.0;
+  for (double t = 100.13; t < 101.85; t += 0.01) {
+    VehiclePose pose;
+    ASSERT_EQ(poses.At(t, &pose), PoseStatus::kOk) << t;
+    ASSERT_FALSE(pose.stationary);
+    EXPECT_NEAR((pose.antenna_local_m - SpeedingUp(t)).norm(), 0.0, 1e-9) << t;
+    EXPECT_NEAR(pose.yaw_rad, TurningFaster(t), 1e-9) << t;
+    const double lo = std::floor(10.0 * (t - 100.0)) / 10.0 + 100.0;
+    const double f = (t - lo) / 0.1;
+    const Eigen::Vector2d chord = SpeedingUp(lo) + f * (SpeedingUp(lo + 0.1) - SpeedingUp(lo));
+    worst_chord_m = std::max(worst_chord_m, (chord - SpeedingUp(t)).norm());
+  }
+  EXPECT_NEAR(worst_chord_m, 3.75e-3, 0.1e-3);  // what the straight chord would have made of it
+  // Next to the ends (no second sample beyond): the straight chord, still a pose.
+  VehiclePose pose;
+  ASSERT_EQ(poses.At(100.05, &pose), PoseStatus::kOk);
+  EXPECT_GT((pose.antenna_local_m - SpeedingUp(100.05)).norm(), 1e-3);
 }
 
 TEST(TimeAlignmentTest, YawTakesShortArcAcrossPi) {
