@@ -69,7 +69,6 @@ size_t Bracket(const std::vector<Sample>& samples, double stamp_s) {
   return hi - 1;
 }
 
-
 // Cubic Hermite weights at fraction f of [t0, t1] with the tangents from central differences
 // over the neighbours t_-1 and t2 (non-uniform spacing allowed): the value is
 // w[0]·v_-1 + w[1]·v0 + w[2]·v1 + w[3]·v2. Exact for quadratics (a vehicle speeding up or

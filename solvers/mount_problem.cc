@@ -80,6 +80,20 @@ Eigen::Matrix2d MovingPoseCovariance(const calib::WallObservation& observation,
   return covariance;
 }
 
+namespace {
+
+// ℓ: the along-wall part of the lever arm R(ψ)(x, y), i.e. d rho_pred/dψ = −ℓ (J the 90°
+// rotation: ℓ = n·(J R(ψ)(x, y))).
+double AlongWallLever(const calib::VehiclePose& pose, const Eigen::Vector2d& normal_local,
+                      const Mount& lever_mount) {
+  const double c = std::cos(pose.yaw_rad), s = std::sin(pose.yaw_rad);
+  const Eigen::Vector2d lever(c * lever_mount.x_m - s * lever_mount.y_m,
+                              s * lever_mount.x_m + c * lever_mount.y_m);
+  return normal_local.dot(Eigen::Vector2d(-lever.y(), lever.x()));
+}
+
+}  // namespace
+
 double DrivesTimingSigma(const std::vector<calib::WallObservation>& observations,
                          const std::vector<calib::WallGeometry>& walls, const Mount& lever_mount,
                          const Eigen::Matrix2d& time_covariance) {
@@ -89,10 +103,7 @@ double DrivesTimingSigma(const std::vector<calib::WallObservation>& observations
     const calib::VehiclePose& pose = observation.pose;
     const calib::OrientedWall oriented =
         calib::OrientWall(walls[observation.wall_index], pose.antenna_local_m);
-    const double c = std::cos(pose.yaw_rad), s = std::sin(pose.yaw_rad);
-    const Eigen::Vector2d lever(c * lever_mount.x_m - s * lever_mount.y_m,
-                                s * lever_mount.x_m + c * lever_mount.y_m);
-    const double ell_m = oriented.normal_local.dot(Eigen::Vector2d(-lever.y(), lever.x()));
+    const double ell_m = AlongWallLever(pose, oriented.normal_local, lever_mount);
     const double turn_mps = ell_m * pose.yaw_rate_rps;
     const double arc_mps = observation.rho_m * pose.yaw_rate_rps;
     const Eigen::Vector2d rho_row(oriented.normal_local.dot(pose.velocity_local_mps) + turn_mps,
@@ -130,12 +141,7 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
   // with J the 90° rotation, i.e. ℓ is the along-wall component of the lever arm; and
   // d theta_pred/dψ = −1. Hence the block σ_h² [ℓ², ℓ; ℓ, 1]. The lever uses `lever_mount`
   // (the initial mount, then the solution: SolveMountCeres rebuilds once when it moved).
-  const double c = std::cos(observation.pose.yaw_rad);
-  const double s = std::sin(observation.pose.yaw_rad);
-  const Eigen::Vector2d lever_local(c * lever_mount.x_m - s * lever_mount.y_m,
-                                    s * lever_mount.x_m + c * lever_mount.y_m);
-  const Eigen::Vector2d lever_turned(-lever_local.y(), lever_local.x());
-  const double ell_m = oriented.normal_local.dot(lever_turned);
+  const double ell_m = AlongWallLever(observation.pose, oriented.normal_local, lever_mount);
   // A dwell's scans use the dwell's mean heading: its error is common to the dwell and lives
   // in the segment's heading-offset parameter (which turns the lever arm in the cost itself),
   // not in each scan's covariance.
