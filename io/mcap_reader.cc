@@ -253,8 +253,9 @@ bool McapRecording::ReadSummary(std::string* why_not) {
       ref.index_length = c.U64("message_index_length");
       compressions_.insert(CompressionFromName(c.Str("compression"), ref.block.offset));
       const uint64_t start = ref.block.offset, length = ref.block.length;
-      if (start < header_end_ || length < kRecordHeaderSize || length > summary_start - start ||
-          ref.index_length > summary_start - start - length) {
+      // start is checked against both ends before any difference is taken (unsigned).
+      if (start < header_end_ || start > summary_start || length < kRecordHeaderSize ||
+          length > summary_start - start || ref.index_length > summary_start - start - length) {
         *why_not = "chunk index at byte " + std::to_string(at) + " points outside the data section";
         return false;
       }

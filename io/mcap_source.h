@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -18,7 +19,13 @@ class ByteSource {
   // Copies [offset, offset + n) into out; throws InputError when the system read fails.
   virtual void Read(uint64_t offset, size_t n, uint8_t* out) const = 0;
 
+  // A range past the end is a caller's bug: std::logic_error (exit 3), never a huge allocation.
   std::vector<uint8_t> Bytes(uint64_t offset, uint64_t n) const {
+    if (offset > size() || n > size() - offset) {
+      throw std::logic_error("MCAP reader: bytes [" + std::to_string(offset) + ", +" +
+                             std::to_string(n) + ") asked of a " + std::to_string(size()) +
+                             "-byte source");
+    }
     std::vector<uint8_t> out(static_cast<size_t>(n));
     if (n > 0) Read(offset, static_cast<size_t>(n), out.data());
     return out;

@@ -342,6 +342,34 @@ TEST(McapReaderTest, UnknownCompressionIsNamed) {
   EXPECT_NE(error.find("unknown chunk compression 'brot'"), std::string::npos) << error;
 }
 
+// A chunk index whose chunk starts past the summary's start (found by fuzzing: the unsigned
+// difference summary_start - start wrapped, and a 17 TB read was asked for). The index is
+// distrusted and the data section walked instead.
+TEST(McapReaderTest, ChunkIndexPointingPastTheSummaryIsNotFollowed) {
+  std::vector<uint8_t> bytes =
+      ReadBytes(WriteTwoTopics(Dir("index_past") + "/two.mcap", ChunkCompression::kNone));
+  ZeroFileCrcs(&bytes);
+  const uint64_t summary_start = mcap::GetU64(&bytes[bytes.size() - 28]);
+  size_t pos = summary_start, patched = 0;
+  while (pos + mcap::kRecordHeaderSize <= bytes.size() - 28 - mcap::kRecordHeaderSize) {
+    const uint64_t len = mcap::GetU64(&bytes[pos + 1]);
+    if (bytes[pos] == mcap::kChunkIndex && patched == 0) {
+      const size_t content = pos + mcap::kRecordHeaderSize;
+      const uint64_t start = summary_start + 10, length = (uint64_t{1} << 44) + 110;
+      for (int i = 0; i < 8; ++i) bytes[content + 16 + i] = static_cast<uint8_t>(start >> (8 * i));
+      for (int i = 0; i < 8; ++i) bytes[content + 24 + i] = static_cast<uint8_t>(length >> (8 * i));
+      ++patched;
+    }
+    pos += mcap::kRecordHeaderSize + len;
+  }
+  ASSERT_EQ(patched, 1u);
+  auto rec = OpenMcapBuffer("past.mcap", bytes);
+  ASSERT_FALSE(rec->warnings().empty());
+  EXPECT_NE(rec->warnings()[0].find("points outside the data section"), std::string::npos)
+      << rec->warnings()[0];
+  ExpectTwoTopicsInOrder(Collect(*rec, {"/a", "/b"}), 60);
+}
+
 TEST(McapReaderTest, UnknownTopicListsTheTopicsPresent) {
   auto rec = OpenMcap(WriteTwoTopics(Dir("unknown") + "/two.mcap", ChunkCompression::kLz4));
   const std::string error = ErrorOf([&] { Collect(*rec, {"/scan"}); });
