@@ -15,16 +15,21 @@ trap 'rm -rf "$work"' EXIT
 printf 'solver:\n  bootstrap_samples: 0\n' > "$work/fast.yaml"
 
 # Per scenario: RMS over all seeds, its honest 90 % interval (Wilson–Hilferty quantiles of χ²
-# with m degrees of freedom), and the RMS of each block of 20 seeds.
+# with m degrees of freedom), the largest |err/σ| and how many are beyond 3 (an honest σ puts
+# 0.27 % there), and the RMS of each block of 20 seeds.
 cat > "$work/summary.awk" <<'AWK'
 function rms_interval(m, z) { return sqrt((1 - 2 / (9 * m) + z * sqrt(2 / (9 * m))) ^ 3) }
 $2 == "failed" { failed++; next }
-{ m++; k += $2 * $2; b += $3 * $3; s += $4 * $4
+function worst(v, i) { if (v < 0) v = -v; if (v > mx[i]) mx[i] = v; if (v > 3) over[i]++ }
+{ m++; k += $2 * $2; b += $3 * $3; s += $4 * $4; worst($2, 1); worst($3, 2); worst($4, 3)
   blk = int((m - 1) / 20); bk[blk] += $2 * $2; bb[blk] += $3 * $3; bs[blk] += $4 * $4; bn[blk]++ }
 END {
   printf "%-24s %3d runs (%d failed)  RMS(err/sigma): k %.2f  b %.2f  sigma %.2f" \
          "  (honest: %.2f-%.2f at 90 %%)\n", name, m, failed, sqrt(k / m), sqrt(b / m),
          sqrt(s / m), rms_interval(m, -1.645), rms_interval(m, 1.645)
+  printf "  largest |err/sigma|: k %.2f  b %.2f  sigma %.2f;  beyond 3: k %d  b %d  sigma %d" \
+         "  (honest: %.1f expected each)\n", mx[1], mx[2], mx[3], over[1], over[2], over[3],
+         0.0027 * m
   for (j = 0; j * 20 < m; j++) {
     if (bn[j] < 20) break
     printf "  seeds %3d-%3d: k %.2f  b %.2f  sigma %.2f\n", 20 * j + 1, 20 * j + 20,

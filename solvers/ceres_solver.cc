@@ -241,7 +241,7 @@ MountEstimate Refused(const Mount& initial, EstimateFailure failure, const std::
 MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observations,
                               const std::vector<calib::WallGeometry>& walls,
                               const io::SolverOptions& options, const Mount& initial,
-                              bool force) {
+                              bool force, const WarmStart* warm, WarmStart* ended) {
   std::vector<std::string> forced_warnings;
   const ObservabilityReport observability = CheckObservability(observations, walls, options);
   if (!observability.ok) {
@@ -253,8 +253,14 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
   if (!mp) return Refused(initial, EstimateFailure::kBadInput, error);
 
   // Before solving: is every mount direction determined by this geometry and noise model?
-  const DeterminationReport before =
-      CheckDetermination(MountInformation(*mp, options.num_threads), observations, walls, options);
+  // (A warm-started round was checked by the round before.)
+  DeterminationReport before;
+  before.ok = true;
+  if (warm != nullptr) ApplyWarmStart(*warm, mp.get());
+  if (warm == nullptr || !warm->checked) {
+    before = CheckDetermination(MountInformation(*mp, options.num_threads), observations, walls,
+                                options);
+  }
   if (!before.ok) {
     if (!force) {
       MountEstimate refused = Refused(initial, EstimateFailure::kNotDetermined, before.message);
@@ -275,6 +281,7 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
     const Mount first = estimate.mount;
     mp.reset();
     auto second = BuildMountProblem(observations, walls, options, first, first, &error);
+    if (second && warm != nullptr) ApplyWarmStart(*warm, second.get());
     if (second) {
       const std::string first_report = estimate.solver_report;
       estimate = SolveMountProblem(*second, options);
@@ -286,6 +293,7 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
       estimate = SolveMountProblem(*mp, options);
     }
   }
+  if (ended != nullptr) *ended = WarmStartFrom(*mp);
   // After solving: the same check at the solution (the noise model's lever arms and the robust
   // loss's weights have changed).
   const Eigen::Matrix3d information = mp->has_mount_information

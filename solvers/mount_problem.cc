@@ -269,6 +269,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
   for (const auto& [station, entry] : dwell_headings) {
     heading_index[station] = static_cast<int>(mp->heading_offsets.size());
     mp->heading_offsets.push_back({0.0});
+    mp->heading_station_ids.push_back(station);
     const int samples = entry.pose_samples > 0 ? entry.pose_samples : entry.count;
     mp->heading_offset_sigma_rad.push_back(options.heading_sigma_rad /
                                            std::sqrt(std::max(1, samples)));
@@ -516,6 +517,34 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     }
   }
   return mp;
+}
+
+void ApplyWarmStart(const WarmStart& warm, MountProblem* mp) {
+  if (warm.wall_deltas.size() == mp->wall_deltas.size()) mp->wall_deltas = warm.wall_deltas;
+  for (size_t k = 0; k < mp->segment_ids.size(); ++k) {
+    const auto found = warm.biases.find(mp->segment_ids[k]);
+    if (found != warm.biases.end()) mp->biases[k] = found->second;
+  }
+  for (size_t k = 0; k < mp->heading_station_ids.size(); ++k) {
+    const auto found = warm.heading_offsets.find(mp->heading_station_ids[k]);
+    if (found != warm.heading_offsets.end()) mp->heading_offsets[k][0] = found->second;
+  }
+  if (mp->heading_drift_estimated) mp->heading_drift[0] = warm.heading_drift_rad_per_s;
+  if (mp->time_offset_estimated && mp->heading_delay_estimated) {
+    mp->time_offset[1] = warm.heading_delay_s;
+  }
+}
+
+WarmStart WarmStartFrom(const MountProblem& mp) {
+  WarmStart warm;
+  warm.wall_deltas = mp.wall_deltas;
+  for (size_t k = 0; k < mp.segment_ids.size(); ++k) warm.biases[mp.segment_ids[k]] = mp.biases[k];
+  for (size_t k = 0; k < mp.heading_station_ids.size(); ++k) {
+    warm.heading_offsets[mp.heading_station_ids[k]] = mp.heading_offsets[k][0];
+  }
+  warm.heading_drift_rad_per_s = mp.heading_drift[0];
+  warm.heading_delay_s = mp.time_offset[1];
+  return warm;
 }
 
 }  // namespace wallcal::solvers

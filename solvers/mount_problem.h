@@ -7,6 +7,7 @@
 #include <ceres/ceres.h>
 
 #include <array>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,6 +18,20 @@
 #include "solvers/wall_line_cost.h"
 
 namespace wallcal::solvers {
+
+// Where a solve ended, to start the next one from (the clock-offset rounds, solve_policy.cc):
+// the nuisance parameters by what they belong to (wall index, GNSS slice id, station id), since
+// a round's problem is built anew from re-interpolated observations.
+struct WarmStart {
+  std::vector<std::array<double, 2>> wall_deltas;    // per wall index
+  std::map<int, std::array<double, 2>> biases;       // by GNSS slice id
+  std::map<int, double> heading_offsets;             // by station id
+  double heading_drift_rad_per_s = 0.0;
+  double heading_delay_s = 0.0;
+  // The round before passed its checks without being forced: the check before this solve, on
+  // the same geometry, is not made again.
+  bool checked = false;
+};
 
 // Owns the Ceres problem and the parameter values it points into. Not copyable or movable
 // (Ceres holds the addresses): handled through std::unique_ptr.
@@ -51,6 +66,7 @@ struct MountProblem {
   // their covariance (they share the constant zero block no_heading_offset).
   std::vector<std::array<double, 1>> heading_offsets;
   std::vector<double> heading_offset_sigma_rad;
+  std::vector<int> heading_station_ids;  // the station (pose.segment) of each heading offset
   // The heading drift rate r [rad/s], one for the session, with the prior
   // options.heading_drift_sigma_rad_per_s (held at 0 when that is 0), and the reference time
   // t_ref [s] (the earliest observation's stamp) at which the heading error is taken as the
@@ -107,6 +123,11 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
     const Mount& lever_mount, const Mount& initial, std::string* error,
     const std::vector<double>& weights = {});
+
+// Sets the problem's parameters from `warm` where it has them (the clock offset stays 0: the
+// poses carry it), and reads them back into a WarmStart.
+void ApplyWarmStart(const WarmStart& warm, MountProblem* mp);
+WarmStart WarmStartFrom(const MountProblem& mp);
 
 // The information matrix of the mount: solvers/information.h.
 

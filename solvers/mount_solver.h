@@ -16,6 +16,8 @@
 
 namespace wallcal::solvers {
 
+struct WarmStart;  // solvers/mount_problem.h
+
 // The mount estimated: vehicle_T_scanner (calib/observation.h).
 using calib::Mount;
 
@@ -89,10 +91,15 @@ struct MountEstimate {
 // return the estimate as usable with forced = true and a "FORCED: ..." warning, instead of
 // refusing. Checks that make a solve impossible (no observations, bad wall index) still refuse.
 
+// The clock-offset rounds (solve_policy.h) pass `warm`, where the round before ended: the
+// nuisance parameters start there, and with warm->checked the determination check before the
+// solve is not made again (the round before passed it on the same geometry; the check after the
+// solve still is). `ended`, when given, receives where this solve ended.
 MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observations,
                               const std::vector<calib::WallGeometry>& walls,
                               const io::SolverOptions& options, const Mount& initial,
-                              bool force = false);
+                              bool force = false, const WarmStart* warm = nullptr,
+                              WarmStart* ended = nullptr);
 
 MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& observations,
                                 const std::vector<calib::WallGeometry>& walls,

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "calib/detection_pass.h"
+#include "solvers/mount_problem.h"
 
 namespace wallcal::solvers {
 namespace {
@@ -28,7 +29,10 @@ PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>
     outcome.estimate = SolveMountBarawid(*observations, walls, options, force);
     return outcome;
   }
-  outcome.estimate = SolveMountCeres(*observations, walls, options, initial, force);
+  // Each round starts where the last one ended (warm), and is not checked before its solve
+  // again: the geometry is the one the first solve checked.
+  WarmStart warm;
+  outcome.estimate = SolveMountCeres(*observations, walls, options, initial, force, nullptr, &warm);
   if (!outcome.estimate.usable || !outcome.estimate.time_offset_estimated) return outcome;
   double shifted_s = 0.0;
   while (outcome.clock_rounds < kClockOffsetRounds && outcome.estimate.usable &&
@@ -38,8 +42,10 @@ PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>
     if (on_round) on_round(shifted_s);
     outcome.dropped_at_shifted_time +=
         calib::ShiftObservations(poses, outcome.estimate.time_offset_s, observations);
+    WarmStart from = warm;
+    from.checked = !outcome.estimate.forced;
     outcome.estimate =
-        SolveMountCeres(*observations, walls, options, outcome.estimate.mount, force);
+        SolveMountCeres(*observations, walls, options, outcome.estimate.mount, force, &from, &warm);
   }
   outcome.estimate.time_offset_s += shifted_s;
   return outcome;

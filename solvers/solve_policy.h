@@ -27,7 +27,8 @@ struct PolicyOutcome {
 
 // Solves with `method` from `initial`; for ceres with an estimated clock offset, shifts
 // *observations to the estimated scan times (at most 3 rounds, until |offset| < 0.2 ms) and
-// reports the total offset. `on_round(shift_s)` (may be empty) is told before each round.
+// reports the total offset; each round is warm-started where the last ended (WarmStart).
+// `on_round(shift_s)` (may be empty) is told before each round.
 PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>* observations,
                               const std::vector<calib::WallGeometry>& walls,
                               const io::SolverOptions& options, const Mount& initial, bool force,
