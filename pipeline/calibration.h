@@ -38,8 +38,10 @@ struct CalibrateRequest {
   // Threads for wall detection, the solve and the information matrix; 0: every core. The
   // result does not depend on it (beyond round-off in the solve, far below 1e-9 m).
   int threads = 0;
-  // A preview (inspect): the mount and its σ only; no repeatability re-solves, no error budget,
-  // no input digests.
+  // A preview (inspect): the mount and its σ only, solved on every k-th observation weighted
+  // by k (at most analysis::kMaxRefitObservations, as the repeatability's re-solves); no
+  // repeatability re-solves, no error budget, no input digests. The result's observations are
+  // still all the second pass detected.
   bool preview = false;
 };
 
@@ -90,6 +92,8 @@ struct CalibrationResult {
   solvers::MountEstimate estimate;     // the final estimate by the requested method
   std::vector<calib::WallGeometry> walls;
   std::vector<calib::WallObservation> observations;  // second pass
+  // A preview's solve: how many observations it used (every k-th; 0 when not a preview).
+  int64_t preview_observations_solved = 0;
   calib::LocalFrame frame;
   double control_rms_m = 0.0;
   int num_control = 0;

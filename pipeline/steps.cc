@@ -418,6 +418,13 @@ void SecondPass(const ProgressFn& progress, CalibrationResult* result, RunInputs
   }
 }
 
+std::string DrivesNotUsedWarning(int64_t scans) {
+  return std::to_string(scans) +
+         " scans taken while driving were not used: the timing their poses need (scanner clock "
+         "offset, heading delay) was not determined (σ above "
+         "alignment.moving_max_time_offset_sigma_s)";
+}
+
 void Solve(const CalibrateRequest& request, const ProgressFn& progress,
            CalibrationResult* result, RunInputs* inputs) {
   Say(progress, Stage::kSolving,
@@ -445,7 +452,8 @@ void Solve(const CalibrateRequest& request, const ProgressFn& progress,
   }
   solvers::PolicyOutcome outcome = solvers::SolveWithPolicy(
       request.method, &result->observations, result->walls, result->options.solver,
-      result->first_pass.mount, request.force, *inputs->poses, on_round);
+      result->first_pass.mount, request.force, *inputs->poses, on_round,
+      inputs->observation_weight);
   const double max_offset_sigma_s = result->options.alignment.moving_max_time_offset_sigma_s;
   if (inputs->moving_by_default && moving_dropped == 0 &&
       !(outcome.estimate.time_offset_estimated &&
@@ -466,14 +474,13 @@ void Solve(const CalibrateRequest& request, const ProgressFn& progress,
     }
     moving_dropped = drop_moving();
     if (moving_dropped > 0) {
-      result->warnings.push_back(
-          std::to_string(moving_dropped) +
-          " scans taken while driving were not used: the timing their poses need (scanner "
-          "clock offset, heading delay) was not determined (σ above "
-          "alignment.moving_max_time_offset_sigma_s)");
+      inputs->drives_dropped = moving_dropped;
+      // A preview's count is of its thinned set: the warning waits for the whole set.
+      if (!request.preview) result->warnings.push_back(DrivesNotUsedWarning(moving_dropped));
       outcome = solvers::SolveWithPolicy(request.method, &result->observations, result->walls,
                                          result->options.solver, result->first_pass.mount,
-                                         request.force, *inputs->poses, on_round);
+                                         request.force, *inputs->poses, on_round,
+                                         inputs->observation_weight);
     }
   }
   if (moving_dropped > 0) result->scans_skipped[calib::ScanSkip::kVehicleMoving] += moving_dropped;

@@ -30,6 +30,10 @@ struct RunInputs {
   // Moving scans are in the passes only by alignment.moving_scans_in_stop_and_go: the solve
   // drops them again unless the clock offset comes out determined (Solve).
   bool moving_by_default = false;
+  // A preview solves on a thinned set (ThinForPreview): each observation stands for this many.
+  double observation_weight = 1.0;
+  // Scans taken while driving that the solve dropped (their timing was not determined).
+  int64_t drives_dropped = 0;
   // The inputs' SHA-256 digests for the provenance (StartDigests): computed on their own
   // thread while the passes run when there is more than one thread, else when Decide asks.
   std::shared_future<std::vector<io::InputFileDigest>> digests;
@@ -64,6 +68,8 @@ bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
                CalibrationResult* result, RunInputs* inputs);
 // Second pass (every scan, tight gates) and its accounting.
 void SecondPass(const ProgressFn& progress, CalibrationResult* result, RunInputs* inputs);
+// The warning that `scans` scans taken while driving were left out.
+std::string DrivesNotUsedWarning(int64_t scans);
 // The final solve by the requested method (with the clock-offset rounds).
 void Solve(const CalibrateRequest& request, const ProgressFn& progress,
            CalibrationResult* result, RunInputs* inputs);

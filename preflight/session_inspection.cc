@@ -356,8 +356,14 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     if (c.estimate.usable) {
       out << "  preview   a calibration now gives x = " << Fmt("%.3f", c.estimate.mount.x_m)
           << " m, y = " << Fmt("%.3f", c.estimate.mount.y_m) << " m, yaw = "
-          << Fmt("%.2f", c.estimate.mount.yaw_rad * kRadToDeg) << "° (residual RMS "
-          << Fmt("%.1f", 1000.0 * c.estimate.residual_rms_m) << " mm)\n";
+          << Fmt("%.2f", c.estimate.mount.yaw_rad * kRadToDeg) << "°";
+      if (c.preview_observations_solved < static_cast<int64_t>(c.observations.size())) {
+        // Thinned (pipeline/calibration.h): its residuals are not the session's.
+        out << " (solved on " << c.preview_observations_solved << " of " << c.observations.size()
+            << " observations, evenly spaced, each weighted to stand for the rest)\n";
+      } else {
+        out << " (residual RMS " << Fmt("%.1f", 1000.0 * c.estimate.residual_rms_m) << " mm)\n";
+      }
     }
   }
 

@@ -241,7 +241,11 @@ MountEstimate Refused(const Mount& initial, EstimateFailure failure, const std::
 MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observations,
                               const std::vector<calib::WallGeometry>& walls,
                               const io::SolverOptions& options, const Mount& initial,
-                              bool force, const WarmStart* warm, WarmStart* ended) {
+                              bool force, const WarmStart* warm, WarmStart* ended,
+                              double observation_weight) {
+  const std::vector<double> weights =
+      observation_weight == 1.0 ? std::vector<double>()
+                                : std::vector<double>(observations.size(), observation_weight);
   std::vector<std::string> forced_warnings;
   const ObservabilityReport observability = CheckObservability(observations, walls, options);
   if (!observability.ok) {
@@ -249,7 +253,7 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
     forced_warnings.push_back("FORCED: " + observability.message);
   }
   std::string error;
-  auto mp = BuildMountProblem(observations, walls, options, initial, initial, &error);
+  auto mp = BuildMountProblem(observations, walls, options, initial, initial, &error, weights);
   if (!mp) return Refused(initial, EstimateFailure::kBadInput, error);
 
   // Before solving: is every mount direction determined by this geometry and noise model?
@@ -280,7 +284,7 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
     // memory of a long session. (Should the second not build, the first is built again.)
     const Mount first = estimate.mount;
     mp.reset();
-    auto second = BuildMountProblem(observations, walls, options, first, first, &error);
+    auto second = BuildMountProblem(observations, walls, options, first, first, &error, weights);
     if (second && warm != nullptr) ApplyWarmStart(*warm, second.get());
     if (second) {
       const std::string first_report = estimate.solver_report;
@@ -288,7 +292,7 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
       estimate.solver_report = first_report + "\n" + estimate.solver_report;
       mp = std::move(second);
     } else {
-      mp = BuildMountProblem(observations, walls, options, initial, initial, &error);
+      mp = BuildMountProblem(observations, walls, options, initial, initial, &error, weights);
       if (!mp) return Refused(initial, EstimateFailure::kBadInput, error);
       estimate = SolveMountProblem(*mp, options);
     }

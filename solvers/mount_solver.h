@@ -95,11 +95,14 @@ struct MountEstimate {
 // nuisance parameters start there, and with warm->checked the determination check before the
 // solve is not made again (the round before passed it on the same geometry; the check after the
 // solve still is). `ended`, when given, receives where this solve ended.
+// `observation_weight` multiplies every observation's information: a preview (inspect) solves
+// on every k-th observation with weight k (analysis::ThinForRefits), which keeps the mount's
+// information, and so its σ and the checks on it, about those of the whole set.
 MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observations,
                               const std::vector<calib::WallGeometry>& walls,
                               const io::SolverOptions& options, const Mount& initial,
                               bool force = false, const WarmStart* warm = nullptr,
-                              WarmStart* ended = nullptr);
+                              WarmStart* ended = nullptr, double observation_weight = 1.0);
 
 MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& observations,
                                 const std::vector<calib::WallGeometry>& walls,

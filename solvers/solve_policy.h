@@ -26,13 +26,15 @@ struct PolicyOutcome {
 };
 
 // Solves with `method` from `initial`; for ceres with an estimated clock offset, shifts
-// *observations to the estimated scan times (at most 3 rounds, until |offset| < 0.2 ms) and
-// reports the total offset; each round is warm-started where the last ended (WarmStart).
-// `on_round(shift_s)` (may be empty) is told before each round.
+// *observations to the estimated scan times (at most 3 rounds, until the offset left is below
+// 0.2 ms or a quarter of its σ) and reports the total offset; each round is warm-started where
+// the last ended (WarmStart). `on_round(shift_s)` (may be empty) is told before each round.
+// `observation_weight`: SolveMountCeres's (a thinned preview); barawid takes none.
 PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>* observations,
                               const std::vector<calib::WallGeometry>& walls,
                               const io::SolverOptions& options, const Mount& initial, bool force,
                               const calib::PoseInterpolator& poses,
-                              const std::function<void(double shift_s)>& on_round = nullptr);
+                              const std::function<void(double shift_s)>& on_round = nullptr,
+                              double observation_weight = 1.0);
 
 }  // namespace wallcal::solvers
