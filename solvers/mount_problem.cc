@@ -504,12 +504,11 @@ std::unique_ptr<MountProblem> BuildMountProblem(
   if (mp->problem.HasParameterBlock(mp->time_offset.data())) {
     if (mp->time_offset_estimated) {
       mp->heading_delay_estimated = options.heading_delay_sigma_s > 0.0;
-      mp->time_prior = new MovablePriorCost(Eigen::Vector2d(
-          options.time_offset_sigma_s,
-          mp->heading_delay_estimated ? options.heading_delay_sigma_s : 1.0));
       mp->problem.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<MovablePriorCost, 2, 2>(mp->time_prior), nullptr,
-          mp->time_offset.data());
+          ZeroMeanPriorCost::Create(Eigen::Vector2d(
+              options.time_offset_sigma_s,
+              mp->heading_delay_estimated ? options.heading_delay_sigma_s : 1.0)),
+          nullptr, mp->time_offset.data());
       if (!mp->heading_delay_estimated) {
         mp->problem.SetManifold(mp->time_offset.data(), new ceres::SubsetManifold(2, {1}));
       }
@@ -534,7 +533,6 @@ void ApplyWarmStart(const WarmStart& warm, MountProblem* mp) {
   if (mp->time_offset_estimated && mp->heading_delay_estimated) {
     mp->time_offset[1] = warm.heading_delay_s;
   }
-  if (mp->time_prior != nullptr) mp->time_prior->set_mean(Eigen::Vector2d(-warm.clock_shift_s, 0.0));
 }
 
 WarmStart WarmStartFrom(const MountProblem& mp) {

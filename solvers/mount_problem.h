@@ -19,8 +19,6 @@
 
 namespace wallcal::solvers {
 
-class MovablePriorCost;  // solvers/prior_cost.h
-
 // Where a solve ended, to start the next one from (the clock-offset rounds, solve_policy.cc):
 // the nuisance parameters by what they belong to (wall index, GNSS slice id, station id), since
 // a round's problem is built anew from re-interpolated observations.
@@ -30,9 +28,6 @@ struct WarmStart {
   std::map<int, double> heading_offsets;             // by station id
   double heading_drift_rad_per_s = 0.0;
   double heading_delay_s = 0.0;
-  // The clock offset the observations' poses already carry (re-interpolated at stamp + shift):
-  // the time block then estimates the rest, its prior centred at −shift.
-  double clock_shift_s = 0.0;
   // The round before passed its checks without being forced: the check before this solve, on
   // the same geometry, is not made again.
   bool checked = false;
@@ -64,9 +59,6 @@ struct MountProblem {
   std::array<double, 2> time_offset{};
   bool time_offset_estimated = false;
   bool heading_delay_estimated = false;
-  // The prior on time_offset (owned by the problem; nullptr when not estimated): its mean is
-  // moved to minus the clock shift the observations already carry (ApplyWarmStart).
-  MovablePriorCost* time_prior = nullptr;
   // Heading errors (docs/method.md, "Heading errors"). Per segment (same index as segment_ids):
   // the heading offset h [rad] common to a dwell's scans (true yaw = dwell mean yaw − h − r·τ),
   // starting at 0, and its prior σ (σ_heading / √(heading samples averaged)); 0 for a moving

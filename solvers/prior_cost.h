@@ -38,30 +38,6 @@ class ZeroMeanPriorCost {
   Eigen::Vector2d inverse_sigma_;
 };
 
-// A Gaussian prior on a 2-vector whose mean can be moved after the problem is built:
-//   r_k = (value_k − mean_k) / sigma_k      (dimensionless), k = 0, 1
-// Used for the time block [dt_s, δh_s]: each clock-offset round re-interpolates the poses at
-// the stamps shifted by the offsets found so far, so the block then holds what is left of dt
-// and its prior (zero-mean on the total) is centred at minus the shift
-// (solvers/solve_policy.cc). sigma_k > 0.
-class MovablePriorCost {
- public:
-  explicit MovablePriorCost(const Eigen::Vector2d& sigma) : inverse_sigma_(sigma.cwiseInverse()) {}
-
-  template <typename T>
-  bool operator()(const T* const value, T* residual) const {
-    residual[0] = (value[0] - mean_.x()) * inverse_sigma_.x();
-    residual[1] = (value[1] - mean_.y()) * inverse_sigma_.y();
-    return true;
-  }
-
-  void set_mean(const Eigen::Vector2d& mean) { mean_ = mean; }
-
- private:
-  Eigen::Vector2d inverse_sigma_;
-  Eigen::Vector2d mean_ = Eigen::Vector2d::Zero();
-};
-
 // One step of a first-order Gauss–Markov process between two GNSS segment biases (2-vectors,
 // metres), taken at times Δt apart with correlation ρ = exp(−Δt/τ) and marginal σ's σ0, σ1:
 //   b1 = ρ (σ1/σ0) b0 + w,   w ~ N(0, σ1² (1 − ρ²) I)

@@ -55,7 +55,6 @@ PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>
         calib::ShiftObservations(poses, outcome.estimate.time_offset_s, observations);
     WarmStart from = warm;
     from.checked = !outcome.estimate.forced;
-    from.clock_shift_s = shifted_s;
     outcome.estimate =
         SolveMountCeres(*observations, walls, options, outcome.estimate.mount, force, &from, &warm,
                         observation_weight);

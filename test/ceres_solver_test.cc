@@ -241,25 +241,6 @@ TEST(ZeroMeanPriorCostTest, EvaluatesAndDifferentiates) {
   EXPECT_TRUE(checker.Probe(parameters, 1e-7, &results)) << results.error_log;
 }
 
-// The clock-offset rounds move the time block's prior to minus the shift the poses carry: the
-// prior is on the total offset, not on what each round adds.
-TEST(MovablePriorCostTest, CentresOnTheMeanItIsGiven) {
-  auto* prior = new MovablePriorCost(Eigen::Vector2d(0.1, 0.05));
-  std::unique_ptr<ceres::CostFunction> cost(
-      new ceres::AutoDiffCostFunction<MovablePriorCost, 2, 2>(prior));
-  const double value[2] = {0.02, -0.01};
-  const double* parameters[1] = {value};
-  double residual[2];
-  ASSERT_TRUE(cost->Evaluate(parameters, residual, nullptr));
-  EXPECT_NEAR(residual[0], 0.2, 1e-12);   // 0.02 / 0.1
-  EXPECT_NEAR(residual[1], -0.2, 1e-12);  // −0.01 / 0.05
-  // Poses already shifted by 30 ms: a left-over 0.02 s is a total of 0.05 s.
-  prior->set_mean(Eigen::Vector2d(-0.03, 0.0));
-  ASSERT_TRUE(cost->Evaluate(parameters, residual, nullptr));
-  EXPECT_NEAR(residual[0], 0.5, 1e-12);
-  EXPECT_NEAR(residual[1], -0.2, 1e-12);
-}
-
 TEST(ObservationCovarianceTest, CouplesHeadingNoiseThroughTheLeverArm) {
   // Wall y = 10 ahead of a vehicle facing east (ψ = 0): n = (0, 1). Mount (2.5, 0): the lever
   // R(0)(2.5, 0) = (2.5, 0), turned by 90°: (0, 2.5), ℓ = n·(0, 2.5) = 2.5 m (the lever is
