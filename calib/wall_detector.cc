@@ -298,25 +298,9 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   const double* const sin_k = sin_t.data();
   double* const f_k = cell_f.data();
   const double n_rho_d = n_rho;
-  // A point whose votes all miss the accumulator is not walked through its rows: its rho at
-  // the middle row, ρ(θm), moves by at most |p|·|θ − θm| ≤ |p|·H over the rows (ρ(θ) = |p|
-  // cos(θ − φ)), so when ρ(θm) ± |p|·H (plus a cell, against round-off) misses the columns'
-  // span, every vote would have gone to the overflow cell. Most of a scan's points are far
-  // from a tight gate's line. A full-circle gate has no such bound.
-  const double theta_mid = theta0 + 0.5 * (n_theta - 1) * theta_step;
-  const double cos_mid = std::cos(theta_mid), sin_mid = std::sin(theta_mid);
-  const double half_span = full_circle ? std::numeric_limits<double>::infinity()
-                                       : 0.5 * (n_theta - 1) * theta_step;
-  const double column_lo = rho0 - 0.5 * r_step - r_step;
-  const double column_hi = rho0 + (n_rho - 0.5) * r_step + r_step;
   // delta = +1 casts point i's votes, −1 withdraws them. Cell (j, k) is acc[j·n_theta + k].
   auto vote = [&](int i, int delta) {
     const double x = points.p_scanner_m[i].x(), y = points.p_scanner_m[i].y();
-    if (!full_circle) {
-      const double rho_mid = x * cos_mid + y * sin_mid;
-      const double swing = std::sqrt(x * x + y * y) * half_span;
-      if (rho_mid + swing < column_lo || rho_mid - swing > column_hi) return;
-    }
     for (int k = 0; k < n_theta; ++k) {
       const double rho = x * cos_k[k] + y * sin_k[k];
       f_k[k] = (rho - rho0) * inv_r_step + 0.5;  // cell j covers f in [j, j + 1)
