@@ -37,6 +37,7 @@
 
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/jet.h>
+#include <ceres/sized_cost_function.h>
 
 #include <Eigen/Core>
 #include <cmath>
@@ -115,23 +116,58 @@ class WallLineCost {
 
   const WallLineMeasurement& measurement() const { return *m_; }
 
-  // A cost that holds its own copy of the measurement.
-  static ceres::CostFunction* Create(const WallLineMeasurement& measurement) {
+  // The cost as Ceres evaluates it in the adjustment: residual from Errors above, Jacobians
+  // written out by hand (WallLineCostFunction below; the tests check them against automatic
+  // and numeric differentiation). Create holds its own copy of the measurement;
+  // CreateReferencing refers to `measurement` (kept alive and unmoved by the caller: a
+  // problem's measurements vector, 160 bytes an observation not held twice).
+  static ceres::CostFunction* Create(const WallLineMeasurement& measurement);
+  static ceres::CostFunction* CreateReferencing(const WallLineMeasurement& measurement);
+  // The same cost differentiated automatically (ceres::Jet), for the tests.
+  static ceres::CostFunction* CreateAutoDiff(const WallLineMeasurement& measurement) {
     auto* cost = new WallLineCost(measurement);
     cost->owned_ = std::make_unique<const WallLineMeasurement>(measurement);
     cost->m_ = cost->owned_.get();
     return new ceres::AutoDiffCostFunction<WallLineCost, 2, 3, 2, 2, 2, 1, 1>(cost);
   }
-  // A cost that refers to `measurement` (kept alive and unmoved by the caller: a problem's
-  // measurements vector, 160 bytes an observation not held twice).
-  static ceres::CostFunction* CreateReferencing(const WallLineMeasurement& measurement) {
-    return new ceres::AutoDiffCostFunction<WallLineCost, 2, 3, 2, 2, 2, 1, 1>(
-        new WallLineCost(measurement));
-  }
 
  private:
   const WallLineMeasurement* m_;
-  std::unique_ptr<const WallLineMeasurement> owned_;  // set by Create
+  std::unique_ptr<const WallLineMeasurement> owned_;  // set by CreateAutoDiff
 };
+
+// WallLineCost with analytic Jacobians: about a fifth of the work of the 11-wide dual numbers,
+// on the adjustment's hottest path (every observation, every iteration). With ψ' the true yaw,
+// s the scanner origin and n the moved wall normal (wall_line_cost.h, top):
+//   ∂e_rho/∂(x, y)  = −nᵀ R(ψ')                ∂e_rho/∂yaw = 0
+//   ∂e_rho/∂δd      = σ                         ∂e_rho/∂δα  = n⊥·(c_w − s), n⊥ = (−n_y, n_x)
+//   ∂e_rho/∂b       = n                         g = ∂e_rho/∂ψ' = −n·(∂R(ψ')/∂ψ' (x, y))
+//   ∂e_rho/∂dt      = −n·v + g ω                ∂e_rho/∂δh  = g ω
+//   ∂e_rho/∂h       = −g                        ∂e_rho/∂r   = −g τ
+//   ∂e_theta/∂(yaw, δα, dt, δh, h, r) = (−1, 1, −ω, −ω, 1, τ), 0 for the rest.
+// Residual and Jacobian rows are then whitened by W.
+class WallLineCostFunction : public ceres::SizedCostFunction<2, 3, 2, 2, 2, 1, 1> {
+ public:
+  explicit WallLineCostFunction(const WallLineMeasurement& measurement) : m_(&measurement) {}
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  friend class WallLineCost;
+  const WallLineMeasurement* m_;
+  std::unique_ptr<const WallLineMeasurement> owned_;  // set by WallLineCost::Create
+};
+
+inline ceres::CostFunction* WallLineCost::Create(const WallLineMeasurement& measurement) {
+  auto* cost = new WallLineCostFunction(measurement);
+  cost->owned_ = std::make_unique<const WallLineMeasurement>(measurement);
+  cost->m_ = cost->owned_.get();
+  return cost;
+}
+
+inline ceres::CostFunction* WallLineCost::CreateReferencing(
+    const WallLineMeasurement& measurement) {
+  return new WallLineCostFunction(measurement);
+}
 
 }  // namespace wallcal::solvers
