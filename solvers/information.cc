@@ -8,31 +8,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solvers/normal_matrix.h"
+
 namespace wallcal::solvers {
-namespace {
-
-// Rows of the Jacobian turned into JᵀJ at a time: the products of a block stay small, so the
-// Jacobian is never copied whole (an hour-long session's is about 60 MB).
-constexpr int kRowsPerBlock = 16384;
-
-// JᵀJ of a CRS Jacobian, summed over blocks of rows.
-Eigen::SparseMatrix<double> NormalMatrix(const ceres::CRSMatrix& jacobian) {
-  Eigen::SparseMatrix<double> h(jacobian.num_cols, jacobian.num_cols);
-  for (int r0 = 0; r0 < jacobian.num_rows; r0 += kRowsPerBlock) {
-    const int r1 = std::min(jacobian.num_rows, r0 + kRowsPerBlock);
-    const int begin = jacobian.rows[r0];
-    std::vector<int> outer(static_cast<size_t>(r1 - r0) + 1);
-    for (int r = r0; r <= r1; ++r) outer[static_cast<size_t>(r - r0)] = jacobian.rows[r] - begin;
-    const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor, int>> block(
-        r1 - r0, jacobian.num_cols, jacobian.rows[r1] - begin, outer.data(),
-        jacobian.cols.data() + begin, jacobian.values.data() + begin);
-    const Eigen::SparseMatrix<double> column_major = block;
-    h += Eigen::SparseMatrix<double>(column_major.transpose() * column_major);
-  }
-  return h;
-}
-
-}  // namespace
 
 Eigen::MatrixXd MarginalInformation(MountProblem& mp, const std::vector<double*>& kept,
                                     int threads) {
@@ -43,22 +21,16 @@ Eigen::MatrixXd MarginalInformation(MountProblem& mp, const std::vector<double*>
   }
   std::vector<double*> blocks;
   mp.problem.GetParameterBlocks(&blocks);
-  ceres::Problem::EvaluateOptions evaluate;
-  evaluate.parameter_blocks = kept;
+  std::vector<double*> columns = kept;
   for (double* block : blocks) {
     if (std::find(kept.begin(), kept.end(), block) != kept.end() ||
         mp.problem.IsParameterBlockConstant(block)) {
       continue;
     }
-    evaluate.parameter_blocks.push_back(block);
+    columns.push_back(block);
   }
-  evaluate.apply_loss_function = true;
-  evaluate.num_threads = std::max(1, threads);
-  ceres::CRSMatrix jacobian;
-  if (!mp.problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &jacobian)) {
-    return Eigen::MatrixXd();
-  }
-  const Eigen::SparseMatrix<double> h = NormalMatrix(jacobian);
+  Eigen::SparseMatrix<double> h;
+  if (!ProblemNormalMatrix(mp.problem, columns, threads, &h)) return Eigen::MatrixXd();
   const int n = static_cast<int>(h.rows()) - k;
   Eigen::MatrixXd information = Eigen::MatrixXd(h.topLeftCorner(k, k));
   if (n > 0) {
