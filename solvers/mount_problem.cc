@@ -18,6 +18,7 @@
 #include "solvers/mount_problem.h"
 #include "solvers/prior_cost.h"
 #include "solvers/wall_line_cost.h"
+#include "solvers/wall_slice_cost.h"
 
 namespace wallcal::solvers {
 namespace {
@@ -26,6 +27,10 @@ namespace {
 // σ (σ_b √(1 − ρ²) ≥ 0.0045 σ_b) stays a usable weight. Slices are 0.25 s by default, so
 // ρ = 0.99958 at τ = 600 s must pass uncapped.
 constexpr double kMaxSegmentCorrelation = 0.99999;
+
+// Scans in one residual block at most (wall_slice_cost.h): a 0.25 s slice of a 75 Hz scanner
+// has 19; the cap bounds a block's Jacobian when slices are long.
+constexpr size_t kScansPerResidualBlock = 32;
 
 // The σ of the correlated GNSS error for one observation's position: the GST σ when the log has
 // one and the options allow it, the configured bias σ otherwise.
@@ -382,24 +387,29 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     mp->heading_block.push_back(heading);
   }
 
-  // Observation blocks, robustified in whitened units. The problem owns the loss (one shared
-  // instance) and every cost function. Observations of weight 0 get no block.
-  ceres::LossFunction* loss =
-      options.huber_scale > 0.0 ? new ceres::HuberLoss(options.huber_scale) : nullptr;
-  mp->residual_blocks.reserve(observations.size());
-  bool loss_used = false;
+  // Observation blocks, robustified scan by scan in whitened units (wall_slice_cost.h): the
+  // observations that share every parameter block, up to kScansPerResidualBlock of them, form
+  // one residual block. Observations of weight 0 get none.
+  std::map<std::array<const double*, 3>, size_t> open_group;  // (wall, bias, heading) -> group
+  std::vector<std::vector<int>> groups;
   for (size_t i = 0; i < mp->measurements.size(); ++i) {
-    if (!(mp->weights[i] > 0.0)) {
-      mp->residual_blocks.push_back(nullptr);
-      continue;
+    if (!(mp->weights[i] > 0.0)) continue;
+    const std::array<const double*, 3> key = {mp->wall_block[i], mp->bias_block[i],
+                                              mp->heading_block[i]};
+    auto found = open_group.find(key);
+    if (found == open_group.end() || groups[found->second].size() >= kScansPerResidualBlock) {
+      found = open_group.insert_or_assign(key, groups.size()).first;
+      groups.emplace_back();
     }
-    loss_used = true;
-    mp->residual_blocks.push_back(mp->problem.AddResidualBlock(
-        WallLineCost::CreateReferencing(mp->measurements[i]), loss, mp->mount.data(), mp->wall_block[i],
-        mp->bias_block[i], mp->time_offset.data(), mp->heading_block[i],
-        mp->heading_drift.data()));
+    groups[found->second].push_back(static_cast<int>(i));
   }
-  if (!loss_used) delete loss;
+  for (std::vector<int>& group : groups) {
+    const int first = group.front();
+    mp->problem.AddResidualBlock(
+        new WallSliceCost(mp->measurements, std::move(group), options.huber_scale),
+        nullptr, mp->mount.data(), mp->wall_block[first], mp->bias_block[first],
+        mp->time_offset.data(), mp->heading_block[first], mp->heading_drift.data());
+  }
 
   // Wall priors, joint over the walls in the problem (they share the survey tie, see
   // WallPriorCovariance). A σ of 0 means the survey is taken as exact in that coordinate: the

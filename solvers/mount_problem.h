@@ -84,7 +84,6 @@ struct MountProblem {
   std::vector<double*> wall_block;  // the wall block each observation uses
   std::vector<double*> bias_block;  // the bias block each observation uses (maybe no_bias)
   std::vector<double*> heading_block;  // the heading-offset block (maybe no_heading_offset)
-  std::vector<ceres::ResidualBlockId> residual_blocks;  // nullptr for weight 0
   // The mount's marginal information at the last solution, when the solve computed it (with
   // its covariance): the checks after the solve use it instead of evaluating the Jacobian again.
   bool has_mount_information = false;

@@ -6,7 +6,12 @@ namespace wallcal::solvers {
 
 bool WallLineCostFunction::Evaluate(double const* const* parameters, double* residuals,
                                     double** jacobians) const {
-  const WallLineMeasurement& m = *m_;
+  EvaluateWallLine(*m_, parameters, residuals, jacobians);
+  return true;
+}
+
+void EvaluateWallLine(const WallLineMeasurement& m, double const* const* parameters,
+                      double* residuals, double** jacobians) {
   const double* mount = parameters[0];
   const double* wall_delta = parameters[1];
   const double* bias = parameters[2];
@@ -40,7 +45,7 @@ bool WallLineCostFunction::Evaluate(double const* const* parameters, double* res
   const Eigen::Matrix2d& w = m.sqrt_information;
   residuals[0] = w(0, 0) * error[0] + w(0, 1) * error[1];
   residuals[1] = w(1, 0) * error[0] + w(1, 1) * error[1];
-  if (jacobians == nullptr) return true;
+  if (jacobians == nullptr) return;
 
   // Unwhitened rows: rho[k] = ∂e_rho/∂p_k, theta[k] = ∂e_theta/∂p_k, then J = W [rho; theta].
   const double tau = m.drift_time_s;
@@ -89,7 +94,6 @@ bool WallLineCostFunction::Evaluate(double const* const* parameters, double* res
     const double theta[1] = {tau};
     write(5, 1, rho, theta);
   }
-  return true;
 }
 
 }  // namespace wallcal::solvers

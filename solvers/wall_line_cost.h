@@ -116,13 +116,11 @@ class WallLineCost {
 
   const WallLineMeasurement& measurement() const { return *m_; }
 
-  // The cost as Ceres evaluates it in the adjustment: residual from Errors above, Jacobians
-  // written out by hand (WallLineCostFunction below; the tests check them against automatic
-  // and numeric differentiation). Create holds its own copy of the measurement;
-  // CreateReferencing refers to `measurement` (kept alive and unmoved by the caller: a
-  // problem's measurements vector, 160 bytes an observation not held twice).
+  // One observation's cost as the adjustment evaluates it: residual from Errors above,
+  // Jacobians written out by hand (WallLineCostFunction below; the tests check them against
+  // automatic and numeric differentiation). The adjustment itself puts the observations of a
+  // GNSS-error slice in one block (wall_slice_cost.h), each evaluated by EvaluateWallLine.
   static ceres::CostFunction* Create(const WallLineMeasurement& measurement);
-  static ceres::CostFunction* CreateReferencing(const WallLineMeasurement& measurement);
   // The same cost differentiated automatically (ceres::Jet), for the tests.
   static ceres::CostFunction* CreateAutoDiff(const WallLineMeasurement& measurement) {
     auto* cost = new WallLineCost(measurement);
@@ -158,16 +156,17 @@ class WallLineCostFunction : public ceres::SizedCostFunction<2, 3, 2, 2, 2, 1, 1
   std::unique_ptr<const WallLineMeasurement> owned_;  // set by WallLineCost::Create
 };
 
+// The residual (2) and, when `jacobians` is not null, the Jacobians (row-major 2 x block size,
+// for each of the six blocks whose pointer is not null) of one observation: what
+// WallLineCostFunction::Evaluate returns, for costs that hold several observations.
+void EvaluateWallLine(const WallLineMeasurement& measurement, double const* const* parameters,
+                      double* residuals, double** jacobians);
+
 inline ceres::CostFunction* WallLineCost::Create(const WallLineMeasurement& measurement) {
   auto* cost = new WallLineCostFunction(measurement);
   cost->owned_ = std::make_unique<const WallLineMeasurement>(measurement);
   cost->m_ = cost->owned_.get();
   return cost;
-}
-
-inline ceres::CostFunction* WallLineCost::CreateReferencing(
-    const WallLineMeasurement& measurement) {
-  return new WallLineCostFunction(measurement);
 }
 
 }  // namespace wallcal::solvers

@@ -1,0 +1,134 @@
+// One residual block per GNSS-error slice (solvers/wall_slice_cost.h) against one block per
+// scan with ceres::HuberLoss, the form it replaced: the same cost, the same gradient and the
+// same Gauss–Newton matrix (Ceres's loss-corrected JᵀJ), with scans in both regions of the
+// loss; and without a loss, plain least squares.
+#include <ceres/ceres.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <array>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "common/angles.h"
+#include "solvers/wall_line_cost.h"
+#include "solvers/wall_slice_cost.h"
+
+namespace wallcal::solvers {
+namespace {
+
+struct Blocks {
+  std::array<double, 3> mount{2.5, 0.06, 0.05};
+  std::array<double, 2> wall{0.01, -0.002};
+  std::array<double, 2> bias{0.004, -0.007};
+  std::array<double, 2> time{0.02, -0.01};
+  std::array<double, 1> heading{0.001};
+  std::array<double, 1> drift{1e-6};
+};
+
+// Scans of one wall from one slice, with measured rho off the prediction by a few σ for some
+// (the loss's linear region) and by less than its scale for the others.
+std::vector<WallLineMeasurement> Scans(int count, const Blocks& at, std::mt19937* rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<WallLineMeasurement> scans;
+  for (int i = 0; i < count; ++i) {
+    WallLineMeasurement m;
+    m.antenna_local_m = Eigen::Vector2d(1.0 + 0.01 * u(*rng), 2.0 + 0.01 * u(*rng));
+    m.vehicle_yaw_rad = 0.5 * kPi + 0.2 * u(*rng);
+    m.velocity_local_mps = Eigen::Vector2d(0.3 * u(*rng), 0.3 * u(*rng));
+    m.yaw_rate_rps = 0.1 * u(*rng);
+    m.drift_time_s = 100.0 + i;
+    m.wall_normal_local = Eigen::Vector2d(0.0, 1.0);
+    m.wall_centre_local_m = Eigen::Vector2d(0.0, 10.0);
+    m.wall_normal_angle_rad = 0.5 * kPi;
+    m.sqrt_information << 300.0, 0.0, 20.0, 400.0;
+    // Measured = predicted at `at` + an error: 3 to 10 σ in rho for every third scan, within
+    // half a σ otherwise.
+    double predicted[2];
+    WallLineCost(m).Errors(at.mount.data(), at.wall.data(), at.bias.data(), at.time.data(),
+                           at.heading.data(), at.drift.data(), predicted);
+    const double sigma_rho_m = 1.0 / 300.0;
+    const double off = i % 3 == 0 ? (3.0 + 7.0 * std::abs(u(*rng))) * (u(*rng) < 0 ? -1 : 1)
+                                  : 0.5 * u(*rng);
+    m.rho_m = predicted[0] + off * sigma_rho_m;
+    m.theta_rad = predicted[1] + 0.001 * u(*rng);
+    scans.push_back(m);
+  }
+  return scans;
+}
+
+struct Evaluated {
+  double cost = 0.0;
+  std::vector<double> gradient;
+  Eigen::MatrixXd normal;
+};
+
+Evaluated Evaluate(ceres::Problem& problem, Blocks& b) {
+  ceres::Problem::EvaluateOptions options;
+  options.parameter_blocks = {b.mount.data(), b.wall.data(), b.bias.data(),
+                              b.time.data(),  b.heading.data(), b.drift.data()};
+  Evaluated out;
+  ceres::CRSMatrix crs;
+  EXPECT_TRUE(problem.Evaluate(options, &out.cost, nullptr, &out.gradient, &crs));
+  Eigen::MatrixXd j = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int r = 0; r < crs.num_rows; ++r) {
+    for (int k = crs.rows[r]; k < crs.rows[r + 1]; ++k) j(r, crs.cols[k]) = crs.values[k];
+  }
+  out.normal = j.transpose() * j;
+  return out;
+}
+
+void ExpectSame(double huber_scale, bool both_regions) {
+  std::mt19937 rng(11);
+  Blocks per_scan_blocks, slice_blocks;
+  const std::vector<WallLineMeasurement> scans = Scans(19, per_scan_blocks, &rng);
+  ceres::Problem per_scan;
+  ceres::LossFunction* loss = huber_scale > 0.0 ? new ceres::HuberLoss(huber_scale) : nullptr;
+  int beyond = 0;
+  for (const WallLineMeasurement& m : scans) {
+    double r[2];
+    const double* p[6] = {per_scan_blocks.mount.data(), per_scan_blocks.wall.data(),
+                          per_scan_blocks.bias.data(),  per_scan_blocks.time.data(),
+                          per_scan_blocks.heading.data(), per_scan_blocks.drift.data()};
+    EvaluateWallLine(m, p, r, nullptr);
+    if (std::hypot(r[0], r[1]) > huber_scale) ++beyond;
+    per_scan.AddResidualBlock(WallLineCost::Create(m), loss, per_scan_blocks.mount.data(),
+                              per_scan_blocks.wall.data(), per_scan_blocks.bias.data(),
+                              per_scan_blocks.time.data(), per_scan_blocks.heading.data(),
+                              per_scan_blocks.drift.data());
+  }
+  if (both_regions) {  // both regions of the loss are exercised
+    ASSERT_GE(beyond, 4);
+    ASSERT_LE(beyond, static_cast<int>(scans.size()) - 4);
+  }
+  ceres::Problem slice;
+  std::vector<int> all(scans.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  slice.AddResidualBlock(new WallSliceCost(scans, all, huber_scale), nullptr,
+                         slice_blocks.mount.data(), slice_blocks.wall.data(),
+                         slice_blocks.bias.data(), slice_blocks.time.data(),
+                         slice_blocks.heading.data(), slice_blocks.drift.data());
+  const Evaluated a = Evaluate(per_scan, per_scan_blocks);
+  const Evaluated b = Evaluate(slice, slice_blocks);
+  EXPECT_NEAR(b.cost, a.cost, 1e-12 * a.cost);
+  ASSERT_EQ(a.gradient.size(), b.gradient.size());
+  double scale = 0.0;
+  for (double g : a.gradient) scale = std::max(scale, std::abs(g));
+  for (size_t k = 0; k < a.gradient.size(); ++k) {
+    EXPECT_NEAR(b.gradient[k], a.gradient[k], 1e-12 * scale) << "coordinate " << k;
+  }
+  EXPECT_LE((b.normal - a.normal).cwiseAbs().maxCoeff(), 1e-12 * a.normal.cwiseAbs().maxCoeff());
+}
+
+TEST(WallSliceCostTest, SameCostGradientAndNormalMatrixAsOneHuberBlockPerScan) {
+  ExpectSame(2.0, true);
+}
+
+TEST(WallSliceCostTest, WithoutALossIsPlainLeastSquares) {
+  // huber_scale 0: no loss in either form.
+  ExpectSame(0.0, false);
+}
+
+}  // namespace
+}  // namespace wallcal::solvers
