@@ -67,13 +67,14 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
 
   ceres::Solver::Options solver_options;
   // The unknowns: the mount, 2 per wall, 2 per 0.25 s GNSS-error slice (thousands in a long
-  // session), 1 per station, the time block and the drift; every residual touches one of each.
-  // SPARSE_SCHUR eliminates the slices (and the other blocks of an independent set) residual
-  // chunk by chunk and factors the sparse reduced matrix: on the hour-long bench session
-  // (270 000 observations, 14 000 slices) it solves in the same time as
-  // SPARSE_NORMAL_CHOLESKY, without the latter's list of every product of Jacobian blocks
-  // (36 per observation, 130 MB there), which set the run's peak memory.
-  solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
+  // session), 1 per station, the time block and the drift. The normal equations are sparse and
+  // small beside the observations: formed and factored by a sparse Cholesky. Ceres forms them
+  // from a list of the products of every residual block's Jacobian blocks, which with one block
+  // per scan was the peak of the run's memory (36 products per observation, 130 MB on the
+  // hour-long bench session); with one block per slice (wall_slice_cost.h) it is small. Measured
+  // there (bench/, 2 cores): solve 1.7 s, the repeatability re-solves 1.3 s; SPARSE_SCHUR took
+  // 2.1 s and 2.2 s (its reduced matrix's bookkeeping dominates the many small re-solves).
+  solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   solver_options.max_num_iterations = options.max_iterations;
   // Converged when an iteration lowers the cost (½χ², about half the number of residuals at the
   // solution) by less than about kCostChangeTolerance: a cost that far above its minimum is a
