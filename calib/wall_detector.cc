@@ -36,6 +36,11 @@ struct Peak {
   int row = 0, col = 0;
 };
 
+// An accumulator cell with two votes or more: rho column j, theta row k.
+struct BusyCell {
+  int j = 0, k = 0;
+};
+
 // Total-least-squares line through the points: the normal is the eigenvector of the scatter
 // matrix with the smaller eigenvalue, and the line passes through the centroid. Oriented so
 // that rho >= 0 (normal pointing from the scanner towards the line).
@@ -89,8 +94,9 @@ bool TrimmedFit(const ScanPoints& points, const std::vector<int>& candidates, do
   *set = candidates;
   bool ok = FitLine(points, *set, fit);
   double threshold = std::max(trim_m, 0.5 * band_m);
+  thread_local std::vector<int> next;  // reused: no allocation per scan once warm
   for (int iter = 0; ok && iter < 30; ++iter) {
-    std::vector<int> next;
+    next.clear();
     for (int i : candidates) {
       if (std::abs(fit->normal.dot(points.p_scanner_m[i]) - fit->rho_m) <= threshold) {
         next.push_back(i);
@@ -108,16 +114,16 @@ bool TrimmedFit(const ScanPoints& points, const std::vector<int>& candidates, do
 // inside the gate (rows row_first..row_last, columns 1..n_in), and of these the strongest
 // kMaxPeaksTried, one per plateau. A cell on the gate's edge that only carries the flank of a
 // stronger line outside the gate has a bigger neighbour in the margin, so it is not a maximum.
-std::vector<Peak> StrongestPeaks(const cv::Mat_<int>& acc_t, const std::vector<int>& busy_cells,
-                                 int n_theta, int n_in, int row_first, int row_last,
-                                 bool full_circle) {
+std::vector<Peak> StrongestPeaks(const cv::Mat_<int>& acc_t,
+                                 const std::vector<BusyCell>& busy_cells, int n_theta, int n_in,
+                                 int row_first, int row_last, bool full_circle) {
   auto neighbour_row = [&](int k) {
     if (full_circle) return (k % n_theta + n_theta) % n_theta;
     return k;  // margins make k - 1 and k + 1 valid for every in-gate row
   };
   std::vector<Peak> peaks;
-  for (int cell : busy_cells) {
-    const int j = cell / n_theta, k = cell % n_theta;
+  for (const BusyCell& cell : busy_cells) {
+    const int j = cell.j, k = cell.k;
     if (k < row_first || k > row_last || j < 1 || j > n_in) continue;
     const int v = acc_t(j, k);
     if (v < 2) continue;  // votes may have been withdrawn
@@ -321,12 +327,12 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   }
   // Cells with two votes or more are the only possible peaks (votes are only ever withdrawn
   // afterwards): listed once, in-gate rows and columns only.
-  thread_local std::vector<int> busy_cells;
+  thread_local std::vector<BusyCell> busy_cells;
   busy_cells.clear();
   for (int j = 1; j <= n_in; ++j) {
     const int* column = acc + static_cast<size_t>(j) * n_theta;
     for (int k = row_first; k <= row_last; ++k) {
-      if (column[k] >= 2) busy_cells.push_back(j * n_theta + k);
+      if (column[k] >= 2) busy_cells.push_back({j, k});
     }
   }
   withdrawn.assign(static_cast<size_t>(num_points), 0);  // given to a line outside the gate
@@ -355,7 +361,8 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
       const double rho_p = rho0 + peak.col * r_step;
       const Eigen::Vector2d n_p(std::cos(theta_p), std::sin(theta_p));
 
-      std::vector<int> candidates;
+      thread_local std::vector<int> candidates;  // reused: no allocation per scan once warm
+      candidates.clear();
       for (int i = 0; i < num_points; ++i) {
         if (points.mixed_suspect[i] || withdrawn[i]) continue;
         const Eigen::Vector2d& p = points.p_scanner_m[i];
