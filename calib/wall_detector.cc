@@ -321,18 +321,50 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   // Points that vote: not mixed (they lie between two surfaces and must not build or shift a
   // peak), and not closer than the gate (|rho| <= range).
   voter.assign(static_cast<size_t>(num_points), 0);
+  int64_t voters = 0;
   for (int i = 0; i < num_points; ++i) {
     voter[i] = !points.mixed_suspect[i] && points.range_m[i] >= min_voting_range;
-    if (voter[i]) vote(i, +1);
+    voters += voter[i];
   }
   // Cells with two votes or more are the only possible peaks (votes are only ever withdrawn
-  // afterwards): listed once, in-gate rows and columns only.
+  // afterwards): listed once, in-gate rows and columns only. A wide gate (the first pass: about
+  // 100 000 cells for 30 000 votes) notes the cells as they reach two votes, one test a vote;
+  // a tight one (the second pass: 500 cells for 3 000 votes) looks through its cells after.
+  // The peak search does not depend on the list's order.
   thread_local std::vector<BusyCell> busy_cells;
+  thread_local std::vector<int> reached_two;
   busy_cells.clear();
-  for (int j = 1; j <= n_in; ++j) {
-    const int* column = acc + static_cast<size_t>(j) * n_theta;
-    for (int k = row_first; k <= row_last; ++k) {
-      if (column[k] >= 2) busy_cells.push_back({j, k});
+  reached_two.clear();
+  const bool note_while_voting = static_cast<int64_t>(cells) > 2 * voters * n_theta;
+  for (int i = 0; i < num_points; ++i) {
+    if (!voter[i]) continue;
+    if (!note_while_voting) {
+      vote(i, +1);
+      continue;
+    }
+    const double x = points.p_scanner_m[i].x(), y = points.p_scanner_m[i].y();
+    for (int k = 0; k < n_theta; ++k) {
+      const double rho = x * cos_k[k] + y * sin_k[k];
+      f_k[k] = (rho - rho0) * inv_r_step + 0.5;
+    }
+    for (int k = 0; k < n_theta; ++k) {
+      const double f = f_k[k];
+      const bool inside = f >= 0.0 && f < n_rho_d;
+      const int cell = inside ? static_cast<int>(inside ? f : 0.0) * n_theta + k : cells;
+      if (++acc[cell] == 2) reached_two.push_back(cell);
+    }
+  }
+  if (note_while_voting) {
+    for (int cell : reached_two) {
+      const int j = cell / n_theta, k = cell % n_theta;  // the spare cell has j = n_rho
+      if (j >= 1 && j <= n_in && k >= row_first && k <= row_last) busy_cells.push_back({j, k});
+    }
+  } else {
+    for (int j = 1; j <= n_in; ++j) {
+      const int* column = acc + static_cast<size_t>(j) * n_theta;
+      for (int k = row_first; k <= row_last; ++k) {
+        if (column[k] >= 2) busy_cells.push_back({j, k});
+      }
     }
   }
   withdrawn.assign(static_cast<size_t>(num_points), 0);  // given to a line outside the gate
