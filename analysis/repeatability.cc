@@ -33,7 +33,8 @@ Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& obs
                                   const std::vector<calib::WallGeometry>& walls,
                                   const io::SolverOptions& options, const solvers::Mount& full,
                                   int samples, uint64_t seed,
-                                  const std::array<double, 2>* held_time_block) {
+                                  const std::array<double, 2>* held_time_block,
+                                  const solvers::WarmStart* warm) {
   Repeatability out;
   // Stations in time order.
   std::map<int, std::pair<double, int>> sums;
@@ -97,7 +98,7 @@ Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& obs
   ParallelFor(static_cast<int>(refits.size()), options.num_threads, [&](int r) {
     refits[r] = solvers::RefitMount(thinned, walls, one_thread, full,
                                     weights_for(station_weights[r]), kRefitIterations,
-                                    held_time_block);
+                                    held_time_block, warm);
   });
 
   for (int r = 0; r < kNumSplits; ++r) {

@@ -53,11 +53,13 @@ ThinnedObservations ThinForRefits(const std::vector<calib::WallObservation>& obs
 // stations it is left not done. held_time_block: the full solution's clock (scanner offset,
 // heading delay: MountEstimate::time_block_s), held in every re-solve; a half of the stations
 // may not fix the drives' timing that the whole session does, and would turn the mount by
-// yaw rate × its error.
+// yaw rate × its error. warm: the full solution's nuisance parameters
+// (MountEstimate::solution_state), where every re-solve starts.
 Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& observations,
                                   const std::vector<calib::WallGeometry>& walls,
                                   const io::SolverOptions& options, const solvers::Mount& full,
                                   int samples, uint64_t seed = 2007,
-                                  const std::array<double, 2>* held_time_block = nullptr);
+                                  const std::array<double, 2>* held_time_block = nullptr,
+                                  const solvers::WarmStart* warm = nullptr);
 
 }  // namespace wallcal::analysis

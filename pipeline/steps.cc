@@ -523,7 +523,8 @@ void Analyse(const CalibrateRequest& request, const ProgressFn& progress,
             " bootstrap resamples of the stations");
     result->repeatability = analysis::AssessRepeatability(
         result->observations, result->walls, solver, estimate.mount, solver.bootstrap_samples,
-        2007, estimate.time_offset_estimated ? &estimate.time_block_s : nullptr);
+        2007, estimate.time_offset_estimated ? &estimate.time_block_s : nullptr,
+        estimate.solution_state.get());
   }
 }
 

@@ -350,7 +350,8 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
       estimate = SolveMountProblem(*mp, options);
     }
   }
-  if (ended != nullptr) *ended = WarmStartFrom(*mp);
+  estimate.solution_state = std::make_shared<const WarmStart>(WarmStartFrom(*mp));
+  if (ended != nullptr) *ended = *estimate.solution_state;
   // After solving: the same check at the solution (the noise model's lever arms and the robust
   // loss's weights have changed).
   const Eigen::Matrix3d information = mp->has_mount_information
@@ -397,12 +398,13 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
 Refit RefitMount(const std::vector<calib::WallObservation>& observations,
                  const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
                  const Mount& initial, const std::vector<double>& weights, int max_iterations,
-                 const std::array<double, 2>* held_time_block) {
+                 const std::array<double, 2>* held_time_block, const WarmStart* warm) {
   Refit refit;
   refit.mount = initial;
   std::string error;
   auto mp = BuildMountProblem(observations, walls, options, initial, initial, &error, weights);
   if (!mp || !mp->problem.HasParameterBlock(mp->mount.data())) return refit;
+  if (warm != nullptr) ApplyWarmStart(*warm, mp.get());
   if (held_time_block != nullptr && mp->problem.HasParameterBlock(mp->time_offset.data())) {
     mp->time_offset = *held_time_block;
     mp->problem.SetParameterBlockConstant(mp->time_offset.data());

@@ -6,6 +6,7 @@
 //  - SolveMountBarawid: the closed form of Barawid 2007 (Eq. 8-16), for comparison.
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,9 @@ struct MountEstimate {
   // The last solve's time block as it stands: [clock offset left after the poses were shifted
   // (solve_policy.h), heading delay] (s). What the repeatability's re-solves hold.
   std::array<double, 2> time_block_s{};
+  // Where the adjustment ended: every nuisance parameter by what it belongs to, for re-solves
+  // to start from (the repeatability's; null when no Ceres problem was solved).
+  std::shared_ptr<const WarmStart> solution_state;
   // Heading drift rate (rad/s, true yaw = used yaw − r·(t − t_ref)) and the reference time t_ref
   // (s, the earliest observation) at which the mount yaw is relative to the heading sensor's
   // zero. Estimated (ceres) when options.heading_drift_sigma_rad_per_s > 0.
@@ -114,7 +118,8 @@ MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& obser
 // is the mount covariance from the information matrix (nuisance parameters marginalised),
 // `determined` whether it passes options.max_sigma_*. held_time_block: when the problem has a
 // time block, it is held at these values (the full solution's clock, MountEstimate::time_block_s)
-// instead of re-estimated from the subset. Never throws.
+// instead of re-estimated from the subset. warm: the nuisance parameters start there (the full
+// solution's, MountEstimate::solution_state) instead of at 0. Never throws.
 struct Refit {
   bool converged = false;
   bool determined = false;
@@ -124,6 +129,7 @@ struct Refit {
 Refit RefitMount(const std::vector<calib::WallObservation>& observations,
                  const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
                  const Mount& initial, const std::vector<double>& weights, int max_iterations,
-                 const std::array<double, 2>* held_time_block = nullptr);
+                 const std::array<double, 2>* held_time_block = nullptr,
+                 const WarmStart* warm = nullptr);
 
 }  // namespace wallcal::solvers
