@@ -114,16 +114,16 @@ bool TrimmedFit(const ScanPoints& points, const std::vector<int>& candidates, do
 // inside the gate (rows row_first..row_last, columns 1..n_in), and of these the strongest
 // kMaxPeaksTried, one per plateau. A cell on the gate's edge that only carries the flank of a
 // stronger line outside the gate has a bigger neighbour in the margin, so it is not a maximum.
-std::vector<Peak> StrongestPeaks(const cv::Mat_<int>& acc_t,
-                                 const std::vector<BusyCell>& busy_cells, int n_theta, int n_in,
-                                 int row_first, int row_last, bool full_circle) {
+std::vector<Peak> StrongestPeaks(const cv::Mat_<int>& acc_t, const BusyCell* busy_cells,
+                                 size_t num_busy, int n_theta, int n_in, int row_first,
+                                 int row_last, bool full_circle) {
   auto neighbour_row = [&](int k) {
     if (full_circle) return (k % n_theta + n_theta) % n_theta;
     return k;  // margins make k - 1 and k + 1 valid for every in-gate row
   };
   std::vector<Peak> peaks;
-  for (const BusyCell& cell : busy_cells) {
-    const int j = cell.j, k = cell.k;
+  for (size_t b = 0; b < num_busy; ++b) {
+    const int j = busy_cells[b].j, k = busy_cells[b].k;
     if (k < row_first || k > row_last || j < 1 || j > n_in) continue;
     const int v = acc_t(j, k);
     if (v < 2) continue;  // votes may have been withdrawn
@@ -330,10 +330,10 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   // afterwards): listed once, in-gate rows and columns only. A wide gate (the first pass: about
   // 100 000 cells for 30 000 votes) notes the cells as they reach two votes, one test a vote;
   // a tight one (the second pass: 500 cells for 3 000 votes) looks through its cells after.
-  // The peak search does not depend on the list's order.
-  thread_local std::vector<BusyCell> busy_cells;
+  // The peak search does not depend on the list's order. The list is written through a pointer
+  // into per-thread storage that only grows (a push_back per cell was 3 % of a long run).
+  thread_local std::vector<BusyCell> busy_storage;
   thread_local std::vector<int> reached_two;
-  busy_cells.clear();
   reached_two.clear();
   const bool note_while_voting = static_cast<int64_t>(cells) > 2 * voters * n_theta;
   for (int i = 0; i < num_points; ++i) {
@@ -354,16 +354,22 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
       if (++acc[cell] == 2) reached_two.push_back(cell);
     }
   }
+  const size_t most_busy = note_while_voting
+                              ? reached_two.size()
+                              : static_cast<size_t>(n_in) * (row_last - row_first + 1);
+  if (busy_storage.size() < most_busy) busy_storage.resize(most_busy);
+  BusyCell* const busy_cells = busy_storage.data();
+  size_t num_busy = 0;
   if (note_while_voting) {
     for (int cell : reached_two) {
       const int j = cell / n_theta, k = cell % n_theta;  // the spare cell has j = n_rho
-      if (j >= 1 && j <= n_in && k >= row_first && k <= row_last) busy_cells.push_back({j, k});
+      if (j >= 1 && j <= n_in && k >= row_first && k <= row_last) busy_cells[num_busy++] = {j, k};
     }
   } else {
     for (int j = 1; j <= n_in; ++j) {
       const int* column = acc + static_cast<size_t>(j) * n_theta;
       for (int k = row_first; k <= row_last; ++k) {
-        if (column[k] >= 2) busy_cells.push_back({j, k});
+        if (column[k] >= 2) busy_cells[num_busy++] = {j, k};
       }
     }
   }
@@ -385,7 +391,8 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   // looks again.
   for (int round = 0; round < kMaxRounds; ++round) {
     const std::vector<Peak> distinct =
-        StrongestPeaks(acc_t, busy_cells, n_theta, n_in, row_first, row_last, full_circle);
+        StrongestPeaks(acc_t, busy_cells, num_busy, n_theta, n_in, row_first, row_last,
+                       full_circle);
     if (distinct.empty()) break;
     bool revote = false;
     for (const Peak& peak : distinct) {
