@@ -336,22 +336,24 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   thread_local std::vector<int> reached_two;
   reached_two.clear();
   const bool note_while_voting = static_cast<int64_t>(cells) > 2 * voters * n_theta;
-  for (int i = 0; i < num_points; ++i) {
-    if (!voter[i]) continue;
-    if (!note_while_voting) {
-      vote(i, +1);
-      continue;
+  if (!note_while_voting) {
+    for (int i = 0; i < num_points; ++i) {
+      if (voter[i]) vote(i, +1);
     }
-    const double x = points.p_scanner_m[i].x(), y = points.p_scanner_m[i].y();
-    for (int k = 0; k < n_theta; ++k) {
-      const double rho = x * cos_k[k] + y * sin_k[k];
-      f_k[k] = (rho - rho0) * inv_r_step + 0.5;
-    }
-    for (int k = 0; k < n_theta; ++k) {
-      const double f = f_k[k];
-      const bool inside = f >= 0.0 && f < n_rho_d;
-      const int cell = inside ? static_cast<int>(inside ? f : 0.0) * n_theta + k : cells;
-      if (++acc[cell] == 2) reached_two.push_back(cell);
+  } else {
+    for (int i = 0; i < num_points; ++i) {
+      if (!voter[i]) continue;
+      const double x = points.p_scanner_m[i].x(), y = points.p_scanner_m[i].y();
+      for (int k = 0; k < n_theta; ++k) {
+        const double rho = x * cos_k[k] + y * sin_k[k];
+        f_k[k] = (rho - rho0) * inv_r_step + 0.5;
+      }
+      for (int k = 0; k < n_theta; ++k) {
+        const double f = f_k[k];
+        const bool inside = f >= 0.0 && f < n_rho_d;
+        const int cell = inside ? static_cast<int>(inside ? f : 0.0) * n_theta + k : cells;
+        if (++acc[cell] == 2) reached_two.push_back(cell);
+      }
     }
   }
   const size_t most_busy = note_while_voting
