@@ -67,8 +67,8 @@ Mount MountFromArray(const std::array<double, 3>& values) {
 
 // Stops the solve once the mount has settled: two successful iterations in a row that moved
 // it by less than kMountStepTolerance. Needed on long sessions, where the cost keeps falling
-// slowly along the split between the clock offset and the heading delay (a direction the
-// moving scans' robust loss makes nearly linear): on the 4-hour bench session 100 iterations
+// slowly along the split between the clock offset and the heading delay (each step lowering it
+// by twice what the model predicts, docs/notes.md): on the 4-hour bench session 100 iterations
 // moved the yaw by 1.5e-5 rad (0.02 σ) in steps of 1e-7 rad, and the cost criterion alone
 // never stopped it.
 class MountSettled : public ceres::IterationCallback {
@@ -105,14 +105,15 @@ MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& optio
   // from a list of the products of every residual block's Jacobian blocks, which with one block
   // per scan was the peak of the run's memory (36 products per observation, 130 MB on the
   // hour-long bench session); with one block per slice (wall_slice_cost.h) it is small. Measured
-  // there (bench/, 2 cores): solve 1.7 s, the repeatability re-solves 1.3 s; SPARSE_SCHUR took
-  // 2.1 s and 2.2 s (its reduced matrix's bookkeeping dominates the many small re-solves).
+  // there (bench/, 2 cores, before the stopping rules below): solve 1.7 s, the repeatability
+  // re-solves 1.3 s; SPARSE_SCHUR took 2.1 s and 2.2 s (its reduced matrix's bookkeeping
+  // dominates the many small re-solves).
   solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   solver_options.max_num_iterations = options.max_iterations;
   // Converged when an iteration lowers the cost (½χ², about half the number of residuals at the
   // solution) by less than about kCostChangeTolerance: a cost that far above its minimum is a
   // solution about 0.014 σ from it along its weakest direction. Ceres's default, 1e-6 of the
-  // cost, allowed 0.13 on the hour-long bench session, which stopped 0.3 σ short in yaw.
+  // cost, allowed 0.24 on the hour-long bench session, which stopped 0.3 σ short in yaw.
   solver_options.function_tolerance =
       std::min(kDefaultFunctionTolerance,
                2.0 * kCostChangeTolerance / std::max(1, mp.problem.NumResiduals()));
