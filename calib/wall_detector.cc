@@ -77,13 +77,26 @@ bool FitLine(const ScanPoints& points, const std::vector<int>& idx, LineFit* fit
   return true;
 }
 
-bool OnSegment(const LineGate& gate, double margin_m, const Eigen::Vector2d& p) {
-  const Eigen::Vector2d ab = gate.segment_b_scanner - gate.segment_a_scanner;
-  const double length = ab.norm();
-  if (length < 1e-9) return (p - gate.segment_a_scanner).norm() <= margin_m;
-  const double along = (p - gate.segment_a_scanner).dot(ab) / length;
-  return along >= -margin_m && along <= length + margin_m;
-}
+// Whether a point lies along the gate's surveyed segment, within a margin (m), measured along
+// the segment. The segment's direction and length are computed once per scan.
+class SegmentTest {
+ public:
+  SegmentTest(const LineGate& gate, double margin_m)
+      : a_(gate.segment_a_scanner),
+        ab_(gate.segment_b_scanner - gate.segment_a_scanner),
+        length_(ab_.norm()),
+        margin_m_(margin_m) {}
+  bool Contains(const Eigen::Vector2d& p) const {
+    if (length_ < 1e-9) return (p - a_).norm() <= margin_m_;
+    const double along = (p - a_).dot(ab_) / length_;
+    return along >= -margin_m_ && along <= length_ + margin_m_;
+  }
+
+ private:
+  Eigen::Vector2d a_, ab_;
+  double length_;
+  double margin_m_;
+};
 
 // Trimmed total-least-squares fit of the candidates (indices into points, ascending). The
 // threshold shrinks from half the Hough band to the final trim_m (halving each round) so that
@@ -404,11 +417,12 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
 
       thread_local std::vector<int> candidates;  // reused: no allocation per scan once warm
       candidates.clear();
+      const SegmentTest on_segment(gate, options.wall_extent_margin_m);
       for (int i = 0; i < num_points; ++i) {
         if (points.mixed_suspect[i] || withdrawn[i]) continue;
         const Eigen::Vector2d& p = points.p_scanner_m[i];
         if (std::abs(n_p.dot(p) - rho_p) > options.inlier_band_m) continue;
-        if (gate.has_segment && !OnSegment(gate, options.wall_extent_margin_m, p)) continue;
+        if (gate.has_segment && !on_segment.Contains(p)) continue;
         candidates.push_back(i);
       }
 
