@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 #include "common/angles.h"
+#include "io/decimal.h"
 #include "io/input_file.h"
 
 namespace wallcal::io {
@@ -33,13 +34,7 @@ void Tokenize(const std::string& line, std::vector<std::string_view>* tokens) {
 }
 
 // Whole-token parses: "1.5x" is not a number.
-bool ParseDouble(std::string_view token, double* value) {
-  const char* begin = token.data();
-  const char* end = begin + token.size();
-  if (begin < end && *begin == '+') ++begin;  // from_chars rejects a leading '+'
-  const auto result = std::from_chars(begin, end, *value);
-  return result.ec == std::errc() && result.ptr == end;
-}
+bool ParseDouble(std::string_view token, double* value) { return ParseDecimal(token, value); }
 
 bool ParseInt(std::string_view token, int* value) {
   const char* end = token.data() + token.size();
