@@ -33,9 +33,7 @@ void Tokenize(const std::string& line, std::vector<std::string_view>* tokens) {
   }
 }
 
-// Whole-token parses: "1.5x" is not a number.
-bool ParseDouble(std::string_view token, double* value) { return ParseDecimal(token, value); }
-
+// Whole-token parses: "1.5x" is not a number (numbers: io::ParseDecimal).
 bool ParseInt(std::string_view token, int* value) {
   const char* end = token.data() + token.size();
   const auto result = std::from_chars(token.data(), end, *value);
@@ -225,7 +223,7 @@ bool CarmenReader::NextStamp(double* stamp_s, int* line) {
     double t = 0.0;
     // A last line without its newline may be cut off anywhere: its last field would be a range,
     // not the stamp. It is parsed whole, as is a line whose last field is not a finite number.
-    if (!line_has_newline_ || !ParseDouble(LastToken(line_), &t) || !std::isfinite(t)) {
+    if (!line_has_newline_ || !ParseDecimal(LastToken(line_), &t) || !std::isfinite(t)) {
       // Parsed whole to count it under its precise reason (a scan line whose last field is
       // not a finite number is malformed).
       ScanRecord discard;
@@ -291,11 +289,11 @@ bool CarmenReader::ParseLine(ScanRecord* scan) {
     if (i == hostname_index || i == count_index || (i >= first_range && i < after_ranges)) {
       continue;
     }
-    if (!ParseDouble(tokens_[i], &value)) return malformed("non-numeric field");
+    if (!ParseDecimal(tokens_[i], &value)) return malformed("non-numeric field");
   }
 
   double stamp_s = 0.0;
-  ParseDouble(tokens_.back(), &stamp_s);
+  ParseDecimal(tokens_.back(), &stamp_s);
   if (!std::isfinite(stamp_s)) return malformed("non-finite timestamp");
 
   double start_rad = 0.0;
@@ -304,9 +302,9 @@ bool CarmenReader::ParseLine(ScanRecord* scan) {
   if (flaser) {
     FlaserGeometry(n, &start_rad, &step_rad);
   } else {
-    ParseDouble(tokens_[2], &start_rad);
-    ParseDouble(tokens_[4], &step_rad);
-    ParseDouble(tokens_[5], &max_range_m);
+    ParseDecimal(tokens_[2], &start_rad);
+    ParseDecimal(tokens_[4], &step_rad);
+    ParseDecimal(tokens_[5], &max_range_m);
     if (!std::isfinite(start_rad) || !std::isfinite(step_rad) || !std::isfinite(max_range_m)) {
       return malformed("non-finite scan geometry");
     }
@@ -315,7 +313,7 @@ bool CarmenReader::ParseLine(ScanRecord* scan) {
   scan->ranges_m.resize(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) {
     double range_m = 0.0;
-    if (!ParseDouble(tokens_[first_range + static_cast<size_t>(i)], &range_m)) {
+    if (!ParseDecimal(tokens_[first_range + static_cast<size_t>(i)], &range_m)) {
       return malformed("non-numeric field");
     }
     // Ranges are kept as float: one beyond float's range (1e300) would become infinity.

@@ -12,6 +12,7 @@
 #include <vector>
 #include "common/angles.h"
 
+#include "io/decimal.h"
 #include "io/gzip_input.h"
 #include "io/input_file.h"
 
@@ -82,11 +83,7 @@ std::string_view SentenceType(std::string_view address) {
 }
 
 bool ParseDouble(std::string_view token, double* value) {
-  const char* begin = token.data();
-  const char* end = begin + token.size();
-  if (begin < end && *begin == '+') ++begin;
-  const auto result = std::from_chars(begin, end, *value);
-  return result.ec == std::errc() && result.ptr == end && std::isfinite(*value);
+  return ParseDecimal(token, value) && std::isfinite(*value);
 }
 
 bool ParseInt(std::string_view token, int* value) {

@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <charconv>
 #include <cmath>
+
+#include "io/decimal.h"
 
 namespace wallcal::io {
 namespace {
@@ -94,12 +95,8 @@ double Number(const std::string& text, int column, Role role, const std::string&
   if (text.empty()) {
     throw InputError(Where(name, line, label + " is empty; expected a number in metres" + hint));
   }
-  const char* begin = text.data();
-  const char* end = begin + text.size();
-  if (*begin == '+') ++begin;
   double value = 0.0;
-  const auto result = std::from_chars(begin, end, value);
-  if (result.ec != std::errc() || result.ptr != end || !std::isfinite(value)) {
+  if (!ParseDecimal(text, &value) || !std::isfinite(value)) {
     throw InputError(Where(name, line,
                            label + " is not a finite number (" + std::to_string(text.size()) +
                                " characters); expected a number in metres" + hint));
