@@ -318,7 +318,9 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   double* const f_k = cell_f.data();
   const double n_rho_d = n_rho;
   // delta = +1 casts point i's votes, −1 withdraws them. Cell (j, k) is acc[j·n_theta + k].
-  auto vote = [&](int i, int delta) {
+  // Point i's cells, one per theta row, handed to on_cell (the spare cell `cells` for a row whose
+  // rho falls outside the accumulator: no branch in the loop).
+  auto for_each_cell = [&](int i, auto&& on_cell) {
     const double x = points.p_scanner_m[i].x(), y = points.p_scanner_m[i].y();
     for (int k = 0; k < n_theta; ++k) {
       const double rho = x * cos_k[k] + y * sin_k[k];
@@ -328,9 +330,10 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
       const double f = f_k[k];
       const bool inside = f >= 0.0 && f < n_rho_d;
       // (f is cast only when inside: outside, it may not fit an int)
-      acc[inside ? static_cast<int>(inside ? f : 0.0) * n_theta + k : cells] += delta;
+      on_cell(inside ? static_cast<int>(inside ? f : 0.0) * n_theta + k : cells);
     }
   };
+  auto vote = [&](int i, int delta) { for_each_cell(i, [&](int cell) { acc[cell] += delta; }); };
   // Points that vote: not mixed (they lie between two surfaces and must not build or shift a
   // peak), and not closer than the gate (|rho| <= range).
   voter.assign(static_cast<size_t>(num_points), 0);
@@ -356,17 +359,9 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   } else {
     for (int i = 0; i < num_points; ++i) {
       if (!voter[i]) continue;
-      const double x = points.p_scanner_m[i].x(), y = points.p_scanner_m[i].y();
-      for (int k = 0; k < n_theta; ++k) {
-        const double rho = x * cos_k[k] + y * sin_k[k];
-        f_k[k] = (rho - rho0) * inv_r_step + 0.5;
-      }
-      for (int k = 0; k < n_theta; ++k) {
-        const double f = f_k[k];
-        const bool inside = f >= 0.0 && f < n_rho_d;
-        const int cell = inside ? static_cast<int>(inside ? f : 0.0) * n_theta + k : cells;
+      for_each_cell(i, [&](int cell) {
         if (++acc[cell] == 2) reached_two.push_back(cell);
-      }
+      });
     }
   }
   const size_t most_busy = note_while_voting

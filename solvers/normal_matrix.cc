@@ -157,9 +157,10 @@ bool AccumulateRange(const ceres::Problem& problem,
     if (!cost->Evaluate(parameters.data(), residuals.data(), jacobians.data())) return false;
     rows.resize(m, width);
     int at = 0;
+    size_t next_block = 0;  // blocks[] lists the columns of the non-null jacobians, in order
     for (size_t b = 0; b < parameters.size(); ++b) {
       if (jacobians[b] == nullptr) continue;
-      const Column& column = columns[index.at(parameters[b])];
+      const Column& column = columns[blocks[next_block++]];
       const Eigen::Map<const RowMajor> ambient(jacobians[b], m, sizes[b]);
       if (column.plus_jacobian.size() == 0) {
         rows.middleCols(at, column.tangent) = ambient;
