@@ -364,6 +364,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     m.rho_m = observation.rho_m;
     m.theta_rad = observation.theta_rad;
     m.sqrt_information = sqrt_information;
+    if (weight > 0.0) m.weight = weight;
     mp->measurements.push_back(m);
     mp->weights.push_back(weight);
     if (weight > 0.0) walls_used.insert(observation.wall_index);

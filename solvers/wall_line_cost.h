@@ -60,6 +60,9 @@ struct WallLineMeasurement {
   double rho_m = 0.0;                                              // observed
   double theta_rad = 0.0;                                          // observed
   Eigen::Matrix2d sqrt_information = Eigen::Matrix2d::Identity();  // W = L⁻¹ (1/m, 1/rad)
+  // The scans this observation stands for (a thinned or resampled re-solve's weight, > 0). W
+  // carries √weight; the robust loss is applied to each scan it stands for (wall_slice_cost.h).
+  double weight = 1.0;
 };
 
 class WallLineCost {

@@ -33,14 +33,14 @@ bool WallSliceCost::Evaluate(double const* const* parameters, double* residuals,
             jacobians[b] == nullptr ? nullptr : jacobians[b] + 2 * i * kBlockSizes[b];
       }
     }
-    EvaluateWallLine(measurements_[indices_[i]], parameters, e,
-                     jacobians == nullptr ? nullptr : scan_jacobians);
-    const double s = e[0] * e[0] + e[1] * e[1];
+    const WallLineMeasurement& m = measurements_[indices_[i]];
+    EvaluateWallLine(m, parameters, e, jacobians == nullptr ? nullptr : scan_jacobians);
+    const double s = (e[0] * e[0] + e[1] * e[1]) / m.weight;  // one scan's
     if (!(k > 0.0) || s <= k * k) continue;  // the loss's quadratic region: ρ(s) = s
     const double root_s = std::sqrt(s);
     const double rho = 2.0 * k * root_s - k * k;
     const double rho1 = k / root_s;
-    beyond += rho - rho1 * s;
+    beyond += m.weight * (rho - rho1 * s);
     const double a = std::sqrt(rho1);
     e[0] *= a;
     e[1] *= a;

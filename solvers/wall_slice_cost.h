@@ -12,6 +12,12 @@
 // residual per block, √Σ(ρ − ρ′ s) over those scans with a zero Jacobian row, makes ½ of the
 // block's sum of squares ½Σρ(s): the objective, for the steps' acceptance. The normal matrix
 // of the block is then Σρ′ JᵀJ, the information the covariance and the checks use.
+//
+// An observation of weight w (WallLineMeasurement::weight: it stands for w scans, its W carries
+// √w) costs w·ρ(s/w), w scans' worth of the loss, each scan's s taken unweighted: ρ′ at s/w
+// scales its rows and w(ρ − ρ′ s/w) enters the top-up. (ρ(w s) instead would put nearly every
+// observation of a re-solve thinned 90-fold beyond the loss's corner: an L1 fit, less efficient
+// than the full solve it stands for, and slow to converge.)
 
 #include <ceres/cost_function.h>
 

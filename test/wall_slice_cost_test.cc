@@ -130,5 +130,54 @@ TEST(WallSliceCostTest, WithoutALossIsPlainLeastSquares) {
   ExpectSame(0.0, false);
 }
 
+TEST(WallSliceCostTest, AnObservationOfWeightWIsWScansEachWithItsOwnLoss) {
+  // A re-solve's observation standing for 3 scans (W carries √3) against 3 copies of it, one
+  // Huber block each: the loss applies per scan, not to the weighted residual.
+  constexpr double kHuber = 2.0;
+  constexpr int kWeight = 3;
+  std::mt19937 rng(5);
+  Blocks copies_blocks, weighted_blocks;
+  const std::vector<WallLineMeasurement> scans = Scans(19, copies_blocks, &rng);
+  ceres::Problem copies;
+  ceres::LossFunction* loss = new ceres::HuberLoss(kHuber);
+  int beyond = 0;
+  std::vector<WallLineMeasurement> weighted = scans;
+  for (size_t i = 0; i < scans.size(); ++i) {
+    double r[2];
+    const double* p[6] = {copies_blocks.mount.data(), copies_blocks.wall.data(),
+                          copies_blocks.bias.data(),  copies_blocks.time.data(),
+                          copies_blocks.heading.data(), copies_blocks.drift.data()};
+    EvaluateWallLine(scans[i], p, r, nullptr);
+    // Beyond the corner per scan, but the weighted residual of the scans within it would not be.
+    if (std::hypot(r[0], r[1]) > kHuber) ++beyond;
+    for (int c = 0; c < kWeight; ++c) {
+      copies.AddResidualBlock(WallLineCost::Create(scans[i]), loss, copies_blocks.mount.data(),
+                              copies_blocks.wall.data(), copies_blocks.bias.data(),
+                              copies_blocks.time.data(), copies_blocks.heading.data(),
+                              copies_blocks.drift.data());
+    }
+    weighted[i].sqrt_information *= std::sqrt(static_cast<double>(kWeight));
+    weighted[i].weight = kWeight;
+  }
+  ASSERT_GE(beyond, 4);
+  ASSERT_LE(beyond, static_cast<int>(scans.size()) - 4);
+  ceres::Problem slice;
+  std::vector<int> all(weighted.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  slice.AddResidualBlock(new WallSliceCost(weighted, all, kHuber), nullptr,
+                         weighted_blocks.mount.data(), weighted_blocks.wall.data(),
+                         weighted_blocks.bias.data(), weighted_blocks.time.data(),
+                         weighted_blocks.heading.data(), weighted_blocks.drift.data());
+  const Evaluated a = Evaluate(copies, copies_blocks);
+  const Evaluated b = Evaluate(slice, weighted_blocks);
+  EXPECT_NEAR(b.cost, a.cost, 1e-12 * a.cost);
+  double scale = 0.0;
+  for (double g : a.gradient) scale = std::max(scale, std::abs(g));
+  for (size_t k = 0; k < a.gradient.size(); ++k) {
+    EXPECT_NEAR(b.gradient[k], a.gradient[k], 1e-12 * scale) << "coordinate " << k;
+  }
+  EXPECT_LE((b.normal - a.normal).cwiseAbs().maxCoeff(), 1e-12 * a.normal.cwiseAbs().maxCoeff());
+}
+
 }  // namespace
 }  // namespace wallcal::solvers
