@@ -364,25 +364,31 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
       });
     }
   }
-  const size_t most_busy = note_while_voting
-                              ? reached_two.size()
-                              : static_cast<size_t>(n_in) * (row_last - row_first + 1);
-  if (busy_storage.size() < most_busy) busy_storage.resize(most_busy);
-  BusyCell* const busy_cells = busy_storage.data();
+  // The list of busy cells, made when the peak search first needs it (a tight gate's first
+  // peak is found without it, below). Votes withdrawn since voting only take cells off it, and
+  // StrongestPeaks skips the cells that fell below two votes, so a late list finds the same peaks.
+  BusyCell* busy_cells = nullptr;
   size_t num_busy = 0;
-  if (note_while_voting) {
-    for (int cell : reached_two) {
-      const int j = cell / n_theta, k = cell % n_theta;  // the spare cell has j = n_rho
-      if (j >= 1 && j <= n_in && k >= row_first && k <= row_last) busy_cells[num_busy++] = {j, k};
-    }
-  } else {
-    for (int j = 1; j <= n_in; ++j) {
-      const int* column = acc + static_cast<size_t>(j) * n_theta;
-      for (int k = row_first; k <= row_last; ++k) {
-        if (column[k] >= 2) busy_cells[num_busy++] = {j, k};
+  auto list_busy_cells = [&]() {
+    const size_t most_busy = note_while_voting
+                                 ? reached_two.size()
+                                 : static_cast<size_t>(n_in) * (row_last - row_first + 1);
+    if (busy_storage.size() < most_busy) busy_storage.resize(most_busy);
+    busy_cells = busy_storage.data();
+    if (note_while_voting) {
+      for (int cell : reached_two) {
+        const int j = cell / n_theta, k = cell % n_theta;  // the spare cell has j = n_rho
+        if (j >= 1 && j <= n_in && k >= row_first && k <= row_last) busy_cells[num_busy++] = {j, k};
+      }
+    } else {
+      for (int j = 1; j <= n_in; ++j) {
+        const int* column = acc + static_cast<size_t>(j) * n_theta;
+        for (int k = row_first; k <= row_last; ++k) {
+          if (column[k] >= 2) busy_cells[num_busy++] = {j, k};
+        }
       }
     }
-  }
+  };
   withdrawn.assign(static_cast<size_t>(num_points), 0);  // given to a line outside the gate
   if (keep_accumulator) {
     det.accumulator = acc_t.t();
@@ -395,67 +401,122 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   const double point_sigma = std::max(range_sigma_m, kMinPointSigmaM);
   const double trim_m = options.refine_sigma_factor * point_sigma;
   std::string first_reason;
+  // A peak's refinement: found (det filled), a line outside the gate (its inliers withdrew their
+  // votes: look again), or too few inliers (try the next peak).
+  enum class Tried { kFound, kOutsideGate, kTooFew };
+  auto try_peak = [&](const Peak& peak) {
+    const double theta_p = theta0 + peak.row * theta_step;
+    const double rho_p = rho0 + peak.col * r_step;
+    const Eigen::Vector2d n_p(std::cos(theta_p), std::sin(theta_p));
+
+    thread_local std::vector<int> candidates;  // reused: no allocation per scan once warm
+    candidates.clear();
+    const SegmentTest on_segment(gate, options.wall_extent_margin_m);
+    for (int i = 0; i < num_points; ++i) {
+      if (points.mixed_suspect[i] || withdrawn[i]) continue;
+      const Eigen::Vector2d& p = points.p_scanner_m[i];
+      if (std::abs(n_p.dot(p) - rho_p) > options.inlier_band_m) continue;
+      if (gate.has_segment && !on_segment.Contains(p)) continue;
+      candidates.push_back(i);
+    }
+
+    LineFit fit;
+    std::vector<int> set;
+    const bool ok = TrimmedFit(points, candidates, trim_m, options.inlier_band_m, &fit, &set);
+    const int n = static_cast<int>(set.size());
+    if (!ok || n < options.min_inliers) {
+      if (first_reason.empty()) {
+        first_reason = "only " + std::to_string(ok ? n : 0) + " inliers (need " +
+                       std::to_string(options.min_inliers) + ")";
+      }
+      return Tried::kTooFew;
+    }
+
+    const double theta = WrapAngle(std::atan2(fit.normal.y(), fit.normal.x()));
+    const double rho = fit.rho_m;
+    const bool theta_in_gate =
+        full_circle || std::abs(WrapAngle(theta - theta_c)) <=
+                           gate.theta_halfwidth_rad + kGateToleranceCells * t_step;
+    const bool rho_in_gate = rho >= rho_gate_lo - kGateToleranceCells * r_step &&
+                             rho <= rho_gate_hi + kGateToleranceCells * r_step;
+    if (!theta_in_gate || !rho_in_gate) {
+      if (first_reason.empty()) {
+        first_reason = Format("best line (theta %.2f deg, rho %.3f m) lies outside the gates",
+                              theta * 180.0 / kPi, rho);
+      }
+      for (int i : set) {
+        if (voter[i]) vote(i, -1);
+        voter[i] = 0;
+        withdrawn[i] = 1;
+      }
+      return Tried::kOutsideGate;
+    }
+
+    FillDetection(points, fit, set, range_sigma_m, peak.votes, &det);
+    return Tried::kFound;
+  };
+
+  // A tight gate's first peak, without the list of busy cells: the in-gate cell with the most
+  // votes (ties: the lower row, then column, StrongestPeaks's order) is the strongest local
+  // maximum when no margin cell beside it has more. It is tried first; the list is made only
+  // when it fails (a clean scan's wall is its first peak: the list was a quarter of the
+  // detector's time).
+  int round = 0;
+  Peak tried_first;
+  bool first_tried = false;
+  if (!note_while_voting && !full_circle) {
+    Peak best;
+    for (int j = 1; j <= n_in; ++j) {
+      const int* column = acc + static_cast<size_t>(j) * n_theta;
+      for (int k = row_first; k <= row_last; ++k) {
+        // Columns ascend, so among equal votes only a lower row replaces the best.
+        if (column[k] > best.votes || (column[k] == best.votes && k < best.row)) {
+          best = {column[k], k, j};
+        }
+      }
+    }
+    bool is_max = best.votes >= 2;
+    for (int dj = -1; dj <= 1 && is_max; ++dj) {
+      const int* column = acc + static_cast<size_t>(best.col + dj) * n_theta;
+      for (int dk = -1; dk <= 1; ++dk) is_max = is_max && column[best.row + dk] <= best.votes;
+    }
+    if (is_max) {
+      switch (try_peak(best)) {
+        case Tried::kFound:
+          return det;
+        case Tried::kOutsideGate:
+          round = 1;  // the first round ends at a line outside the gate
+          break;
+        case Tried::kTooFew:
+          tried_first = best;  // the first round goes on with the next peaks
+          first_tried = true;
+          break;
+      }
+    }
+  }
+
   // Each round: peaks -> refinement of the strongest few. A peak whose refined line falls
   // outside the gate belongs to a line beyond it (its flank reached into the gate, possibly as
   // several peaks along the gate's edge): its inliers withdraw their votes and the next round
   // looks again.
-  for (int round = 0; round < kMaxRounds; ++round) {
+  for (; round < kMaxRounds; ++round) {
+    if (busy_cells == nullptr) list_busy_cells();
     const std::vector<Peak> distinct =
         StrongestPeaks(acc_t, busy_cells, num_busy, n_theta, n_in, row_first, row_last,
                        full_circle);
     if (distinct.empty()) break;
     bool revote = false;
     for (const Peak& peak : distinct) {
-      const double theta_p = theta0 + peak.row * theta_step;
-      const double rho_p = rho0 + peak.col * r_step;
-      const Eigen::Vector2d n_p(std::cos(theta_p), std::sin(theta_p));
-
-      thread_local std::vector<int> candidates;  // reused: no allocation per scan once warm
-      candidates.clear();
-      const SegmentTest on_segment(gate, options.wall_extent_margin_m);
-      for (int i = 0; i < num_points; ++i) {
-        if (points.mixed_suspect[i] || withdrawn[i]) continue;
-        const Eigen::Vector2d& p = points.p_scanner_m[i];
-        if (std::abs(n_p.dot(p) - rho_p) > options.inlier_band_m) continue;
-        if (gate.has_segment && !on_segment.Contains(p)) continue;
-        candidates.push_back(i);
+      if (round == 0 && first_tried && peak.row == tried_first.row &&
+          peak.col == tried_first.col) {
+        continue;  // tried above
       }
-
-      LineFit fit;
-      std::vector<int> set;
-      const bool ok = TrimmedFit(points, candidates, trim_m, options.inlier_band_m, &fit, &set);
-      const int n = static_cast<int>(set.size());
-      if (!ok || n < options.min_inliers) {
-        if (first_reason.empty()) {
-          first_reason = "only " + std::to_string(ok ? n : 0) + " inliers (need " +
-                         std::to_string(options.min_inliers) + ")";
-        }
-        continue;
-      }
-
-      const double theta = WrapAngle(std::atan2(fit.normal.y(), fit.normal.x()));
-      const double rho = fit.rho_m;
-      const bool theta_in_gate =
-          full_circle || std::abs(WrapAngle(theta - theta_c)) <=
-                             gate.theta_halfwidth_rad + kGateToleranceCells * t_step;
-      const bool rho_in_gate = rho >= rho_gate_lo - kGateToleranceCells * r_step &&
-                               rho <= rho_gate_hi + kGateToleranceCells * r_step;
-      if (!theta_in_gate || !rho_in_gate) {
-        if (first_reason.empty()) {
-          first_reason = Format("best line (theta %.2f deg, rho %.3f m) lies outside the gates",
-                                theta * 180.0 / kPi, rho);
-        }
-        for (int i : set) {
-          if (voter[i]) vote(i, -1);
-          voter[i] = 0;
-          withdrawn[i] = 1;
-        }
+      const Tried tried = try_peak(peak);
+      if (tried == Tried::kFound) return det;
+      if (tried == Tried::kOutsideGate) {
         revote = true;
         break;
       }
-
-      FillDetection(points, fit, set, range_sigma_m, peak.votes, &det);
-      return det;
     }
     if (!revote) break;
   }
