@@ -1,6 +1,7 @@
 #include "calib/detection_pass.h"
 
 #include <algorithm>
+#include <atomic>
 #include <future>
 #include <thread>
 #include <utility>
@@ -146,8 +147,9 @@ void DetectInScan(const PassContext& context, const PassRequest& request, Pendin
   }
 }
 
-// Detects a batch over `threads` threads (contiguous slices), then appends the results to the
-// outcome in scan order.
+// Detects a batch over `threads` threads, then appends the results to the outcome in scan
+// order. The threads take the next few scans as they get free (the reader's thread shares the
+// cores: fixed slices would leave one thread waiting for the slice the reader held up).
 void DetectBatch(const PassContext& context, const PassRequest& request,
                  std::vector<PendingScan>* batch, PassOutcome* outcome) {
   const size_t n = batch->size();
@@ -155,25 +157,23 @@ void DetectBatch(const PassContext& context, const PassRequest& request,
   if (threads <= 1) {
     for (PendingScan& pending : *batch) DetectInScan(context, request, &pending);
   } else {
-    std::vector<std::thread> workers;
-    const size_t per = (n + threads - 1) / threads;
-    for (size_t t = 1; t < threads; ++t) {
-      workers.emplace_back([&, t]() {
-        for (size_t i = t * per; i < std::min(n, (t + 1) * per); ++i) {
+    constexpr size_t kScansPerTake = 8;
+    std::atomic<size_t> next{0};
+    auto work = [&]() {
+      for (size_t first = next.fetch_add(kScansPerTake); first < n;
+           first = next.fetch_add(kScansPerTake)) {
+        for (size_t i = first; i < std::min(n, first + kScansPerTake); ++i) {
           DetectInScan(context, request, &(*batch)[i]);
         }
-      });
-    }
-    for (size_t i = 0; i < std::min(n, per); ++i) DetectInScan(context, request, &(*batch)[i]);
+      }
+    };
+    std::vector<std::thread> workers;
+    for (size_t t = 1; t < threads; ++t) workers.emplace_back(work);
+    work();
     for (std::thread& worker : workers) worker.join();
   }
   for (PendingScan& pending : *batch) {
-    RangeCounts& counts = outcome->range_counts;
-    counts.valid += pending.range_counts.valid;
-    counts.error_code += pending.range_counts.error_code;
-    counts.no_return += pending.range_counts.no_return;
-    counts.too_close += pending.range_counts.too_close;
-    counts.non_finite += pending.range_counts.non_finite;
+    outcome->range_counts += pending.range_counts;
     if (pending.observations.empty()) {
       ++outcome->skipped[pending.why];
     } else {
@@ -243,6 +243,7 @@ class BatchReader {
         last_examined_s_ = stamp_s;
       }
       ++reading_->scans_examined;
+      if (request_.tally != nullptr && !skim) Tally(scan, stamp_s);
       if (static_cast<int>(scan.ranges_m.size()) != context_.preset->num_beams &&
           reading_->beam_count_mismatch++ == 0) {
         reading_->first_mismatch_beams = static_cast<int>(scan.ranges_m.size());
@@ -251,10 +252,12 @@ class BatchReader {
       const PoseStatus status = context_.poses->At(stamp_s, &pose);
       if (status != PoseStatus::kOk) {
         ++reading_->skipped[ScanSkipFor(status)];
+        TallyReadings(scan);
         continue;
       }
       if (!pose.stationary && !context_.use_moving) {
         ++reading_->skipped[ScanSkip::kVehicleMoving];
+        TallyReadings(scan);
         continue;
       }
       PendingScan pending;
@@ -271,6 +274,24 @@ class BatchReader {
   const PassRequest& request_;
   io::ScanSource* scans_;
   PassOutcome* reading_;
+  // The tally (request.tally) of a scan read; a scan that goes to detection has its readings
+  // counted there (DetectInScan) and added at the end of the pass.
+  void Tally(const io::ScanRecord& scan, double stamp_s) {
+    ScanLogTally& tally = *request_.tally;
+    if (tally.stamps_s.empty()) {
+      tally.first_start_rad = scan.start_angle_rad;
+      tally.first_step_rad = scan.angular_step_rad;
+      tally.first_max_range_m = scan.max_range_m;
+    }
+    tally.stamps_s.push_back(stamp_s);
+    tally.lines.push_back(scan.line);
+    ++tally.beams[scan.ranges_m.size()];
+  }
+  void TallyReadings(const io::ScanRecord& scan) {
+    if (request_.tally == nullptr || request_.min_interval_s > 0.0) return;
+    const io::DetectorOptions& detector = *context_.detector;
+    CountReadings(scan, *context_.preset, detector.min_range_m, &request_.tally->readings);
+  }
   int64_t scan_index_ = -1;
   double last_examined_s_ = -1e300;
   int64_t parsed_ = 0;
@@ -308,6 +329,9 @@ PassOutcome DetectionPass(const PassContext& context, const PassRequest& request
   reading.scans_read = request.min_interval_s > 0.0 ? reader.skimmed_scans()
                                                     : scans->scans_read();
   reading.line_skips = scans->skipped();
+  if (request.tally != nullptr && request.min_interval_s <= 0.0) {
+    request.tally->readings += outcome.range_counts;  // the detected scans' readings
+  }
   return reading;
 }
 

@@ -59,6 +59,17 @@ struct PassContext {
   int threads = 1;
 };
 
+// Every scan a pass read, for the scan log's summary (inspect's, which then reads no scan a
+// second time): stamps with the session's clock offset, in file order, their lines, the scans
+// by beam count and the readings of every scan by fate (calib/range_model.h).
+struct ScanLogTally {
+  std::vector<double> stamps_s;
+  std::vector<int> lines;
+  std::map<size_t, int64_t> beams;  // beam count -> scans
+  RangeCounts readings;
+  double first_start_rad = 0.0, first_step_rad = 0.0, first_max_range_m = 0.0;  // first scan's
+};
+
 struct PassRequest {
   Mount mount;  // the estimate the gates are centred on
   Gates gates;
@@ -67,6 +78,7 @@ struct PassRequest {
   // time; observations keep the pose at the stamp (the solver applies the offset itself).
   double gate_time_offset_s = 0.0;
   std::function<void(int64_t scans_done)> progress;  // every 2000 scans; may be empty
+  ScanLogTally* tally = nullptr;  // filled with every scan read when given (not when skimming)
 };
 
 struct PassOutcome {

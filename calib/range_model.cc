@@ -31,6 +31,26 @@ Fate Classify(float raw_m, double corrected_m, const io::ScanRecord& scan,
   return Fate::kValid;
 }
 
+void CountFate(Fate fate, RangeCounts* counts) {
+  switch (fate) {
+    case Fate::kValid:
+      ++counts->valid;
+      break;
+    case Fate::kNonFinite:
+      ++counts->non_finite;
+      break;
+    case Fate::kErrorCode:
+      ++counts->error_code;
+      break;
+    case Fate::kNoReturn:
+      ++counts->no_return;
+      break;
+    case Fate::kTooClose:
+      ++counts->too_close;
+      break;
+  }
+}
+
 }  // namespace
 
 namespace {
@@ -63,6 +83,14 @@ struct BearingTable {
 
 }  // namespace
 
+void CountReadings(const io::ScanRecord& scan, const io::ScannerPreset& preset,
+                   double min_range_m, RangeCounts* counts) {
+  for (const float raw : scan.ranges_m) {
+    const double corrected = preset.range_scale_k * double(raw) + preset.range_offset_b_m;
+    CountFate(Classify(raw, corrected, scan, preset, min_range_m), counts);
+  }
+}
+
 ScanPoints ToScanPoints(const io::ScanRecord& scan, const io::ScannerPreset& preset,
                         double min_range_m, double mixed_jump_m, RangeCounts* counts) {
   ScanPoints out;
@@ -84,24 +112,11 @@ void FillScanPoints(const io::ScanRecord& scan, const io::ScannerPreset& preset,
   for (int i = 0; i < n; ++i) {
     const float raw = scan.ranges_m[i];
     const double corrected = preset.range_scale_k * double(raw) + preset.range_offset_b_m;
-    switch (Classify(raw, corrected, scan, preset, min_range_m)) {
-      case Fate::kValid:
-        valid[i] = 1;
-        r[i] = corrected;
-        ++local.valid;
-        break;
-      case Fate::kNonFinite:
-        ++local.non_finite;
-        break;
-      case Fate::kErrorCode:
-        ++local.error_code;
-        break;
-      case Fate::kNoReturn:
-        ++local.no_return;
-        break;
-      case Fate::kTooClose:
-        ++local.too_close;
-        break;
+    const Fate fate = Classify(raw, corrected, scan, preset, min_range_m);
+    CountFate(fate, &local);
+    if (fate == Fate::kValid) {
+      valid[i] = 1;
+      r[i] = corrected;
     }
   }
   if (counts != nullptr) {
@@ -130,28 +145,31 @@ void FillScanPoints(const io::ScanRecord& scan, const io::ScannerPreset& preset,
     return !has_neighbour;
   };
 
+  // jump[i]: a depth jump between beams i and i+1 (both valid), each step judged once.
+  thread_local std::vector<uint8_t> jump;
+  jump.assign(static_cast<size_t>(std::max(n, 1)), 0);
+  for (int i = 0; i + 1 < n; ++i) jump[i] = step_ok(i) && is_jump(i);
+
+  // Written by index into vectors sized once: no capacity test per point.
   ScanPoints& out = *points;
-  out.p_scanner_m.clear();
-  out.range_m.clear();
-  out.bearing_rad.clear();
-  out.beam.clear();
-  out.mixed_suspect.clear();
-  out.p_scanner_m.reserve(local.valid);
-  out.range_m.reserve(local.valid);
-  out.bearing_rad.reserve(local.valid);
-  out.beam.reserve(local.valid);
-  out.mixed_suspect.reserve(local.valid);
+  const size_t count = static_cast<size_t>(local.valid);
+  out.p_scanner_m.resize(count);
+  out.range_m.resize(count);
+  out.bearing_rad.resize(count);
+  out.beam.resize(count);
+  out.mixed_suspect.resize(count);
+  size_t k = 0;
   for (int i = 0; i < n; ++i) {
     if (!valid[i]) continue;
-    bool suspect = false;
-    if (i > 0) suspect = suspect || !valid[i - 1] || is_jump(i - 1);
-    if (i + 1 < n) suspect = suspect || !valid[i + 1] || is_jump(i);
+    const bool suspect = (i > 0 && (!valid[i - 1] || jump[i - 1])) ||
+                         (i + 1 < n && (!valid[i + 1] || jump[i]));
     const double bearing = scan.start_angle_rad + i * scan.angular_step_rad;
-    out.p_scanner_m.emplace_back(r[i] * bearings.cos[i], r[i] * bearings.sin[i]);
-    out.range_m.push_back(static_cast<float>(r[i]));
-    out.bearing_rad.push_back(static_cast<float>(bearing));
-    out.beam.push_back(i);
-    out.mixed_suspect.push_back(suspect ? 1 : 0);
+    out.p_scanner_m[k] = Eigen::Vector2d(r[i] * bearings.cos[i], r[i] * bearings.sin[i]);
+    out.range_m[k] = static_cast<float>(r[i]);
+    out.bearing_rad[k] = static_cast<float>(bearing);
+    out.beam[k] = i;
+    out.mixed_suspect[k] = suspect ? 1 : 0;
+    ++k;
   }
 }
 

@@ -28,6 +28,15 @@ struct ScanPoints {
 // whole log. non_finite also counts negative readings.
 struct RangeCounts {
   int64_t valid = 0, error_code = 0, no_return = 0, too_close = 0, non_finite = 0;
+
+  RangeCounts& operator+=(const RangeCounts& other) {
+    valid += other.valid;
+    error_code += other.error_code;
+    no_return += other.no_return;
+    too_close += other.too_close;
+    non_finite += other.non_finite;
+    return *this;
+  }
 };
 
 // Turns one scan into points. Beam i has bearing scan.start_angle_rad + i·scan.angular_step_rad
@@ -61,5 +70,8 @@ ScanPoints ToScanPoints(const io::ScanRecord& scan, const io::ScannerPreset& pre
 void FillScanPoints(const io::ScanRecord& scan, const io::ScannerPreset& preset,
                     double min_range_m, double mixed_jump_m, RangeCounts* counts,
                     ScanPoints* points);
+// Only the counts: adds the scan's readings by fate to *counts, as FillScanPoints does.
+void CountReadings(const io::ScanRecord& scan, const io::ScannerPreset& preset,
+                   double min_range_m, RangeCounts* counts);
 
 }  // namespace wallcal::calib

@@ -64,7 +64,7 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
   ReadPoses(&result, &inputs);
   PreparePasses(request, &result, &inputs);
   if (FirstPass(request, progress, &result, &inputs)) {
-    SecondPass(progress, &result, &inputs);
+    SecondPass(request, progress, &result, &inputs);
     std::vector<calib::WallObservation> all_detections;
     if (request.preview) ThinForPreview(&result, &inputs, &all_detections);
     Solve(request, progress, &result, &inputs);

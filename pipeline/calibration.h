@@ -94,6 +94,9 @@ struct CalibrationResult {
   std::vector<calib::WallObservation> observations;  // second pass
   // A preview's solve: how many observations it used (every k-th; 0 when not a preview).
   int64_t preview_observations_solved = 0;
+  // A preview's tally of every scan the second pass read (inspect's scan-log summary); empty
+  // when not a preview or when the run stopped before the second pass.
+  std::optional<calib::ScanLogTally> scan_log;
   calib::LocalFrame frame;
   double control_rms_m = 0.0;
   int num_control = 0;

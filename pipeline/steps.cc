@@ -371,7 +371,8 @@ bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
   return true;
 }
 
-void SecondPass(const ProgressFn& progress, CalibrationResult* result, RunInputs* inputs) {
+void SecondPass(const CalibrateRequest& request, const ProgressFn& progress,
+                CalibrationResult* result, RunInputs* inputs) {
   const io::SessionSpec& session = result->session;
   calib::PassRequest pass;
   pass.mount = result->first_pass.mount;
@@ -387,7 +388,10 @@ void SecondPass(const ProgressFn& progress, CalibrationResult* result, RunInputs
       progress(Progress{Stage::kSecondPass, "second pass", done, total, true});
     };
   }
+  calib::ScanLogTally tally;
+  if (request.preview) pass.tally = &tally;  // inspect's scan-log summary
   second = calib::DetectionPass(inputs->pass, pass);
+  if (request.preview) result->scan_log = std::move(tally);
   if (progress) {
     // The pass reports every 2000 scans: the last count is said here.
     progress(Progress{Stage::kSecondPass, "second pass", second.scans_read,

@@ -66,8 +66,10 @@ void PreparePasses(const CalibrateRequest& request, CalibrationResult* result, R
 // (result->estimate then says why).
 bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
                CalibrationResult* result, RunInputs* inputs);
-// Second pass (every scan, tight gates) and its accounting.
-void SecondPass(const ProgressFn& progress, CalibrationResult* result, RunInputs* inputs);
+// Second pass (every scan, tight gates) and its accounting; a preview's also tallies every scan
+// read (result->scan_log).
+void SecondPass(const CalibrateRequest& request, const ProgressFn& progress,
+                CalibrationResult* result, RunInputs* inputs);
 // The warning that `scans` scans taken while driving were left out.
 std::string DrivesNotUsedWarning(int64_t scans);
 // The final solve by the requested method (with the clock-offset rounds).

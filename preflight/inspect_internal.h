@@ -4,12 +4,14 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
 
+#include "calib/detection_pass.h"
 #include "calib/range_model.h"
 #include "io/nmea_reader.h"
 #include "io/options.h"
@@ -79,6 +81,10 @@ int LogValid(const io::ScanRecord& scan, float* min_m, float* max_m);
 ScanLogSummary ReadScanLog(const std::string& path, double time_offset_s,
                            const io::ScannerPreset* preset, double min_range_m,
                            double mixed_jump_m, const io::ScanOpener* opener = nullptr);
+// The same summary from a detection pass's tally of the log (calib/detection_pass.h) and what
+// its scan source passed over: the preview's second pass read every scan already.
+ScanLogSummary SummaryFromTally(const std::string& path, calib::ScanLogTally tally,
+                                const io::SkipCounts& skipped);
 
 // ---- A session's logs (session_logs.cc) ----------------------------------------------------
 struct SessionLogs {
@@ -90,9 +96,13 @@ struct SessionLogs {
 };
 // The "logs" part of the session report (scans, GNSS, headings, their overlap), written to
 // `out`; problems become blockers and warnings in `result`.
-SessionLogs InspectSessionLogs(const io::SessionSpec& spec, const io::CalibrateOptions& options,
-                               const io::ScannerPreset* preset, SessionInspection* result,
-                               std::ostream& out);
+// shared_scan_log, when given, returns the scan log's summary if another reader has it (the
+// preview's second pass); the log is read here when it returns none.
+SessionLogs InspectSessionLogs(
+    const io::SessionSpec& spec, const io::CalibrateOptions& options,
+    const io::ScannerPreset* preset,
+    const std::function<std::optional<ScanLogSummary>()>& shared_scan_log,
+    SessionInspection* result, std::ostream& out);
 
 }  // namespace wallcal::preflight::internal
 

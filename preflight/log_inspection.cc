@@ -58,6 +58,22 @@ ScanLogSummary ReadScanLog(const std::string& path, double time_offset_s,
   return summary;
 }
 
+ScanLogSummary SummaryFromTally(const std::string& path, calib::ScanLogTally tally,
+                                const io::SkipCounts& skipped) {
+  ScanLogSummary summary;
+  summary.stats = ComputeStreamStats("scans", path, tally.stamps_s, tally.lines);
+  summary.stamps_s = std::move(tally.stamps_s);
+  summary.beams = std::move(tally.beams);
+  summary.readings = tally.readings;
+  summary.have_readings = true;  // a pass always has its preset
+  summary.first_start_rad = tally.first_start_rad;
+  summary.first_step_rad = tally.first_step_rad;
+  summary.first_max_range_m = tally.first_max_range_m;
+  summary.skipped = skipped;
+  // lines_read stays 0: a pass does not count lines (only the one-log report prints them).
+  return summary;
+}
+
 }  // namespace internal
 
 using namespace internal;  // the helpers shared by the inspect files

@@ -7,9 +7,11 @@
 
 namespace wallcal::preflight::internal {
 
-SessionLogs InspectSessionLogs(const io::SessionSpec& spec, const io::CalibrateOptions& options,
-                               const io::ScannerPreset* preset, SessionInspection* result,
-                               std::ostream& out) {
+SessionLogs InspectSessionLogs(
+    const io::SessionSpec& spec, const io::CalibrateOptions& options,
+    const io::ScannerPreset* preset,
+    const std::function<std::optional<ScanLogSummary>()>& shared_scan_log,
+    SessionInspection* result, std::ostream& out) {
   auto block = [&](const std::string& text) { result->blockers.push_back(text); };
   auto warn = [&](const std::string& text) { result->warnings.push_back(text); };
   SessionLogs logs;
@@ -17,9 +19,13 @@ SessionLogs InspectSessionLogs(const io::SessionSpec& spec, const io::CalibrateO
   std::optional<ScanLogSummary>& scans = logs.scans;
   try {
     // A CARMEN log or a recording's LaserScan topic (checked against the preset).
-    const io::ScanOpener opener = io::MakeScanOpener(spec, preset);
-    scans = ReadScanLog(spec.scanner_log, spec.scanner_time_offset_s, preset,
-                        options.detector.min_range_m, options.detector.mixed_pixel_jump_m, &opener);
+    if (shared_scan_log) scans = shared_scan_log();
+    if (!scans) {
+      const io::ScanOpener opener = io::MakeScanOpener(spec, preset);
+      scans = ReadScanLog(spec.scanner_log, spec.scanner_time_offset_s, preset,
+                          options.detector.min_range_m, options.detector.mixed_pixel_jump_m,
+                          &opener);
+    }
     out << FormatStream(scans->stats);
     if (scans->stats.records > 0) {
       out << "    beams    ";
