@@ -1,5 +1,6 @@
 #include "solvers/wall_line_cost.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace wallcal::solvers {
@@ -11,7 +12,7 @@ bool WallLineCostFunction::Evaluate(double const* const* parameters, double* res
 }
 
 void EvaluateWallLine(const WallLineMeasurement& m, double const* const* parameters,
-                      double* residuals, double** jacobians) {
+                      double* residuals, double** jacobians, double* raw_rows) {
   const double* mount = parameters[0];
   const double* wall_delta = parameters[1];
   const double* bias = parameters[2];
@@ -45,54 +46,42 @@ void EvaluateWallLine(const WallLineMeasurement& m, double const* const* paramet
   const Eigen::Matrix2d& w = m.sqrt_information;
   residuals[0] = w(0, 0) * error[0] + w(0, 1) * error[1];
   residuals[1] = w(1, 0) * error[0] + w(1, 1) * error[1];
-  if (jacobians == nullptr) return;
+  if (jacobians == nullptr && raw_rows == nullptr) return;
 
-  // Unwhitened rows: rho[k] = ∂e_rho/∂p_k, theta[k] = ∂e_theta/∂p_k, then J = W [rho; theta].
+  // Unwhitened rows over the blocks' columns in order: rho[k] = ∂e_rho/∂p_k,
+  // theta[k] = ∂e_theta/∂p_k; then J = W [rho; theta].
   const double tau = m.drift_time_s;
   const double omega = m.yaw_rate_rps;
   // ∂s/∂ψ' = ∂R(ψ')/∂ψ' (x, y) = (−sinψ' x − cosψ' y, cosψ' x − sinψ' y).
   const double g = -(nx * (-spsi * mount[0] - cpsi * mount[1]) +
                      ny * (cpsi * mount[0] - spsi * mount[1]));
-  const auto write = [&w, jacobians](int block, int size, const double* rho,
-                                     const double* theta) {
-    double* j = jacobians[block];
-    if (j == nullptr) return;
-    for (int k = 0; k < size; ++k) {
-      j[k] = w(0, 0) * rho[k] + w(0, 1) * theta[k];
-      j[size + k] = w(1, 0) * rho[k] + w(1, 1) * theta[k];
+  const double cx = m.wall_centre_local_m.x(), cy = m.wall_centre_local_m.y();
+  const double normal_speed = nx * m.velocity_local_mps.x() + ny * m.velocity_local_mps.y();
+  const double rho[kWallLineColumns] = {
+      -(nx * cpsi + ny * spsi), nx * spsi - ny * cpsi, 0.0,  // mount
+      m.sign, -ny * (cx - sx) + nx * (cy - sy),                // wall
+      nx, ny,                                                  // bias
+      -normal_speed + g * omega, g * omega,                    // time offset, heading delay
+      -g,                                                      // heading offset
+      -g * tau};                                               // heading drift
+  const double theta[kWallLineColumns] = {0.0, 0.0, -1.0, 0.0, 1.0, 0.0,
+                                          0.0, -omega, -omega, 1.0, tau};
+  if (raw_rows != nullptr) {
+    std::copy(rho, rho + kWallLineColumns, raw_rows);
+    std::copy(theta, theta + kWallLineColumns, raw_rows + kWallLineColumns);
+  }
+  if (jacobians == nullptr) return;
+  int first = 0;
+  for (int b = 0; b < kWallLineBlocks; ++b) {
+    const int size = kWallLineBlockSizes[b];
+    double* j = jacobians[b];
+    if (j != nullptr) {
+      for (int k = 0; k < size; ++k) {
+        j[k] = w(0, 0) * rho[first + k] + w(0, 1) * theta[first + k];
+        j[size + k] = w(1, 0) * rho[first + k] + w(1, 1) * theta[first + k];
+      }
     }
-  };
-  {
-    const double rho[3] = {-(nx * cpsi + ny * spsi), nx * spsi - ny * cpsi, 0.0};
-    const double theta[3] = {0.0, 0.0, -1.0};
-    write(0, 3, rho, theta);
-  }
-  {
-    const double cx = m.wall_centre_local_m.x(), cy = m.wall_centre_local_m.y();
-    const double rho[2] = {m.sign, -ny * (cx - sx) + nx * (cy - sy)};
-    const double theta[2] = {0.0, 1.0};
-    write(1, 2, rho, theta);
-  }
-  {
-    const double rho[2] = {nx, ny};
-    const double theta[2] = {0.0, 0.0};
-    write(2, 2, rho, theta);
-  }
-  {
-    const double normal_speed = nx * m.velocity_local_mps.x() + ny * m.velocity_local_mps.y();
-    const double rho[2] = {-normal_speed + g * omega, g * omega};
-    const double theta[2] = {-omega, -omega};
-    write(3, 2, rho, theta);
-  }
-  {
-    const double rho[1] = {-g};
-    const double theta[1] = {1.0};
-    write(4, 1, rho, theta);
-  }
-  {
-    const double rho[1] = {-g * tau};
-    const double theta[1] = {tau};
-    write(5, 1, rho, theta);
+    first += size;
   }
 }
 

@@ -159,11 +159,19 @@ class WallLineCostFunction : public ceres::SizedCostFunction<2, 3, 2, 2, 2, 1, 1
   std::unique_ptr<const WallLineMeasurement> owned_;  // set by WallLineCost::Create
 };
 
+// The parameter blocks' sizes (mount, wall, bias, time offset, heading offset, drift) and
+// their columns in all.
+inline constexpr int kWallLineBlocks = 6;
+inline constexpr int kWallLineBlockSizes[kWallLineBlocks] = {3, 2, 2, 2, 1, 1};
+inline constexpr int kWallLineColumns = 11;
+
 // The residual (2) and, when `jacobians` is not null, the Jacobians (row-major 2 x block size,
 // for each of the six blocks whose pointer is not null) of one observation: what
-// WallLineCostFunction::Evaluate returns, for costs that hold several observations.
+// WallLineCostFunction::Evaluate returns, for costs that hold several observations. When
+// `raw_rows` is not null it gets the unwhitened rows ∂(e_rho, e_theta)/∂p, row-major
+// 2 x kWallLineColumns (the blocks' columns in order): J = W · raw.
 void EvaluateWallLine(const WallLineMeasurement& measurement, double const* const* parameters,
-                      double* residuals, double** jacobians);
+                      double* residuals, double** jacobians, double* raw_rows = nullptr);
 
 inline ceres::CostFunction* WallLineCost::Create(const WallLineMeasurement& measurement) {
   auto* cost = new WallLineCostFunction(measurement);

@@ -29,7 +29,10 @@ struct Blocks {
 
 // Scans of one wall from one slice, with measured rho off the prediction by a few σ for some
 // (the loss's linear region) and by less than its scale for the others.
-std::vector<WallLineMeasurement> Scans(int count, const Blocks& at, std::mt19937* rng) {
+// With `standing`, the scans of one station's dwell: one heading and drift time, no motion; the
+// antenna positions differ by the GNSS noise (so the wall-angle lever differs from scan to scan).
+std::vector<WallLineMeasurement> Scans(int count, const Blocks& at, std::mt19937* rng,
+                                       bool standing = false) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::vector<WallLineMeasurement> scans;
   for (int i = 0; i < count; ++i) {
@@ -39,6 +42,12 @@ std::vector<WallLineMeasurement> Scans(int count, const Blocks& at, std::mt19937
     m.velocity_local_mps = Eigen::Vector2d(0.3 * u(*rng), 0.3 * u(*rng));
     m.yaw_rate_rps = 0.1 * u(*rng);
     m.drift_time_s = 100.0 + i;
+    if (standing) {
+      m.vehicle_yaw_rad = 0.5 * kPi + 0.1;
+      m.velocity_local_mps.setZero();
+      m.yaw_rate_rps = 0.0;
+      m.drift_time_s = 100.0;
+    }
     m.wall_normal_local = Eigen::Vector2d(0.0, 1.0);
     m.wall_centre_local_m = Eigen::Vector2d(0.0, 10.0);
     m.wall_normal_angle_rad = 0.5 * kPi;
@@ -79,10 +88,11 @@ Evaluated Evaluate(ceres::Problem& problem, Blocks& b) {
   return out;
 }
 
-void ExpectSame(double huber_scale, bool both_regions) {
+void ExpectSame(double huber_scale, bool both_regions, bool standing = false,
+                double tolerance = 1e-12) {
   std::mt19937 rng(11);
   Blocks per_scan_blocks, slice_blocks;
-  const std::vector<WallLineMeasurement> scans = Scans(19, per_scan_blocks, &rng);
+  const std::vector<WallLineMeasurement> scans = Scans(19, per_scan_blocks, &rng, standing);
   ceres::Problem per_scan;
   ceres::LossFunction* loss = huber_scale > 0.0 ? new ceres::HuberLoss(huber_scale) : nullptr;
   int beyond = 0;
@@ -105,20 +115,23 @@ void ExpectSame(double huber_scale, bool both_regions) {
   ceres::Problem slice;
   std::vector<int> all(scans.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
-  slice.AddResidualBlock(new WallSliceCost(scans, all, huber_scale), nullptr,
+  auto* cost = new WallSliceCost(scans, all, huber_scale);
+  ASSERT_EQ(cost->compressed(), standing);  // the form under test
+  slice.AddResidualBlock(cost, nullptr,
                          slice_blocks.mount.data(), slice_blocks.wall.data(),
                          slice_blocks.bias.data(), slice_blocks.time.data(),
                          slice_blocks.heading.data(), slice_blocks.drift.data());
   const Evaluated a = Evaluate(per_scan, per_scan_blocks);
   const Evaluated b = Evaluate(slice, slice_blocks);
-  EXPECT_NEAR(b.cost, a.cost, 1e-12 * a.cost);
+  EXPECT_NEAR(b.cost, a.cost, tolerance * a.cost);
   ASSERT_EQ(a.gradient.size(), b.gradient.size());
   double scale = 0.0;
   for (double g : a.gradient) scale = std::max(scale, std::abs(g));
   for (size_t k = 0; k < a.gradient.size(); ++k) {
-    EXPECT_NEAR(b.gradient[k], a.gradient[k], 1e-12 * scale) << "coordinate " << k;
+    EXPECT_NEAR(b.gradient[k], a.gradient[k], tolerance * scale) << "coordinate " << k;
   }
-  EXPECT_LE((b.normal - a.normal).cwiseAbs().maxCoeff(), 1e-12 * a.normal.cwiseAbs().maxCoeff());
+  EXPECT_LE((b.normal - a.normal).cwiseAbs().maxCoeff(),
+            tolerance * a.normal.cwiseAbs().maxCoeff());
 }
 
 TEST(WallSliceCostTest, SameCostGradientAndNormalMatrixAsOneHuberBlockPerScan) {
@@ -130,14 +143,41 @@ TEST(WallSliceCostTest, WithoutALossIsPlainLeastSquares) {
   ExpectSame(0.0, false);
 }
 
-TEST(WallSliceCostTest, AnObservationOfWeightWIsWScansEachWithItsOwnLoss) {
-  // A re-solve's observation standing for 3 scans (W carries √3) against 3 copies of it, one
-  // Huber block each: the loss applies per scan, not to the weighted residual.
+// A dwell's scans come back as four residuals (QR of their rows): the same cost, gradient and
+// Gauss–Newton matrix up to rounding (1e-10 of the largest entry: Givens rotations over 38 rows
+// of entries up to 1e5 against sums of their squares).
+TEST(WallSliceCostTest, StandingScansCompressedToFourResidualsKeepCostGradientAndNormalMatrix) {
+  ExpectSame(2.0, true, /*standing=*/true, 1e-10);
+  ExpectSame(0.0, false, /*standing=*/true, 1e-10);
+}
+
+TEST(WallSliceCostTest, CompressedOnlyWhenEveryScanSharesTheRows) {
+  std::mt19937 rng(3);
+  Blocks blocks;
+  const std::vector<WallLineMeasurement> scans = Scans(5, blocks, &rng, /*standing=*/true);
+  const std::vector<int> all = {0, 1, 2, 3, 4};
+  EXPECT_TRUE(WallSliceCost(scans, all, 2.0).compressed());
+  EXPECT_EQ(WallSliceCost(scans, all, 2.0).num_residuals(), WallSliceCost::kCompressedResiduals);
+  EXPECT_FALSE(WallSliceCost(scans, {2}, 2.0).compressed());  // one scan: its own two rows
+  std::vector<WallLineMeasurement> turning = scans;
+  turning[3].yaw_rate_rps = 0.01;
+  EXPECT_FALSE(WallSliceCost(turning, all, 2.0).compressed());
+  std::vector<WallLineMeasurement> other_side = scans;
+  other_side[1].sign = -other_side[1].sign;
+  EXPECT_FALSE(WallSliceCost(other_side, all, 2.0).compressed());
+  std::vector<WallLineMeasurement> other_heading = scans;
+  other_heading[4].vehicle_yaw_rad += 1e-9;
+  EXPECT_FALSE(WallSliceCost(other_heading, all, 2.0).compressed());
+}
+
+// A re-solve's observation standing for 3 scans (W carries √3) against 3 copies of it, one
+// Huber block each: the loss applies per scan, not to the weighted residual. In both forms.
+void ExpectWeightedIsCopies(bool standing, double tolerance) {
   constexpr double kHuber = 2.0;
   constexpr int kWeight = 3;
   std::mt19937 rng(5);
   Blocks copies_blocks, weighted_blocks;
-  const std::vector<WallLineMeasurement> scans = Scans(19, copies_blocks, &rng);
+  const std::vector<WallLineMeasurement> scans = Scans(19, copies_blocks, &rng, standing);
   ceres::Problem copies;
   ceres::LossFunction* loss = new ceres::HuberLoss(kHuber);
   int beyond = 0;
@@ -164,19 +204,27 @@ TEST(WallSliceCostTest, AnObservationOfWeightWIsWScansEachWithItsOwnLoss) {
   ceres::Problem slice;
   std::vector<int> all(weighted.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
-  slice.AddResidualBlock(new WallSliceCost(weighted, all, kHuber), nullptr,
+  auto* cost = new WallSliceCost(weighted, all, kHuber);
+  ASSERT_EQ(cost->compressed(), standing);
+  slice.AddResidualBlock(cost, nullptr,
                          weighted_blocks.mount.data(), weighted_blocks.wall.data(),
                          weighted_blocks.bias.data(), weighted_blocks.time.data(),
                          weighted_blocks.heading.data(), weighted_blocks.drift.data());
   const Evaluated a = Evaluate(copies, copies_blocks);
   const Evaluated b = Evaluate(slice, weighted_blocks);
-  EXPECT_NEAR(b.cost, a.cost, 1e-12 * a.cost);
+  EXPECT_NEAR(b.cost, a.cost, tolerance * a.cost);
   double scale = 0.0;
   for (double g : a.gradient) scale = std::max(scale, std::abs(g));
   for (size_t k = 0; k < a.gradient.size(); ++k) {
-    EXPECT_NEAR(b.gradient[k], a.gradient[k], 1e-12 * scale) << "coordinate " << k;
+    EXPECT_NEAR(b.gradient[k], a.gradient[k], tolerance * scale) << "coordinate " << k;
   }
-  EXPECT_LE((b.normal - a.normal).cwiseAbs().maxCoeff(), 1e-12 * a.normal.cwiseAbs().maxCoeff());
+  EXPECT_LE((b.normal - a.normal).cwiseAbs().maxCoeff(),
+            tolerance * a.normal.cwiseAbs().maxCoeff());
+}
+
+TEST(WallSliceCostTest, AnObservationOfWeightWIsWScansEachWithItsOwnLoss) {
+  ExpectWeightedIsCopies(/*standing=*/false, 1e-12);
+  ExpectWeightedIsCopies(/*standing=*/true, 1e-10);
 }
 
 }  // namespace
