@@ -227,6 +227,28 @@ void FillDetection(const ScanPoints& points, const LineFit& fit, std::vector<int
   det->inliers = std::move(set);
 }
 
+// Each theta row's cell for the point (x, y): cell[k] = j·n_theta + k for the rho column j that
+// x cos θ_k + y sin θ_k falls in, or `spare` when it falls outside the n_rho columns. The vote
+// loops' arithmetic, one row after another; GCC builds an AVX2 version beside the baseline one
+// and picks by the CPU at run time (ifunc). Vector lanes do the same IEEE operations in the same
+// order as the scalar code (no fused multiply-add: AVX2 alone has none), so the cells, hence
+// the detections, are identical on every CPU.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default"), optimize("vect-cost-model=dynamic")))
+#endif
+void RowCells(double x, double y, const double* cos_k, const double* sin_k, int n_theta,
+              double rho0, double inv_r_step, int n_rho, int spare, int* cell) {
+  const double n_rho_d = n_rho;
+  for (int k = 0; k < n_theta; ++k) {
+    const double rho = x * cos_k[k] + y * sin_k[k];
+    const double f = (rho - rho0) * inv_r_step + 0.5;  // cell j covers f in [j, j + 1)
+    const bool inside = f >= 0.0 && f < n_rho_d;
+    // (f is converted only when inside: outside, it may not fit an int)
+    const int j = static_cast<int>(inside ? f : 0.0);
+    cell[k] = inside ? j * n_theta + k : spare;
+  }
+}
+
 std::string Format(const char* fmt, double a, double b) {
   char buf[160];
   std::snprintf(buf, sizeof(buf), fmt, a, b);
@@ -298,7 +320,8 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   // grows to the largest gate seen: a pass over a long log allocates nothing per scan. One cell
   // past the end takes the votes that fall outside the accumulator (no branch in the loop).
   thread_local std::vector<int> acc_storage;
-  thread_local std::vector<double> cos_t, sin_t, cell_f;
+  thread_local std::vector<double> cos_t, sin_t;
+  thread_local std::vector<int> row_cells;
   thread_local std::vector<uint8_t> voter, withdrawn;
   const int cells = n_rho * n_theta;
   acc_storage.assign(static_cast<size_t>(cells) + 1, 0);
@@ -306,7 +329,7 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   const cv::Mat_<int> acc_t(n_rho, n_theta, acc);  // a view, no copy
   cos_t.resize(static_cast<size_t>(n_theta));
   sin_t.resize(static_cast<size_t>(n_theta));
-  cell_f.resize(static_cast<size_t>(n_theta));
+  row_cells.resize(static_cast<size_t>(n_theta));
   for (int k = 0; k < n_theta; ++k) {
     cos_t[k] = std::cos(theta0 + k * theta_step);
     sin_t[k] = std::sin(theta0 + k * theta_step);
@@ -315,23 +338,14 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
   const double min_voting_range = rho0 - 0.5 * r_step;  // |rho| <= range
   const double* const cos_k = cos_t.data();
   const double* const sin_k = sin_t.data();
-  double* const f_k = cell_f.data();
-  const double n_rho_d = n_rho;
+  int* const cell_k = row_cells.data();
   // delta = +1 casts point i's votes, −1 withdraws them. Cell (j, k) is acc[j·n_theta + k].
   // Point i's cells, one per theta row, handed to on_cell (the spare cell `cells` for a row whose
   // rho falls outside the accumulator: no branch in the loop).
   auto for_each_cell = [&](int i, auto&& on_cell) {
-    const double x = points.p_scanner_m[i].x(), y = points.p_scanner_m[i].y();
-    for (int k = 0; k < n_theta; ++k) {
-      const double rho = x * cos_k[k] + y * sin_k[k];
-      f_k[k] = (rho - rho0) * inv_r_step + 0.5;  // cell j covers f in [j, j + 1)
-    }
-    for (int k = 0; k < n_theta; ++k) {
-      const double f = f_k[k];
-      const bool inside = f >= 0.0 && f < n_rho_d;
-      // (f is cast only when inside: outside, it may not fit an int)
-      on_cell(inside ? static_cast<int>(inside ? f : 0.0) * n_theta + k : cells);
-    }
+    RowCells(points.p_scanner_m[i].x(), points.p_scanner_m[i].y(), cos_k, sin_k, n_theta, rho0,
+             inv_r_step, n_rho, cells, cell_k);
+    for (int k = 0; k < n_theta; ++k) on_cell(cell_k[k]);
   };
   auto vote = [&](int i, int delta) { for_each_cell(i, [&](int cell) { acc[cell] += delta; }); };
   // Points that vote: not mixed (they lie between two surfaces and must not build or shift a
