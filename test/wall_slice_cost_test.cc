@@ -88,6 +88,31 @@ Evaluated Evaluate(ceres::Problem& problem, Blocks& b) {
   return out;
 }
 
+// The slice form's cost, gradient and Gauss–Newton matrix (b) against the reference (a).
+void ExpectAgree(const Evaluated& a, const Evaluated& b, double tolerance) {
+  EXPECT_NEAR(b.cost, a.cost, tolerance * a.cost);
+  ASSERT_EQ(a.gradient.size(), b.gradient.size());
+  double scale = 0.0;
+  for (double g : a.gradient) scale = std::max(scale, std::abs(g));
+  for (size_t k = 0; k < a.gradient.size(); ++k) {
+    EXPECT_NEAR(b.gradient[k], a.gradient[k], tolerance * scale) << "coordinate " << k;
+  }
+  EXPECT_LE((b.normal - a.normal).cwiseAbs().maxCoeff(),
+            tolerance * a.normal.cwiseAbs().maxCoeff());
+}
+
+// All of `scans` as one WallSliceCost block of `problem`, on `blocks`.
+WallSliceCost* AddSlice(const std::vector<WallLineMeasurement>& scans, double huber_scale,
+                        Blocks& blocks, ceres::Problem* problem) {
+  std::vector<int> all(scans.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  auto* cost = new WallSliceCost(scans, all, huber_scale);
+  problem->AddResidualBlock(cost, nullptr, blocks.mount.data(), blocks.wall.data(),
+                            blocks.bias.data(), blocks.time.data(), blocks.heading.data(),
+                            blocks.drift.data());
+  return cost;
+}
+
 void ExpectSame(double huber_scale, bool both_regions, bool standing = false,
                 double tolerance = 1e-12) {
   std::mt19937 rng(11);
@@ -113,25 +138,9 @@ void ExpectSame(double huber_scale, bool both_regions, bool standing = false,
     ASSERT_LE(beyond, static_cast<int>(scans.size()) - 4);
   }
   ceres::Problem slice;
-  std::vector<int> all(scans.size());
-  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
-  auto* cost = new WallSliceCost(scans, all, huber_scale);
-  ASSERT_EQ(cost->compressed(), standing);  // the form under test
-  slice.AddResidualBlock(cost, nullptr,
-                         slice_blocks.mount.data(), slice_blocks.wall.data(),
-                         slice_blocks.bias.data(), slice_blocks.time.data(),
-                         slice_blocks.heading.data(), slice_blocks.drift.data());
-  const Evaluated a = Evaluate(per_scan, per_scan_blocks);
-  const Evaluated b = Evaluate(slice, slice_blocks);
-  EXPECT_NEAR(b.cost, a.cost, tolerance * a.cost);
-  ASSERT_EQ(a.gradient.size(), b.gradient.size());
-  double scale = 0.0;
-  for (double g : a.gradient) scale = std::max(scale, std::abs(g));
-  for (size_t k = 0; k < a.gradient.size(); ++k) {
-    EXPECT_NEAR(b.gradient[k], a.gradient[k], tolerance * scale) << "coordinate " << k;
-  }
-  EXPECT_LE((b.normal - a.normal).cwiseAbs().maxCoeff(),
-            tolerance * a.normal.cwiseAbs().maxCoeff());
+  // The form under test.
+  ASSERT_EQ(AddSlice(scans, huber_scale, slice_blocks, &slice)->compressed(), standing);
+  ExpectAgree(Evaluate(per_scan, per_scan_blocks), Evaluate(slice, slice_blocks), tolerance);
 }
 
 TEST(WallSliceCostTest, SameCostGradientAndNormalMatrixAsOneHuberBlockPerScan) {
@@ -202,24 +211,8 @@ void ExpectWeightedIsCopies(bool standing, double tolerance) {
   ASSERT_GE(beyond, 4);
   ASSERT_LE(beyond, static_cast<int>(scans.size()) - 4);
   ceres::Problem slice;
-  std::vector<int> all(weighted.size());
-  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
-  auto* cost = new WallSliceCost(weighted, all, kHuber);
-  ASSERT_EQ(cost->compressed(), standing);
-  slice.AddResidualBlock(cost, nullptr,
-                         weighted_blocks.mount.data(), weighted_blocks.wall.data(),
-                         weighted_blocks.bias.data(), weighted_blocks.time.data(),
-                         weighted_blocks.heading.data(), weighted_blocks.drift.data());
-  const Evaluated a = Evaluate(copies, copies_blocks);
-  const Evaluated b = Evaluate(slice, weighted_blocks);
-  EXPECT_NEAR(b.cost, a.cost, tolerance * a.cost);
-  double scale = 0.0;
-  for (double g : a.gradient) scale = std::max(scale, std::abs(g));
-  for (size_t k = 0; k < a.gradient.size(); ++k) {
-    EXPECT_NEAR(b.gradient[k], a.gradient[k], tolerance * scale) << "coordinate " << k;
-  }
-  EXPECT_LE((b.normal - a.normal).cwiseAbs().maxCoeff(),
-            tolerance * a.normal.cwiseAbs().maxCoeff());
+  ASSERT_EQ(AddSlice(weighted, kHuber, weighted_blocks, &slice)->compressed(), standing);
+  ExpectAgree(Evaluate(copies, copies_blocks), Evaluate(slice, weighted_blocks), tolerance);
 }
 
 TEST(WallSliceCostTest, AnObservationOfWeightWIsWScansEachWithItsOwnLoss) {
