@@ -167,7 +167,7 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
   all_delays.scanner_offset_prior_sigma_s = kFlatDelayPriorS;
   all_delays.gnss_delay_prior_sigma_s = args.delay_prior_s;
   all_delays.heading_delay_prior_sigma_s = args.delay_prior_s;
-  const std::vector<CrbObservation> all_obs = AllSessionObservations(config, preset, 2);
+  const std::vector<CrbObservation> all_obs = AllSessionObservations(config, preset, args.all_min_beams);
   const auto all_t0 = std::chrono::steady_clock::now();
   const CrbResult all_crb =
       ComputeCrb(config, preset, all_obs, kAllSources, all_delays, args.max_all_obs);

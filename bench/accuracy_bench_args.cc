@@ -12,7 +12,7 @@ namespace wallcal::bench {
   std::fprintf(stderr,
                "accuracy_bench: %s\nusage: accuracy_bench [--runs N] [--scenario NAME] "
                "[--first-seed S] [--csv FILE] [--breakdown] [--max-crb-obs M] [--max-all-obs M] "
-               "[--delay-prior S] [--options FILE] [--sim FILE] [--crb-only] [--keep] [--list]\n",
+               "[--delay-prior S] [--all-min-beams N] [--options FILE] [--sim FILE] [--crb-only] [--keep] [--list]\n",
                why.c_str());
   std::exit(2);
 }
@@ -72,6 +72,9 @@ Args ParseArgs(int argc, char** argv) {
       args.max_crb_obs = std::atoi(value().c_str());
     } else if (a == "--max-all-obs") {
       args.max_all_obs = std::atoi(value().c_str());
+    } else if (a == "--all-min-beams") {
+      args.all_min_beams = std::atoi(value().c_str());
+      if (args.all_min_beams < 2) Usage("--all-min-beams must be >= 2");
     } else if (a == "--delay-prior") {
       args.delay_prior_s = std::atof(value().c_str());
     } else if (a == "--crb-only") {

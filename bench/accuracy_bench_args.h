@@ -29,6 +29,9 @@ struct Args {
   // and the priors of the GNSS and heading delays (the scanner offset's is flat).
   int max_all_obs = 2400;
   double delay_prior_s = 0.05;
+  // A scan's line on a surveyed wall enters the all-data bound when at least this many
+  // unoccluded beams return from it (2: every line that has a direction).
+  int all_min_beams = 2;
   std::string options;  // calibrate options for every scenario instead of bench/calibrate_*.yaml
   std::string sim;      // --sim FILE: one scenario from this simulate config instead
   bool crb_only = false;  // --crb-only: the all-data bound (and on half the scans), no runs

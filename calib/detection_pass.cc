@@ -105,7 +105,8 @@ constexpr size_t kBatchScans = 256;
 // The walls in one scan: an observation per wall found in scan->observations; scan->why says
 // why when there is none.
 void DetectInScan(const PassContext& context, const PassRequest& request, PendingScan* pending) {
-  const io::DetectorOptions& detector = *context.detector;
+  io::DetectorOptions detector = *context.detector;
+  if (request.gates.min_inliers > 0) detector.min_inliers = request.gates.min_inliers;
   const VehiclePose& pose = pending->pose;
   ScanSkip* why = &pending->why;
   thread_local ScanPoints points;  // reused: no allocation per scan once warm

@@ -42,6 +42,10 @@ struct Gates {
   double angle_rad = 0.0;
   double offset_m = 0.0;
   bool use_segment = false;
+  // Fewest inliers a line needs inside these gates (> 0: instead of detector.min_inliers). A
+  // tight gate around a surveyed wall leaves room for little but the wall, so a short stretch
+  // of it seen at the edge of the field of view can be taken (io::DetectorOptions).
+  int min_inliers = 0;
 };
 
 // What every pass over a session shares.

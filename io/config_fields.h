@@ -29,6 +29,7 @@ void VisitDetector(V& v, DetectorOptions& o) {
   v.Number("wide_offset_gate_m", o.wide_offset_gate_m);
   v.Scaled("tight_angle_gate_deg", o.tight_angle_gate_rad, kRadToDeg);
   v.Number("tight_offset_gate_m", o.tight_offset_gate_m);
+  v.Integer("tight_min_inliers", o.tight_min_inliers);
   v.Number("wall_extent_margin_m", o.wall_extent_margin_m);
 }
 

@@ -57,6 +57,7 @@ void DetectorOptions::Validate() const {
   CheckPositive("detector.hough_rho_step_m", hough_rho_step_m);
   CheckRange("detector.hough_theta_step_deg", hough_theta_step_rad * kRadToDeg, 0.001, 10.0);
   CheckAtLeast("detector.min_inliers", min_inliers, 3);
+  CheckAtLeast("detector.tight_min_inliers", tight_min_inliers, 3);
   CheckPositive("detector.inlier_band_m", inlier_band_m);
   CheckPositive("detector.refine_sigma_factor", refine_sigma_factor);
   CheckPositive("detector.mixed_pixel_jump_m", mixed_pixel_jump_m);

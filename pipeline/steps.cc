@@ -91,7 +91,7 @@ calib::Gates TightGates(const CalibrationResult& result) {
   return calib::Gates{
       std::max(detector.tight_angle_gate_rad, 5.0 * std::sqrt(std::max(0.0, c1(2, 2)))),
       std::max(detector.tight_offset_gate_m, 5.0 * std::sqrt(std::max(0.0, c1(0, 0) + c1(1, 1)))),
-      true};
+      true, detector.tight_min_inliers};
 }
 
 void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* result,

@@ -30,6 +30,7 @@ TEST(ShippedConfigTest, CalibrateYamlEqualsBuiltInDefaults) {
   EXPECT_NEAR(file.detector.wide_offset_gate_m, d.detector.wide_offset_gate_m, tol);
   EXPECT_NEAR(file.detector.tight_angle_gate_rad, d.detector.tight_angle_gate_rad, tol);
   EXPECT_NEAR(file.detector.tight_offset_gate_m, d.detector.tight_offset_gate_m, tol);
+  EXPECT_EQ(file.detector.tight_min_inliers, d.detector.tight_min_inliers);
   EXPECT_NEAR(file.detector.wall_extent_margin_m, d.detector.wall_extent_margin_m, tol);
   EXPECT_NEAR(file.alignment.max_gap_periods, d.alignment.max_gap_periods, tol);
   EXPECT_NEAR(file.alignment.stationary_speed_mps, d.alignment.stationary_speed_mps, tol);
