@@ -123,6 +123,7 @@ void ReadCharacterisationKeys(MapReader& section, SimulationConfig& config) {
   section.Number("heading_latency_s", config.heading_latency_s);
   section.Number("scanner_latency_s", config.scanner_latency_s);
   section.Number("station_distance_far_m", config.station_distance_far_m);
+  section.Number("drive_reverse_m", config.drive_reverse_m);
   const YAML::Node node = section.Find("scanner_truth");
   if (!node.IsDefined()) return;
   MapReader truth = section.Child("scanner_truth", node);

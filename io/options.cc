@@ -209,6 +209,7 @@ void SimulationConfig::Validate() const {
   CheckRange(t + "drift.amplitude_m", truth_drift_amplitude_m, -1.0, 1.0);
   CheckNonNegative(t + "drift.time_constant_s", truth_drift_time_constant_s);
   CheckNonNegative(s + "station_distance_far_m", station_distance_far_m);
+  CheckRange(s + "drive_reverse_m", drive_reverse_m, 0.0, 100.0);
 }
 
 }  // namespace wallcal::io

@@ -198,6 +198,12 @@ struct SimulationConfig {
   double dwell_s = 4.0;                // time stopped at each station
   double drive_speed_mps = 1.0;
   double lateral_spread_m = 6.0;       // station positions spread along the wall
+  // > 0: each drive between two stations backs the vehicle out to a point this far (m) behind
+  // the two stations' midpoint and drives it forward into the next station, along curves that
+  // keep its velocity on its own axis: a car-like vehicle (a tractor cannot move sideways),
+  // turning while it moves. 0: the drive moves it on the straight line between the stations
+  // (sideways, along the wall), as before. Written to truth.yaml only when set.
+  double drive_reverse_m = 0.0;
   // Continuous driving (no stops): the vehicle sweeps the stations' headings and positions once,
   // smoothly, over continuous_duration_s (0: as long as the stop-and-go plan), while weaving
   // forward and back along the wall normal by ±weave_amplitude_m at a mean speed of

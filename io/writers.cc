@@ -442,6 +442,9 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
   if (config.station_distance_far_m != 0.0) {
     out += "  station_distance_far_m: " + ShortestNumber(config.station_distance_far_m) + "\n";
   }
+  if (config.drive_reverse_m != 0.0) {
+    out += "  drive_reverse_m: " + ShortestNumber(config.drive_reverse_m) + "\n";
+  }
   if (config.HasScannerTruth()) {
     std::string truth;
     auto add = [&truth](const char* key, double value) {

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -76,7 +77,28 @@ struct Segment {
   Eigen::Vector2d p0_enu_m = Eigen::Vector2d::Zero(), p1_enu_m = Eigen::Vector2d::Zero();
   double yaw0_rad = 0.0, yaw1_rad = 0.0;
   bool stationary = true;
+  // A drive that reverses (drive_reverse_m > 0): two cubic Bézier curves, backing out from p0
+  // to a cusp and driving forward from it to p1, the second starting at cusp_s.
+  bool reverses = false;
+  std::array<Eigen::Vector2d, 4> back_out, drive_in;
+  double cusp_s = 0.0;
 };
+
+// A cubic Bézier curve's point and derivative (per unit of u) at u in [0, 1].
+inline Eigen::Vector2d BezierAt(const std::array<Eigen::Vector2d, 4>& c, double u) {
+  const double v = 1.0 - u;
+  return v * v * v * c[0] + 3.0 * v * v * u * c[1] + 3.0 * v * u * u * c[2] + u * u * u * c[3];
+}
+inline Eigen::Vector2d BezierTangent(const std::array<Eigen::Vector2d, 4>& c, double u) {
+  const double v = 1.0 - u;
+  return 3.0 * v * v * (c[1] - c[0]) + 6.0 * v * u * (c[2] - c[1]) + 3.0 * u * u * (c[3] - c[2]);
+}
+// The length of a cubic Bézier curve (a 64-chord polyline: well within a millimetre here).
+inline double BezierLength(const std::array<Eigen::Vector2d, 4>& c) {
+  double length_m = 0.0;
+  for (int k = 0; k < 64; ++k) length_m += (BezierAt(c, (k + 1) / 64.0) - BezierAt(c, k / 64.0)).norm();
+  return length_m;
+}
 
 struct Pose {
   Eigen::Vector2d antenna_enu_m;
@@ -105,12 +127,14 @@ class Trajectory {
   // s(τ) = (1 − cos πτ)/2 in both position and yaw, so speed and yaw rate are zero at both
   // stations and the vehicle never jerks; position moves on the straight line between the
   // stations, which all lie on one line parallel to the wall, so the vehicle never nears it.
+  // With drive_reverse_m > 0 a drive reverses out and drives in instead (ReversingAt).
   Pose At(double t_s) const {
     const double t = std::clamp(t_s, 0.0, duration_s());
     if (weave_) return WeaveAt(t);
     auto it = std::upper_bound(segments_.begin(), segments_.end(), t,
                                [](double v, const Segment& s) { return v < s.t0_s; });
     const Segment& seg = it == segments_.begin() ? *it : *std::prev(it);  // t >= 0 = first t0
+    if (seg.reverses) return ReversingAt(seg, t);
     double s = 0.0;
     if (!seg.stationary && seg.t1_s > seg.t0_s) {
       const double tau = std::clamp((t - seg.t0_s) / (seg.t1_s - seg.t0_s), 0.0, 1.0);
@@ -121,6 +145,22 @@ class Trajectory {
   }
 
  private:
+  // A reversing drive: along each curve the parameter follows the cosine profile in time, so the
+  // vehicle is at rest at both stations and at the cusp; the heading is the direction of
+  // travel (backwards on the first curve): no sideways motion, as for a car-like vehicle.
+  static Pose ReversingAt(const Segment& seg, double t) {
+    const bool out = t < seg.cusp_s;
+    const double a = out ? seg.t0_s : seg.cusp_s, b = out ? seg.cusp_s : seg.t1_s;
+    const double tau = b > a ? std::clamp((t - a) / (b - a), 0.0, 1.0) : 1.0;
+    const double u = 0.5 * (1.0 - std::cos(kPi * tau));
+    const auto& curve = out ? seg.back_out : seg.drive_in;
+    const Eigen::Vector2d heading = out ? Eigen::Vector2d(-BezierTangent(curve, u))
+                                        : BezierTangent(curve, u);
+    const double yaw_rad =
+        seg.yaw0_rad + WrapAngle(std::atan2(heading.y(), heading.x()) - seg.yaw0_rad);
+    return {BezierAt(curve, u), yaw_rad, false};
+  }
+
   // The sweep follows the same cosine profile as a drive, over the whole run, so heading and
   // lateral position pass every station's values once; the weave r(t) = A·sin(2πt/T) moves the
   // vehicle towards and away from the wall (forward/reverse for a vehicle facing it) and never
@@ -208,6 +248,23 @@ inline Trajectory PlanTrajectory(const io::SimulationConfig& config, const io::S
     drive.yaw0_rad = yaws[i];
     drive.yaw1_rad = yaws[i + 1];
     drive.stationary = false;
+    if (config.drive_reverse_m > 0.0) {
+      // Back out to a cusp drive_reverse_m behind the two stations' midpoint, facing the mean
+      // heading, then drive in. Each curve leaves and meets its ends along the vehicle's axis
+      // (control points a third of the chord away); each half takes its length over the speed.
+      const double cusp_yaw = yaws[i] + 0.5 * (yaws[i + 1] - yaws[i]);
+      const Eigen::Vector2d cusp = 0.5 * (positions[i] + positions[i + 1]) -
+                                   config.drive_reverse_m * Direction(cusp_yaw);
+      const double l_out = (cusp - positions[i]).norm() / 3.0;
+      const double l_in = (positions[i + 1] - cusp).norm() / 3.0;
+      drive.reverses = true;
+      drive.back_out = {positions[i], positions[i] - l_out * Direction(yaws[i]),
+                        cusp + l_out * Direction(cusp_yaw), cusp};
+      drive.drive_in = {cusp, cusp + l_in * Direction(cusp_yaw),
+                        positions[i + 1] - l_in * Direction(yaws[i + 1]), positions[i + 1]};
+      drive.cusp_s = t + std::max(0.5, BezierLength(drive.back_out) / config.drive_speed_mps);
+      drive.t1_s = drive.cusp_s + std::max(0.5, BezierLength(drive.drive_in) / config.drive_speed_mps);
+    }
     segments.push_back(drive);
     t = drive.t1_s;
   }

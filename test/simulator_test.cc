@@ -684,6 +684,61 @@ TEST(SimulatorTest, ContinuousDrivingNeverStopsAndSweepsTheStationPoses) {
   EXPECT_LT(mean_speed, 1.3 * config.drive_speed_mps);
 }
 
+// A car-like vehicle between stops (drive_reverse_m): it backs out and drives in, its velocity
+// along its own axis throughout (no sideways motion), at rest at each station and at the cusp,
+// and it arrives at every station's pose. Checked on TruePosesAt every 5 ms by differences.
+TEST(SimulatorTest, ReversingDrivesMoveAlongTheVehicleAxisOnly) {
+  io::SimulationConfig config = DefaultConfig();
+  config.drive_reverse_m = 4.0;
+  io::SimulationConfig sideways = config;
+  sideways.drive_reverse_m = 0.0;
+  const double duration_s = RunDurationS(config);
+  EXPECT_GT(duration_s, RunDurationS(sideways) + 9 * 8.0 / config.drive_speed_mps * 0.9);
+  constexpr double kStepS = 0.005;
+  std::vector<double> times;
+  for (double t = 0.0; t <= duration_s; t += kStepS) times.push_back(t);
+  const std::vector<SimTruthPose> poses = TruePosesAt(config, times);
+  double max_sideways_mps = 0.0, max_speed_mps = 0.0, max_rate_rps = 0.0, farthest_m = 0.0;
+  int stations = 0;
+  for (size_t k = 1; k + 1 < poses.size(); ++k) {
+    const Eigen::Vector2d v =
+        (poses[k + 1].antenna_enu_m - poses[k - 1].antenna_enu_m) / (2.0 * kStepS);
+    const double yaw = poses[k].yaw_enu_rad;
+    const Eigen::Vector2d left(-std::sin(yaw), std::cos(yaw));
+    max_sideways_mps = std::max(max_sideways_mps, std::abs(left.dot(v)));
+    max_speed_mps = std::max(max_speed_mps, v.norm());
+    max_rate_rps = std::max(max_rate_rps, std::abs(poses[k + 1].yaw_enu_rad -
+                                                   poses[k - 1].yaw_enu_rad) / (2.0 * kStepS));
+    farthest_m = std::max(farthest_m, 12.0 - poses[k].antenna_enu_m.y());  // the wall: y = 12 m
+    if (poses[k].stationary && !poses[k - 1].stationary) ++stations;
+  }
+  // Sideways speed: only what the 5 ms differences make of the curvature (O(step²)).
+  EXPECT_LT(max_sideways_mps, 1e-3) << "speed " << max_speed_mps;
+  EXPECT_GT(max_speed_mps, config.drive_speed_mps);
+  EXPECT_LT(max_speed_mps, 2.0 * config.drive_speed_mps);
+  // A tractor's turn rates (the sessions turn at up to 12°/s).
+  EXPECT_LT(max_rate_rps, 15.0 * kPi / 180.0);
+  // Backs out to about drive_reverse_m behind the stations' line (8 m from the wall).
+  EXPECT_NEAR(farthest_m, config.station_distance_m + config.drive_reverse_m, 0.5);
+  EXPECT_EQ(stations, config.num_stations - 1);  // the first station starts the run
+  // Every station is reached at rest, facing as planned: the sideways plan's poses there.
+  for (size_t k = 0; k < poses.size(); ++k) {
+    if (!poses[k].stationary) continue;
+    const double t = times[k];
+    bool matched = false;
+    for (double s = 0.0; s <= RunDurationS(sideways); s += 0.05) {
+      const SimTruthPose p = TruePosesAt(sideways, {s}).front();
+      if (p.stationary && (p.antenna_enu_m - poses[k].antenna_enu_m).norm() < 1e-9 &&
+          std::abs(p.yaw_enu_rad - poses[k].yaw_enu_rad) < 1e-9) {
+        matched = true;
+        break;
+      }
+    }
+    ASSERT_TRUE(matched) << "stationary pose at t = " << t << " is not a station";
+    k += 50;  // one check per 0.25 s of a dwell is plenty
+  }
+}
+
 TEST(SimulatorTest, ContinuousDurationAndTruthHelpersFollowTheConfig) {
   io::SimulationConfig config = DefaultConfig();
   config.continuous = true;
