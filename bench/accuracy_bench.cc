@@ -184,6 +184,12 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
                 1000.0 * std::sqrt(all_crb.crb(1, 1)), kRadToDeg * std::sqrt(all_crb.crb(2, 2)),
                 all_half.observations_used, 1000.0 * std::sqrt(all_half.crb(0, 0)),
                 1000.0 * std::sqrt(all_half.crb(1, 1)), kRadToDeg * std::sqrt(all_half.crb(2, 2)));
+    if (all_crb.has_delay_bound) {
+      std::printf("%s: all-data bound on the timing: scanner clock offset %.2f ms, heading delay "
+                  "after the GNSS epochs %.2f ms, their sum %.2f ms\n",
+                  scenario.name.c_str(), 1000.0 * all_crb.delay_bound_dt_s,
+                  1000.0 * all_crb.delay_bound_dh_s, 1000.0 * all_crb.delay_bound_sum_s);
+    }
     return;
   }
 
@@ -450,10 +456,10 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
       normalised.push_back(errors.back() / c.time_offset_sigmas_s[k]);
     }
     std::printf("ceres scanner clock offset (truth %.1f ms + the fitted GNSS delay): mean %.2f ms, RMS error %.2f ms, "
-                "mean σ %.2f ms, RMS(error/σ) %.2f over %zu runs.\n",
+                "mean σ %.2f ms, RMS(error/σ) %.2f over %zu runs; all-data bound %.2f ms.\n",
                 1000.0 * delays.scanner_offset_s, 1000.0 * Mean(c.time_offsets_s),
                 1000.0 * Rms(errors), 1000.0 * Mean(c.time_offset_sigmas_s), Rms(normalised),
-                c.time_offsets_s.size());
+                c.time_offsets_s.size(), 1000.0 * all_crb.delay_bound_dt_s);
   }
   if (!c.heading_delay_errors_s.empty()) {
     std::vector<double> errors, normalised;
@@ -463,11 +469,12 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
     }
     std::printf("ceres heading delay after the GNSS epochs (truth %.1f ms − the fitted GNSS delay "
                 "%.1f ms): mean error %.2f ms, RMS error %.2f ms, mean σ %.2f ms, RMS(error/σ) %.2f over %zu runs (determined in "
-                "%d).\n",
+                "%d); all-data bound %.2f ms.\n",
                 1000.0 * config.heading_latency_s, 1000.0 * delays.gnss_s,
                 1000.0 * Mean(c.heading_delay_errors_s),
                 1000.0 * Rms(errors), 1000.0 * Mean(c.heading_delay_sigmas_s), Rms(normalised),
-                c.heading_delay_errors_s.size(), c.heading_delay_determined);
+                c.heading_delay_errors_s.size(), c.heading_delay_determined,
+                1000.0 * all_crb.delay_bound_dh_s);
   }
   if (!c.turn_timing_errors_s.empty()) {
     std::vector<double> normalised;
@@ -475,10 +482,11 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
       normalised.push_back(c.turn_timing_errors_s[k] / c.turn_timing_sigmas_s[k]);
     }
     std::printf("ceres clock offset + heading delay (what turns need): mean error %.2f ms, RMS "
-                "error %.2f ms, mean σ %.2f ms, RMS(error/σ) %.2f over %zu runs.\n",
+                "error %.2f ms, mean σ %.2f ms, RMS(error/σ) %.2f over %zu runs; all-data bound "
+                "%.2f ms.\n",
                 1000.0 * Mean(c.turn_timing_errors_s), 1000.0 * Rms(c.turn_timing_errors_s),
                 1000.0 * Mean(c.turn_timing_sigmas_s), Rms(normalised),
-                c.turn_timing_errors_s.size());
+                c.turn_timing_errors_s.size(), 1000.0 * all_crb.delay_bound_sum_s);
   }
   if (!c.gnss_latencies_s.empty()) {
     std::vector<double> errors;

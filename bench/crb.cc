@@ -392,6 +392,22 @@ CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset
   const Eigen::MatrixXd bound = lu.inverse();
   result.crb = bound.topLeftCorner<3, 3>();
   result.ok = true;
+  // The timing calibrate reports, as combinations of the unknown delays (kind -> column).
+  int column_of[3] = {-1, -1, -1};
+  for (size_t d = 0; d < delay_kind.size(); ++d) column_of[delay_kind[d]] = 3 + static_cast<int>(d);
+  if (column_of[0] >= 0 && column_of[2] >= 0) {
+    const auto sigma_of = [&](double scanner, double gnss, double heading) {
+      Eigen::VectorXd c = Eigen::VectorXd::Zero(p);
+      c[column_of[0]] = scanner;
+      if (column_of[1] >= 0) c[column_of[1]] = gnss;
+      c[column_of[2]] = heading;
+      return std::sqrt(std::max(0.0, c.dot(bound * c)));
+    };
+    result.has_delay_bound = true;
+    result.delay_bound_dt_s = sigma_of(1.0, -1.0, 0.0);
+    result.delay_bound_dh_s = sigma_of(0.0, 1.0, -1.0);
+    result.delay_bound_sum_s = sigma_of(1.0, 0.0, -1.0);
+  }
   if (std::all_of(rows.begin(), rows.end(), [](const Row& r) { return r.has_residual; })) {
     Eigen::VectorXd r(2 * n);
     for (int a = 0; a < n; ++a) r.segment<2>(2 * a) = rows[a].residual;

@@ -70,6 +70,13 @@ struct CrbResult {
   // match the bound if C describes the simulation: a check of the bound itself.
   bool has_oracle = false;
   Eigen::Vector3d oracle_error = Eigen::Vector3d::Zero();
+  // When the scanner offset and the heading delay are both unknowns: the bound (1σ, s) on the
+  // timing calibrate reports, relative to the GNSS epochs: the position's time shift (calibrate's
+  // scanner clock offset dt = offset − GNSS delay), the heading's delay after the positions
+  // (δh = GNSS delay − heading delay) and the heading's time shift (dt + δh, what turns need).
+  // The data fix these whatever the priors do with the common part.
+  bool has_delay_bound = false;
+  double delay_bound_dt_s = 0.0, delay_bound_dh_s = 0.0, delay_bound_sum_s = 0.0;
 };
 
 // The delays as unknowns. Each prior σ > 0 makes that delay an unknown of the bound with a
