@@ -336,14 +336,15 @@ PassOutcome DetectionPass(const PassContext& context, const PassRequest& request
   return reading;
 }
 
-int ShiftObservations(const PoseInterpolator& poses, double dt_s,
+int ShiftObservations(const PoseInterpolator& poses, double dt_s, double heading_shift_s,
                       std::vector<WallObservation>* observations) {
   std::vector<WallObservation> kept;
   kept.reserve(observations->size());
   int dropped = 0;
   for (WallObservation& o : *observations) {
     VehiclePose pose;
-    if (poses.At(o.pose.stamp_s + dt_s, &pose) != PoseStatus::kOk) {
+    if (poses.At(o.pose.stamp_s + dt_s, o.pose.heading_shift_s + heading_shift_s, &pose) !=
+        PoseStatus::kOk) {
       ++dropped;
       continue;
     }

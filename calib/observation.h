@@ -75,6 +75,10 @@ struct VehiclePose {
   // slightly different time: p(t + dt) ≈ p + v·dt, ψ(t + dt) ≈ ψ + ω·dt (scanner clock offset).
   Eigen::Vector2d velocity_local_mps = Eigen::Vector2d::Zero();  // antenna, local frame
   double yaw_rate_rps = 0.0;  // ccw
+  // The heading (yaw_rad, yaw_rate_rps) was taken this much later than the position (s): the
+  // heading stream's delay after the GNSS epochs as far as the clock rounds have found it
+  // (solvers/solve_policy.h); 0 from a plain PoseInterpolator::At.
+  double heading_shift_s = 0.0;
   // The median GNSS sample period of the stream the position was interpolated from (s; 0:
   // unknown): a moving scan's interpolation error and how many scans share one fix's noise.
   double gnss_period_s = 0.0;

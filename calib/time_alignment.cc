@@ -158,10 +158,11 @@ bool PoseInterpolator::YawAt(double stamp_s, double* yaw_rad, PoseStatus* failur
   return true;
 }
 
-bool PoseInterpolator::CubicAt(double stamp_s, Eigen::Vector2d* p_local_m, double* yaw_rad) const {
-  // Four samples of each stream around stamp_s, every gap bridgeable; otherwise no cubic.
+bool PoseInterpolator::CubicAt(double stamp_s, double yaw_stamp_s, Eigen::Vector2d* p_local_m,
+                               double* yaw_rad) const {
+  // Four samples of each stream around its time, every gap bridgeable; otherwise no cubic.
   const size_t lo = Bracket(positions_, stamp_s);
-  const size_t yo = Bracket(yaws_, stamp_s);
+  const size_t yo = Bracket(yaws_, yaw_stamp_s);
   if (lo < 1 || lo + 2 >= positions_.size() || yo < 1 || yo + 2 >= yaws_.size()) return false;
   for (size_t k = lo - 1; k < lo + 2; ++k) {
     if (positions_[k + 1].stamp_s - positions_[k].stamp_s > gnss_max_gap_s_) return false;
@@ -169,15 +170,15 @@ bool PoseInterpolator::CubicAt(double stamp_s, Eigen::Vector2d* p_local_m, doubl
   for (size_t k = yo - 1; k < yo + 2; ++k) {
     if (yaws_[k + 1].stamp_s - yaws_[k].stamp_s > heading_max_gap_s_) return false;
   }
-  const auto weights = [stamp_s](const auto& v, size_t k) {
-    const double f = (stamp_s - v[k].stamp_s) / (v[k + 1].stamp_s - v[k].stamp_s);
+  const auto weights = [](const auto& v, size_t k, double t_s) {
+    const double f = (t_s - v[k].stamp_s) / (v[k + 1].stamp_s - v[k].stamp_s);
     return HermiteWeights(v[k - 1].stamp_s, v[k].stamp_s, v[k + 1].stamp_s, v[k + 2].stamp_s, f);
   };
-  const std::array<double, 4> wp = weights(positions_, lo);
+  const std::array<double, 4> wp = weights(positions_, lo, stamp_s);
   *p_local_m = Eigen::Vector2d::Zero();
   for (int j = 0; j < 4; ++j) *p_local_m += wp[j] * positions_[lo - 1 + j].p_local_m;
   // Yaw: the samples unwrapped about yaws_[yo] (shorter arcs), then wrapped back.
-  const std::array<double, 4> wy = weights(yaws_, yo);
+  const std::array<double, 4> wy = weights(yaws_, yo, yaw_stamp_s);
   const double base = yaws_[yo].yaw_rad;
   double yaw = 0.0;
   for (int j = 0; j < 4; ++j) yaw += wy[j] * WrapAngle(yaws_[yo - 1 + j].yaw_rad - base);
@@ -185,16 +186,18 @@ bool PoseInterpolator::CubicAt(double stamp_s, Eigen::Vector2d* p_local_m, doubl
   return true;
 }
 
-PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
-  if (!(stamp_s >= start_s_)) return PoseStatus::kBeforeStart;
-  if (stamp_s > end_s_) return PoseStatus::kAfterEnd;
+PoseStatus PoseInterpolator::At(double stamp_s, double heading_shift_s, VehiclePose* pose) const {
+  const double yaw_stamp_s = stamp_s + heading_shift_s;
+  if (!(stamp_s >= start_s_) || !(yaw_stamp_s >= start_s_)) return PoseStatus::kBeforeStart;
+  if (stamp_s > end_s_ || yaw_stamp_s > end_s_) return PoseStatus::kAfterEnd;
   Eigen::Vector2d p_local_m;
   double sigma_m = 0.0, yaw_rad = 0.0;
   PoseStatus failure = PoseStatus::kOk;
   if (!PositionAt(stamp_s, &p_local_m, &sigma_m, &failure)) return failure;
-  if (!YawAt(stamp_s, &yaw_rad, &failure)) return failure;
+  if (!YawAt(yaw_stamp_s, &yaw_rad, &failure)) return failure;
 
   pose->stamp_s = stamp_s;
+  pose->heading_shift_s = heading_shift_s;
   pose->antenna_local_m = p_local_m;
   pose->yaw_rad = yaw_rad;
   pose->gnss_sigma_m = sigma_m;
@@ -219,7 +222,7 @@ PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
     // Driving: the pose from cubics through the samples around (a straight chord between two
     // GNSS fixes misplaces a vehicle speeding up at a m/s² by up to a·T²/8: 4 mm at 3 m/s² and
     // 10 Hz, the same sign over half a drive). Linear where a neighbour is missing.
-    CubicAt(stamp_s, &pose->antenna_local_m, &pose->yaw_rad);
+    CubicAt(stamp_s, yaw_stamp_s, &pose->antenna_local_m, &pose->yaw_rad);
     // Moving scans count in stretches of kMovingStretchS as "stations" (geometry checks,
     // bootstrap by station); their GNSS error is sliced finer, below.
     pose->segment = static_cast<int>(dwells_.size()) + SliceIndex(stamp_s - start_s_, kMovingStretchS);
@@ -250,8 +253,9 @@ PoseStatus PoseInterpolator::At(double stamp_s, VehiclePose* pose) const {
   const double narrow_s =
       between_stops ? std::max(gnss_period_s_, heading_period_s_) : wide_s;
   const auto rates = [&](double half_s, bool velocity) {
-    const double t0 = std::max(start_s_, stamp_s - half_s);
-    const double t1 = std::min(end_s_, stamp_s + half_s);
+    const double centre_s = velocity ? stamp_s : yaw_stamp_s;
+    const double t0 = std::max(start_s_, centre_s - half_s);
+    const double t1 = std::min(end_s_, centre_s + half_s);
     if (!(t1 > t0)) return;
     PoseStatus ignored = PoseStatus::kOk;
     if (velocity) {

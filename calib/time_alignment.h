@@ -70,7 +70,12 @@ class PoseInterpolator {
   // window (clipped to the streams; a few mm/s of noise inside a dwell). Inside a dwell also
   // dwell_yaw_rad / dwell_yaw_samples / dwell_mid_s from the Dwell; outside them 0.
   // On any other status *pose is left unchanged. O(log n).
-  PoseStatus At(double stamp_s, VehiclePose* pose) const;
+  PoseStatus At(double stamp_s, VehiclePose* pose) const { return At(stamp_s, 0.0, pose); }
+  // The same with the heading (yaw_rad, yaw_rate_rps) taken heading_shift_s later than the
+  // position: the heading stream's delay relative to the GNSS epochs, as found so far
+  // (pose.heading_shift_s). Dwells, segments and slices follow stamp_s; both times must lie
+  // in [start_s(), end_s()].
+  PoseStatus At(double stamp_s, double heading_shift_s, VehiclePose* pose) const;
 
   const std::vector<Dwell>& dwells() const { return dwells_; }
   double gnss_period_s() const { return gnss_period_s_; }        // median GNSS sample period
@@ -84,8 +89,10 @@ class PoseInterpolator {
                   PoseStatus* failure) const;
   bool YawAt(double stamp_s, double* yaw_rad, PoseStatus* failure) const;
   // Cubic Hermite interpolation of both streams (central-difference tangents) for a moving
-  // vehicle; false (outputs untouched) unless two samples each side lie within the max gaps.
-  bool CubicAt(double stamp_s, Eigen::Vector2d* p_local_m, double* yaw_rad) const;
+  // vehicle, the position at stamp_s and the yaw at yaw_stamp_s; false (outputs untouched)
+  // unless two samples each side lie within the max gaps.
+  bool CubicAt(double stamp_s, double yaw_stamp_s, Eigen::Vector2d* p_local_m,
+               double* yaw_rad) const;
   void FindDwells();
 
   std::vector<PositionSample> positions_;

@@ -21,6 +21,7 @@
 #include "io/offsets_reader.h"
 #include "pipeline/checks.h"
 #include "pipeline/config_dirs.h"
+#include "pipeline/stream_delays.h"
 #include "pipeline/steps.h"
 #include "solvers/mount_problem.h"
 #include "solvers/solve_policy.h"
@@ -58,28 +59,8 @@ void StopAfterFirstPass(const solvers::MountEstimate& estimate, const calib::Pas
   result->scans_total = pass.scans_read + pass.line_skips.Problems();
 }
 
-// A delay is determined when the data shrink its prior σ to less than half.
-StreamDelay ClassifyDelay(bool estimated, double value_s, double sigma_s, double prior_sigma_s) {
-  StreamDelay delay;
-  delay.prior_sigma_s = prior_sigma_s;
-  if (!estimated) return delay;
-  delay.value_s = value_s;
-  delay.sigma_s = sigma_s;
-  delay.status = sigma_s > 0.0 && sigma_s < 0.5 * prior_sigma_s ? DelayStatus::kDetermined
-                                                               : DelayStatus::kNotDetermined;
-  return delay;
-}
-
 }  // namespace
 
-const char* DelayStatusName(DelayStatus status) {
-  switch (status) {
-    case DelayStatus::kNotEstimated: return "not estimated";
-    case DelayStatus::kNotDetermined: return "not determined (marginalised under its prior)";
-    case DelayStatus::kDetermined: return "determined";
-  }
-  return "?";
-}
 
 void Say(const ProgressFn& progress, Stage stage, const std::string& text) {
   if (progress) progress(Progress{stage, text, 0, 0, false});
@@ -501,12 +482,16 @@ void Solve(const CalibrateRequest& request, const ProgressFn& progress,
     result->drives_timing_sigma_s = solvers::DrivesTimingSigma(
         result->observations, result->walls, estimate.mount, estimate.time_covariance);
   }
-  result->scanner_offset = ClassifyDelay(estimate.time_offset_estimated, estimate.time_offset_s,
-                                         estimate.time_offset_sigma_s,
-                                         result->options.solver.time_offset_sigma_s);
-  result->heading_delay = ClassifyDelay(estimate.heading_delay_estimated, estimate.heading_delay_s,
-                                        estimate.heading_delay_sigma_s,
-                                        estimate.heading_delay_prior_sigma_s);
+  const double clock_prior_s = result->options.solver.time_offset_sigma_s;
+  const double heading_prior_s =
+      estimate.heading_delay_estimated ? estimate.heading_delay_prior_sigma_s : 0.0;
+  const Eigen::Matrix2d& time_covariance = estimate.time_covariance;
+  result->scanner_offset = ClassifyDelay(
+      estimate.time_offset_estimated, estimate.time_offset_s, estimate.time_offset_sigma_s,
+      clock_prior_s, DelayOwnSigma(time_covariance, clock_prior_s, heading_prior_s, 0));
+  result->heading_delay = ClassifyDelay(
+      estimate.heading_delay_estimated, estimate.heading_delay_s, estimate.heading_delay_sigma_s,
+      heading_prior_s, DelayOwnSigma(time_covariance, clock_prior_s, heading_prior_s, 1));
 }
 
 void Analyse(const CalibrateRequest& request, const ProgressFn& progress,

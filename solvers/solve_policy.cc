@@ -43,23 +43,43 @@ PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>
   outcome.estimate = SolveMountCeres(*observations, walls, options, initial, force, nullptr, &warm,
                                      observation_weight);
   if (!outcome.estimate.usable || !outcome.estimate.time_offset_estimated) return outcome;
-  double shifted_s = 0.0;
-  while (outcome.clock_rounds < kClockOffsetRounds && outcome.estimate.usable &&
-         std::abs(outcome.estimate.time_offset_s) >
-             std::max(kClockOffsetToleranceS,
-                      kClockOffsetSigmaFraction * outcome.estimate.time_offset_sigma_s)) {
+  // A round moves the positions by the clock offset dt and the headings by what turns need,
+  // dt + δh (the headings are stamped on the same clock, δh after the positions): each when it
+  // is beyond the tolerance and a quarter of its own σ. On drives along one wall only the sum
+  // is in the data; it is moved while dt, which its prior keeps small, stays linear.
+  const auto worth_moving = [](double value_s, double sigma_s) {
+    return std::abs(value_s) >
+           std::max(kClockOffsetToleranceS, kClockOffsetSigmaFraction * sigma_s);
+  };
+  double shifted_s = 0.0, heading_shifted_s = 0.0;
+  while (outcome.clock_rounds < kClockOffsetRounds && outcome.estimate.usable) {
+    const MountEstimate& e = outcome.estimate;
+    const Eigen::Matrix2d& c = e.time_covariance;  // [dt, δh], s²
+    const double turn_s = e.time_offset_s + (e.heading_delay_estimated ? e.heading_delay_s : 0.0);
+    const double turn_sigma_s =
+        e.heading_delay_estimated ? std::sqrt(std::max(0.0, c(0, 0) + 2.0 * c(0, 1) + c(1, 1)))
+                                  : e.time_offset_sigma_s;
+    const double position_move_s = worth_moving(e.time_offset_s, e.time_offset_sigma_s)
+                                       ? e.time_offset_s : 0.0;
+    const double heading_move_s = worth_moving(turn_s, turn_sigma_s) ? turn_s : 0.0;
+    if (position_move_s == 0.0 && heading_move_s == 0.0) break;
+    // The headings' shift beyond the positions' is the heading delay moved into the poses.
+    const double delay_move_s = heading_move_s - position_move_s;
     ++outcome.clock_rounds;
-    shifted_s += outcome.estimate.time_offset_s;
+    shifted_s += position_move_s;
+    heading_shifted_s += delay_move_s;
     if (on_round) on_round(shifted_s);
     outcome.dropped_at_shifted_time +=
-        calib::ShiftObservations(poses, outcome.estimate.time_offset_s, observations);
+        calib::ShiftObservations(poses, position_move_s, delay_move_s, observations);
     WarmStart from = warm;
-    from.checked = !outcome.estimate.forced;
-    outcome.estimate =
-        SolveMountCeres(*observations, walls, options, outcome.estimate.mount, force, &from, &warm,
-                        observation_weight);
+    from.checked = !e.forced;
+    from.heading_delay_s -= delay_move_s;  // what is left of it once the headings carry it
+    const Mount start = e.mount;           // e is overwritten below
+    outcome.estimate = SolveMountCeres(*observations, walls, options, start, force, &from, &warm,
+                                       observation_weight);
   }
   outcome.estimate.time_offset_s += shifted_s;
+  outcome.estimate.heading_delay_s += heading_shifted_s;
   return outcome;
 }
 

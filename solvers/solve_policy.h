@@ -3,8 +3,12 @@
 // adjustment estimates a scanner clock offset; its p + v·dt, ψ + ω·dt is a linearisation, poor
 // where the vehicle accelerates (a simulated 150 ms offset came back as 135 ± 2 ms from it
 // alone), so the poses are re-interpolated at the estimated scan times and the problem solved
-// again until the offset left over is below a tolerance. The heading delay estimated beside it
-// (wall_line_cost.h) is not re-interpolated: its ω·δh stays linear (tens of ms at ≤ 12°/s).
+// again until the offset left over is below a tolerance. The headings are moved the same way
+// by what the turns tell, the clock offset plus the heading delay estimated beside it
+// (wall_line_cost.h): re-interpolated that much later than the stamps. Left linear, ω·(dt + δh)
+// takes a yaw rate smoothed over ±0.5 s while driving on, which overstated a −36 ms heading
+// delay by 2–3 ms on short-stop sessions (bench (d2), 11 of its σ); with the headings moved,
+// the rate only steers the steps, not where they end.
 
 #include <functional>
 #include <vector>
@@ -25,10 +29,10 @@ struct PolicyOutcome {
   int dropped_at_shifted_time = 0;   // observations with no pose at the corrected time
 };
 
-// Solves with `method` from `initial`; for ceres with an estimated clock offset, shifts
-// *observations to the estimated scan times (at most 3 rounds, until the offset left is below
-// 0.2 ms or a quarter of its σ) and reports the total offset; each round is warm-started where
-// the last ended (WarmStart). `on_round(shift_s)` (may be empty) is told before each round.
+// Solves with `method` from `initial`; for ceres with an estimated clock offset, shifts the
+// positions of *observations to the estimated scan times (dt) and their headings by dt + δh (at
+// most 3 rounds; each moves only when what is left of it is above 0.2 ms and a quarter of its σ)
+// and reports the totals; each round is warm-started where the last ended (WarmStart). `on_round(shift_s)` (may be empty) is told before each round.
 // `observation_weight`: SolveMountCeres's (a thinned preview); barawid takes none.
 PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>* observations,
                               const std::vector<calib::WallGeometry>& walls,

@@ -92,6 +92,34 @@ TEST(TimeAlignmentTest, MovingPoseIsExactForAnAcceleratingVehicle) {
   EXPECT_GT((pose.antenna_local_m - SpeedingUp(100.05)).norm(), 1e-3);
 }
 
+// The heading delay moved into the poses (solvers/solve_policy.h): the position at the stamp,
+// the heading and its rate at the stamp plus the shift, each exact for this quadratic motion;
+// a shift that takes the heading past the streams' end is no pose.
+TEST(TimeAlignmentTest, HeadingShiftTakesTheHeadingLaterThanThePosition) {
+  const PoseInterpolator poses(Positions(100.0, 102.0, 10.0, SpeedingUp),
+                               Yaws(100.0, 102.0, 20.0, TurningFaster), io::AlignmentOptions{});
+  for (const double shift_s : {-0.036, 0.027}) {
+    for (double t = 100.3; t < 101.6; t += 0.013) {
+      VehiclePose pose, plain, later;
+      ASSERT_EQ(poses.At(t, shift_s, &pose), PoseStatus::kOk) << t;
+      ASSERT_EQ(poses.At(t, &plain), PoseStatus::kOk);
+      ASSERT_EQ(poses.At(t + shift_s, &later), PoseStatus::kOk);
+      EXPECT_DOUBLE_EQ(pose.stamp_s, t);
+      EXPECT_DOUBLE_EQ(pose.heading_shift_s, shift_s);
+      EXPECT_NEAR((pose.antenna_local_m - SpeedingUp(t)).norm(), 0.0, 1e-9) << t;
+      EXPECT_EQ(pose.velocity_local_mps, plain.velocity_local_mps);
+      EXPECT_NEAR(pose.yaw_rad, TurningFaster(t + shift_s), 1e-9) << t;
+      EXPECT_EQ(pose.yaw_rate_rps, later.yaw_rate_rps);
+      EXPECT_EQ(pose.gnss_segment, plain.gnss_segment);
+    }
+  }
+  VehiclePose pose;
+  EXPECT_EQ(poses.At(101.99, 0.02, &pose), PoseStatus::kAfterEnd);
+  EXPECT_EQ(poses.At(100.01, -0.02, &pose), PoseStatus::kBeforeStart);
+  EXPECT_EQ(poses.At(101.99, &pose), PoseStatus::kOk);
+  EXPECT_DOUBLE_EQ(pose.heading_shift_s, 0.0);
+}
+
 TEST(TimeAlignmentTest, YawTakesShortArcAcrossPi) {
   const std::vector<PositionSample> positions = {{0.0, Eigen::Vector2d::Zero(), 0.0},
                                                  {1.0, Eigen::Vector2d::Zero(), 0.0}};
