@@ -122,6 +122,8 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const E
   if (e.time_offset_estimated) {
     add("time_offset_s", Format("%.4f", result.time_offset_s));
     add("time_offset_sigma_s", Format("%.4f", result.time_offset_sigma_s));
+    add("time_offset_status",
+        "\"" + std::string(pipeline::DelayStatusName(result.scanner_offset.status)) + "\"");
     if (result.drives_timing_sigma_s > 0.0) {
       add("moving_timing_sigma_s", Format("%.4f", result.drives_timing_sigma_s) +
                                         "  # what the moving scans' poses need (docs/method.md)");

@@ -80,7 +80,8 @@ std::string ReportBuilder::MountSection() {
   }
   if (r_.time_offset_sigma_s > 0) {
     s << Row("scanner clock offset", F("%.4f", r_.time_offset_s) + " &#177; " +
-                                         F("%.4f", r_.time_offset_sigma_s) + " s (estimated)");
+                                         F("%.4f", r_.time_offset_sigma_s) + " s, " +
+                                         pipeline::DelayStatusName(r_.scanner_offset.status));
   }
   s << Row("heading delay after GNSS",
            r_.heading_delay.status == pipeline::DelayStatus::kNotEstimated

@@ -120,8 +120,10 @@ std::string FormatSummary(const CalibrationResult& result) {
     if (e.time_offset_estimated) {
       std::snprintf(line, sizeof(line),
                     "  clock      scanner time offset %+.4f ± %.4f s (true scan time = stamp + "
-                    "offset)\n",
-                    result.time_offset_s, result.time_offset_sigma_s);
+                    "offset; prior σ %.4f s): %s\n",
+                    result.time_offset_s, result.time_offset_sigma_s,
+                    result.scanner_offset.prior_sigma_s,
+                    pipeline::DelayStatusName(result.scanner_offset.status));
       out << line;
       if (result.drives_timing_sigma_s > 0.0) {
         std::snprintf(line, sizeof(line),
