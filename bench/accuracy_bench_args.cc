@@ -12,7 +12,7 @@ namespace wallcal::bench {
   std::fprintf(stderr,
                "accuracy_bench: %s\nusage: accuracy_bench [--runs N] [--scenario NAME] "
                "[--first-seed S] [--csv FILE] [--breakdown] [--max-crb-obs M] [--max-all-obs M] "
-               "[--delay-prior S] [--all-min-beams N] [--options FILE] [--sim FILE] [--crb-only] [--keep] [--list]\n",
+               "[--delay-prior S] [--all-min-beams N] [--options FILE] [--sim FILE] [--crb-only] [--keep] [--with-variants] [--list]\n",
                why.c_str());
   std::exit(2);
 }
@@ -39,12 +39,12 @@ std::vector<Scenario> Scenarios() {
       {"stopgo_moving_clock", "(h) (a) with moving scans and the scanner clock 150 ms behind",
        sim + "bench_lms291_stopgo_moving_clock.yaml", moving, true},
       {"stopgo_standing", "(i) (a) with standing scans only (the drives left out)",
-       sim + "bench_lms291_stopgo.yaml", standing, false},
+       sim + "bench_lms291_stopgo.yaml", standing, false, true},
       {"two_walls_standing", "(j) (f) with standing scans only (the drives left out)",
-       sim + "bench_lms291_two_walls.yaml", standing, false},
-      {"delays_stopgo", "(d1) stop-and-go (5 s stops) with the logger's delays 35+U(0,10)/4/13 ms",
+       sim + "bench_lms291_two_walls.yaml", standing, false, true},
+      {"delays_stopgo", "(d1) stop-and-go (5 s stops), car-like drives, the logger's delays 35+U(0,10)/4/13 ms",
        sim + "bench_lms291_delays_stopgo.yaml", moving, true},
-      {"delays_short_stops", "(d2) 0.3 s stops with the logger's delays",
+      {"delays_short_stops", "(d2) 0.3 s stops, car-like drives (turns to 12 deg/s), the logger's delays",
        sim + "bench_lms291_delays_short_stops.yaml", moving, true},
       {"delays_continuous", "(d3) continuous driving with the logger's delays",
        sim + "bench_lms291_delays_continuous.yaml", moving, true},
@@ -85,11 +85,15 @@ Args ParseArgs(int argc, char** argv) {
       args.options = value();
     } else if (a == "--breakdown") {
       args.breakdown = true;
+    } else if (a == "--with-variants") {
+      args.variants = true;
     } else if (a == "--keep") {
       args.keep = true;
     } else if (a == "--list") {
       for (const Scenario& s : Scenarios()) {
-        std::printf("%-18s %s  (%s)\n", s.name.c_str(), s.label.c_str(), s.sim_file.c_str());
+        std::printf("%-18s %s%s  (%s)\n", s.name.c_str(), s.label.c_str(),
+                    s.variant ? " [variant: run when named or with --with-variants]" : "",
+                    s.sim_file.c_str());
       }
       std::exit(0);
     } else {

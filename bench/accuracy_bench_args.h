@@ -12,6 +12,9 @@ struct Scenario {
   std::string sim_file;      // configs/simulate/...
   std::string options_file;  // bench/...
   bool moving = false;       // uses moving scans: the CRB gets a clock-offset unknown too
+  // A variant of another scenario's session with some of its data left out on purpose (to show
+  // what they add): not held to the all-data bound, and run only when named or asked for.
+  bool variant = false;
 };
 
 // Every scenario, in the order of docs/results.md.
@@ -35,6 +38,7 @@ struct Args {
   std::string options;  // calibrate options for every scenario instead of bench/calibrate_*.yaml
   std::string sim;      // --sim FILE: one scenario from this simulate config instead
   bool crb_only = false;  // --crb-only: the all-data bound (and on half the scans), no runs
+  bool variants = false;  // --with-variants: the variants too when no scenario is named
 };
 
 // Prints why and the usage line, exits with status 2.
