@@ -418,7 +418,8 @@ void Solve(const CalibrateRequest& request, const ProgressFn& progress,
   const auto on_round = [&progress](double shift_s) {
     Say(progress, Stage::kClockOffsetRound,
         "clock offset " + Format("%.4f", shift_s) +
-            " s: poses interpolated at the shifted scan times, solving again");
+            " s so far: poses (and headings by the heading delay) interpolated at the shifted "
+            "scan times, solving again");
   };
   // Drops the observations of moving scans; returns how many scans that was.
   const auto drop_moving = [result]() {
@@ -488,10 +489,10 @@ void Solve(const CalibrateRequest& request, const ProgressFn& progress,
   const Eigen::Matrix2d& time_covariance = estimate.time_covariance;
   result->scanner_offset = ClassifyDelay(
       estimate.time_offset_estimated, estimate.time_offset_s, estimate.time_offset_sigma_s,
-      clock_prior_s, DelayOwnSigma(time_covariance, clock_prior_s, heading_prior_s, 0));
+      clock_prior_s, solvers::DelayOwnSigma(time_covariance, clock_prior_s, heading_prior_s, 0));
   result->heading_delay = ClassifyDelay(
       estimate.heading_delay_estimated, estimate.heading_delay_s, estimate.heading_delay_sigma_s,
-      heading_prior_s, DelayOwnSigma(time_covariance, clock_prior_s, heading_prior_s, 1));
+      heading_prior_s, solvers::DelayOwnSigma(time_covariance, clock_prior_s, heading_prior_s, 1));
 }
 
 void Analyse(const CalibrateRequest& request, const ProgressFn& progress,

@@ -541,8 +541,9 @@ void ApplyWarmStart(const WarmStart& warm, MountProblem* mp) {
     if (found != warm.heading_offsets.end()) mp->heading_offsets[k][0] = found->second;
   }
   if (mp->heading_drift_estimated) mp->heading_drift[0] = warm.heading_drift_rad_per_s;
-  if (mp->time_offset_estimated && mp->heading_delay_estimated) {
-    mp->time_offset[1] = warm.heading_delay_s;
+  if (mp->time_offset_estimated) {
+    mp->time_offset[0] = warm.time_offset_s;
+    if (mp->heading_delay_estimated) mp->time_offset[1] = warm.heading_delay_s;
   }
 }
 
@@ -554,6 +555,7 @@ WarmStart WarmStartFrom(const MountProblem& mp) {
     warm.heading_offsets[mp.heading_station_ids[k]] = mp.heading_offsets[k][0];
   }
   warm.heading_drift_rad_per_s = mp.heading_drift[0];
+  warm.time_offset_s = mp.time_offset[0];
   warm.heading_delay_s = mp.time_offset[1];
   return warm;
 }

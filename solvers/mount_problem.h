@@ -27,6 +27,9 @@ struct WarmStart {
   std::map<int, std::array<double, 2>> biases;       // by GNSS slice id
   std::map<int, double> heading_offsets;             // by station id
   double heading_drift_rad_per_s = 0.0;
+  // The time block: what of the clock offset and the heading delay the poses do not carry
+  // (solve_policy.cc moves into the poses only what the data determine).
+  double time_offset_s = 0.0;
   double heading_delay_s = 0.0;
   // The round before passed its checks without being forced: the check before this solve, on
   // the same geometry, is not made again.
@@ -123,8 +126,8 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     const Mount& lever_mount, const Mount& initial, std::string* error,
     const std::vector<double>& weights = {});
 
-// Sets the problem's parameters from `warm` where it has them (the clock offset stays 0: the
-// poses carry it), and reads them back into a WarmStart.
+// Sets the problem's parameters from `warm` where it has them, and reads them back into a
+// WarmStart.
 void ApplyWarmStart(const WarmStart& warm, MountProblem* mp);
 WarmStart WarmStartFrom(const MountProblem& mp);
 

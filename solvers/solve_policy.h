@@ -30,9 +30,12 @@ struct PolicyOutcome {
 };
 
 // Solves with `method` from `initial`; for ceres with an estimated clock offset, shifts the
-// positions of *observations to the estimated scan times (dt) and their headings by dt + δh (at
-// most 3 rounds; each moves only when what is left of it is above 0.2 ms and a quarter of its σ)
-// and reports the totals; each round is warm-started where the last ended (WarmStart). `on_round(shift_s)` (may be empty) is told before each round.
+// positions of *observations to the estimated scan times (dt) and their headings by dt + δh, and
+// solves again (at most 3 rounds), and reports the totals; each round is warm-started where the
+// last ended (WarmStart). Each shift is made only when the data determine it
+// (solvers::DelayDetermined; for the sum, σ below half its prior's) and what is left of it is
+// above 0.2 ms and a quarter of its σ; the headings alone also only when re-interpolating them
+// would move the sum's estimate by that much (else the round would repeat the solve). `on_round(shift_s)` (may be empty) is told before each round.
 // `observation_weight`: SolveMountCeres's (a thinned preview); barawid takes none.
 PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>* observations,
                               const std::vector<calib::WallGeometry>& walls,

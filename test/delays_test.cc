@@ -174,10 +174,10 @@ TEST(DelaysTest, OwnSigmaSeesWhatTheDataHoldOfEachDelay) {
   sum_only << 1.0, 1.0, 1.0, 1.0;
   const Eigen::Matrix2d sum_covariance = (sum_information * sum_only + priors).inverse();
   EXPECT_LT(std::sqrt(sum_covariance(0, 0)), 0.5 * clock_prior);  // the joint σ: 44.7 ms
-  EXPECT_NEAR(pipeline::DelayOwnSigma(sum_covariance, clock_prior, heading_prior, 0), clock_prior, 1e-6);
-  EXPECT_NEAR(pipeline::DelayOwnSigma(sum_covariance, clock_prior, heading_prior, 1), heading_prior, 1e-6);
+  EXPECT_NEAR(solvers::DelayOwnSigma(sum_covariance, clock_prior, heading_prior, 0), clock_prior, 1e-6);
+  EXPECT_NEAR(solvers::DelayOwnSigma(sum_covariance, clock_prior, heading_prior, 1), heading_prior, 1e-6);
   EXPECT_EQ(pipeline::ClassifyDelay(true, 0.01, std::sqrt(sum_covariance(0, 0)), clock_prior,
-                          pipeline::DelayOwnSigma(sum_covariance, clock_prior, heading_prior, 0))
+                          solvers::DelayOwnSigma(sum_covariance, clock_prior, heading_prior, 0))
                 .status,
             pipeline::DelayStatus::kNotDetermined);
 
@@ -186,16 +186,16 @@ TEST(DelaysTest, OwnSigmaSeesWhatTheDataHoldOfEachDelay) {
   dt_only << 1.0, 0.0, 0.0, 0.0;
   const Eigen::Matrix2d both =
       (1e6 * dt_only + sum_information * sum_only + priors).inverse();
-  const double dt_own = pipeline::DelayOwnSigma(both, clock_prior, heading_prior, 0);
+  const double dt_own = solvers::DelayOwnSigma(both, clock_prior, heading_prior, 0);
   EXPECT_NEAR(dt_own, 1.0 / std::sqrt(1e6 + 1.0 / (clock_prior * clock_prior)), 1e-9);
-  EXPECT_LT(pipeline::DelayOwnSigma(both, clock_prior, heading_prior, 1), 2e-3);
+  EXPECT_LT(solvers::DelayOwnSigma(both, clock_prior, heading_prior, 1), 2e-3);
   EXPECT_EQ(pipeline::ClassifyDelay(true, 0.01, std::sqrt(both(0, 0)), clock_prior, dt_own).status,
             pipeline::DelayStatus::kDetermined);
 
   // No heading delay in the problem: the clock offset's own σ is its joint one.
   Eigen::Matrix2d clock_only = Eigen::Matrix2d::Zero();
   clock_only(0, 0) = 4e-6;
-  EXPECT_DOUBLE_EQ(pipeline::DelayOwnSigma(clock_only, clock_prior, 0.0, 0), 2e-3);
+  EXPECT_DOUBLE_EQ(solvers::DelayOwnSigma(clock_only, clock_prior, 0.0, 0), 2e-3);
   EXPECT_EQ(pipeline::ClassifyDelay(false, 0.0, 0.0, clock_prior, 2e-3).status, pipeline::DelayStatus::kNotEstimated);
 }
 
