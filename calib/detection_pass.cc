@@ -348,6 +348,7 @@ int ShiftObservations(const PoseInterpolator& poses, double dt_s, double heading
       ++dropped;
       continue;
     }
+    pose.clock_shift_s = o.pose.clock_shift_s + dt_s;
     o.pose = pose;
     kept.push_back(o);
   }

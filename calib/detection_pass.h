@@ -109,8 +109,8 @@ LineGate GateFor(const WallObservation& at, const WallGeometry& wall, const Moun
 // Moves every observation to its scan's time + dt_s, with the pose interpolated anew at that
 // time (the scanner clock offset the solver estimated; the wall line is the scan's and does not
 // change), and its heading a further heading_shift_s later than before (the heading stream's
-// delay the solver estimated: pose.heading_shift_s grows by it). Observations whose shifted
-// times have no pose are dropped; returns how many.
+// delay the solver estimated: pose.heading_shift_s grows by it; pose.clock_shift_s by dt_s).
+// Observations whose shifted times have no pose are dropped; returns how many.
 int ShiftObservations(const PoseInterpolator& poses, double dt_s, double heading_shift_s,
                       std::vector<WallObservation>* observations);
 

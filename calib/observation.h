@@ -79,6 +79,9 @@ struct VehiclePose {
   // heading stream's delay after the GNSS epochs as far as the clock rounds have found it
   // (solvers/solve_policy.h); 0 from a plain PoseInterpolator::At.
   double heading_shift_s = 0.0;
+  // How far the clock rounds have moved this pose from its scan's stamp (s): stamp_s is the
+  // scan's stamp plus this (calib::ShiftObservations); 0 before any round.
+  double clock_shift_s = 0.0;
   // The median GNSS sample period of the stream the position was interpolated from (s; 0:
   // unknown): a moving scan's interpolation error and how many scans share one fix's noise.
   double gnss_period_s = 0.0;

@@ -512,13 +512,19 @@ std::unique_ptr<MountProblem> BuildMountProblem(
   // The heading delay rides in the same block: estimated with a prior of σ_δh beside dt (only
   // turns tell it, through ω), held at 0 when σ_δh is 0 (a constant coordinate, its prior
   // residual then a constant 0).
+  // The priors are on the totals: what the poses already carry (the clock rounds' shifts,
+  // pose.clock_shift_s and heading_shift_s, the same for every observation) is taken off their
+  // centre, so that a round does not restart them where the last one ended.
   if (mp->problem.HasParameterBlock(mp->time_offset.data())) {
     if (mp->time_offset_estimated) {
       mp->heading_delay_estimated = options.heading_delay_sigma_s > 0.0;
+      const calib::VehiclePose& carried = observations.front().pose;
       mp->problem.AddResidualBlock(
-          ZeroMeanPriorCost::Create(Eigen::Vector2d(
-              options.time_offset_sigma_s,
-              mp->heading_delay_estimated ? options.heading_delay_sigma_s : 1.0)),
+          ZeroMeanPriorCost::Create(
+              Eigen::Vector2d(options.time_offset_sigma_s,
+                              mp->heading_delay_estimated ? options.heading_delay_sigma_s : 1.0),
+              Eigen::Vector2d(-carried.clock_shift_s,
+                              mp->heading_delay_estimated ? -carried.heading_shift_s : 0.0)),
           nullptr, mp->time_offset.data());
       if (!mp->heading_delay_estimated) {
         mp->problem.SetManifold(mp->time_offset.data(), new ceres::SubsetManifold(2, {1}));

@@ -1,6 +1,7 @@
 #pragma once
 // A zero-mean Gaussian prior on a 2-vector nuisance parameter block (solvers/ceres_solver.cc):
 //   r_k = value_k / sigma_k      (dimensionless), k = 0, 1
+// (or centred on a given mean: r_k = (value_k − mean_k) / sigma_k).
 // Used for
 //  - a wall's [δd_m, δα_rad] with sigma = [WallGeometry::sigma_offset_m, sigma_angle_rad]: the
 //    surveyed line is known to that 1σ (survey points, tie to UTM);
@@ -21,21 +22,28 @@ namespace wallcal::solvers {
 
 class ZeroMeanPriorCost {
  public:
-  explicit ZeroMeanPriorCost(const Eigen::Vector2d& sigma) : inverse_sigma_(sigma.cwiseInverse()) {}
+  // `mean`: where the prior is centred instead of 0 (the clock rounds' time block, whose
+  // parameters are what the poses do not already carry: mount_problem.cc).
+  explicit ZeroMeanPriorCost(const Eigen::Vector2d& sigma,
+                             const Eigen::Vector2d& mean = Eigen::Vector2d::Zero())
+      : inverse_sigma_(sigma.cwiseInverse()), mean_(mean) {}
 
   template <typename T>
   bool operator()(const T* const value, T* residual) const {
-    residual[0] = value[0] * inverse_sigma_.x();
-    residual[1] = value[1] * inverse_sigma_.y();
+    residual[0] = (value[0] - mean_.x()) * inverse_sigma_.x();
+    residual[1] = (value[1] - mean_.y()) * inverse_sigma_.y();
     return true;
   }
 
-  static ceres::CostFunction* Create(const Eigen::Vector2d& sigma) {
-    return new ceres::AutoDiffCostFunction<ZeroMeanPriorCost, 2, 2>(new ZeroMeanPriorCost(sigma));
+  static ceres::CostFunction* Create(const Eigen::Vector2d& sigma,
+                                     const Eigen::Vector2d& mean = Eigen::Vector2d::Zero()) {
+    return new ceres::AutoDiffCostFunction<ZeroMeanPriorCost, 2, 2>(
+        new ZeroMeanPriorCost(sigma, mean));
   }
 
  private:
   Eigen::Vector2d inverse_sigma_;
+  Eigen::Vector2d mean_;
 };
 
 // One step of a first-order Gauss–Markov process between two GNSS segment biases (2-vectors,

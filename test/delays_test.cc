@@ -28,6 +28,7 @@
 #include "io/session_reader.h"
 #include "pipeline/calibration.h"
 #include "pipeline/stream_delays.h"
+#include "solvers/mount_problem.h"
 #include "sim/simulated_session.h"
 #include "sim/simulator.h"
 
@@ -78,8 +79,10 @@ TEST(DelaysTest, RecoversGnssLatencyScannerOffsetAndHeadingDelayWithHonestSigma)
   }
 }
 
+// Simulates, calibrates with the moving scans (bench/calibrate_matched_moving.yaml) and counts
+// the clock rounds (solvers/solve_policy.h) in *rounds when given.
 pipeline::CalibrationResult SimulateAndCalibrate(const io::SimulationConfig& config, uint64_t seed,
-                                                 const std::string& name) {
+                                                 const std::string& name, int* rounds = nullptr) {
   const fs::path dir = fs::path(::testing::TempDir()) /
                        ("wallcal_delays_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -87,8 +90,13 @@ pipeline::CalibrationResult SimulateAndCalibrate(const io::SimulationConfig& con
   pipeline::CalibrateRequest request;
   request.session_path = dir.string();
   request.config_path = std::string(WALLCAL_SOURCE_DIR) + "/bench/calibrate_matched_moving.yaml";
-  pipeline::CalibrationResult result = pipeline::RunCalibration(request, nullptr);
+  int counted = 0;
+  const pipeline::ProgressFn count = [&counted](const pipeline::Progress& p) {
+    counted += p.stage == pipeline::Stage::kClockOffsetRound ? 1 : 0;
+  };
+  pipeline::CalibrationResult result = pipeline::RunCalibration(request, count);
   fs::remove_all(dir);
+  if (rounds != nullptr) *rounds = counted;
   return result;
 }
 
@@ -158,6 +166,37 @@ TEST(DelaysTest, SidewaysDrivesLeaveTheSplitToThePriorsAndFixTheSum) {
   EXPECT_LT(TurnTimingSigma(result), 1e-3);
   EXPECT_LT(std::abs(TurnTiming(result) - sum_truth_s), 4.0 * TurnTimingSigma(result))
       << "dt + δh " << TurnTiming(result) << " ± " << TurnTimingSigma(result);
+}
+
+// The rounds move only what the data determine, and only when it changes something. With the
+// scanner clock 150 ms behind and drives along the wall (bench (h)): the turns fix the sum, so
+// the rounds move the headings by it, and the positions, whose dt only its prior holds, stay at
+// their stamps; the priors stay on the totals (pose.clock_shift_s, heading_shift_s), so the split
+// is the one the priors make (dt at 100 ms, δh at 50 ms: about 120 / 30 ms, give or take what
+// the data hold), not wherever the rounds stopped. A stop-and-go session without delays: no
+// round (its drives' yaw rates over ±one sample period make the linear model as good as a
+// re-interpolation).
+TEST(DelaysTest, ClockRoundsMoveWhatTheDataDetermine) {
+  const io::SimulationConfig behind = Scenario("bench_lms291_stopgo_moving_clock.yaml");
+  int rounds = -1;
+  const pipeline::CalibrationResult late = SimulateAndCalibrate(behind, 6, "behind", &rounds);
+  ASSERT_TRUE(late.estimate.usable) << late.estimate.message;
+  EXPECT_GE(rounds, 1);
+  EXPECT_EQ(late.scanner_offset.status, pipeline::DelayStatus::kNotDetermined);
+  EXPECT_EQ(late.heading_delay.status, pipeline::DelayStatus::kNotDetermined);
+  EXPECT_GT(late.scanner_offset.value_s, late.heading_delay.value_s);  // the wider prior's share
+  EXPECT_LT(std::abs(TurnTiming(late) - behind.scanner_time_offset_s), 4.0 * TurnTimingSigma(late))
+      << "dt + δh " << TurnTiming(late) << " ± " << TurnTimingSigma(late);
+  for (const calib::WallObservation& o : late.observations) {
+    EXPECT_EQ(o.pose.clock_shift_s, 0.0);
+    if (solvers::UsesDwellHeading(o)) continue;
+    EXPECT_NEAR(o.pose.heading_shift_s, TurnTiming(late), 0.25 * TurnTimingSigma(late) + 2e-4);
+  }
+
+  const pipeline::CalibrationResult plain =
+      SimulateAndCalibrate(Scenario("bench_lms291_stopgo.yaml"), 6, "plain", &rounds);
+  ASSERT_TRUE(plain.estimate.usable) << plain.estimate.message;
+  EXPECT_EQ(rounds, 0);
 }
 
 // DelayOwnSigma on made-up time blocks (s²): the data's information plus the priors', inverted
