@@ -61,7 +61,6 @@ void StopAfterFirstPass(const solvers::MountEstimate& estimate, const calib::Pas
 
 }  // namespace
 
-
 void Say(const ProgressFn& progress, Stage stage, const std::string& text) {
   if (progress) progress(Progress{stage, text, 0, 0, false});
 }

@@ -473,7 +473,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     }
     const double rho = mp->segment_rho[k];
     if (previous < 0 || !(rho > 0.0)) {
-      mp->problem.AddResidualBlock(ZeroMeanPriorCost::Create(Eigen::Vector2d(sigma_m, sigma_m)),
+      mp->problem.AddResidualBlock(GaussianPriorCost::Create(Eigen::Vector2d(sigma_m, sigma_m)),
                                    nullptr, mp->biases[index].data());
     } else {
       const double a = rho * sigma_m / mp->bias_sigma_m[previous];
@@ -520,7 +520,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
       mp->heading_delay_estimated = options.heading_delay_sigma_s > 0.0;
       const calib::VehiclePose& carried = observations.front().pose;
       mp->problem.AddResidualBlock(
-          ZeroMeanPriorCost::Create(
+          GaussianPriorCost::Create(
               Eigen::Vector2d(options.time_offset_sigma_s,
                               mp->heading_delay_estimated ? options.heading_delay_sigma_s : 1.0),
               Eigen::Vector2d(-carried.clock_shift_s,

@@ -1,7 +1,7 @@
 #pragma once
-// A zero-mean Gaussian prior on a 2-vector nuisance parameter block (solvers/ceres_solver.cc):
-//   r_k = value_k / sigma_k      (dimensionless), k = 0, 1
-// (or centred on a given mean: r_k = (value_k − mean_k) / sigma_k).
+// A Gaussian prior on a 2-vector nuisance parameter block (solvers/ceres_solver.cc), zero-mean
+// unless a mean is given:
+//   r_k = (value_k − mean_k) / sigma_k      (dimensionless), k = 0, 1
 // Used for
 //  - a wall's [δd_m, δα_rad] with sigma = [WallGeometry::sigma_offset_m, sigma_angle_rad]: the
 //    surveyed line is known to that 1σ (survey points, tie to UTM);
@@ -20,11 +20,11 @@
 
 namespace wallcal::solvers {
 
-class ZeroMeanPriorCost {
+class GaussianPriorCost {
  public:
   // `mean`: where the prior is centred instead of 0 (the clock rounds' time block, whose
   // parameters are what the poses do not already carry: mount_problem.cc).
-  explicit ZeroMeanPriorCost(const Eigen::Vector2d& sigma,
+  explicit GaussianPriorCost(const Eigen::Vector2d& sigma,
                              const Eigen::Vector2d& mean = Eigen::Vector2d::Zero())
       : inverse_sigma_(sigma.cwiseInverse()), mean_(mean) {}
 
@@ -37,8 +37,8 @@ class ZeroMeanPriorCost {
 
   static ceres::CostFunction* Create(const Eigen::Vector2d& sigma,
                                      const Eigen::Vector2d& mean = Eigen::Vector2d::Zero()) {
-    return new ceres::AutoDiffCostFunction<ZeroMeanPriorCost, 2, 2>(
-        new ZeroMeanPriorCost(sigma, mean));
+    return new ceres::AutoDiffCostFunction<GaussianPriorCost, 2, 2>(
+        new GaussianPriorCost(sigma, mean));
   }
 
  private:

@@ -294,10 +294,10 @@ TEST(WallLineCostTest, HandWrittenJacobiansMatchAutomaticDifferentiation) {
   }
 }
 
-TEST(ZeroMeanPriorCostTest, EvaluatesAndDifferentiates) {
+TEST(GaussianPriorCostTest, EvaluatesAndDifferentiates) {
   // r = value / σ: (0.01 / 0.005, −0.002 / 0.001) = (2, −2).
   std::unique_ptr<ceres::CostFunction> cost(
-      ZeroMeanPriorCost::Create(Eigen::Vector2d(0.005, 0.001)));
+      GaussianPriorCost::Create(Eigen::Vector2d(0.005, 0.001)));
   const double value[2] = {0.01, -0.002};
   const double* parameters[1] = {value};
   double residual[2];
