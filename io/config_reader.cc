@@ -124,6 +124,7 @@ void ReadCharacterisationKeys(MapReader& section, SimulationConfig& config) {
   section.Number("scanner_latency_s", config.scanner_latency_s);
   section.Number("station_distance_far_m", config.station_distance_far_m);
   section.Number("drive_reverse_m", config.drive_reverse_m);
+  section.Scaled("weave_turn_deg", config.weave_turn_rad, kRadToDeg);
   const YAML::Node node = section.Find("scanner_truth");
   if (!node.IsDefined()) return;
   MapReader truth = section.Child("scanner_truth", node);

@@ -210,6 +210,7 @@ void SimulationConfig::Validate() const {
   CheckNonNegative(t + "drift.time_constant_s", truth_drift_time_constant_s);
   CheckNonNegative(s + "station_distance_far_m", station_distance_far_m);
   CheckRange(s + "drive_reverse_m", drive_reverse_m, 0.0, 100.0);
+  CheckRange(s + "weave_turn_deg", weave_turn_rad * kRadToDeg, 0.0, 90.0);
 }
 
 }  // namespace wallcal::io

@@ -210,6 +210,12 @@ struct SimulationConfig {
   // drive_speed_mps.
   bool continuous = false;
   double weave_amplitude_m = 1.0;
+  // > 0: the weave is driven along the vehicle's own axis, forward and back on an arc that turns
+  // its heading by this much at ±weave_amplitude_m (a car-like vehicle steering as it weaves:
+  // 8° over 1 m at 0.8 m/s turns at up to 10°/s, the sweep adding its own). 0: the weave moves
+  // the vehicle along the wall normal whatever its heading (sideways when it is turned), as
+  // before. Written to truth.yaml only when set.
+  double weave_turn_rad = 0.0;
   double continuous_duration_s = 0.0;
   // GNSS
   double gnss_rate_hz = 10.0;

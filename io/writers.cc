@@ -445,6 +445,9 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
   if (config.drive_reverse_m != 0.0) {
     out += "  drive_reverse_m: " + ShortestNumber(config.drive_reverse_m) + "\n";
   }
+  if (config.weave_turn_rad != 0.0) {
+    out += "  weave_turn_deg: " + ShortestNumber(config.weave_turn_rad * kRadToDeg) + "\n";
+  }
   if (config.HasScannerTruth()) {
     std::string truth;
     auto add = [&truth](const char* key, double value) {

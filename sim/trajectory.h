@@ -54,7 +54,9 @@ class Noise {
   std::uniform_real_distribution<double> uniform_{0.0, 1.0};
 };
 
-inline Eigen::Vector2d Direction(double angle_rad) { return {std::cos(angle_rad), std::sin(angle_rad)}; }
+inline Eigen::Vector2d Direction(double angle_rad) {
+  return {std::cos(angle_rad), std::sin(angle_rad)};
+}
 
 inline double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
@@ -96,7 +98,8 @@ inline Eigen::Vector2d BezierTangent(const std::array<Eigen::Vector2d, 4>& c, do
 // The length of a cubic Bézier curve (a 64-chord polyline: well within a millimetre here).
 inline double BezierLength(const std::array<Eigen::Vector2d, 4>& c) {
   double length_m = 0.0;
-  for (int k = 0; k < 64; ++k) length_m += (BezierAt(c, (k + 1) / 64.0) - BezierAt(c, k / 64.0)).norm();
+  for (int k = 0; k < 64; ++k)
+    length_m += (BezierAt(c, (k + 1) / 64.0) - BezierAt(c, k / 64.0)).norm();
   return length_m;
 }
 
@@ -115,6 +118,11 @@ struct Weave {
   Eigen::Vector2d out_normal = Eigen::Vector2d::UnitY();  // away from the wall
   double amplitude_m = 0.0;
   double period_s = 1.0;
+  // > 0: the weave is driven along the vehicle's own axis, on an arc whose heading turns by
+  // curvature × distance (rad/m): forward and back on a circle, as a car-like vehicle weaves.
+  // 0: along the wall normal whatever the heading.
+  double curvature_rad_per_m = 0.0;
+  bool along_heading = false;
 };
 
 class Trajectory {
@@ -154,8 +162,8 @@ class Trajectory {
     const double tau = b > a ? std::clamp((t - a) / (b - a), 0.0, 1.0) : 1.0;
     const double u = 0.5 * (1.0 - std::cos(kPi * tau));
     const auto& curve = out ? seg.back_out : seg.drive_in;
-    const Eigen::Vector2d heading = out ? Eigen::Vector2d(-BezierTangent(curve, u))
-                                        : BezierTangent(curve, u);
+    const Eigen::Vector2d heading =
+        out ? Eigen::Vector2d(-BezierTangent(curve, u)) : BezierTangent(curve, u);
     const double yaw_rad =
         seg.yaw0_rad + WrapAngle(std::atan2(heading.y(), heading.x()) - seg.yaw0_rad);
     return {BezierAt(curve, u), yaw_rad, false};
@@ -164,14 +172,25 @@ class Trajectory {
   // The sweep follows the same cosine profile as a drive, over the whole run, so heading and
   // lateral position pass every station's values once; the weave r(t) = A·sin(2πt/T) moves the
   // vehicle towards and away from the wall (forward/reverse for a vehicle facing it) and never
-  // stops it: the speed along the normal is zero only where the sweep is moving.
+  // stops it: the speed along the normal is zero only where the sweep is moving. Along the
+  // heading, r is the distance driven on an arc of curvature κ from the sweep's pose (heading
+  // ψ₀ + κ r), so the velocity stays on the vehicle's axis but for the sweep's slow drift.
   Pose WeaveAt(double t) const {
     const Weave& w = *weave_;
     const double tau = w.duration_s > 0.0 ? t / w.duration_s : 0.0;
     const double s = 0.5 * (1.0 - std::cos(kPi * tau));
     const double r_m = w.amplitude_m * std::sin(kTwoPi * t / w.period_s);
-    return {w.p0_enu_m + s * (w.p1_enu_m - w.p0_enu_m) + r_m * w.out_normal,
-            w.yaw0_rad + s * (w.yaw1_rad - w.yaw0_rad), false};
+    const Eigen::Vector2d sweep = w.p0_enu_m + s * (w.p1_enu_m - w.p0_enu_m);
+    const double yaw0 = w.yaw0_rad + s * (w.yaw1_rad - w.yaw0_rad);
+    if (!w.along_heading) return {sweep + r_m * w.out_normal, yaw0, false};
+    const double turn = w.curvature_rad_per_m * r_m;
+    // The arc from yaw0 over r_m: r_m·(cos, sin)(yaw0) when straight.
+    const Eigen::Vector2d arc =
+        std::abs(turn) < 1e-9
+            ? Eigen::Vector2d(r_m * Direction(yaw0))
+            : Eigen::Vector2d((std::sin(yaw0 + turn) - std::sin(yaw0)) / w.curvature_rad_per_m,
+                              (std::cos(yaw0) - std::cos(yaw0 + turn)) / w.curvature_rad_per_m);
+    return {sweep + arc, yaw0 + turn, false};
   }
 
   std::vector<Segment> segments_;
@@ -253,8 +272,8 @@ inline Trajectory PlanTrajectory(const io::SimulationConfig& config, const io::S
       // heading, then drive in. Each curve leaves and meets its ends along the vehicle's axis
       // (control points a third of the chord away); each half takes its length over the speed.
       const double cusp_yaw = yaws[i] + 0.5 * (yaws[i + 1] - yaws[i]);
-      const Eigen::Vector2d cusp = 0.5 * (positions[i] + positions[i + 1]) -
-                                   config.drive_reverse_m * Direction(cusp_yaw);
+      const Eigen::Vector2d cusp =
+          0.5 * (positions[i] + positions[i + 1]) - config.drive_reverse_m * Direction(cusp_yaw);
       const double l_out = (cusp - positions[i]).norm() / 3.0;
       const double l_in = (positions[i + 1] - cusp).norm() / 3.0;
       drive.reverses = true;
@@ -263,7 +282,8 @@ inline Trajectory PlanTrajectory(const io::SimulationConfig& config, const io::S
       drive.drive_in = {cusp, cusp + l_in * Direction(cusp_yaw),
                         positions[i + 1] - l_in * Direction(yaws[i + 1]), positions[i + 1]};
       drive.cusp_s = t + std::max(0.5, BezierLength(drive.back_out) / config.drive_speed_mps);
-      drive.t1_s = drive.cusp_s + std::max(0.5, BezierLength(drive.drive_in) / config.drive_speed_mps);
+      drive.t1_s =
+          drive.cusp_s + std::max(0.5, BezierLength(drive.drive_in) / config.drive_speed_mps);
     }
     segments.push_back(drive);
     t = drive.t1_s;
@@ -281,11 +301,13 @@ inline Trajectory PlanTrajectory(const io::SimulationConfig& config, const io::S
   weave.yaw1_rad = yaws.back();
   weave.out_normal = out_normal;
   weave.amplitude_m = config.weave_amplitude_m;
+  weave.along_heading = config.weave_turn_rad > 0.0;
+  weave.curvature_rad_per_m =
+      config.weave_amplitude_m > 0.0 ? config.weave_turn_rad / config.weave_amplitude_m : 0.0;
   weave.period_s = config.weave_amplitude_m > 0.0
                        ? 4.0 * config.weave_amplitude_m / config.drive_speed_mps
                        : 1.0;
   return Trajectory(weave);
 }
-
 
 }  // namespace wallcal::sim::detail

@@ -1,5 +1,4 @@
 #include "sim/simulator.h"
-#include "test/shipped_presets.h"
 
 #include <gtest/gtest.h>
 
@@ -9,53 +8,15 @@
 #include <set>
 #include <string>
 #include <vector>
+
 #include "common/angles.h"
+#include "test/sim_fixtures.h"
 
 namespace wallcal::calib {}
 namespace wallcal::sim {
 using namespace wallcal::calib;  // NOLINT: the simulator is checked against calib's geometry
 namespace {
-// ---- The shipped presets (configs/scanners/*.yaml) -------------------------------------------
-io::ScannerPreset SickLms291() { return testing_support::ShippedPreset("sick_lms291"); }
-io::ScannerPreset SickLms200() { return testing_support::ShippedPreset("sick_lms200"); }
-io::ScannerPreset HokuyoUrg04lx() { return testing_support::ShippedPreset("hokuyo_urg04lx"); }
-
-// A few beams at 1 Hz: for long runs where only GNSS, heading or scan counts matter.
-io::ScannerPreset CheapPreset(double rate_hz = 1.0) {
-  io::ScannerPreset p = SickLms291();
-  p.name = "cheap";
-  p.num_beams = 3;
-  p.start_angle_rad = -10.0 * kDegToRad;
-  p.angular_step_rad = 10.0 * kDegToRad;
-  p.rate_hz = rate_hz;
-  return p;
-}
-
-// SICK LMS 291 geometry with a perfect range: z = y exactly (up to float storage).
-io::ScannerPreset PerfectPreset() {
-  io::ScannerPreset p = SickLms291();
-  p.range_sigma_m = 0.0;
-  p.sim_scale_n = 1.0;
-  p.sim_offset_c_m = 0.0;
-  p.range_resolution_m = 1e-12;
-  return p;
-}
-
-io::SimulationConfig DefaultConfig() { return WithDefaultWalls(io::SimulationConfig{}); }
-
-io::SimulationConfig NoiseFreeConfig() {
-  io::SimulationConfig c = DefaultConfig();
-  c.gnss_bias_sigma_m = 0.0;
-  c.gnss_white_sigma_m = 0.0;
-  c.heading_white_sigma_rad = 0.0;
-  c.heading_drift_rad_per_s = 0.0;
-  c.heading_bias_rad = 0.0;
-  c.total_station_sigma_m = 0.0;
-  c.control_sigma_m = 0.0;
-  c.lost_scan_fraction = 0.0;
-  c.mixed_pixel_probability = 0.0;
-  return c;
-}
+using namespace testing_fixtures;  // NOLINT: the shared fixtures
 
 // A run of `stations` dwells of `dwell_s` each (long runs for statistics).
 io::SimulationConfig LongConfig(int stations, double dwell_s) {
@@ -66,19 +27,6 @@ io::SimulationConfig LongConfig(int stations, double dwell_s) {
 }
 
 double WrapPi(double a) { return std::remainder(a, 2.0 * kPi); }
-
-struct Collected {
-  SimulatedSession session;
-  std::vector<io::ScanRecord> scans;
-};
-
-Collected RunSim(const io::SimulationConfig& config, const io::ScannerPreset& preset,
-                 uint64_t seed) {
-  Collected out;
-  out.session =
-      Simulate(config, preset, seed, [&out](const io::ScanRecord& s) { out.scans.push_back(s); });
-  return out;
-}
 
 // The truth pose at true time t when the vehicle stands still around t (both bracketing truth
 // samples stationary and equal); nullptr otherwise.
@@ -510,102 +458,6 @@ TEST(SimulatorTest, ScanStampsRunEarlyByTheTimeOffset) {
   EXPECT_EQ(run.scans.front().max_range_m, 80.0);
 }
 
-// Total-station point back in local ENU.
-Eigen::Vector2d StationToEnu(const io::SimulationConfig& c, const io::SurveyPoint& p) {
-  const double r = c.survey_rotation_rad;
-  return {c.survey_origin_x_m + std::cos(r) * p.x_m - std::sin(r) * p.y_m,
-          c.survey_origin_y_m + std::sin(r) * p.x_m + std::cos(r) * p.y_m};
-}
-
-TEST(SimulatorTest, SurveyPointsLieOnTheWall) {
-  io::SimulationConfig config = NoiseFreeConfig();
-  // A distractor wall without a code is not surveyed.
-  config.walls.push_back({"shed", "", 20.0, -5.0, 20.0, 5.0, 2.5, 1.0});
-  const Collected exact = RunSim(config, CheapPreset(), 71);
-  ASSERT_EQ(exact.session.walls.size(), 1u);
-  EXPECT_EQ(exact.session.walls[0].id, "north_wall");
-  EXPECT_EQ(exact.session.walls[0].code, "WALL1");
-  int wall_points = 0;
-  for (const auto& p : exact.session.survey) {
-    if (p.code != "WALL1") continue;
-    ++wall_points;
-    const Eigen::Vector2d q = StationToEnu(config, p);
-    EXPECT_NEAR(q.y(), 12.0, 1e-9) << p.id;
-    EXPECT_LE(std::abs(q.x()), 15.0 + 1e-9) << p.id;
-    EXPECT_NEAR(q.x() - std::round(q.x()), 0.0, 1e-9) << p.id;  // every 1 m from x = −15
-    EXPECT_TRUE(p.z_m == 0.5 || p.z_m == 2.5) << p.id;
-  }
-  EXPECT_EQ(wall_points, 2 * 31);
-  EXPECT_EQ(exact.session.survey[2].id, "W001");
-
-  config.total_station_sigma_m = 0.003;
-  const Collected noisy = RunSim(config, CheapPreset(), 71);
-  double sq = 0.0, worst = 0.0;
-  for (const auto& p : noisy.session.survey) {
-    if (p.code != "WALL1") continue;
-    const double d = StationToEnu(config, p).y() - 12.0;
-    sq += d * d;
-    worst = std::max(worst, std::abs(d));
-  }
-  const double rms = std::sqrt(sq / wall_points);
-  EXPECT_NEAR(rms, config.total_station_sigma_m, 0.3 * config.total_station_sigma_m);
-  EXPECT_LT(worst, 5.0 * config.total_station_sigma_m);
-  EXPECT_GT(worst, 0.0);
-}
-
-TEST(SimulatorTest, ControlPointsScatterByControlSigma) {
-  io::SimulationConfig config = NoiseFreeConfig();  // exact total station: the reference
-  config.control_sigma_m = 0.015;
-  const Collected run = RunSim(config, CheapPreset(), 81);
-  const GeographicLib::LocalCartesian enu(config.site_lat_deg, config.site_lon_deg,
-                                          config.site_height_m);
-  ASSERT_EQ(run.session.control.size(), 2u);
-  double sq = 0.0;
-  int n = 0;
-  for (const auto& c : run.session.control) {
-    const auto it = std::find_if(run.session.survey.begin(), run.session.survey.end(),
-                                 [&c](const io::SurveyPoint& p) { return p.id == c.id; });
-    ASSERT_NE(it, run.session.survey.end()) << c.id;
-    EXPECT_EQ(it->code, "CTRL");
-    const Eigen::Vector2d truth = StationToEnu(config, *it);
-    EXPECT_NEAR(12.0 - truth.y(), 2.0, 1e-9);  // 2 m in front of the wall, on the vehicle side
-    EXPECT_GT(std::abs(truth.x()), 10.0);      // near an end
-    double e, nn, u;
-    enu.Forward(c.lat_deg, c.lon_deg, c.h_m, e, nn, u);
-    for (double d : {e - truth.x(), nn - truth.y(), u}) {
-      EXPECT_LT(std::abs(d), 5.0 * config.control_sigma_m);
-      sq += d * d;
-      ++n;
-    }
-  }
-  const double rms = std::sqrt(sq / n);
-  EXPECT_GT(rms, 0.2 * config.control_sigma_m);
-  EXPECT_LT(rms, 2.0 * config.control_sigma_m);
-
-  config.control_sigma_m = 0.0;
-  const Collected exact = RunSim(config, CheapPreset(), 81);
-  double e, nn, u;
-  enu.Forward(exact.session.control[0].lat_deg, exact.session.control[0].lon_deg,
-              exact.session.control[0].h_m, e, nn, u);
-  EXPECT_NEAR(nn, 12.0 - 2.0, 1e-6);
-}
-
-TEST(SimulatorTest, DefaultWallsOnlyWhenNoneGiven) {
-  const io::SimulationConfig with_default = WithDefaultWalls(io::SimulationConfig{});
-  ASSERT_EQ(with_default.walls.size(), 1u);
-  EXPECT_EQ(with_default.walls[0].id, "north_wall");
-  EXPECT_EQ(with_default.walls[0].code, "WALL1");
-  EXPECT_DOUBLE_EQ(with_default.walls[0].y0_m, 12.0);
-  EXPECT_DOUBLE_EQ(with_default.walls[0].y1_m, 12.0);
-  EXPECT_DOUBLE_EQ(std::abs(with_default.walls[0].x1_m - with_default.walls[0].x0_m), 30.0);
-
-  io::SimulationConfig own;
-  own.walls.push_back({"east", "E1", 10.0, -5.0, 10.0, 5.0, 3.0, 1.0});
-  const io::SimulationConfig kept = WithDefaultWalls(own);
-  ASSERT_EQ(kept.walls.size(), 1u);
-  EXPECT_EQ(kept.walls[0].id, "east");
-}
-
 TEST(SimulatorTest, StationsFaceAnyWallFromTheOriginSide) {
   io::SimulationConfig config = NoiseFreeConfig();
   config.walls = {{"east", "E1", 12.0, 10.0, 12.0, -10.0, 3.0, 1.0}};  // x = 12 m
@@ -636,203 +488,6 @@ TEST(SimulatorTest, RejectsWhatItCannotSimulate) {
   io::ScannerPreset no_beams = SickLms291();
   no_beams.num_beams = 0;
   EXPECT_THROW(Simulate(DefaultConfig(), no_beams, 1, nullptr), io::InputError);
-}
-
-// ---- Continuous driving ------------------------------------------------------------------
-
-TEST(SimulatorTest, ContinuousDrivingNeverStopsAndSweepsTheStationPoses) {
-  io::SimulationConfig stop_and_go = DefaultConfig();
-  stop_and_go.drive_speed_mps = 0.6;
-  io::SimulationConfig config = stop_and_go;
-  config.continuous = true;
-  config.weave_amplitude_m = 1.0;
-  const Collected run = RunSim(config, CheapPreset(), 1);
-  const auto& poses = run.session.truth_poses;
-  ASSERT_GT(poses.size(), 100u);
-
-  // As long as the stop-and-go run of the same config.
-  EXPECT_NEAR(poses.back().stamp_s - poses.front().stamp_s, RunDurationS(stop_and_go), 0.1 + 1e-6);
-  EXPECT_NEAR(RunDurationS(config), RunDurationS(stop_and_go), 1e-9);
-
-  double min_yaw = 1e9, max_yaw = -1e9, min_speed = 1e9, path_m = 0.0;
-  double min_x = 1e9, max_x = -1e9;
-  for (size_t k = 0; k < poses.size(); ++k) {
-    EXPECT_FALSE(poses[k].stationary) << "pose " << k;
-    min_yaw = std::min(min_yaw, poses[k].yaw_enu_rad);
-    max_yaw = std::max(max_yaw, poses[k].yaw_enu_rad);
-    min_x = std::min(min_x, poses[k].antenna_enu_m.x());
-    max_x = std::max(max_x, poses[k].antenna_enu_m.x());
-    // The default wall is y = 12 m: the weave stays within ±A of the stations' distance.
-    const double distance_m = 12.0 - poses[k].antenna_enu_m.y();
-    EXPECT_GE(distance_m, config.station_distance_m - config.weave_amplitude_m - 1e-9);
-    EXPECT_LE(distance_m, config.station_distance_m + config.weave_amplitude_m + 1e-9);
-    if (k > 0) {
-      const double step_m = (poses[k].antenna_enu_m - poses[k - 1].antenna_enu_m).norm();
-      path_m += step_m;
-      min_speed = std::min(min_speed, step_m / 0.1);
-    }
-  }
-  // The stations' headings (centred on facing the wall) and lateral positions, passed once.
-  EXPECT_NEAR(max_yaw - min_yaw, config.heading_spread_rad, 1e-9);
-  EXPECT_NEAR(0.5 * (max_yaw + min_yaw), kPi / 2.0, 1e-9);
-  EXPECT_NEAR(max_x - min_x, config.lateral_spread_m, 1e-6);
-  // Never stopped (every 0.1 s step moves), and the mean speed is about drive_speed_mps: the
-  // weave's 4A per period plus a little from the sweep.
-  EXPECT_GT(min_speed, 0.01);
-  const double mean_speed = path_m / (poses.back().stamp_s - poses.front().stamp_s);
-  EXPECT_GT(mean_speed, 0.9 * config.drive_speed_mps);
-  EXPECT_LT(mean_speed, 1.3 * config.drive_speed_mps);
-}
-
-// A car-like vehicle between stops (drive_reverse_m): it backs out and drives in, its velocity
-// along its own axis throughout (no sideways motion), at rest at each station and at the cusp,
-// and it arrives at every station's pose. Checked on TruePosesAt every 5 ms by differences.
-TEST(SimulatorTest, ReversingDrivesMoveAlongTheVehicleAxisOnly) {
-  io::SimulationConfig config = DefaultConfig();
-  config.drive_reverse_m = 4.0;
-  io::SimulationConfig sideways = config;
-  sideways.drive_reverse_m = 0.0;
-  const double duration_s = RunDurationS(config);
-  EXPECT_GT(duration_s, RunDurationS(sideways) + 9 * 8.0 / config.drive_speed_mps * 0.9);
-  constexpr double kStepS = 0.005;
-  std::vector<double> times;
-  for (double t = 0.0; t <= duration_s; t += kStepS) times.push_back(t);
-  const std::vector<SimTruthPose> poses = TruePosesAt(config, times);
-  double max_sideways_mps = 0.0, max_speed_mps = 0.0, max_rate_rps = 0.0, farthest_m = 0.0;
-  int stations = 0;
-  for (size_t k = 1; k + 1 < poses.size(); ++k) {
-    const Eigen::Vector2d v =
-        (poses[k + 1].antenna_enu_m - poses[k - 1].antenna_enu_m) / (2.0 * kStepS);
-    const double yaw = poses[k].yaw_enu_rad;
-    const Eigen::Vector2d left(-std::sin(yaw), std::cos(yaw));
-    max_sideways_mps = std::max(max_sideways_mps, std::abs(left.dot(v)));
-    max_speed_mps = std::max(max_speed_mps, v.norm());
-    max_rate_rps = std::max(max_rate_rps, std::abs(poses[k + 1].yaw_enu_rad -
-                                                   poses[k - 1].yaw_enu_rad) / (2.0 * kStepS));
-    farthest_m = std::max(farthest_m, 12.0 - poses[k].antenna_enu_m.y());  // the wall: y = 12 m
-    if (poses[k].stationary && !poses[k - 1].stationary) ++stations;
-  }
-  // Sideways speed: only what the 5 ms differences make of the curvature (O(step²)).
-  EXPECT_LT(max_sideways_mps, 1e-3) << "speed " << max_speed_mps;
-  EXPECT_GT(max_speed_mps, config.drive_speed_mps);
-  EXPECT_LT(max_speed_mps, 2.0 * config.drive_speed_mps);
-  // A tractor's turn rates (the sessions turn at up to 12°/s).
-  EXPECT_LT(max_rate_rps, 15.0 * kPi / 180.0);
-  // Backs out to about drive_reverse_m behind the stations' line (8 m from the wall).
-  EXPECT_NEAR(farthest_m, config.station_distance_m + config.drive_reverse_m, 0.5);
-  EXPECT_EQ(stations, config.num_stations - 1);  // the first station starts the run
-  // Every station is reached at rest, facing as planned: the sideways plan's poses there.
-  for (size_t k = 0; k < poses.size(); ++k) {
-    if (!poses[k].stationary) continue;
-    const double t = times[k];
-    bool matched = false;
-    for (double s = 0.0; s <= RunDurationS(sideways); s += 0.05) {
-      const SimTruthPose p = TruePosesAt(sideways, {s}).front();
-      if (p.stationary && (p.antenna_enu_m - poses[k].antenna_enu_m).norm() < 1e-9 &&
-          std::abs(p.yaw_enu_rad - poses[k].yaw_enu_rad) < 1e-9) {
-        matched = true;
-        break;
-      }
-    }
-    ASSERT_TRUE(matched) << "stationary pose at t = " << t << " is not a station";
-    k += 50;  // one check per 0.25 s of a dwell is plenty
-  }
-}
-
-TEST(SimulatorTest, ContinuousDurationAndTruthHelpersFollowTheConfig) {
-  io::SimulationConfig config = DefaultConfig();
-  config.continuous = true;
-  config.continuous_duration_s = 30.0;
-  const Collected run = RunSim(config, CheapPreset(), 2);
-  EXPECT_NEAR(run.session.truth_poses.back().stamp_s - config.start_time_s, 30.0, 1e-9);
-  EXPECT_NEAR(RunDurationS(config), 30.0, 1e-12);
-  // TruePosesAt reproduces the truth record exactly.
-  std::vector<double> times;
-  for (size_t k = 0; k < run.session.truth_poses.size(); k += 37) times.push_back(k / 10.0);
-  const std::vector<SimTruthPose> poses = TruePosesAt(config, times);
-  ASSERT_EQ(poses.size(), times.size());
-  for (size_t i = 0; i < poses.size(); ++i) {
-    const SimTruthPose& expected = run.session.truth_poses[i * 37];
-    EXPECT_DOUBLE_EQ(poses[i].stamp_s, expected.stamp_s);
-    EXPECT_EQ(poses[i].antenna_enu_m, expected.antenna_enu_m);
-    EXPECT_EQ(poses[i].yaw_enu_rad, expected.yaw_enu_rad);
-  }
-}
-
-TEST(SimulatorTest, ContinuousScansSeeTheWallFromTheMovingPose) {
-  io::SimulationConfig config = NoiseFreeConfig();
-  config.continuous = true;
-  const io::ScannerPreset preset = PerfectPreset();
-  const Collected run = RunSim(config, preset, 4);
-  ASSERT_GT(run.scans.size(), 100u);
-  int checked = 0;
-  for (size_t si = 0; si < run.scans.size(); si += 50) {
-    const io::ScanRecord& scan = run.scans[si];
-    const SimTruthPose truth = TruePosesAt(config, {scan.stamp_s - config.start_time_s}).front();
-    const std::vector<SimBeamHit> hits = TrueBeamHits(config, preset, truth);
-    ASSERT_EQ(hits.size(), scan.ranges_m.size());
-    for (size_t i = 0; i < hits.size(); ++i) {
-      if (!hits[i].returned) continue;
-      EXPECT_EQ(hits[i].wall_index, 0);  // the only wall
-      EXPECT_NEAR(scan.ranges_m[i], hits[i].range_m, 2e-7 * hits[i].range_m + 1e-6);
-      ++checked;
-    }
-  }
-  EXPECT_GT(checked, 1000);
-}
-
-TEST(SimulatorTest, TrueBeamHitsNameTheSurfaceAndSeeOcclusions) {
-  io::SimulationConfig config = NoiseFreeConfig();
-  io::SimWall second;
-  second.id = "east";
-  second.code = "WALL2";
-  second.x0_m = 14.0;
-  second.y0_m = 12.0;
-  second.x1_m = 14.0;
-  second.y1_m = -4.0;
-  config.walls.push_back(second);
-  // A post right in front of the scanner when facing the wall (heading north).
-  config.obstacles.push_back({0.0, 11.0, 0.3});
-  const io::ScannerPreset preset = PerfectPreset();
-  // The scanner at (0, 6.5) facing due north: the vehicle turned back by the mount yaw, the
-  // antenna behind the scanner by the rotated lever arm.
-  const double yaw = kPi / 2.0 - config.mount_yaw_rad;
-  const Eigen::Vector2d lever(std::cos(yaw) * config.mount_x_m - std::sin(yaw) * config.mount_y_m,
-                              std::sin(yaw) * config.mount_x_m + std::cos(yaw) * config.mount_y_m);
-  const SimTruthPose pose{config.start_time_s, Eigen::Vector2d(0.0, 6.5) - lever, yaw, false};
-  const std::vector<SimBeamHit> hits = TrueBeamHits(config, preset, pose);
-  ASSERT_EQ(hits.size(), 181u);
-  const SimBeamHit& ahead = hits[90];  // bearing 0: the post's near side
-  EXPECT_NEAR(ahead.bearing_rad, 0.0, 1e-12);
-  EXPECT_EQ(ahead.wall_index, -1);
-  EXPECT_NEAR(ahead.range_m, 11.0 - 0.3 - 6.5, 1e-9);
-  const SimBeamHit& left = hits[90 + 30];  // bearing +30°: the first wall, 5.5 m north
-  EXPECT_EQ(left.wall_index, 0);
-  EXPECT_NEAR(left.range_m, 5.5 / std::cos(30.0 * kDegToRad), 1e-9);
-  EXPECT_TRUE(left.returned);
-  const SimBeamHit& right = hits[90 - 80];  // bearing −80°: the second wall, 14 m east
-  EXPECT_EQ(right.wall_index, 1);
-  EXPECT_NEAR(right.range_m, 14.0 / std::cos(10.0 * kDegToRad), 1e-9);
-  // The post's silhouette edges are mixed-pixel candidates, the middle of a wall is not.
-  int edges = 0;
-  for (const SimBeamHit& h : hits) edges += h.footprint_edge;
-  EXPECT_GE(edges, 2);
-  EXPECT_FALSE(left.footprint_edge);
-}
-
-TEST(SimulatorTest, RejectsAWeaveThatReachesTheWall) {
-  io::SimulationConfig config = DefaultConfig();
-  config.continuous = true;
-  config.weave_amplitude_m = config.station_distance_m - 2.0;  // scanner 2.57 m ahead
-  EXPECT_THROW(RunSim(config, CheapPreset(), 1), io::InputError);
-  EXPECT_THROW(RunDurationS(config), io::InputError);
-  config.weave_amplitude_m = -1.0;
-  EXPECT_THROW(RunSim(config, CheapPreset(), 1), io::InputError);
-  config.weave_amplitude_m = 1.0;
-  config.continuous_duration_s = -5.0;
-  EXPECT_THROW(RunSim(config, CheapPreset(), 1), io::InputError);
-  config.continuous = false;  // the weave settings only matter when driving continuously
-  EXPECT_NO_THROW(RunSim(config, CheapPreset(), 1));
 }
 
 }  // namespace
