@@ -7,8 +7,9 @@
 #   BUILD_DIR  the build with calibrate, inspect, simulate and bench/parse_floor (default build)
 #   MINUTES    session lengths (default: 5 15 60 240); one station a minute (59.5 s stops),
 #              75 scans/s, the scenario of configs/simulate/bench_lms291_hour.yaml
-# Environment: SPEED_BENCH_DIR (default /tmp/wallcal-speed-bench) holds the sessions (a 4-hour
-# session is 1.4 GB); THREADS is passed to calibrate --threads (default: every core).
+# Environment: SPEED_BENCH_DIR, when set, holds the sessions and keeps them for the next run (a
+# 4-hour session is 1.4 GB, simulated once); unset, they go to a temporary folder removed at
+# exit. THREADS is passed to calibrate --threads (default: every core).
 # Needs /usr/bin/time (Debian package `time`: scripts/install-deps.sh bench).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -17,13 +18,18 @@ shift || true
 minutes=("$@")
 [ ${#minutes[@]} -gt 0 ] || minutes=(5 15 60 240)
 case "$build" in /*) ;; *) build="$root/$build" ;; esac
-work="${SPEED_BENCH_DIR:-/tmp/wallcal-speed-bench}"
 threads="${THREADS:-0}"
 for program in calibrate inspect simulate bench/parse_floor; do
   [ -x "$build/$program" ] || { echo "speed_bench: $build/$program not built" >&2; exit 2; }
 done
 [ -x /usr/bin/time ] || { echo "speed_bench: /usr/bin/time missing (apt-get install time)" >&2; exit 2; }
-mkdir -p "$work"
+if [ -n "${SPEED_BENCH_DIR:-}" ]; then
+  work="$SPEED_BENCH_DIR"
+  mkdir -p "$work"
+else
+  work=$(mktemp -d "${TMPDIR:-/tmp}/wallcal-speed-bench.XXXXXX")
+  trap 'rm -rf "$work"' EXIT
+fi
 
 # Runs a command, prints "SECONDS PEAK_RSS_MB" (wall clock, maximum resident set).
 measure() {

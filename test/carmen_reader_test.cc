@@ -9,15 +9,17 @@
 #include <iterator>
 #include <string>
 #include "common/angles.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
+
+// A file in this process's scratch folder, removed when the process ends.
 std::string TempPath(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "carmen_reader_test";
-  fs::create_directories(dir);
-  return (dir / name).string();
+  static const testing_support::ScratchDir scratch("carmen_reader_test_");
+  return (scratch.path() / name).string();
 }
 
 std::string WriteFile(const std::string& name, const std::string& content) {

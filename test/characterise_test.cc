@@ -4,7 +4,6 @@
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -21,15 +20,17 @@
 #include "io/writers.h"
 #include "pipeline/calibration.h"
 #include "sim/simulated_session.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal::characterise {
 namespace {
 
 namespace fs = std::filesystem;
 
+// An empty folder in this process's scratch folder, removed when the process ends.
 fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("wallcal_characterise_" + name + "_" + std::to_string(::getpid()));
+  static const testing_support::ScratchDir scratch("wallcal_characterise_");
+  const fs::path dir = scratch.path() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

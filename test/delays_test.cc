@@ -18,7 +18,6 @@
 // delays_continuous --crb-only). The mount: within 4 σ on each axis.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <Eigen/LU>
 #include <cmath>
@@ -32,6 +31,7 @@
 #include "sim/simulated_session.h"
 #include "sim/simulator.h"
 #include "solvers/mount_problem.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal {
 namespace {
@@ -41,15 +41,13 @@ namespace fs = std::filesystem;
 TEST(DelaysTest, RecoversGnssLatencyScannerOffsetAndHeadingDelayWithHonestSigma) {
   const io::SimulationConfig config = sim::WithDefaultWalls(io::ReadSimulationConfig(
       std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_delays_continuous.yaml"));
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("wallcal_delays_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const testing_support::ScratchDir scratch("wallcal_delays_");
+  const fs::path dir = scratch.path() / "session";
   sim::WriteSimulatedSession(config, 7, dir.string());
   pipeline::CalibrateRequest request;
   request.session_path = dir.string();
   request.config_path = std::string(WALLCAL_SOURCE_DIR) + "/bench/calibrate_matched_moving.yaml";
   const pipeline::CalibrationResult result = pipeline::RunCalibration(request, nullptr);
-  fs::remove_all(dir);
   ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
 
   const double gnss_s = config.gnss_latency_s + 0.5 * config.gnss_jitter_s;
@@ -85,9 +83,8 @@ TEST(DelaysTest, RecoversGnssLatencyScannerOffsetAndHeadingDelayWithHonestSigma)
 // the clock rounds (solvers/solve_policy.h) in *rounds when given.
 pipeline::CalibrationResult SimulateAndCalibrate(const io::SimulationConfig& config, uint64_t seed,
                                                  const std::string& name, int* rounds = nullptr) {
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("wallcal_delays_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const testing_support::ScratchDir scratch("wallcal_delays_" + name + "_");
+  const fs::path dir = scratch.path() / "session";
   sim::WriteSimulatedSession(config, seed, dir.string());
   pipeline::CalibrateRequest request;
   request.session_path = dir.string();
@@ -97,7 +94,6 @@ pipeline::CalibrationResult SimulateAndCalibrate(const io::SimulationConfig& con
     counted += p.stage == pipeline::Stage::kClockOffsetRound ? 1 : 0;
   };
   pipeline::CalibrationResult result = pipeline::RunCalibration(request, count);
-  fs::remove_all(dir);
   if (rounds != nullptr) *rounds = counted;
   return result;
 }
@@ -246,15 +242,13 @@ TEST(DelaysTest, OwnSigmaSeesWhatTheDataHoldOfEachDelay) {
 TEST(DelaysTest, StationaryOnlySessionSaysTheHeadingDelayIsNotEstimated) {
   io::SimulationConfig config = sim::WithDefaultWalls(io::ReadSimulationConfig(
       std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_delays_stopgo.yaml"));
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("wallcal_delays_still_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const testing_support::ScratchDir scratch("wallcal_delays_still_");
+  const fs::path dir = scratch.path() / "session";
   sim::WriteSimulatedSession(config, 3, dir.string());
   pipeline::CalibrateRequest request;
   request.session_path = dir.string();
   request.config_path = std::string(WALLCAL_SOURCE_DIR) + "/bench/calibrate_matched_standing.yaml";
   const pipeline::CalibrationResult result = pipeline::RunCalibration(request, nullptr);
-  fs::remove_all(dir);
   ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
   EXPECT_EQ(result.gnss_epochs.status, calib::EpochMappingStatus::kMapped);
   EXPECT_EQ(result.heading_delay.status, pipeline::DelayStatus::kNotEstimated);

@@ -12,7 +12,6 @@
 // σ/bound seen over the 50-run benchmark plus the linearisation of one run.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -32,6 +31,7 @@
 #include "solvers/mount_solver.h"
 #include "common/angles.h"
 #include "test/flow_names.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal {
 
@@ -49,15 +49,13 @@ void CheckSigmaAgainstBound(const Case& c, uint64_t seed) {
   const io::SimulationConfig config = sim::WithDefaultWalls(io::ReadSimulationConfig(
       std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_" + c.scenario + ".yaml"));
   const io::ScannerPreset preset = io::LoadScannerPreset(config.scanner_model, PresetDirs());
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("wallcal_efficiency_" + c.scenario + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const testing_support::ScratchDir scratch("wallcal_efficiency_" + c.scenario + "_");
+  const fs::path dir = scratch.path() / "session";
   WriteSimulatedSession(config, seed, dir.string());
   CalibrateRequest request;
   request.session_path = dir.string();
   request.config_path = std::string(WALLCAL_SOURCE_DIR) + "/bench/" + c.options + ".yaml";
   const CalibrationResult result = RunCalibration(request, nullptr);
-  fs::remove_all(dir);
   ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
 
   std::vector<bench::CrbObservation> observations;

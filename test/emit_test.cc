@@ -25,6 +25,7 @@
 #include "io/session_reader.h"
 #include "common/angles.h"
 #include "test/flow_names.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal {
 
@@ -545,8 +546,8 @@ CommandRun Capture(const std::string& command) {
 }
 
 TEST(EmitProgramTest, EmitJsonPrintsOnlyJsonOnStdout) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "wallcal_emit_program";
-  fs::remove_all(dir);
+  const testing_support::ScratchDir scratch("wallcal_emit_program_");
+  const fs::path dir = scratch.path() / "session";
   const io::SimulationConfig config = io::ReadSimulationConfig(
       std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/lms291_sapporo.yaml");
   WriteSimulatedSession(config, 3, dir.string());

@@ -34,6 +34,7 @@
 #include "io/session_reader.h"
 #include "common/angles.h"
 #include "test/flow_names.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal {
 
@@ -45,8 +46,10 @@ std::string ScenarioPath(const std::string& name) {
   return std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/" + name + ".yaml";
 }
 
+// An empty folder in this process's scratch folder, removed when the process ends.
 fs::path FreshDir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("wallcal_e2e_" + name);
+  static const testing_support::ScratchDir scratch("wallcal_e2e_");
+  const fs::path dir = scratch.path() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

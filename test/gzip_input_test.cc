@@ -2,8 +2,6 @@
 // with zlib), and damaged gzip data are reported, not half-read in silence.
 #include "io/gzip_input.h"
 
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 #include <zlib.h>
 
@@ -16,17 +14,17 @@
 #include "io/nmea_reader.h"
 #include "io/survey_reader.h"
 #include "io/writers.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
 
+// A file in this process's scratch folder, removed when the process ends.
 std::string PathOf(const std::string& name) {
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("gzip_input_test-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return (dir / name).string();
+  static const testing_support::ScratchDir scratch("gzip_input_test-");
+  return (scratch.path() / name).string();
 }
 
 std::string WritePlain(const std::string& name, const std::string& content) {

@@ -29,6 +29,7 @@
 #include "io/writers.h"
 #include "common/angles.h"
 #include "test/flow_names.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal {
 
@@ -39,8 +40,10 @@ namespace fs = std::filesystem;
 const std::string kInspect = WALLCAL_BINARY_DIR "/inspect";
 const std::string kRealDir = WALLCAL_SOURCE_DIR "/../shared/testdata/real/";
 
+// An empty folder in this process's scratch folder, removed when the process ends.
 fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "inspect_test" / name;
+  static const testing_support::ScratchDir scratch("inspect_test_");
+  const fs::path dir = scratch.path() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

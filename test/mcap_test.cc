@@ -2,8 +2,6 @@
 // decode of the files, not from this reader), writer round trips for every chunk compression,
 // records walked without a summary, and damaged input (cuts, flipped bytes, CRCs, codecs).
 
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 #include <zlib.h>
 
@@ -16,6 +14,7 @@
 #include "io/mcap_records.h"
 #include "io/mcap_writer.h"
 #include "io/types.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal::io {
 namespace {
@@ -25,9 +24,10 @@ namespace fs = std::filesystem;
 const std::string kReal = WALLCAL_SOURCE_DIR "/../shared/testdata/real/ros2";
 
 std::string Dir(const std::string& name) {
-  // One folder per process: ctest runs the cases of a file in parallel processes.
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("mcap_test-" + std::to_string(::getpid())) / name;
+  // One folder per process (ctest runs the cases of a file in parallel processes), removed when
+  // the process ends.
+  static const testing_support::ScratchDir scratch("mcap_test-");
+  const fs::path dir = scratch.path() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();

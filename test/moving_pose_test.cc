@@ -3,8 +3,6 @@
 // stop-and-go sessions (alignment.moving_scans_in_stop_and_go) when the scanner clock offset is
 // determined, σ honest against the simulator's truth.
 
-#include <unistd.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -21,6 +19,7 @@
 #include "sim/simulated_session.h"
 #include "sim/simulator.h"
 #include "solvers/mount_problem.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal {
 namespace {
@@ -191,15 +190,13 @@ TEST(MovingPoseTest, DrivesAtASecondWallLeaveNoBias) {
   config.gnss_bias_sigma_m = config.gnss_white_sigma_m = 0.0;
   config.heading_white_sigma_rad = config.heading_drift_rad_per_s = 0.0;
   config.total_station_sigma_m = config.control_sigma_m = 0.0;
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("wallcal_moving_pose_two_walls_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const testing_support::ScratchDir scratch("wallcal_moving_pose_two_walls_");
+  const fs::path dir = scratch.path() / "session";
   sim::WriteSimulatedSession(config, 5, dir.string());
   // The solver's GNSS model left at an RTK receiver's (its slices free to follow a pattern).
   const pipeline::CalibrationResult result =
       Calibrate(dir, "  use_gst_sigma: false\n  gnss_bias_sigma_m: 0.03\n"
                      "alignment:\n  moving_scans_in_stop_and_go: true\n");
-  fs::remove_all(dir);
   ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
   EXPECT_GT(result.scans_used_moving, 100);
   EXPECT_LT(std::abs(result.estimate.mount.x_m - config.mount_x_m), 0.004);
@@ -212,10 +209,8 @@ TEST(MovingPoseTest, StopAndGoUsesTheDrivesWithAnHonestSigma) {
   config.scanner_time_offset_s = 0.04;  // the drives must find it
   const double truth[3] = {config.mount_x_m, config.mount_y_m, config.mount_yaw_rad};
   for (uint64_t seed : {11u, 12u, 13u}) {
-    const fs::path dir = fs::path(::testing::TempDir()) /
-                         ("wallcal_moving_pose_" + std::to_string(::getpid()) + "_" +
-                          std::to_string(seed));
-    fs::remove_all(dir);
+    const testing_support::ScratchDir scratch("wallcal_moving_pose_");
+    const fs::path dir = scratch.path() / ("seed" + std::to_string(seed));
     sim::WriteSimulatedSession(config, seed, dir.string());
     const pipeline::CalibrationResult with = Calibrate(dir, kDrives);
     ASSERT_TRUE(with.estimate.usable) << with.estimate.message;
@@ -244,16 +239,14 @@ TEST(MovingPoseTest, StopAndGoUsesTheDrivesWithAnHonestSigma) {
     EXPECT_EQ(without.scans_used_moving, 0);
     EXPECT_LT(with.estimate.covariance(0, 0), without.estimate.covariance(0, 0));
     EXPECT_LT(with.estimate.covariance(1, 1), without.estimate.covariance(1, 1));
-    fs::remove_all(dir);
   }
 }
 
 TEST(MovingPoseTest, DrivesAreDroppedWhenTheOffsetIsNotDetermined) {
   io::SimulationConfig config = sim::WithDefaultWalls(io::ReadSimulationConfig(
       std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_stopgo.yaml"));
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("wallcal_moving_pose_drop_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const testing_support::ScratchDir scratch("wallcal_moving_pose_drop_");
+  const fs::path dir = scratch.path() / "session";
   sim::WriteSimulatedSession(config, 21, dir.string());
   // No offset σ is this small: the drives go, with a warning, and the counts say so.
   const pipeline::CalibrationResult strict =
@@ -271,7 +264,6 @@ TEST(MovingPoseTest, DrivesAreDroppedWhenTheOffsetIsNotDetermined) {
       Calibrate(dir, kDrives, solvers::Method::kBarawid);
   ASSERT_TRUE(barawid.estimate.usable) << barawid.estimate.message;
   EXPECT_EQ(barawid.scans_used_moving, 0);
-  fs::remove_all(dir);
 }
 
 }  // namespace

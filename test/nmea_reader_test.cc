@@ -12,15 +12,17 @@
 
 #include "io/writers.h"
 #include "common/angles.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
+
+// Writes a file into this process's scratch folder, removed when the process ends.
 std::string WriteFile(const std::string& name, const std::string& content) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "nmea_reader_test";
-  fs::create_directories(dir);
-  const std::string path = (dir / name).string();
+  static const testing_support::ScratchDir scratch("nmea_reader_test_");
+  const std::string path = (scratch.path() / name).string();
   std::ofstream(path, std::ios::binary) << content;
   return path;
 }

@@ -22,6 +22,7 @@
 #include "io/session_reader.h"
 #include "solvers/mount_problem.h"
 #include "test/flow_names.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal {
 
@@ -35,8 +36,10 @@ io::SimulationConfig Sapporo() {
                                   "/configs/simulate/lms291_sapporo.yaml");
 }
 
+// A simulated session in this process's scratch folder, removed when the process ends.
 fs::path Simulated(const io::SimulationConfig& config, uint64_t seed, const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("wallcal_checks_" + name);
+  static const testing_support::ScratchDir scratch("wallcal_checks_");
+  const fs::path dir = scratch.path() / name;
   fs::remove_all(dir);
   WriteSimulatedSession(config, seed, dir.string());
   return dir;

@@ -27,6 +27,7 @@
 #include "pipeline/config_dirs.h"
 #include "preflight/inspect_internal.h"
 #include "sim/simulated_session.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal {
 namespace {
@@ -38,9 +39,8 @@ TEST(PreviewTest, ThinnedPreviewAgreesWithTheCalibration) {
       std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_hour.yaml");
   config.num_stations = 8;
   config.dwell_s = 20.0;
-  const fs::path dir = fs::path(::testing::TempDir()) / "wallcal_preview_thinned";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const testing_support::ScratchDir scratch("wallcal_preview_thinned_");
+  const fs::path dir = scratch.path();
   sim::WriteSimulatedSession(config, 21, dir.string());
 
   pipeline::CalibrateRequest request;
@@ -80,9 +80,8 @@ TEST(PreviewTest, ThinnedPreviewAgreesWithTheCalibration) {
 TEST(PreviewTest, SecondPassTallyIsTheScanLogSummary) {
   io::SimulationConfig config = io::ReadSimulationConfig(
       std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/lms291_sapporo.yaml");
-  const fs::path dir = fs::path(::testing::TempDir()) / "wallcal_preview_tally";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const testing_support::ScratchDir scratch("wallcal_preview_tally_");
+  const fs::path dir = scratch.path();
   sim::WriteSimulatedSession(config, 7, dir.string());
   // Five copies of the first scan, 100 s and more before it, and a malformed line after them.
   const fs::path log = dir / "scans.clf";

@@ -29,15 +29,17 @@
 #include "pipeline/calibration.h"
 #include "sim/recording_session.h"
 #include "sim/simulated_session.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal {
 namespace {
 
 namespace fs = std::filesystem;
 
+// An empty folder in this process's scratch folder, removed when the process ends.
 fs::path FreshDir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("wallcal_rec_" + name + "_" + std::to_string(::getpid()));
+  static const testing_support::ScratchDir scratch("wallcal_rec_");
+  const fs::path dir = scratch.path() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

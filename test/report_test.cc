@@ -3,8 +3,6 @@
 
 #include "outputs/report.h"
 
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -23,6 +21,7 @@
 #include "pipeline/calibration.h"
 #include "sim/simulated_session.h"
 #include "test/flow_names.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal {
 
@@ -196,10 +195,11 @@ std::string ScenarioPath(const std::string& name) {
 }
 
 fs::path FreshDir(const std::string& name) {
-  // One folder per process: ctest runs each test of this suite in its own process, each
-  // building the suite's fixture; a shared folder would be rebuilt under the others' feet.
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("wallcal_report_" + name + "_" + std::to_string(::getpid()));
+  // One folder per process, removed when it ends: ctest runs each test of this suite in its own
+  // process, each building the suite's fixture; a shared folder would be rebuilt under the
+  // others' feet.
+  static const testing_support::ScratchDir scratch("wallcal_report_");
+  const fs::path dir = scratch.path() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

@@ -3,8 +3,6 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -19,6 +17,7 @@
 #include "io/rosbag1_reader.h"
 #include "io/rosbag1_writer.h"
 #include "io/types.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal::io {
 namespace {
@@ -60,10 +59,10 @@ std::vector<uint8_t> Slurp(const std::string& path) {
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
 }
 
+// A file in this process's scratch folder, removed when the process ends.
 std::string TempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() /
-          ("wallcal-rosbag1-" + std::to_string(::getpid()) + "-" + name))
-      .string();
+  static const testing_support::ScratchDir scratch("wallcal-rosbag1-");
+  return (scratch.path() / name).string();
 }
 
 TEST(Ros1BagRealTest, ScanToolsDemoLaserScans) {

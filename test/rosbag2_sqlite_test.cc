@@ -2,8 +2,6 @@
 // independent decode with Python's sqlite3), writer round trips in the Humble and Iron layouts,
 // split bags read in order, mcap-storage folders, metadata.yaml, and inputs that are not rosbag2.
 
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 #include <zlib.h>
@@ -16,6 +14,7 @@
 #include "io/rosbag2_sqlite_reader.h"
 #include "io/rosbag2_sqlite_writer.h"
 #include "io/types.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal::io {
 namespace {
@@ -25,9 +24,10 @@ namespace fs = std::filesystem;
 const std::string kReal = WALLCAL_SOURCE_DIR "/../shared/testdata/real/ros2";
 
 std::string Dir(const std::string& name) {
-  // One folder per process: ctest runs the cases of a file in parallel processes.
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("rosbag2_sqlite_test-" + std::to_string(::getpid())) / name;
+  // One folder per process (ctest runs the cases of a file in parallel processes), removed when
+  // the process ends.
+  static const testing_support::ScratchDir scratch("rosbag2_sqlite_test-");
+  const fs::path dir = scratch.path() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();

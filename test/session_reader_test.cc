@@ -9,13 +9,17 @@
 
 #include "io/writers.h"
 #include "common/angles.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
+
+// A folder in this process's scratch folder, removed when the process ends.
 std::string Dir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "session_reader_test" / name;
+  static const testing_support::ScratchDir scratch("session_reader_test_");
+  const fs::path dir = scratch.path() / name;
   fs::create_directories(dir);
   return dir.string();
 }

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <string>
 
+#include "test/scratch_dir.h"
+
 namespace wallcal {
 namespace {
 
@@ -31,8 +33,8 @@ TEST(Sha256Test, SplitUpdatesGiveTheSameDigest) {
 }
 
 TEST(Sha256Test, HashesAFileAndSaysWhenItCannot) {
-  const std::filesystem::path path =
-      std::filesystem::path(::testing::TempDir()) / "wallcal_sha256_test.txt";
+  const testing_support::ScratchDir scratch("wallcal_sha256_test_");
+  const std::filesystem::path path = scratch.path() / "wallcal_sha256_test.txt";
   std::ofstream(path, std::ios::binary) << "abc";
   EXPECT_EQ(Sha256OfFile(path.string()),
             "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");

@@ -1,4 +1,5 @@
 #include "io/survey_reader.h"
+#include "test/scratch_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -12,10 +13,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Writes a file into this process's scratch folder, removed when the process ends.
 std::string WriteFile(const std::string& name, const std::string& content) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "survey_reader_test";
-  fs::create_directories(dir);
-  const std::string path = (dir / name).string();
+  static const testing_support::ScratchDir scratch("survey_reader_test_");
+  const std::string path = (scratch.path() / name).string();
   std::ofstream(path, std::ios::binary) << content;
   return path;
 }

@@ -15,6 +15,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "common/sha256.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal {
 namespace {
@@ -62,9 +63,11 @@ RunOut Exec(const std::string& program, const std::string& args, const fs::path&
   return run;
 }
 
-// A fresh copy of the sample (without an offsets.yaml) in its own folder.
+// A fresh copy of the sample (without an offsets.yaml) in its own folder, in this process's
+// scratch folder (removed when the process ends).
 fs::path Copy(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("wallcal_verdict_" + name);
+  static const testing_support::ScratchDir scratch("wallcal_verdict_");
+  const fs::path dir = scratch.path() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   for (const auto& entry : fs::directory_iterator(kSample)) {

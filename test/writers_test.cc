@@ -14,13 +14,17 @@
 #include "io/session_reader.h"
 #include "io/survey_reader.h"
 #include "common/angles.h"
+#include "test/scratch_dir.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
+
+// An empty folder in this process's scratch folder, removed when the process ends.
 std::string Dir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "writers_test" / name;
+  static const testing_support::ScratchDir scratch("writers_test_");
+  const fs::path dir = scratch.path() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();
