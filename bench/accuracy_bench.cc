@@ -8,6 +8,7 @@
 //   accuracy_bench [--runs N] [--scenario NAME] [--first-seed S] [--csv FILE] [--breakdown]
 //                  [--max-crb-obs M] [--max-all-obs M] [--delay-prior S] [--all-min-beams N]
 //                  [--options FILE] [--sim FILE] [--crb-only] [--keep] [--with-variants] [--list]
+//                  [--help]
 //
 // Variants ((i), (j): a scenario's session with its drives left out, to show what they add) run
 // only when named or with --with-variants; they are not held to the all-data bound.

@@ -8,15 +8,44 @@
 #endif
 
 namespace wallcal::bench {
+namespace {
+constexpr const char* kUsage =
+    "usage: accuracy_bench [--runs N] [--scenario NAME] [--first-seed S] [--csv FILE]\n"
+    "                      [--breakdown] [--max-crb-obs M] [--max-all-obs M] [--delay-prior S]\n"
+    "                      [--all-min-beams N] [--options FILE] [--sim FILE] [--crb-only]\n"
+    "                      [--keep] [--with-variants] [--list] [--help]\n";
+
+constexpr const char* kHelp =
+    "Simulates sessions of each benchmark scenario (configs/simulate/bench_*.yaml), calibrates\n"
+    "them with --method ceres and --method barawid, and compares the RMS error with the reported\n"
+    "sigma and with the Cramer-Rao bound over all the data each session holds\n"
+    "(docs/results.md explains every line of the output).\n"
+    "\n"
+    "  --runs N            sessions per scenario, seeds S..S+N-1 (default 50)\n"
+    "  --first-seed S      the first seed (default 1)\n"
+    "  --scenario NAME     one scenario (names: --list); default every scenario but the variants\n"
+    "  --with-variants     also the variants (i), (j): standing scans only\n"
+    "  --csv FILE          one row per run and method: usable, observations, errors and sigmas\n"
+    "                      (m, rad), the scanner clock offset (s), seconds\n"
+    "  --breakdown         the bound's breakdown by noise source\n"
+    "  --max-crb-obs M     the bound over the scans calibrate used: at most M observations a run,\n"
+    "                      an even subsample beyond (default 1600)\n"
+    "  --max-all-obs M     the all-data bound: at most M scans' wall lines a run (default 2400)\n"
+    "  --all-min-beams N   a wall line counts in the all-data bound from N beams (default 2)\n"
+    "  --delay-prior S     the all-data bound's prior sigma on the GNSS and heading delays,\n"
+    "                      seconds (default 0.05; the scanner offset's is flat)\n"
+    "  --options FILE      calibrate options instead of the scenario's matched file\n"
+    "  --sim FILE          any simulate config instead of the scenarios\n"
+    "  --crb-only          the bounds alone, no calibration\n"
+    "  --keep              keep the simulated sessions (in "
+    "$TMPDIR/wallcal_bench_<pid>_<scenario>)\n"
+    "  --list              the scenarios, their labels and files\n";
+}  // namespace
+
 [[noreturn]] void Usage(const std::string& why) {
-  std::fprintf(stderr,
-               "accuracy_bench: %s\nusage: accuracy_bench [--runs N] [--scenario NAME] "
-               "[--first-seed S] [--csv FILE] [--breakdown] [--max-crb-obs M] [--max-all-obs M] "
-               "[--delay-prior S] [--all-min-beams N] [--options FILE] [--sim FILE] [--crb-only] [--keep] [--with-variants] [--list]\n",
-               why.c_str());
+  std::fprintf(stderr, "accuracy_bench: %s\n%s", why.c_str(), kUsage);
   std::exit(2);
 }
-
 
 std::vector<Scenario> Scenarios() {
   const std::string src = WALLCAL_SOURCE_DIR;
@@ -25,7 +54,8 @@ std::vector<Scenario> Scenarios() {
   const std::string moving = src + "/bench/calibrate_matched_moving.yaml";
   const std::string standing = src + "/bench/calibrate_matched_standing.yaml";
   return {
-      {"lms291_stopgo", "(a) LMS 291 stop-and-go", sim + "bench_lms291_stopgo.yaml", matched, false},
+      {"lms291_stopgo", "(a) LMS 291 stop-and-go", sim + "bench_lms291_stopgo.yaml", matched,
+       false},
       {"lms291_continuous", "(b) LMS 291 continuous driving", sim + "bench_lms291_continuous.yaml",
        moving, true},
       {"urg04lx", "(c) URG-04LX", sim + "bench_urg04lx.yaml", matched, false},
@@ -42,11 +72,14 @@ std::vector<Scenario> Scenarios() {
        sim + "bench_lms291_stopgo.yaml", standing, false, true},
       {"two_walls_standing", "(j) (f) with standing scans only (the drives left out)",
        sim + "bench_lms291_two_walls.yaml", standing, false, true},
-      {"delays_stopgo", "(d1) stop-and-go (5 s stops), car-like drives, the logger's delays 35+U(0,10)/4/13 ms",
+      {"delays_stopgo",
+       "(d1) stop-and-go (5 s stops), car-like drives, the logger's delays 35+U(0,10)/4/13 ms",
        sim + "bench_lms291_delays_stopgo.yaml", moving, true},
-      {"delays_short_stops", "(d2) 0.3 s stops, car-like drives (turns to 12 deg/s), the logger's delays",
+      {"delays_short_stops",
+       "(d2) 0.3 s stops, car-like drives (turns to 12 deg/s), the logger's delays",
        sim + "bench_lms291_delays_short_stops.yaml", moving, true},
-      {"delays_continuous", "(d3) continuous driving with the logger's delays",
+      {"delays_continuous",
+       "(d3) continuous driving, a car's weave (turns to 12.5 deg/s), the logger's delays",
        sim + "bench_lms291_delays_continuous.yaml", moving, true},
   };
 }
@@ -89,6 +122,9 @@ Args ParseArgs(int argc, char** argv) {
       args.variants = true;
     } else if (a == "--keep") {
       args.keep = true;
+    } else if (a == "--help" || a == "-h") {
+      std::printf("%s\n%s", kUsage, kHelp);
+      std::exit(0);
     } else if (a == "--list") {
       for (const Scenario& s : Scenarios()) {
         std::printf("%-18s %s%s  (%s)\n", s.name.c_str(), s.label.c_str(),
