@@ -485,13 +485,15 @@ void Solve(const CalibrateRequest& request, const ProgressFn& progress,
   const double clock_prior_s = result->options.solver.time_offset_sigma_s;
   const double heading_prior_s =
       estimate.heading_delay_estimated ? estimate.heading_delay_prior_sigma_s : 0.0;
-  const Eigen::Matrix2d& time_covariance = estimate.time_covariance;
-  result->scanner_offset = ClassifyDelay(
-      estimate.time_offset_estimated, estimate.time_offset_s, estimate.time_offset_sigma_s,
-      clock_prior_s, solvers::DelayOwnSigma(time_covariance, clock_prior_s, heading_prior_s, 0));
-  result->heading_delay = ClassifyDelay(
-      estimate.heading_delay_estimated, estimate.heading_delay_s, estimate.heading_delay_sigma_s,
-      heading_prior_s, solvers::DelayOwnSigma(time_covariance, clock_prior_s, heading_prior_s, 1));
+  const auto determined = [&](int index) {
+    return solvers::DelayDetermined(estimate.time_covariance, clock_prior_s, heading_prior_s, index);
+  };
+  result->scanner_offset =
+      ClassifyDelay(estimate.time_offset_estimated, estimate.time_offset_s,
+                    estimate.time_offset_sigma_s, clock_prior_s, determined(0));
+  result->heading_delay =
+      ClassifyDelay(estimate.heading_delay_estimated, estimate.heading_delay_s,
+                    estimate.heading_delay_sigma_s, heading_prior_s, determined(1));
 }
 
 void Analyse(const CalibrateRequest& request, const ProgressFn& progress,

@@ -7,9 +7,10 @@
 
 namespace wallcal::pipeline {
 
-// The reported delay: value and joint σ when estimated; determined when DelayOwnSigma is below
-// half the prior's σ (solvers::DelayOwnSigma).
+// The reported delay: value and joint σ when estimated, and the status: `determined` is
+// solvers::DelayDetermined's verdict (the data with the other delay free shrink its prior by
+// half), so the report and the clock rounds judge a delay by the same rule.
 StreamDelay ClassifyDelay(bool estimated, double value_s, double sigma_s, double prior_sigma_s,
-                          double own_sigma_s);
+                          bool determined);
 
 }  // namespace wallcal::pipeline

@@ -92,7 +92,7 @@ PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>
                                   : e.time_offset_sigma_s;
     const double turn_prior_s = std::hypot(clock_prior_s, heading_prior_s);
     const bool clock_determined = DelayDetermined(c, clock_prior_s, heading_prior_s, 0);
-    const bool turn_determined = turn_sigma_s > 0.0 && turn_sigma_s < 0.5 * turn_prior_s;
+    const bool turn_determined = ShrinksPriorByHalf(turn_sigma_s, turn_prior_s);
     const double position_move_s =
         clock_determined && worth_moving(e.time_offset_s, e.time_offset_sigma_s) ? e.time_offset_s
                                                                                  : 0.0;

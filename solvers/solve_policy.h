@@ -35,7 +35,8 @@ struct PolicyOutcome {
 // last ended (WarmStart). Each shift is made only when the data determine it
 // (solvers::DelayDetermined; for the sum, σ below half its prior's) and what is left of it is
 // above 0.2 ms and a quarter of its σ; the headings alone also only when re-interpolating them
-// would move the sum's estimate by that much (else the round would repeat the solve). `on_round(shift_s)` (may be empty) is told before each round.
+// would move the sum's estimate by that much (else the round would repeat the solve).
+// `on_round(shift_s)` (may be empty) is told before each round.
 // `observation_weight`: SolveMountCeres's (a thinned preview); barawid takes none.
 PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>* observations,
                               const std::vector<calib::WallGeometry>& walls,

@@ -25,8 +25,8 @@ double DelayOwnSigma(const Eigen::Matrix2d& time_covariance, double clock_prior_
 bool DelayDetermined(const Eigen::Matrix2d& time_covariance, double clock_prior_s,
                      double heading_prior_s, int index) {
   const double prior_s = index == 0 ? clock_prior_s : heading_prior_s;
-  const double own_s = DelayOwnSigma(time_covariance, clock_prior_s, heading_prior_s, index);
-  return own_s > 0.0 && own_s < 0.5 * prior_s;
+  return ShrinksPriorByHalf(
+      DelayOwnSigma(time_covariance, clock_prior_s, heading_prior_s, index), prior_s);
 }
 
 }  // namespace wallcal::solvers

@@ -18,7 +18,13 @@ namespace wallcal::solvers {
 double DelayOwnSigma(const Eigen::Matrix2d& time_covariance, double clock_prior_s,
                      double heading_prior_s, int index);
 
-// Whether the data determine that delay: DelayOwnSigma below half its prior's σ.
+// The rule for "determined", for a delay or a sum of delays: the data shrink its prior σ
+// (prior_sigma_s) to below half (sigma_s, what it has with the data).
+inline bool ShrinksPriorByHalf(double sigma_s, double prior_sigma_s) {
+  return sigma_s > 0.0 && sigma_s < 0.5 * prior_sigma_s;
+}
+
+// Whether the data determine that delay: ShrinksPriorByHalf of its DelayOwnSigma.
 bool DelayDetermined(const Eigen::Matrix2d& time_covariance, double clock_prior_s,
                      double heading_prior_s, int index);
 

@@ -215,11 +215,11 @@ TEST(DelaysTest, OwnSigmaSeesWhatTheDataHoldOfEachDelay) {
               1e-6);
   EXPECT_NEAR(solvers::DelayOwnSigma(sum_covariance, clock_prior, heading_prior, 1), heading_prior,
               1e-6);
-  EXPECT_EQ(
-      pipeline::ClassifyDelay(true, 0.01, std::sqrt(sum_covariance(0, 0)), clock_prior,
-                              solvers::DelayOwnSigma(sum_covariance, clock_prior, heading_prior, 0))
-          .status,
-      pipeline::DelayStatus::kNotDetermined);
+  const bool dt_determined = solvers::DelayDetermined(sum_covariance, clock_prior, heading_prior, 0);
+  EXPECT_EQ(pipeline::ClassifyDelay(true, 0.01, std::sqrt(sum_covariance(0, 0)), clock_prior,
+                                    dt_determined)
+                .status,
+            pipeline::DelayStatus::kNotDetermined);
 
   // dt known to 1 ms from driving towards the wall, the sum to 0.5 ms from turns.
   Eigen::Matrix2d dt_only;
@@ -228,14 +228,17 @@ TEST(DelaysTest, OwnSigmaSeesWhatTheDataHoldOfEachDelay) {
   const double dt_own = solvers::DelayOwnSigma(both, clock_prior, heading_prior, 0);
   EXPECT_NEAR(dt_own, 1.0 / std::sqrt(1e6 + 1.0 / (clock_prior * clock_prior)), 1e-9);
   EXPECT_LT(solvers::DelayOwnSigma(both, clock_prior, heading_prior, 1), 2e-3);
-  EXPECT_EQ(pipeline::ClassifyDelay(true, 0.01, std::sqrt(both(0, 0)), clock_prior, dt_own).status,
+  EXPECT_EQ(pipeline::ClassifyDelay(true, 0.01, std::sqrt(both(0, 0)), clock_prior,
+                                    solvers::DelayDetermined(both, clock_prior, heading_prior, 0))
+                .status,
             pipeline::DelayStatus::kDetermined);
 
   // No heading delay in the problem: the clock offset's own σ is its joint one.
   Eigen::Matrix2d clock_only = Eigen::Matrix2d::Zero();
   clock_only(0, 0) = 4e-6;
   EXPECT_DOUBLE_EQ(solvers::DelayOwnSigma(clock_only, clock_prior, 0.0, 0), 2e-3);
-  EXPECT_EQ(pipeline::ClassifyDelay(false, 0.0, 0.0, clock_prior, 2e-3).status,
+  EXPECT_TRUE(solvers::DelayDetermined(clock_only, clock_prior, 0.0, 0));
+  EXPECT_EQ(pipeline::ClassifyDelay(false, 0.0, 0.0, clock_prior, true).status,
             pipeline::DelayStatus::kNotEstimated);
 }
 
