@@ -122,7 +122,6 @@ struct Weave {
   // curvature × distance (rad/m): forward and back on a circle, as a car-like vehicle weaves.
   // 0: along the wall normal whatever the heading.
   double curvature_rad_per_m = 0.0;
-  bool along_heading = false;
 };
 
 class Trajectory {
@@ -182,7 +181,7 @@ class Trajectory {
     const double r_m = w.amplitude_m * std::sin(kTwoPi * t / w.period_s);
     const Eigen::Vector2d sweep = w.p0_enu_m + s * (w.p1_enu_m - w.p0_enu_m);
     const double yaw0 = w.yaw0_rad + s * (w.yaw1_rad - w.yaw0_rad);
-    if (!w.along_heading) return {sweep + r_m * w.out_normal, yaw0, false};
+    if (w.curvature_rad_per_m == 0.0) return {sweep + r_m * w.out_normal, yaw0, false};
     const double turn = w.curvature_rad_per_m * r_m;
     // The arc from yaw0 over r_m: r_m·(cos, sin)(yaw0) when straight.
     const Eigen::Vector2d arc =
@@ -301,7 +300,6 @@ inline Trajectory PlanTrajectory(const io::SimulationConfig& config, const io::S
   weave.yaw1_rad = yaws.back();
   weave.out_normal = out_normal;
   weave.amplitude_m = config.weave_amplitude_m;
-  weave.along_heading = config.weave_turn_rad > 0.0;
   weave.curvature_rad_per_m =
       config.weave_amplitude_m > 0.0 ? config.weave_turn_rad / config.weave_amplitude_m : 0.0;
   weave.period_s = config.weave_amplitude_m > 0.0
