@@ -54,7 +54,7 @@ const char* ErrorSourceKey(ErrorSource source) {
 
 ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observations,
                                const std::vector<calib::WallGeometry>& walls,
-                               const io::SolverOptions& options, const calib::Mount& mount) {
+                               const solvers::SolverOptions& options, const calib::Mount& mount) {
   ErrorBudget budget;
   if (observations.empty()) return budget;
   // Long sessions are thinned as the repeatability's re-solves are (ThinForRefits): the
@@ -64,10 +64,10 @@ ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observ
   const std::vector<calib::WallObservation>& base = thin.observations;
   const std::vector<double> weights(base.size(), thin.stride);
   // Linearised at the estimate: one Gauss-Newton step at most (the estimate is the optimum).
-  io::SolverOptions one_thread = options;
+  solvers::SolverOptions one_thread = options;
   one_thread.num_threads = 1;
   auto covariance_of = [&](const std::vector<calib::WallObservation>& obs,
-                           const std::vector<calib::WallGeometry>& w, const io::SolverOptions& o,
+                           const std::vector<calib::WallGeometry>& w, const solvers::SolverOptions& o,
                            Eigen::Vector3d* diagonal) {
     const solvers::Refit refit = solvers::RefitMount(obs, w, o, mount, weights, 1);
     if (!refit.converged || !refit.covariance.allFinite()) return false;
@@ -87,7 +87,7 @@ ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observ
     const ErrorSource source = static_cast<ErrorSource>(slot - 1);
     std::vector<calib::WallObservation> obs;
     std::vector<calib::WallGeometry> w = walls;
-    io::SolverOptions o = one_thread;
+    solvers::SolverOptions o = one_thread;
     switch (source) {
       case ErrorSource::kSurvey:
         // Keep only the tie's part of each wall's prior (calib/survey_tie.cc builds the two

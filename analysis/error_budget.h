@@ -17,7 +17,7 @@
 #include <Eigen/Core>
 
 #include "calib/observation.h"
-#include "io/options.h"
+#include "solvers/solver_options.h"
 
 namespace wallcal::analysis {
 
@@ -47,6 +47,6 @@ struct ErrorBudget {
 // Never throws; done == false when the linearised problem cannot be formed.
 ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observations,
                                const std::vector<calib::WallGeometry>& walls,
-                               const io::SolverOptions& options, const calib::Mount& mount);
+                               const solvers::SolverOptions& options, const calib::Mount& mount);
 
 }  // namespace wallcal::analysis

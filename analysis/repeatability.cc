@@ -31,7 +31,7 @@ ThinnedObservations ThinForRefits(const std::vector<calib::WallObservation>& obs
 
 Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& observations,
                                   const std::vector<calib::WallGeometry>& walls,
-                                  const io::SolverOptions& options, const solvers::Mount& full,
+                                  const solvers::SolverOptions& options, const solvers::Mount& full,
                                   int samples, uint64_t seed,
                                   const std::array<double, 2>* held_time_block,
                                   const solvers::WarmStart* warm) {
@@ -92,7 +92,7 @@ Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& obs
     for (int k = 0; k < num_stations; ++k) station_weight[pick(rng)] += 1.0;
     station_weights.push_back(std::move(station_weight));
   }
-  io::SolverOptions one_thread = options;
+  solvers::SolverOptions one_thread = options;
   one_thread.num_threads = 1;
   std::vector<solvers::Refit> refits(station_weights.size());
   ParallelFor(static_cast<int>(refits.size()), options.num_threads, [&](int r) {

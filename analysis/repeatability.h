@@ -15,7 +15,7 @@
 
 #include <string>
 #include "calib/observation.h"
-#include "io/options.h"
+#include "solvers/solver_options.h"
 #include "solvers/mount_solver.h"
 
 namespace wallcal::analysis {
@@ -57,7 +57,7 @@ ThinnedObservations ThinForRefits(const std::vector<calib::WallObservation>& obs
 // (MountEstimate::solution_state), where every re-solve starts.
 Repeatability AssessRepeatability(const std::vector<calib::WallObservation>& observations,
                                   const std::vector<calib::WallGeometry>& walls,
-                                  const io::SolverOptions& options, const solvers::Mount& full,
+                                  const solvers::SolverOptions& options, const solvers::Mount& full,
                                   int samples, uint64_t seed = 2007,
                                   const std::array<double, 2>* held_time_block = nullptr,
                                   const solvers::WarmStart* warm = nullptr);

@@ -14,9 +14,10 @@
 
 #include "io/input_file.h"
 #include "io/output_file.h"
-#include "io/session_reader.h"
+#include "io/config/session_reader.h"
 #include "io/version.h"
-#include "io/writers.h"
+#include "io/config/config_writer.h"
+#include "io/output_file.h"
 #include "outputs/emit.h"
 #include "outputs/offsets_document.h"
 #include "outputs/report.h"

@@ -12,7 +12,8 @@
 #include "characterise/characterisation.h"
 #include "io/output_file.h"
 #include "io/version.h"
-#include "io/writers.h"
+#include "io/config/config_writer.h"
+#include "io/output_file.h"
 
 namespace {
 

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "io/output_file.h"
-#include "io/recording.h"
-#include "io/survey_reader.h"
+#include "io/recording/recording.h"
+#include "io/survey/survey_reader.h"
 #include "io/types.h"
 #include "io/version.h"
 #include "preflight/inspect.h"

@@ -8,7 +8,7 @@
 
 #include "sim/recording_session.h"
 #include "sim/simulated_session.h"
-#include "io/session_reader.h"
+#include "io/config/session_reader.h"
 #include "io/version.h"
 
 namespace {
@@ -84,8 +84,8 @@ int main(int argc, char** argv) {
   }
   if (output.empty()) return Usage("--output DIR is required");
   try {
-    wallcal::io::SimulationConfig config;
-    if (!config_path.empty()) config = wallcal::io::ReadSimulationConfig(config_path);
+    wallcal::sim::SimulationConfig config;
+    if (!config_path.empty()) config = wallcal::sim::ReadSimulationConfig(config_path);
     const wallcal::sim::SimulateSummary s = wallcal::sim::WriteSimulatedSession(config, seed, output, format);
     std::cout << "simulate: wrote " << output << ": " << s.scans_written << " scans ("
               << s.scans_lost << " lost), " << s.fixes << " GNSS fixes, " << s.headings

@@ -57,7 +57,7 @@
 #include "bench/accuracy_bench_args.h"
 #include "bench/crb.h"
 #include "sim/simulator.h"
-#include "io/session_reader.h"
+#include "io/config/session_reader.h"
 #include "solvers/mount_solver.h"
 #include "common/angles.h"
 
@@ -101,7 +101,7 @@ struct MethodStats {
 struct DelayTruth {
   double gnss_s, scanner_offset_s, heading_delay_s;
 };
-DelayTruth TrueDelays(const io::SimulationConfig& config, double mapped_s) {
+DelayTruth TrueDelays(const sim::SimulationConfig& config, double mapped_s) {
   const double gnss_s = config.gnss_latency_s + 0.5 * config.gnss_jitter_s;
   return {gnss_s, config.scanner_time_offset_s + mapped_s - config.scanner_latency_s,
           config.heading_latency_s - mapped_s};
@@ -127,7 +127,7 @@ double ChiSquareQuantile(double nu, double z) {
 }
 
 std::vector<CrbObservation> CrbObservationsOf(const pipeline::CalibrationResult& result,
-                                              const io::SimulationConfig& config) {
+                                              const sim::SimulationConfig& config) {
   solvers::Mount truth;
   truth.x_m = config.mount_x_m;
   truth.y_m = config.mount_y_m;
@@ -158,8 +158,8 @@ double Show(int axis, double value) { return axis < 2 ? value * 1000.0 : value *
 const char* Unit(int axis) { return axis < 2 ? "mm" : "deg"; }
 
 void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
-  const io::SimulationConfig config =
-      sim::WithDefaultWalls(io::ReadSimulationConfig(scenario.sim_file));
+  const sim::SimulationConfig config =
+      sim::WithDefaultWalls(sim::ReadSimulationConfig(scenario.sim_file));
   const io::ScannerPreset preset =
       io::LoadScannerPreset(config.scanner_model, pipeline::PresetDirs());
   const double truth[3] = {config.mount_x_m, config.mount_y_m, config.mount_yaw_rad};

@@ -40,11 +40,11 @@ struct SurveyModel {
   }
 };
 
-SurveyModel MakeSurveyModel(const io::SimulationConfig& config) {
+SurveyModel MakeSurveyModel(const sim::SimulationConfig& config) {
   SurveyModel model;
   model.frame_origin_enu_m = {config.survey_origin_x_m, config.survey_origin_y_m};
   model.frame_rotation_rad = config.survey_rotation_rad;
-  const io::SimWall* first = nullptr;
+  const sim::SimWall* first = nullptr;
   for (const auto& w : config.walls) {
     if (w.code.empty()) continue;
     if (first == nullptr) first = &w;
@@ -118,7 +118,7 @@ Eigen::VectorXd WallLines(const SurveyModel& model, const Eigen::VectorXd& noise
 
 // Covariance of WallLines from the noise σs, by central differences (the map is smooth and
 // nearly linear at the centimetre scale).
-Eigen::MatrixXd WallLineCovariance(const SurveyModel& model, const io::SimulationConfig& config,
+Eigen::MatrixXd WallLineCovariance(const SurveyModel& model, const sim::SimulationConfig& config,
                                    Eigen::VectorXd* truth) {
   const int n = model.NoiseSize();
   const int nc = static_cast<int>(model.control_enu_m.size());
@@ -192,7 +192,7 @@ struct Row {
 
 }  // namespace
 
-CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset& preset,
+CrbResult ComputeCrb(const sim::SimulationConfig& config, const io::ScannerPreset& preset,
                      const std::vector<CrbObservation>& observations, unsigned sources,
                      const CrbDelays& delays, int max_observations) {
   CrbResult result;
@@ -239,7 +239,7 @@ CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset
   const double range_var_m2 =
       k * k * (preset.range_sigma_m * preset.range_sigma_m +
                preset.range_resolution_m * preset.range_resolution_m / 12.0);
-  constexpr double kMinRangeM = 0.5;  // io::DetectorOptions::min_range_m default
+  constexpr double kMinRangeM = 0.5;  // calib::DetectorOptions::min_range_m default
 
   std::vector<double> times;
   for (const auto& o : obs) times.push_back(o.t_s);
@@ -419,7 +419,7 @@ CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset
   return result;
 }
 
-std::vector<CrbObservation> AllSessionObservations(const io::SimulationConfig& config,
+std::vector<CrbObservation> AllSessionObservations(const sim::SimulationConfig& config,
                                                    const io::ScannerPreset& preset,
                                                    int min_wall_beams) {
   std::vector<CrbObservation> out;

@@ -31,7 +31,7 @@
 #include <string>
 #include <vector>
 
-#include "io/options.h"
+#include "sim/simulation_config.h"
 #include "io/types.h"
 
 namespace wallcal::bench {
@@ -98,7 +98,7 @@ inline constexpr double kFlatDelayPriorS = 10.0;
 // The bound for `observations` (any order). At most max_observations are used (an even
 // subsample by time when more are given: C is dense, 2N × 2N, O(N³) to factor; <= 0: all).
 // `sources`: CrbSource flags; kLineFit should always be among them (without it C is singular).
-CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset& preset,
+CrbResult ComputeCrb(const sim::SimulationConfig& config, const io::ScannerPreset& preset,
                      const std::vector<CrbObservation>& observations, unsigned sources,
                      const CrbDelays& delays, int max_observations);
 
@@ -106,7 +106,7 @@ CrbResult ComputeCrb(const io::SimulationConfig& config, const io::ScannerPreset
 // run, at its true time; lost scans are random and left in) paired with every surveyed wall it
 // sees with at least min_wall_beams returned, unoccluded beams (sim::TrueBeamHits), standing
 // and moving alike. No residuals (the truth has none).
-std::vector<CrbObservation> AllSessionObservations(const io::SimulationConfig& config,
+std::vector<CrbObservation> AllSessionObservations(const sim::SimulationConfig& config,
                                                    const io::ScannerPreset& preset,
                                                    int min_wall_beams);
 

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "io/options.h"
+#include "solvers/solver_options.h"
 #include "sim/synthetic_observations.h"
 #include "solvers/mount_solver.h"
 #include "common/angles.h"
@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "solver_scaling: --segments must be >= 3\n");
     return 2;
   }
-  wallcal::io::SolverOptions options;
+  wallcal::solvers::SolverOptions options;
   options.gnss_white_sigma_m = 0.003;
   options.heading_sigma_rad = std::max(heading_rad, 1e-6);
   std::printf("| observations | segments | solve + covariance (s) | peak RSS (MB) | usable | "

@@ -105,7 +105,7 @@ constexpr size_t kBatchScans = 256;
 // The walls in one scan: an observation per wall found in scan->observations; scan->why says
 // why when there is none.
 void DetectInScan(const PassContext& context, const PassRequest& request, PendingScan* pending) {
-  io::DetectorOptions detector = *context.detector;
+  calib::DetectorOptions detector = *context.detector;
   if (request.gates.min_inliers > 0) detector.min_inliers = request.gates.min_inliers;
   const VehiclePose& pose = pending->pose;
   ScanSkip* why = &pending->why;
@@ -290,7 +290,7 @@ class BatchReader {
   }
   void TallyReadings(const io::ScanRecord& scan) {
     if (request_.tally == nullptr || request_.min_interval_s > 0.0) return;
-    const io::DetectorOptions& detector = *context_.detector;
+    const calib::DetectorOptions& detector = *context_.detector;
     CountReadings(scan, *context_.preset, detector.min_range_m, &request_.tally->readings);
   }
   int64_t scan_index_ = -1;

@@ -14,7 +14,7 @@
 #include "calib/range_model.h"
 #include "calib/time_alignment.h"
 #include "calib/wall_detector.h"
-#include "io/options.h"
+#include "calib/wall_detector_options.h"
 #include "io/scan_source.h"
 #include "io/types.h"
 
@@ -44,7 +44,7 @@ struct Gates {
   bool use_segment = false;
   // Fewest inliers a line needs inside these gates (> 0: instead of detector.min_inliers). A
   // tight gate around a surveyed wall leaves room for little but the wall, so a short stretch
-  // of it seen at the edge of the field of view can be taken (io::DetectorOptions).
+  // of it seen at the edge of the field of view can be taken (calib::DetectorOptions).
   int min_inliers = 0;
 };
 
@@ -53,7 +53,7 @@ struct PassContext {
   std::function<std::unique_ptr<io::ScanSource>()> open_scans;  // a fresh stream per pass
   double scanner_time_offset_s = 0.0;  // added to every scan stamp (session.yaml)
   const io::ScannerPreset* preset = nullptr;
-  const io::DetectorOptions* detector = nullptr;
+  const calib::DetectorOptions* detector = nullptr;
   const std::vector<WallGeometry>* walls = nullptr;
   const PoseInterpolator* poses = nullptr;
   bool use_moving = false;  // scans taken while moving are used

@@ -63,7 +63,7 @@ const io::SurveyPoint& FindControlInSurvey(const std::vector<io::SurveyPoint>& s
 
 SurveyTie TieSurvey(const std::vector<io::SurveyPoint>& survey, const std::string& survey_file,
                     const io::SessionSpec& spec, const LocalFrame& frame,
-                    const io::SolverOptions& options) {
+                    const SurveySigmas& options) {
   const std::vector<io::ControlPoint>& control = spec.control;
   if (control.empty()) {
     throw io::InputError(io::Where(spec.file, 0,
@@ -165,7 +165,7 @@ SurveyTie TieSurvey(const std::vector<io::SurveyPoint>& survey, const std::strin
 
 std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
                                    const std::string& survey_file, const io::SessionSpec& spec,
-                                   const SurveyTie& tie, const io::SolverOptions& options) {
+                                   const SurveyTie& tie, const SurveySigmas& options) {
   std::vector<WallGeometry> walls;
   for (const io::WallSpec& wall_spec : spec.walls) {
     std::vector<Eigen::Vector2d> points;

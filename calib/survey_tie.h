@@ -12,10 +12,17 @@
 #include <vector>
 
 #include "calib/observation.h"
-#include "io/options.h"
 #include "io/types.h"
 
 namespace wallcal::calib {
+
+// The survey's error model (1σ), set in `solver:` of configs/calibrate.yaml
+// (solvers::SolverOptions::survey()).
+struct SurveySigmas {
+  double control_sigma_m;        // RTK error of each control point
+  double total_station_sigma_m;  // total-station error of each surveyed point
+  double rotation_sigma_rad;     // survey.rotation_deg, used with one control point
+};
 
 // A control point's tie residual: its surveyed position mapped by the tie minus its RTK
 // position, local frame, metres.
@@ -43,7 +50,7 @@ struct SurveyTie {
 //    ρ = spec.survey_rotation_rad, the angle counter-clockwise from grid east to the survey's
 //    x axis (R(ρ) maps survey axes onto grid axes).
 // σ: sigma_rotation = σ / sqrt(Σ|r_i − r̄|²) with σ² = control_sigma² + total_station_sigma²
-// and r_i the control points' survey positions (options.rotation_sigma_rad with one control
+// and r_i the control points' survey positions (sigmas.rotation_sigma_rad with one control
 // point); sigma_translation = σ / sqrt(n).
 // Throws io::InputError (io::Where(spec.file, control.line, ...)) when there is no control
 // point, when one control point comes without a rotation, when a control id is not in the
@@ -51,7 +58,7 @@ struct SurveyTie {
 // survey or in RTK), or when a control point disagrees with the fit by more than 1 m.
 SurveyTie TieSurvey(const std::vector<io::SurveyPoint>& survey, const std::string& survey_file,
                     const io::SessionSpec& spec, const LocalFrame& frame,
-                    const io::SolverOptions& options);
+                    const SurveySigmas& sigmas);
 
 // The walls of spec.walls as lines in the local frame, in the same order: total least squares
 // on the x, y of each wall's surveyed points (those whose code is the wall's code) mapped by
@@ -59,13 +66,13 @@ SurveyTie TieSurvey(const std::vector<io::SurveyPoint>& survey, const std::strin
 // its last; normal_local = direction rotated +90° (counter-clockwise); offset_m = normal · p.
 // end_a/end_b: the extreme projections of the points onto the line (end_a towards the first
 // point). sigma_offset_m (along the normal at the wall's centre, the midpoint of end_a/end_b)
-// and sigma_angle_rad combine the fit (options.total_station_sigma_m per point) and the tie
+// and sigma_angle_rad combine the fit (sigmas.total_station_sigma_m per point) and the tie
 // (translation σ, and rotation σ times the centre's distance along the wall from the control
 // centroid). rms_m: RMS of the points' distances to the fitted line.
 // Throws io::InputError (io::Where(survey_file, 0, ...)) naming the wall id and code when the
 // wall has fewer than 2 points or its points span less than 0.5 m.
 std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
                                    const std::string& survey_file, const io::SessionSpec& spec,
-                                   const SurveyTie& tie, const io::SolverOptions& options);
+                                   const SurveyTie& tie, const SurveySigmas& sigmas);
 
 }  // namespace wallcal::calib

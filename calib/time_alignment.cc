@@ -100,7 +100,7 @@ const char* PoseStatusName(PoseStatus status) {
 }
 
 PoseInterpolator::PoseInterpolator(std::vector<PositionSample> positions,
-                                   std::vector<YawSample> yaws, const io::AlignmentOptions& options)
+                                   std::vector<YawSample> yaws, const calib::AlignmentOptions& options)
     : positions_(std::move(positions)), yaws_(std::move(yaws)), options_(options) {
   CheckStream(positions_, "GNSS positions");
   CheckStream(yaws_, "yaws");

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "calib/observation.h"
-#include "io/options.h"
+#include "calib/time_alignment_options.h"
 
 namespace wallcal::calib {
 
@@ -55,7 +55,7 @@ class PoseInterpolator {
   // dwell_guard_s at both ends (the growth admits the last moments of a turn, which the dwell's
   // mean heading would misdescribe); runs still lasting at least min_dwell_s are dwells.
   PoseInterpolator(std::vector<PositionSample> positions, std::vector<YawSample> yaws,
-                   const io::AlignmentOptions& options);
+                   const calib::AlignmentOptions& options);
 
   // The pose at stamp_s: position (and σ) interpolated linearly, yaw along the shorter arc;
   // outside a dwell, position and yaw by cubics through two samples each side (CubicAt).
@@ -97,7 +97,7 @@ class PoseInterpolator {
 
   std::vector<PositionSample> positions_;
   std::vector<YawSample> yaws_;
-  io::AlignmentOptions options_;
+  calib::AlignmentOptions options_;
   double gnss_period_s_ = 0, heading_period_s_ = 0;
   double gnss_max_gap_s_ = 0, heading_max_gap_s_ = 0;
   double start_s_ = 0, end_s_ = 0;

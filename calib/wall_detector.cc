@@ -258,7 +258,7 @@ std::string Format(const char* fmt, double a, double b) {
 }  // namespace
 
 WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
-                         const io::DetectorOptions& options, double range_sigma_m,
+                         const calib::DetectorOptions& options, double range_sigma_m,
                          bool keep_accumulator) {
   WallDetection det;
   const double t_step = options.hough_theta_step_rad;

@@ -14,7 +14,7 @@
 #include <opencv2/core.hpp>
 
 #include "calib/range_model.h"
-#include "io/options.h"
+#include "calib/wall_detector_options.h"
 
 namespace wallcal::calib {
 
@@ -26,7 +26,7 @@ struct LineGate {
   double theta_rad = 0, theta_halfwidth_rad = M_PI;
   double rho_m = 0, rho_halfwidth_m = 1e9;
   // Optional: the surveyed wall's ends in the scanner frame; inliers must project onto the
-  // segment ± margin (io::DetectorOptions::wall_extent_margin_m).
+  // segment ± margin (calib::DetectorOptions::wall_extent_margin_m).
   bool has_segment = false;
   Eigen::Vector2d segment_a_scanner = Eigen::Vector2d::Zero(),
                   segment_b_scanner = Eigen::Vector2d::Zero();
@@ -72,7 +72,7 @@ struct WallDetection {
 // range_sigma_m: the preset's 1σ range noise (m). Never throws; a scan without the wall is a
 // result with found = false and a reason.
 WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
-                         const io::DetectorOptions& options,
+                         const calib::DetectorOptions& options,
                          double range_sigma_m /* preset noise σ */, bool keep_accumulator = false);
 
 }  // namespace wallcal::calib

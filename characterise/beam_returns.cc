@@ -9,7 +9,7 @@
 
 #include "common/angles.h"
 #include "common/circular.h"
-#include "io/recording_streams.h"
+#include "io/recording/recording_streams.h"
 #include "io/scan_source.h"
 
 namespace wallcal::characterise {

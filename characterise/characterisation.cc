@@ -12,7 +12,7 @@
 #include "characterise/scanner_stats.h"
 #include "common/angles.h"
 #include "common/format.h"
-#include "io/offsets_reader.h"
+#include "io/config/offsets_reader.h"
 #include "io/version.h"
 
 namespace wallcal::characterise {

@@ -11,6 +11,8 @@ inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kTwoPi = 2.0 * kPi;
 inline constexpr double kRadToDeg = 180.0 / kPi;
 inline constexpr double kDegToRad = kPi / 180.0;
+// A rate given in °/h (a FOG's drift) per rad/s.
+inline constexpr double kDegPerHourPerRadPerS = kRadToDeg * 3600.0;
 
 // An angle wrapped into (−π, π] (rad). Works for double and for ceres::Jet (through ADL on
 // ceil, whose derivative is zero, so the Jacobian passes through unchanged).

@@ -1,4 +1,4 @@
-#include "io/decimal.h"
+#include "io/internal/decimal.h"
 
 #include <charconv>
 #include <cstdint>

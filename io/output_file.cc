@@ -14,7 +14,7 @@
 #include <optional>
 
 #include "io/types.h"
-#include "io/writers.h"
+#include "io/output_file.h"
 
 namespace wallcal::io {
 namespace {

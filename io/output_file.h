@@ -2,7 +2,7 @@
 // Output files that never destroy anything but an earlier output (docs/field-guide.md,
 // "Outputs").
 //
-// Promises of WriteFileAtomically (io/writers.h), implemented here, and of the checks below:
+// Promises of WriteFileAtomically and of the checks below:
 //   - only a regular file, or a new path, is ever replaced: a FIFO, a device node, a socket or a
 //     folder at the path is refused (as root, `--output /dev/null` must not replace the device);
 //   - an existing symbolic link is followed: the file it points to is replaced, the link stays;
@@ -18,6 +18,11 @@
 #include <vector>
 
 namespace wallcal::io {
+
+// Writes `content` to PATH.tmp-XXXXXX in the same folder, fsyncs it and renames it over `path`,
+// so a reader sees the old file or the whole new one. On failure the temporary file is removed
+// and InputError naming `path` is thrown; `path` is then untouched.
+void WriteFileAtomically(const std::string& path, const std::string& content);
 
 // True for "-": the output goes to standard output.
 inline bool IsStdoutPath(const std::string& path) { return path == "-"; }

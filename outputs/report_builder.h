@@ -20,7 +20,7 @@
 #include "calib/range_model.h"
 #include "calib/wall_detector.h"
 #include "io/version.h"
-#include "io/writers.h"
+#include "io/output_file.h"
 #include "common/angles.h"
 #include "outputs/svg_plot.h"
 

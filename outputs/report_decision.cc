@@ -25,7 +25,7 @@ std::string DecisionSectionHtml(const pipeline::CalibrationResult& r) {
                                                       : "v-reject";
   s << "<section id=\"decision\">\n<h2>Verdict</h2>\n";
   s << "<p><span class=\"verdict " << css << "\">" << pipeline::VerdictName(v) << "</span></p>\n";
-  const io::AcceptanceOptions& a = r.options.acceptance;
+  const pipeline::AcceptanceOptions& a = r.options.acceptance;
   if (r.decision.reasons.empty()) {
     s << "<p class=\"ok\">Within the acceptance tolerances: &#963; x, y &#8804; "
       << Format("%.1f", a.max_sigma_xy_m * 1e3) << " mm, &#963; yaw &#8804; "

@@ -17,7 +17,7 @@
 #include "calib/detection_pass.h"
 #include "calib/gnss_epoch_time.h"
 #include "calib/observation.h"
-#include "io/options.h"
+#include "pipeline/calibrate_options.h"
 #include "io/types.h"
 #include "analysis/error_budget.h"
 #include "pipeline/report_data.h"
@@ -87,7 +87,7 @@ struct StreamDelay {
 struct CalibrationResult {
   io::SessionSpec session;
   io::ScannerPreset preset;
-  io::CalibrateOptions options;        // the options the run used
+  pipeline::CalibrateOptions options;        // the options the run used
   solvers::MountEstimate first_pass;   // wide-gate pass on a subsample (Barawid start + Ceres)
   solvers::MountEstimate estimate;     // the final estimate by the requested method
   std::vector<calib::WallGeometry> walls;

@@ -89,7 +89,7 @@ void BudgetAndAdvice(const CalibrateRequest& request, CalibrationResult* result)
   if (e.usable || !b.done) return;
   // The axis furthest beyond its limit; when one source explains most of its variance, the
   // advice is about that source, not about the stations' geometry.
-  const io::SolverOptions& s = result->options.solver;
+  const solvers::SolverOptions& s = result->options.solver;
   const double limits[3] = {s.max_sigma_xy_m, s.max_sigma_xy_m, s.max_sigma_yaw_rad};
   // A refused estimate may carry no covariance: the budget's linearised one then stands in.
   const bool have_covariance = e.covariance.diagonal().minCoeff() > 0.0;

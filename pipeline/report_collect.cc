@@ -13,7 +13,7 @@
 #include "calib/wall_detector.h"
 #include "calib/wall_geometry.h"
 #include "common/angles.h"
-#include "io/session_reader.h"
+#include "io/config/session_reader.h"
 #include "pipeline/steps.h"
 
 namespace wallcal::pipeline {
@@ -149,7 +149,7 @@ void CollectPanels(const CalibrationResult& result, const RunInputs& inputs, Rep
   for (size_t i = 0; i < data->panels.size(); ++i) {
     panel_of_scan[result.observations[data->panels[i].observation].scan_index] = i;
   }
-  const io::DetectorOptions& detector = result.options.detector;
+  const calib::DetectorOptions& detector = result.options.detector;
   try {
     const std::unique_ptr<io::ScanSource> scans = inputs.pass.open_scans();
     io::ScanRecord scan;
@@ -197,8 +197,8 @@ void CollectTruth(const CalibrationResult& result, ReportData* data) {
   std::error_code error;
   if (!fs::is_regular_file(truth_file, error)) return;
   try {
-    const io::SimulationConfig truth = io::ReadTruthYaml(truth_file.string());
-    data->truth = calib::Mount{truth.mount_x_m, truth.mount_y_m, truth.mount_yaw_rad};
+    const io::TruthMount truth = io::ReadTruthMount(truth_file.string());
+    data->truth = calib::Mount{truth.x_m, truth.y_m, truth.yaw_rad};
   } catch (const io::InputError&) {
     // Not a simulator's truth: nothing to show.
   }

@@ -13,12 +13,12 @@
 #include "common/angles.h"
 #include "common/circular.h"
 #include "common/format.h"
-#include "io/carmen_reader.h"
-#include "io/nmea_reader.h"
-#include "io/recording_streams.h"
-#include "io/session_reader.h"
-#include "io/survey_reader.h"
-#include "io/offsets_reader.h"
+#include "io/text/carmen_reader.h"
+#include "io/text/nmea_reader.h"
+#include "io/recording/recording_streams.h"
+#include "io/config/session_reader.h"
+#include "io/survey/survey_reader.h"
+#include "io/config/offsets_reader.h"
 #include "pipeline/checks.h"
 #include "pipeline/config_dirs.h"
 #include "pipeline/stream_delays.h"
@@ -67,7 +67,7 @@ void Say(const ProgressFn& progress, Stage stage, const std::string& text) {
 
 calib::Gates TightGates(const CalibrationResult& result) {
   const Eigen::Matrix3d& c1 = result.first_pass.covariance;
-  const io::DetectorOptions& detector = result.options.detector;
+  const calib::DetectorOptions& detector = result.options.detector;
   return calib::Gates{
       std::max(detector.tight_angle_gate_rad, 5.0 * std::sqrt(std::max(0.0, c1(2, 2)))),
       std::max(detector.tight_offset_gate_m, 5.0 * std::sqrt(std::max(0.0, c1(0, 0) + c1(1, 1)))),
@@ -77,7 +77,7 @@ calib::Gates TightGates(const CalibrationResult& result) {
 void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* result,
                            RunInputs* inputs) {
   result->session = io::ReadSession(request.session_path);
-  if (!request.config_path.empty()) result->options = io::ReadCalibrateOptions(request.config_path);
+  if (!request.config_path.empty()) result->options = pipeline::ReadCalibrateOptions(request.config_path);
   result->options.Validate();
   result->options.solver.num_threads =
       request.threads > 0 ? request.threads
@@ -93,7 +93,7 @@ void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* r
 
 void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs) {
   const io::SessionSpec& session = result->session;
-  const io::SolverOptions& solver = result->options.solver;
+  const solvers::SolverOptions& solver = result->options.solver;
   // Points measured more than once (both faces, two set-ups) are averaged (io/survey_reader.h).
   const io::SurveyCombination combined = io::CombineSurveyObservations(
       io::ReadSurvey(session.survey_points, session.survey_columns));
@@ -111,11 +111,11 @@ void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs) {
   // Before the tie: a mirrored survey would fail it with a message about one control point.
   CheckSurveyNotMirrored(inputs->survey, session, result->frame);
   inputs->tie =
-      calib::TieSurvey(inputs->survey, session.survey_points, session, result->frame, solver);
+      calib::TieSurvey(inputs->survey, session.survey_points, session, result->frame, solver.survey());
   result->control_rms_m = inputs->tie.control_rms_m;
   result->num_control = inputs->tie.num_control;
   result->walls =
-      calib::FitWalls(inputs->survey, session.survey_points, session, inputs->tie, solver);
+      calib::FitWalls(inputs->survey, session.survey_points, session, inputs->tie, solver.survey());
   if (inputs->tie.num_control >= 2 &&
       inputs->tie.control_rms_m >
           3.0 * std::hypot(solver.control_sigma_m, solver.total_station_sigma_m)) {
@@ -127,7 +127,7 @@ void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs) {
 
 void ReadPoses(CalibrationResult* result, RunInputs* inputs) {
   const io::SessionSpec& session = result->session;
-  const io::CalibrateOptions& options = result->options;
+  const pipeline::CalibrateOptions& options = result->options;
   const bool one_log = session.heading_log == session.gnss_log;
   // Text logs or recording topics (one pass when GNSS and heading share a recording).
   io::PoseLogs logs = io::ReadPoseLogs(session);
@@ -236,7 +236,7 @@ void ReadPoses(CalibrationResult* result, RunInputs* inputs) {
 }
 
 void PreparePasses(const CalibrateRequest& request, CalibrationResult* result, RunInputs* inputs) {
-  const io::CalibrateOptions& options = result->options;
+  const pipeline::CalibrateOptions& options = result->options;
   calib::PassContext& pass = inputs->pass;
   // A CARMEN log, or a recording's LaserScan topic checked against the preset.
   pass.open_scans = io::MakeScanOpener(result->session, &result->preset);
@@ -268,7 +268,7 @@ void PreparePasses(const CalibrateRequest& request, CalibrationResult* result, R
 bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
                CalibrationResult* result, RunInputs* inputs) {
   const io::SessionSpec& session = result->session;
-  const io::CalibrateOptions& options = result->options;
+  const pipeline::CalibrateOptions& options = result->options;
   calib::PassRequest pass;
   if (session.mount_guess) {
     pass.mount = calib::Mount{session.mount_guess->x_m, session.mount_guess->y_m,
@@ -328,7 +328,7 @@ bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
   }
   // The first pass only starts the second: the σ limits (a refusal of the final estimate, with
   // every scan counted) do not apply to it.
-  io::SolverOptions first_solver = options.solver;
+  solvers::SolverOptions first_solver = options.solver;
   first_solver.max_sigma_xy_m = 1e3;  // finite: the check scales the information by them
   first_solver.max_sigma_yaw_rad = 1e3;
   const solvers::MountEstimate start = solvers::SolveMountBarawid(
@@ -506,7 +506,7 @@ void Analyse(const CalibrateRequest& request, const ProgressFn& progress,
   for (const std::string& flag : result->residual_analysis.flags) {
     result->warnings.push_back("residuals: " + flag);
   }
-  const io::SolverOptions& solver = result->options.solver;
+  const solvers::SolverOptions& solver = result->options.solver;
   if (request.method == solvers::Method::kCeres && solver.bootstrap_samples >= 0 &&
       !request.preview) {
     Say(progress, Stage::kRepeatability,

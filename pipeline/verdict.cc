@@ -51,7 +51,7 @@ Change CompareMounts(const solvers::MountEstimate& now, const io::PreviousOffset
 Decision Decide(const DecisionInputs& in) {
   Decision d;
   const solvers::MountEstimate& e = *in.estimate;
-  const io::AcceptanceOptions& a = *in.acceptance;
+  const pipeline::AcceptanceOptions& a = *in.acceptance;
   auto reject = [&d](const std::string& why) {
     d.verdict = Verdict::kReject;
     d.reasons.push_back(why);

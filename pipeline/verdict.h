@@ -1,6 +1,6 @@
 #pragma once
 // The decision a field engineer acts on: ACCEPT, REVIEW or REJECT against the tolerances of
-// `acceptance:` (io::AcceptanceOptions), with the reasons; the change since the previous
+// `acceptance:` (pipeline::AcceptanceOptions), with the reasons; the change since the previous
 // calibration (calibrate --compare); and the provenance of the run. Computed once here, shown by
 // the summary, offsets.yaml and the report.
 
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "analysis/error_budget.h"
-#include "io/options.h"
+#include "pipeline/calibrate_options.h"
 #include "io/types.h"
 #include "solvers/mount_solver.h"
 
@@ -48,7 +48,7 @@ struct DecisionInputs {
   bool forced = false;
   bool sigma_known = true;
   const std::optional<Change>* change = nullptr;
-  const io::AcceptanceOptions* acceptance = nullptr;
+  const pipeline::AcceptanceOptions* acceptance = nullptr;
   int flagged_trends = 0;
 };
 Decision Decide(const DecisionInputs& in);

@@ -5,10 +5,10 @@
 
 #include "calib/range_model.h"
 #include "common/angles.h"
-#include "io/carmen_reader.h"
-#include "io/recording.h"
-#include "io/recording_streams.h"
-#include "io/session_reader.h"
+#include "io/text/carmen_reader.h"
+#include "io/recording/recording.h"
+#include "io/recording/recording_streams.h"
+#include "io/config/session_reader.h"
 #include "pipeline/config_dirs.h"
 #include "preflight/inspect_internal.h"
 

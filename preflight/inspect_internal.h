@@ -13,9 +13,9 @@
 
 #include "calib/detection_pass.h"
 #include "calib/range_model.h"
-#include "io/nmea_reader.h"
-#include "io/options.h"
-#include "io/recording_streams.h"
+#include "io/text/nmea_reader.h"
+#include "pipeline/calibrate_options.h"
+#include "io/recording/recording_streams.h"
 #include "io/types.h"
 #include "preflight/inspect.h"
 
@@ -99,7 +99,7 @@ struct SessionLogs {
 // shared_scan_log, when given, returns the scan log's summary if another reader has it (the
 // preview's second pass); the log is read here when it returns none.
 SessionLogs InspectSessionLogs(
-    const io::SessionSpec& spec, const io::CalibrateOptions& options,
+    const io::SessionSpec& spec, const pipeline::CalibrateOptions& options,
     const io::ScannerPreset* preset,
     const std::function<std::optional<ScanLogSummary>()>& shared_scan_log,
     SessionInspection* result, std::ostream& out);

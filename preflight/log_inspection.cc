@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "common/angles.h"
-#include "io/carmen_reader.h"
-#include "io/recording_streams.h"
+#include "io/text/carmen_reader.h"
+#include "io/recording/recording_streams.h"
 #include "io/version.h"
 #include "preflight/inspect_internal.h"
 

@@ -9,9 +9,9 @@
 #include <sstream>
 
 #include "common/angles.h"
-#include "io/recording.h"
-#include "io/recording_streams.h"
-#include "io/session_reader.h"
+#include "io/recording/recording.h"
+#include "io/recording/recording_streams.h"
+#include "io/config/session_reader.h"
 #include "io/version.h"
 #include "pipeline/config_dirs.h"
 #include "preflight/inspect_internal.h"

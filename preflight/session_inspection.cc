@@ -15,8 +15,8 @@
 #include "calib/survey_tie.h"
 #include "calib/time_alignment.h"
 #include "common/angles.h"
-#include "io/session_reader.h"
-#include "io/survey_reader.h"
+#include "io/config/session_reader.h"
+#include "io/survey/survey_reader.h"
 #include "io/version.h"
 #include "pipeline/calibration.h"
 #include "pipeline/config_dirs.h"
@@ -29,8 +29,8 @@ using namespace internal;  // the helpers shared by the inspect files
 SessionInspection InspectSession(const std::string& session_path, const std::string& config_path) {
   SessionInspection result;
   const io::SessionSpec spec = io::ReadSession(session_path);
-  io::CalibrateOptions options;
-  if (!config_path.empty()) options = io::ReadCalibrateOptions(config_path);
+  pipeline::CalibrateOptions options;
+  if (!config_path.empty()) options = pipeline::ReadCalibrateOptions(config_path);
   options.Validate();
   auto block = [&](const std::string& text) { result.blockers.push_back(text); };
   auto warn = [&](const std::string& text) { result.warnings.push_back(text); };
@@ -107,7 +107,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     out << "  points    " << survey.size() << " in " << FileName(spec.survey_points) << "\n";
     if (!frame) throw io::InputError(io::Where(spec.file, 0, "no survey.control points"));
     const calib::SurveyTie tie =
-        calib::TieSurvey(survey, spec.survey_points, spec, *frame, options.solver);
+        calib::TieSurvey(survey, spec.survey_points, spec, *frame, options.solver.survey());
     out << "  control   " << tie.num_control << " points";
     if (tie.num_control >= 2) {
       out << ", fit RMS " << Fmt("%.1f", 1000.0 * tie.control_rms_m) << " mm\n";
@@ -127,7 +127,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
       out << " (rotation given: no residuals to check)\n";
     }
     const std::vector<calib::WallGeometry> walls =
-        calib::FitWalls(survey, spec.survey_points, spec, tie, options.solver);
+        calib::FitWalls(survey, spec.survey_points, spec, tie, options.solver.survey());
     for (size_t w = 0; w < walls.size(); ++w) {
       out << "  wall      " << walls[w].id << " (" << spec.walls[w].code << "): "
           << walls[w].num_points << " points over "
@@ -335,7 +335,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
   }
 
   // --- Verdict --------------------------------------------------------------------------------
-  const io::SolverOptions& so = options.solver;
+  const solvers::SolverOptions& so = options.solver;
   const double min_spread_deg = so.min_heading_spread_rad * kRadToDeg;
   bool geometry_named = false;
   if (!dwells.empty() && !options.alignment.use_moving_scans) {

@@ -2,13 +2,13 @@
 // their overlap in time.
 #include <sstream>
 
-#include "io/nmea_reader.h"
+#include "io/text/nmea_reader.h"
 #include "preflight/inspect_internal.h"
 
 namespace wallcal::preflight::internal {
 
 SessionLogs InspectSessionLogs(
-    const io::SessionSpec& spec, const io::CalibrateOptions& options,
+    const io::SessionSpec& spec, const pipeline::CalibrateOptions& options,
     const io::ScannerPreset* preset,
     const std::function<std::optional<ScanLogSummary>()>& shared_scan_log,
     SessionInspection* result, std::ostream& out) {

@@ -7,13 +7,13 @@
 #include <sstream>
 #include <vector>
 
-#include "io/carmen_reader.h"
-#include "io/mcap_writer.h"
-#include "io/nmea_reader.h"
-#include "io/recording.h"
-#include "io/ros_messages.h"
-#include "io/rosbag1_writer.h"
-#include "io/rosbag2_sqlite_writer.h"
+#include "io/text/carmen_reader.h"
+#include "io/writers/mcap_writer.h"
+#include "io/text/nmea_reader.h"
+#include "io/recording/recording.h"
+#include "io/recording/ros/ros_messages.h"
+#include "io/writers/rosbag1_writer.h"
+#include "io/writers/rosbag2_sqlite_writer.h"
 #include "io/types.h"
 #include "common/angles.h"
 
@@ -235,7 +235,7 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
   for (const std::string& p : {scans_path, gnss_path, heading_path}) fs::remove(p, ignored);
 }
 
-SimulateSummary WriteSimulatedSession(const io::SimulationConfig& config, uint64_t seed,
+SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& config, uint64_t seed,
                                       const std::string& dir, SessionFormat format) {
   const SimulateSummary summary = WriteSimulatedSession(config, seed, dir);
   ConvertSessionToRecording(dir, format);

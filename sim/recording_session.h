@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "io/options.h"
+#include "sim/simulation_config.h"
 #include "sim/simulated_session.h"
 
 namespace wallcal::sim {
@@ -27,7 +27,7 @@ const char* SessionFormatNames();
 //             simulated GST σ, type 2 "diagonal known"; height = the GGA height)
 //   /heading  geometry_msgs/QuaternionStamped (ENU yaw = π/2 − heading)
 // Header stamps and receive times are the text logs' logger stamps.
-SimulateSummary WriteSimulatedSession(const io::SimulationConfig& config, uint64_t seed,
+SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& config, uint64_t seed,
                                       const std::string& dir, SessionFormat format);
 
 // Converts the text session in `dir` (as simulate writes it) to `format` in place (see above).

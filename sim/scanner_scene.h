@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "common/angles.h"
-#include "io/options.h"
+#include "sim/simulation_config.h"
 #include "io/types.h"
 
 #include "sim/trajectory.h"
@@ -29,7 +29,7 @@ struct Hit {
 
 class Scene {
  public:
-  explicit Scene(const io::SimulationConfig& config) {
+  explicit Scene(const sim::SimulationConfig& config) {
     for (const auto& w : config.walls) walls_.push_back({{w.x0_m, w.y0_m}, {w.x1_m, w.y1_m}});
     for (const auto& o : config.obstacles) circles_.push_back({{o.x_m, o.y_m}, o.radius_m});
   }
@@ -77,7 +77,7 @@ class Scene {
 // ---- Scanner model ----------------------------------------------------------------------------
 class ScannerModel {
  public:
-  ScannerModel(const io::SimulationConfig& config, const io::ScannerPreset& preset, uint64_t seed)
+  ScannerModel(const sim::SimulationConfig& config, const io::ScannerPreset& preset, uint64_t seed)
       : config_(config),
         preset_(preset),
         scene_(config),
@@ -180,7 +180,7 @@ class ScannerModel {
     return z_m;
   }
 
-  const io::SimulationConfig& config_;
+  const sim::SimulationConfig& config_;
   const io::ScannerPreset& preset_;
   Scene scene_;
   Noise range_noise_;

@@ -6,8 +6,10 @@
 #include <fstream>
 #include <string>
 
-#include "io/session_reader.h"
-#include "io/writers.h"
+#include "io/config/session_reader.h"
+#include "io/writers/writers.h"
+#include "io/output_file.h"
+#include "io/config/config_writer.h"
 #include "pipeline/config_dirs.h"
 #include "sim/simulator.h"
 
@@ -15,9 +17,9 @@ namespace wallcal::sim {
 
 namespace fs = std::filesystem;
 
-SimulateSummary WriteSimulatedSession(const io::SimulationConfig& input_config, uint64_t seed,
+SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config, uint64_t seed,
                                       const std::string& dir) {
-  const io::SimulationConfig config = WithDefaultWalls(input_config);
+  const sim::SimulationConfig config = WithDefaultWalls(input_config);
   config.Validate();
   const io::ScannerPreset preset = io::LoadScannerPreset(config.scanner_model, pipeline::PresetDirs());
   std::error_code error;
@@ -69,7 +71,7 @@ SimulateSummary WriteSimulatedSession(const io::SimulationConfig& input_config, 
     io::WriteFileAtomically(spec.gnss_log, gnss_text);
     io::WriteFileAtomically(spec.heading_log, heading_text);
     io::WriteFileAtomically(spec.survey_points, io::FormatSurveyCsv(sim.survey));
-    io::WriteFileAtomically((folder / "truth.yaml").string(), io::FormatTruthYaml(config, seed));
+    io::WriteFileAtomically((folder / "truth.yaml").string(), sim::FormatTruthYaml(config, seed));
     fs::rename(scans_tmp, scans_path);
     // session.yaml last: a folder with a session.yaml is a complete session.
     io::WriteFileAtomically(spec.file, io::FormatSessionYaml(spec));

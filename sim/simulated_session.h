@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string>
 
-#include "io/options.h"
+#include "sim/simulation_config.h"
 
 namespace wallcal::sim {
 
@@ -15,7 +15,7 @@ struct SimulateSummary {
   int64_t scans_written = 0, scans_lost = 0, fixes = 0, headings = 0, survey_points = 0;
   double duration_s = 0.0;
 };
-SimulateSummary WriteSimulatedSession(const io::SimulationConfig& config, uint64_t seed,
+SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& config, uint64_t seed,
                                       const std::string& dir);
 
 }  // namespace wallcal::sim

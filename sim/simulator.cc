@@ -20,7 +20,7 @@ using namespace detail;  // NOLINT: the simulator's own building blocks
 // ---- GNSS ----------------------------------------------------------------------------------
 // Float periods: float_fraction of the run in up to three contiguous blocks (one per 20 s of
 // float time, at least one), each at a random place inside its own third of the run.
-std::vector<std::pair<double, double>> FloatPeriods(const io::SimulationConfig& config,
+std::vector<std::pair<double, double>> FloatPeriods(const sim::SimulationConfig& config,
                                                     double duration_s, uint64_t seed) {
   std::vector<std::pair<double, double>> periods;
   const double fraction = std::clamp(config.float_fraction, 0.0, 1.0);
@@ -37,7 +37,7 @@ std::vector<std::pair<double, double>> FloatPeriods(const io::SimulationConfig& 
   return periods;
 }
 
-std::vector<io::GnssFix> SimulateGnss(const io::SimulationConfig& config,
+std::vector<io::GnssFix> SimulateGnss(const sim::SimulationConfig& config,
                                       const Trajectory& trajectory,
                                       const GeographicLib::LocalCartesian& enu, uint64_t seed) {
   const auto float_periods = FloatPeriods(config, trajectory.duration_s(), seed);
@@ -101,7 +101,7 @@ std::vector<io::GnssFix> SimulateGnss(const io::SimulationConfig& config,
 // ---- Heading --------------------------------------------------------------------------------
 // Measured heading = true heading + bias + drift·t + white. The drift is linear with the
 // configured rate and a sign drawn from the seed (Barawid 2007: FOG drift ±0.5°/h).
-std::vector<io::HeadingSample> SimulateHeadings(const io::SimulationConfig& config,
+std::vector<io::HeadingSample> SimulateHeadings(const sim::SimulationConfig& config,
                                                 const Trajectory& trajectory, uint64_t seed) {
   Noise noise(seed, Stream::kHeading);
   const double drift_rad_per_s =
@@ -136,7 +136,7 @@ struct SurveyFrame {
 
 }  // namespace
 
-io::ScannerPreset TrueScannerPreset(const io::SimulationConfig& config,
+io::ScannerPreset TrueScannerPreset(const sim::SimulationConfig& config,
                                     const io::ScannerPreset& preset) {
   io::ScannerPreset truth = preset;
   if (!std::isnan(config.truth_scale_n)) truth.sim_scale_n = config.truth_scale_n;
@@ -149,15 +149,15 @@ io::ScannerPreset TrueScannerPreset(const io::SimulationConfig& config,
   return truth;
 }
 
-double RangeDriftM(const io::SimulationConfig& config, double t_s) {
+double RangeDriftM(const sim::SimulationConfig& config, double t_s) {
   if (config.truth_drift_amplitude_m == 0.0) return 0.0;
   if (config.truth_drift_time_constant_s <= 0.0) return config.truth_drift_amplitude_m;
   return config.truth_drift_amplitude_m * (1.0 - std::exp(-t_s / config.truth_drift_time_constant_s));
 }
 
-io::SimulationConfig WithDefaultWalls(io::SimulationConfig config) {
+sim::SimulationConfig WithDefaultWalls(sim::SimulationConfig config) {
   if (!config.walls.empty()) return config;
-  io::SimWall wall;
+  sim::SimWall wall;
   wall.id = "north_wall";
   wall.code = "WALL1";
   wall.x0_m = -15.0;
@@ -172,10 +172,10 @@ namespace {
 
 // What the trajectory needs beyond config.Validate(); returns the first surveyed wall. Messages
 // in Validate()'s form: the YAML key first, so the user knows what to change.
-const io::SimWall& CheckTrajectoryConfig(const io::SimulationConfig& config) {
+const sim::SimWall& CheckTrajectoryConfig(const sim::SimulationConfig& config) {
   config.Validate();
   const auto first_surveyed = std::find_if(config.walls.begin(), config.walls.end(),
-                                           [](const io::SimWall& w) { return !w.code.empty(); });
+                                           [](const sim::SimWall& w) { return !w.code.empty(); });
   Require(first_surveyed != config.walls.end(),
           "simulation.walls must hold at least one wall with a survey code, got none (see "
           "WithDefaultWalls)");
@@ -212,11 +212,11 @@ const io::SimWall& CheckTrajectoryConfig(const io::SimulationConfig& config) {
 
 }  // namespace
 
-double RunDurationS(const io::SimulationConfig& config) {
+double RunDurationS(const sim::SimulationConfig& config) {
   return PlanTrajectory(config, CheckTrajectoryConfig(config)).duration_s();
 }
 
-std::vector<SimTruthPose> TruePosesAt(const io::SimulationConfig& config,
+std::vector<SimTruthPose> TruePosesAt(const sim::SimulationConfig& config,
                                       const std::vector<double>& t_s) {
   const Trajectory trajectory = PlanTrajectory(config, CheckTrajectoryConfig(config));
   std::vector<SimTruthPose> poses;
@@ -228,7 +228,7 @@ std::vector<SimTruthPose> TruePosesAt(const io::SimulationConfig& config,
   return poses;
 }
 
-std::vector<SimBeamHit> TrueBeamHits(const io::SimulationConfig& config,
+std::vector<SimBeamHit> TrueBeamHits(const sim::SimulationConfig& config,
                                      const io::ScannerPreset& preset, const SimTruthPose& pose) {
   const Scene scene(config);
   const Eigen::Vector2d origin =
@@ -258,9 +258,9 @@ std::vector<SimBeamHit> TrueBeamHits(const io::SimulationConfig& config,
   return hits;
 }
 
-SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerPreset& preset,
+SimulatedSession Simulate(const sim::SimulationConfig& config, const io::ScannerPreset& preset,
                           uint64_t seed, const ScanSink& sink) {
-  const io::SimWall* first_surveyed = &CheckTrajectoryConfig(config);
+  const sim::SimWall* first_surveyed = &CheckTrajectoryConfig(config);
   Require(config.gnss_rate_hz > 0.0 && config.heading_rate_hz > 0.0,
           "simulation.gnss_rate_hz and simulation.heading_rate_hz must be > 0");
   Require(preset.num_beams > 0 && preset.rate_hz > 0.0 && preset.angular_step_rad != 0.0,

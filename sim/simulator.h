@@ -18,7 +18,7 @@
 #include <functional>
 #include <vector>
 
-#include "io/options.h"
+#include "sim/simulation_config.h"
 #include "io/types.h"
 
 namespace wallcal::sim {
@@ -68,18 +68,18 @@ struct SimulatedSession {
 // fails, no wall has a survey code, fewer than 3 stations, the scanner would stand at or behind
 // the wall or the weave would take it there, a negative weave amplitude or duration, a preset
 // without beams or rate).
-SimulatedSession Simulate(const io::SimulationConfig& config, const io::ScannerPreset& preset,
+SimulatedSession Simulate(const sim::SimulationConfig& config, const io::ScannerPreset& preset,
                           uint64_t seed, const ScanSink& sink);
 
 // The run's length in seconds of true time (the stop-and-go plan, or continuous_duration_s /
 // the stop-and-go plan's length in continuous mode). Throws io::InputError like Simulate when
 // the trajectory cannot be planned.
-double RunDurationS(const io::SimulationConfig& config);
+double RunDurationS(const sim::SimulationConfig& config);
 
 // The true poses Simulate moves the vehicle through, at true times t_s (seconds since the start
 // of the run, clamped to [0, RunDurationS]); stamp_s = config.start_time_s + t. For benchmarks
 // and tests that need the truth at scan times. Throws like RunDurationS.
-std::vector<SimTruthPose> TruePosesAt(const io::SimulationConfig& config,
+std::vector<SimTruthPose> TruePosesAt(const sim::SimulationConfig& config,
                                       const std::vector<double>& t_s);
 
 // One beam of a noise-free scan: what the beam's centre ray meets first.
@@ -96,16 +96,16 @@ struct SimBeamHit {
 // occlusions included. Does not check `config` (call RunDurationS or Simulate for that).
 // The scanner the simulation measures with: `preset` with the scenario's scanner_truth
 // overrides (SimulationConfig's characterisation block) applied.
-io::ScannerPreset TrueScannerPreset(const io::SimulationConfig& config,
+io::ScannerPreset TrueScannerPreset(const sim::SimulationConfig& config,
                                     const io::ScannerPreset& preset);
 // The scenario's warm-up range drift at true time t_s after the start (m, added to every range).
-double RangeDriftM(const io::SimulationConfig& config, double t_s);
+double RangeDriftM(const sim::SimulationConfig& config, double t_s);
 
-std::vector<SimBeamHit> TrueBeamHits(const io::SimulationConfig& config,
+std::vector<SimBeamHit> TrueBeamHits(const sim::SimulationConfig& config,
                                      const io::ScannerPreset& preset, const SimTruthPose& pose);
 
 // `config` unchanged when it has walls; otherwise with one 30 m surveyed wall "north_wall"
 // (code WALL1) 12 m north of the site origin, running east–west from x = −15 m to x = +15 m.
-io::SimulationConfig WithDefaultWalls(io::SimulationConfig config);
+sim::SimulationConfig WithDefaultWalls(sim::SimulationConfig config);
 
 }  // namespace wallcal::sim

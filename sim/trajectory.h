@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "common/angles.h"
-#include "io/options.h"
+#include "sim/simulation_config.h"
 #include "io/types.h"
 
 namespace wallcal::sim::detail {
@@ -201,7 +201,7 @@ class Trajectory {
 // line, positions spread over lateral_spread_m along it. Heading and lateral position increase
 // together so that a vehicle turned left stands to the right and keeps looking at the wall's
 // middle, and consecutive stations are neighbours.
-inline Trajectory PlanTrajectory(const io::SimulationConfig& config, const io::SimWall& wall) {
+inline Trajectory PlanTrajectory(const sim::SimulationConfig& config, const sim::SimWall& wall) {
   const Eigen::Vector2d a(wall.x0_m, wall.y0_m), b(wall.x1_m, wall.y1_m);
   const Eigen::Vector2d along = (b - a).normalized();
   const Eigen::Vector2d left_normal(-along.y(), along.x());

@@ -17,7 +17,7 @@ namespace wallcal::solvers {
 
 MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& observations,
                                 const std::vector<calib::WallGeometry>& walls,
-                                const io::SolverOptions& options, bool force) {
+                                const solvers::SolverOptions& options, bool force) {
   MountEstimate estimate;
   estimate.method = "barawid";
   const ObservabilityReport observability = CheckObservability(observations, walls, options);

@@ -93,7 +93,7 @@ class MountSettled : public ceres::IterationCallback {
 
 }  // namespace
 
-MountEstimate SolveMountProblem(MountProblem& mp, const io::SolverOptions& options,
+MountEstimate SolveMountProblem(MountProblem& mp, const solvers::SolverOptions& options,
                                 bool compute_covariance) {
   MountEstimate estimate;
   estimate.method = "ceres";
@@ -294,7 +294,7 @@ MountEstimate Refused(const Mount& initial, EstimateFailure failure, const std::
 
 MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observations,
                               const std::vector<calib::WallGeometry>& walls,
-                              const io::SolverOptions& options, const Mount& initial,
+                              const solvers::SolverOptions& options, const Mount& initial,
                               bool force, const WarmStart* warm, WarmStart* ended,
                               double observation_weight) {
   const std::vector<double> weights =
@@ -397,7 +397,7 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
 }
 
 Refit RefitMount(const std::vector<calib::WallObservation>& observations,
-                 const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
+                 const std::vector<calib::WallGeometry>& walls, const solvers::SolverOptions& options,
                  const Mount& initial, const std::vector<double>& weights, int max_iterations,
                  const std::array<double, 2>* held_time_block, const WarmStart* warm) {
   Refit refit;
@@ -410,7 +410,7 @@ Refit RefitMount(const std::vector<calib::WallObservation>& observations,
     mp->time_offset = *held_time_block;
     mp->problem.SetParameterBlockConstant(mp->time_offset.data());
   }
-  io::SolverOptions quick = options;
+  solvers::SolverOptions quick = options;
   quick.max_iterations = std::max(1, max_iterations);
   const MountEstimate estimate = SolveMountProblem(*mp, quick, /*compute_covariance=*/false);
   if (!estimate.usable) return refit;

@@ -34,7 +34,7 @@ constexpr size_t kScansPerResidualBlock = 32;
 
 // The σ of the correlated GNSS error for one observation's position: the GST σ when the log has
 // one and the options allow it, the configured bias σ otherwise.
-double PoseBiasSigma(const calib::VehiclePose& pose, const io::SolverOptions& options) {
+double PoseBiasSigma(const calib::VehiclePose& pose, const solvers::SolverOptions& options) {
   if (options.use_gst_sigma && pose.gnss_sigma_m > 0.0) return pose.gnss_sigma_m;
   return options.gnss_bias_sigma_m;
 }
@@ -61,7 +61,7 @@ double MovingScansPerGnssFix(const std::vector<calib::WallObservation>& observat
 
 Eigen::Matrix2d MovingPoseCovariance(const calib::WallObservation& observation,
                                      const Eigen::Vector2d& normal_local, double ell_m,
-                                     const io::SolverOptions& options) {
+                                     const solvers::SolverOptions& options) {
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
   if (UsesDwellHeading(observation)) return covariance;
   const calib::VehiclePose& pose = observation.pose;
@@ -122,7 +122,7 @@ double DrivesTimingSigma(const std::vector<calib::WallObservation>& observations
 
 Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       const calib::WallGeometry& wall,
-                                      const io::SolverOptions& options, const Mount& lever_mount,
+                                      const solvers::SolverOptions& options, const Mount& lever_mount,
                                       double bias_sigma_m, double scans_per_gnss_fix) {
   const calib::OrientedWall oriented = calib::OrientWall(wall, observation.pose.antenna_local_m);
   Eigen::Matrix2d covariance;
@@ -190,7 +190,7 @@ Eigen::MatrixXd WallPriorCovariance(const std::vector<calib::WallGeometry>& wall
 
 std::unique_ptr<MountProblem> BuildMountProblem(
     const std::vector<calib::WallObservation>& observations,
-    const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
+    const std::vector<calib::WallGeometry>& walls, const solvers::SolverOptions& options,
     const Mount& lever_mount, const Mount& initial, std::string* error,
     const std::vector<double>& weights) {
   auto mp = std::make_unique<MountProblem>();

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "calib/observation.h"
-#include "io/options.h"
+#include "solvers/solver_options.h"
 #include "solvers/mount_solver.h"
 #include "solvers/wall_line_cost.h"
 
@@ -122,7 +122,7 @@ inline bool UsesDwellHeading(const calib::WallObservation& observation) {
 }
 std::unique_ptr<MountProblem> BuildMountProblem(
     const std::vector<calib::WallObservation>& observations,
-    const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
+    const std::vector<calib::WallGeometry>& walls, const solvers::SolverOptions& options,
     const Mount& lever_mount, const Mount& initial, std::string* error,
     const std::vector<double>& weights = {});
 
@@ -144,7 +144,7 @@ WarmStart WarmStartFrom(const MountProblem& mp);
 // between two fixes share their noise: MovingScansPerGnssFix).
 Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       const calib::WallGeometry& wall,
-                                      const io::SolverOptions& options, const Mount& lever_mount,
+                                      const solvers::SolverOptions& options, const Mount& lever_mount,
                                       double bias_sigma_m, double scans_per_gnss_fix = 1.0);
 
 // The pose uncertainty of a moving scan in its [rho; theta] (m², m·rad, rad²); zero for a scan
@@ -155,7 +155,7 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
 // wall's normal oriented from the scanner to the wall.
 Eigen::Matrix2d MovingPoseCovariance(const calib::WallObservation& observation,
                                      const Eigen::Vector2d& normal_local, double ell_m,
-                                     const io::SolverOptions& options);
+                                     const solvers::SolverOptions& options);
 
 // How well the time block fixes the drives' poses (s): the σ of the rho shift that the
 // uncertainty of [clock offset dt, heading delay δh] (time_covariance, s²) puts on the moving
@@ -176,7 +176,7 @@ double MovingScansPerGnssFix(const std::vector<calib::WallObservation>& observat
 // Solves and fills the estimate (mount, covariance from ceres::Covariance with every nuisance
 // block free, residuals, report). Never throws; failures come back as usable = false.
 // compute_covariance false: stop after the solve and the residuals (usable = converged).
-MountEstimate SolveMountProblem(MountProblem& problem, const io::SolverOptions& options,
+MountEstimate SolveMountProblem(MountProblem& problem, const solvers::SolverOptions& options,
                                 bool compute_covariance = true);
 
 }  // namespace wallcal::solvers

@@ -13,7 +13,7 @@
 #include <Eigen/Core>
 
 #include "calib/observation.h"
-#include "io/options.h"
+#include "solvers/solver_options.h"
 
 namespace wallcal::solvers {
 
@@ -104,13 +104,13 @@ struct MountEstimate {
 // information, and so its σ and the checks on it, about those of the whole set.
 MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observations,
                               const std::vector<calib::WallGeometry>& walls,
-                              const io::SolverOptions& options, const Mount& initial,
+                              const solvers::SolverOptions& options, const Mount& initial,
                               bool force = false, const WarmStart* warm = nullptr,
                               WarmStart* ended = nullptr, double observation_weight = 1.0);
 
 MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& observations,
                                 const std::vector<calib::WallGeometry>& walls,
-                                const io::SolverOptions& options, bool force = false);
+                                const solvers::SolverOptions& options, bool force = false);
 
 // A quick re-solve for repeatability (split sessions, bootstrap): the Ceres adjustment with
 // each observation's information multiplied by weights[i] (>= 0; 0 drops it; weights empty:
@@ -127,7 +127,7 @@ struct Refit {
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
 };
 Refit RefitMount(const std::vector<calib::WallObservation>& observations,
-                 const std::vector<calib::WallGeometry>& walls, const io::SolverOptions& options,
+                 const std::vector<calib::WallGeometry>& walls, const solvers::SolverOptions& options,
                  const Mount& initial, const std::vector<double>& weights, int max_iterations,
                  const std::array<double, 2>* held_time_block = nullptr,
                  const WarmStart* warm = nullptr);

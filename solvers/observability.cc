@@ -26,7 +26,7 @@ std::string Format(const char* format, double a, double b, double c, double d) {
 
 ObservabilityReport CheckObservability(const std::vector<calib::WallObservation>& observations,
                                        const std::vector<calib::WallGeometry>& walls,
-                                       const io::SolverOptions& options) {
+                                       const solvers::SolverOptions& options) {
   ObservabilityReport report;
   report.num_observations = static_cast<int>(observations.size());
   for (size_t i = 0; i < observations.size(); ++i) {
@@ -152,7 +152,7 @@ std::string HeadingArc(const std::vector<calib::WallObservation>& observations) 
 DeterminationReport CheckDetermination(const Eigen::Matrix3d& information,
                                        const std::vector<calib::WallObservation>& observations,
                                        const std::vector<calib::WallGeometry>& walls,
-                                       const io::SolverOptions& options) {
+                                       const solvers::SolverOptions& options) {
   DeterminationReport report;
   // Scaled parameters u = D⁻¹ (x, y, yaw) with D = the largest accepted σ per axis: the
   // information of u is D I D, and every direction is determined when its smallest eigenvalue

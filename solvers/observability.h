@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 
 #include "calib/observation.h"
-#include "io/options.h"
+#include "solvers/solver_options.h"
 
 namespace wallcal::solvers {
 
@@ -36,7 +36,7 @@ struct ObservabilityReport {
 // message names the mount axis (x forward or y lateral) closest to it.
 ObservabilityReport CheckObservability(const std::vector<calib::WallObservation>& observations,
                                        const std::vector<calib::WallGeometry>& walls,
-                                       const io::SolverOptions& options);
+                                       const solvers::SolverOptions& options);
 
 // The conditioning check on the mount's information matrix (nuisance parameters marginalised,
 // see MountInformation in mount_problem.h). In units scaled by options.max_sigma_xy_m and
@@ -53,7 +53,7 @@ struct DeterminationReport {
 DeterminationReport CheckDetermination(const Eigen::Matrix3d& information,
                                        const std::vector<calib::WallObservation>& observations,
                                        const std::vector<calib::WallGeometry>& walls,
-                                       const io::SolverOptions& options);
+                                       const solvers::SolverOptions& options);
 
 // Grid headings (clockwise from grid north, deg, [0, 360)) of the observations: the narrowest
 // arc holding them all, as "85°–97°".

@@ -55,7 +55,7 @@ const char* MethodName(Method method) {
 
 PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>* observations,
                               const std::vector<calib::WallGeometry>& walls,
-                              const io::SolverOptions& options, const Mount& initial, bool force,
+                              const solvers::SolverOptions& options, const Mount& initial, bool force,
                               const calib::PoseInterpolator& poses,
                               const std::function<void(double shift_s)>& on_round,
                               double observation_weight) {

@@ -15,7 +15,7 @@
 
 #include "calib/observation.h"
 #include "calib/time_alignment.h"
-#include "io/options.h"
+#include "solvers/solver_options.h"
 #include "solvers/mount_solver.h"
 
 namespace wallcal::solvers {
@@ -40,7 +40,7 @@ struct PolicyOutcome {
 // `observation_weight`: SolveMountCeres's (a thinned preview); barawid takes none.
 PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>* observations,
                               const std::vector<calib::WallGeometry>& walls,
-                              const io::SolverOptions& options, const Mount& initial, bool force,
+                              const solvers::SolverOptions& options, const Mount& initial, bool force,
                               const calib::PoseInterpolator& poses,
                               const std::function<void(double shift_s)>& on_round = nullptr,
                               double observation_weight = 1.0);

@@ -8,7 +8,7 @@
 #include <cstdlib>
 
 #include "fuzz_util.h"
-#include "io/carmen_reader.h"
+#include "io/text/carmen_reader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = wallcal::fuzz::Scratch().Write("scans.clf", data, size);

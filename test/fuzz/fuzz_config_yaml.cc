@@ -5,7 +5,9 @@
 #include <cstdint>
 
 #include "fuzz_util.h"
-#include "io/session_reader.h"
+#include "io/config/session_reader.h"
+#include "pipeline/calibrate_options.h"
+#include "sim/simulation_config.h"
 
 namespace {
 
@@ -22,8 +24,8 @@ void Try(F read) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = wallcal::fuzz::Scratch().Write("config.yaml", data, size);
   Try([&] { wallcal::io::ReadScannerPreset(path); });
-  Try([&] { wallcal::io::ReadCalibrateOptions(path); });
-  Try([&] { wallcal::io::ReadSimulationConfig(path); });
-  Try([&] { wallcal::io::ReadTruthYaml(path); });
+  Try([&] { wallcal::pipeline::ReadCalibrateOptions(path); });
+  Try([&] { wallcal::sim::ReadSimulationConfig(path); });
+  Try([&] { wallcal::sim::ReadTruthYaml(path); });
   return 0;
 }

@@ -8,8 +8,8 @@
 #include <string>
 #include <string_view>
 
-#include "io/leica_gsi.h"
-#include "io/survey_reader.h"
+#include "io/survey/internal/leica_gsi.h"
+#include "io/survey/survey_reader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

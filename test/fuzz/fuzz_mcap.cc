@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "io/mcap_reader.h"
+#include "io/recording/mcap/internal/mcap_reader.h"
 #include "io/types.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

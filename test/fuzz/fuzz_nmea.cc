@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "io/nmea_reader.h"
+#include "io/text/nmea_reader.h"
 #include "common/angles.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "io/ros_messages.h"
+#include "io/recording/ros/ros_messages.h"
 
 namespace {
 

@@ -9,8 +9,8 @@
 #include <map>
 #include <vector>
 
-#include "io/ros_messages.h"
-#include "io/rosbag1_reader.h"
+#include "io/recording/ros/ros_messages.h"
+#include "io/recording/rosbag1/internal/rosbag1_reader.h"
 #include "io/types.h"
 
 namespace {

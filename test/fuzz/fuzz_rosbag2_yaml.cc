@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "io/rosbag2_metadata.h"
+#include "io/recording/rosbag2/internal/rosbag2_metadata.h"
 #include "io/types.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -7,7 +7,7 @@
 #include <cstdlib>
 
 #include "fuzz_util.h"
-#include "io/session_reader.h"
+#include "io/config/session_reader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = wallcal::fuzz::Scratch().Write("session.yaml", data, size);

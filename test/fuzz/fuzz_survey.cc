@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string>
 
-#include "io/survey_reader.h"
+#include "io/survey/survey_reader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));

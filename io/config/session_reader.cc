@@ -1,0 +1,277 @@
+#include "io/config/session_reader.h"
+
+#include "io/config/internal/yaml_map_reader.h"
+
+namespace wallcal::io {
+namespace {
+
+using namespace yaml_detail;  // NOLINT: this file's own YAML helpers
+
+// `topic:` (a recording's topic name) and `stamp: header|receive` of scanner, gnss, heading.
+void ReadTopicKeys(MapReader& map, std::string* topic, StampSource* stamp) {
+  if (const YAML::Node t = map.Find("topic"); t.IsDefined()) *topic = map.ToText(t, "topic");
+  if (const YAML::Node st = map.Find("stamp"); st.IsDefined()) {
+    const std::string text = st.IsScalar() ? st.Scalar() : "";
+    if (text == "header") {
+      *stamp = StampSource::kHeader;
+    } else if (text == "receive") {
+      *stamp = StampSource::kReceive;
+    } else {
+      map.Bad(st, "stamp", "header (the message's header.stamp) or receive (the recorder's time)");
+    }
+  }
+}
+
+std::string ResolvePath(const std::string& dir, const std::string& relative) {
+  const fs::path p(relative);
+  if (p.is_absolute()) return p.lexically_normal().string();
+  return (fs::path(dir) / p).lexically_normal().string();
+}
+
+UtmZone ParseUtmZone(MapReader& reader, const YAML::Node& value) {
+  // "54N", "33S", "54 n": zone number 1..60 and hemisphere letter.
+  const std::string text = value.IsScalar() ? value.Scalar() : "";
+  size_t i = 0;
+  int zone = 0;
+  while (i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])) && zone <= 60) {
+    zone = zone * 10 + (text[i] - '0');
+    ++i;
+  }
+  const size_t digits = i;
+  while (i < text.size() && text[i] == ' ') ++i;
+  const char letter = i + 1 == text.size()
+                          ? static_cast<char>(std::toupper(static_cast<unsigned char>(text[i])))
+                          : '\0';
+  if (digits == 0 || zone < 1 || zone > 60 || (letter != 'N' && letter != 'S')) {
+    reader.Bad(value, "utm_zone", "a zone 1..60 and N or S, like 54N or 33S");
+  }
+  UtmZone utm;
+  utm.zone = zone;
+  utm.north = letter == 'N';
+  return utm;
+}
+
+ControlPoint ReadControlPoint(MapReader& survey, const YAML::Node& item, size_t index) {
+  const std::string name = "control[" + std::to_string(index) + "]";
+  if (!item.IsMap()) survey.Bad(item, name, "{id, lat, lon, h}");
+  MapReader entry(item, survey.file(), survey.Name(name + "."), LineOf(item));
+  entry.Allow({"id", "lat", "lon", "h"});
+  entry.Finish();
+  ControlPoint point;
+  point.line = LineOf(item);
+  point.id = entry.ToText(entry.Require("id", "the survey id of the control point"), "id");
+  const YAML::Node lat = entry.Require("lat", "the WGS84 latitude in degrees");
+  point.lat_deg = entry.ToNumber(lat, "lat");
+  // The local frame is a UTM projection, which ends at 84° N and 80° S.
+  if (point.lat_deg > 84.0 || point.lat_deg < -80.0) {
+    entry.Bad(lat, "lat", "a latitude in [-80, 84] degrees (the UTM grid the tool works in)");
+  }
+  const YAML::Node lon = entry.Require("lon", "the WGS84 longitude in degrees");
+  point.lon_deg = entry.ToNumber(lon, "lon");
+  if (std::abs(point.lon_deg) > 180.0) entry.Bad(lon, "lon", "a longitude in [-180, 180] degrees");
+  point.h_m = entry.ToNumber(entry.Require("h", "the ellipsoidal height in metres"), "h");
+  entry.Finish();
+  return point;
+}
+
+}  // namespace
+
+SessionSpec ReadSession(const std::string& path) {
+  std::error_code ec;
+  fs::path file(path);
+  if (fs::is_directory(file, ec)) file /= "session.yaml";
+  if (!fs::is_regular_file(file, ec)) {
+    throw InputError(
+        Where(path, 0, "no session.yaml here; expected a session.yaml or a folder holding one"));
+  }
+  SessionSpec spec;
+  spec.file = file.lexically_normal().string();
+  spec.dir = file.parent_path().lexically_normal().string();
+  if (spec.dir.empty()) spec.dir = ".";
+  const std::string& f = spec.file;
+
+  const YAML::Node root = LoadYamlStrict(f);
+  MapReader top(root, f, "", 1);
+  if (!root.IsMap())
+    throw InputError(Where(f, 0, "empty session; expected the keys of docs/session-format.md"));
+
+  top.Allow(
+      {"name", "utm_zone", "scanner", "gnss", "heading", "survey", "walls", "antenna_in_base"});
+  top.Finish();
+  top.Text("name", spec.name);
+  if (spec.name.empty())
+    spec.name = fs::absolute(spec.dir, ec).lexically_normal().filename().string();
+  if (const YAML::Node zone = top.Find("utm_zone"); zone.IsDefined()) {
+    spec.utm_zone = ParseUtmZone(top, zone);
+  }
+
+  {
+    const YAML::Node node = top.Require("scanner", "a map with model and log");
+    MapReader scanner = top.Child("scanner", node);
+    scanner.Allow({"model", "log", "time_offset_s", "mount_guess", "z_m", "topic", "stamp"});
+    scanner.Finish();
+    spec.scanner_model = scanner.ToText(
+        scanner.Require("model", "a scanner preset name (configs/scanners/NAME.yaml)"), "model");
+    spec.scanner_log = ResolvePath(
+        spec.dir, scanner.ToText(scanner.Require("log", "the CARMEN scan log's path"), "log"));
+    scanner.Number("time_offset_s", spec.scanner_time_offset_s);
+    // Up to about 300 years: enough to move a scanner clock counting from 0 to UNIX time, and
+    // small enough that stamps keep sub-microsecond resolution in a double.
+    if (std::abs(spec.scanner_time_offset_s) > 1e10) {
+      scanner.Bad(scanner.Find("time_offset_s"), "time_offset_s",
+                  "seconds within ±1e10 (added to every scan stamp)");
+    }
+    ReadTopicKeys(scanner, &spec.scanner_topic, &spec.scanner_stamp);
+    if (const YAML::Node guess = scanner.Find("mount_guess"); guess.IsDefined()) {
+      MapReader g = scanner.Child("mount_guess", guess);
+      MountGuess mount;
+      g.Number("x", mount.x_m);
+      g.Number("y", mount.y_m);
+      g.Scaled("yaw_deg", mount.yaw_rad, kRadToDeg);
+      if (const YAML::Node t = g.Find("tolerance_m"); t.IsDefined()) {
+        const double tolerance_m = g.ToNumber(t, "tolerance_m");
+        if (!(tolerance_m > 0.0)) g.Bad(t, "tolerance_m", "a distance > 0 in metres");
+        mount.tolerance_m = tolerance_m;
+      }
+      if (const YAML::Node t = g.Find("tolerance_yaw_deg"); t.IsDefined()) {
+        const double tolerance_deg = g.ToNumber(t, "tolerance_yaw_deg");
+        if (!(tolerance_deg > 0.0 && tolerance_deg <= 180.0)) {
+          g.Bad(t, "tolerance_yaw_deg", "an angle in (0, 180] degrees");
+        }
+        mount.tolerance_yaw_rad = tolerance_deg / kRadToDeg;
+      }
+      g.Finish();
+      spec.mount_guess = mount;
+    }
+    if (const YAML::Node z = scanner.Find("z_m"); z.IsDefined()) {
+      spec.scanner_z_m = scanner.ToNumber(z, "z_m");
+    }
+    scanner.Finish();
+  }
+  {
+    const YAML::Node node = top.Require("gnss", "a map with log");
+    MapReader gnss = top.Child("gnss", node);
+    gnss.Allow({"log", "min_fix_quality", "topic", "stamp", "max_sigma_m"});
+    gnss.Finish();
+    spec.gnss_log =
+        ResolvePath(spec.dir, gnss.ToText(gnss.Require("log", "the NMEA GGA log's path"), "log"));
+    if (const YAML::Node q = gnss.Find("min_fix_quality"); q.IsDefined()) {
+      spec.min_fix_quality = gnss.ToInteger(q, "min_fix_quality");
+      if (spec.min_fix_quality < 1 || spec.min_fix_quality > 9) {
+        gnss.Bad(q, "min_fix_quality", "a GGA quality 1..9 (4 = RTK fixed, 5 = float)");
+      }
+    }
+    ReadTopicKeys(gnss, &spec.gnss_topic, &spec.gnss_stamp);
+    if (const YAML::Node sigma = gnss.Find("max_sigma_m"); sigma.IsDefined()) {
+      spec.gnss_max_sigma_m = gnss.ToNumber(sigma, "max_sigma_m");
+      if (!(spec.gnss_max_sigma_m > 0.0)) {
+        gnss.Bad(sigma, "max_sigma_m", "a horizontal σ in metres > 0 (e.g. 0.05)");
+      }
+    }
+    gnss.Finish();
+  }
+  {
+    const YAML::Node node = top.Require("heading", "a map with log");
+    MapReader heading = top.Child("heading", node);
+    heading.Allow({"log", "reference", "topic", "stamp"});
+    heading.Finish();
+    spec.heading_log = ResolvePath(
+        spec.dir, heading.ToText(heading.Require("log", "the NMEA HDT/THS log's path"), "log"));
+    if (const YAML::Node ref = heading.Find("reference"); ref.IsDefined()) {
+      const std::string text = ref.IsScalar() ? ref.Scalar() : "";
+      if (text == "true_north") {
+        spec.heading_reference = HeadingReference::kTrueNorth;
+      } else if (text == "grid_north") {
+        spec.heading_reference = HeadingReference::kGridNorth;
+      } else {
+        heading.Bad(ref, "reference", "true_north or grid_north");
+      }
+    }
+    ReadTopicKeys(heading, &spec.heading_topic, &spec.heading_stamp);
+    heading.Finish();
+  }
+  {
+    const YAML::Node node = top.Require("survey", "a map with points and control");
+    MapReader survey = top.Child("survey", node);
+    survey.Allow({"points", "columns", "control", "rotation_deg"});
+    survey.Finish();
+    spec.survey_points = ResolvePath(
+        spec.dir, survey.ToText(survey.Require("points", "the survey file's path"), "points"));
+    // The columns of a CSV without a header row (docs/survey-files.md); GSI files ignore it.
+    if (const YAML::Node columns = survey.Find("columns"); columns.IsDefined()) {
+      std::string text = columns.IsScalar() ? columns.Scalar() : "";
+      for (char& c : text) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      if (text == "PNEZD") {
+        spec.survey_columns = SurveyColumns::kPNEZD;
+      } else if (text == "PENZD") {
+        spec.survey_columns = SurveyColumns::kPENZD;
+      } else if (text == "HEADER") {
+        spec.survey_columns = SurveyColumns::kHeader;
+      } else {
+        survey.Bad(columns, "columns", "PNEZD, PENZD or header");
+      }
+    }
+    const YAML::Node control =
+        survey.Require("control", "a list of {id, lat, lon, h} (at least one)");
+    if (!control.IsSequence() || control.size() == 0) {
+      survey.Bad(control, "control", "a list of at least one {id, lat, lon, h}");
+    }
+    std::set<std::string> ids;
+    for (size_t i = 0; i < control.size(); ++i) {
+      ControlPoint point = ReadControlPoint(survey, control[i], i);
+      if (!ids.insert(point.id).second) {
+        throw InputError(Where(
+            f, point.line,
+            "survey.control: control point '" + point.id + "' given twice; expected unique ids"));
+      }
+      spec.control.push_back(std::move(point));
+    }
+    if (const YAML::Node rotation = survey.Find("rotation_deg"); rotation.IsDefined()) {
+      spec.survey_rotation_rad = survey.ToNumber(rotation, "rotation_deg") / kRadToDeg;
+    }
+    if (spec.control.size() == 1 && !spec.survey_rotation_rad) {
+      throw InputError(Where(f, survey.line(),
+                             "one control point needs survey.rotation_deg (Barawid 2007 Eq. 4-5); "
+                             "expected a second control point or the rotation"));
+    }
+    survey.Finish();
+  }
+  {
+    const YAML::Node walls = top.Require("walls", "a list of {id, code} (at least one)");
+    if (!walls.IsSequence() || walls.size() == 0) {
+      top.Bad(walls, "walls", "a list of at least one {id, code}");
+    }
+    std::set<std::string> ids;
+    for (size_t i = 0; i < walls.size(); ++i) {
+      const YAML::Node item = walls[i];
+      const std::string name = "walls[" + std::to_string(i) + "]";
+      if (!item.IsMap()) top.Bad(item, name, "{id, code}");
+      MapReader entry(item, f, name + ".", LineOf(item));
+      entry.Allow({"id", "code"});
+      entry.Finish();
+      WallSpec wall;
+      wall.id = entry.ToText(entry.Require("id", "a name for the wall"), "id");
+      wall.code =
+          entry.ToText(entry.Require("code", "the survey code of the points on this wall"), "code");
+      entry.Finish();
+      if (!ids.insert(wall.id).second) {
+        throw InputError(
+            Where(f, LineOf(item), "wall '" + wall.id + "' given twice; expected unique wall ids"));
+      }
+      spec.walls.push_back(std::move(wall));
+    }
+  }
+  if (const YAML::Node antenna = top.Find("antenna_in_base"); antenna.IsDefined()) {
+    MapReader a = top.Child("antenna_in_base", antenna);
+    AntennaInBase in_base;
+    a.Number("x", in_base.x_m);
+    a.Number("y", in_base.y_m);
+    a.Number("z", in_base.z_m);
+    a.Finish();
+    spec.antenna_in_base = in_base;
+  }
+  top.Finish();
+  return spec;
+}
+
+}  // namespace wallcal::io

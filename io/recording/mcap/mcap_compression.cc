@@ -1,0 +1,142 @@
+#include "io/recording/mcap/internal/mcap_compression.h"
+
+#include <lz4frame.h>
+#include <zstd.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace wallcal::io {
+namespace {
+
+// First allocation: what the input could plausibly hold, so a chunk that lies about its size
+// costs memory only in proportion to the data that really decompresses.
+size_t InitialCapacity(size_t in_size, uint64_t limit) {
+  const uint64_t guess = std::max<uint64_t>(uint64_t{1} << 16, uint64_t{4} * in_size);
+  return static_cast<size_t>(std::min(guess, limit));
+}
+
+// Output buffer one byte larger than declared: a stream that fills it is too long.
+bool Grow(std::vector<uint8_t>* out, uint64_t limit) {
+  if (out->size() >= limit) return false;
+  out->resize(static_cast<size_t>(std::min<uint64_t>(limit, uint64_t{2} * out->size())));
+  return true;
+}
+
+InflateStatus InflateZstd(const uint8_t* data, size_t size, uint64_t expected,
+                          std::vector<uint8_t>* out) {
+  const uint64_t limit = expected + 1;
+  ZSTD_DCtx* ctx = ZSTD_createDCtx();
+  if (ctx == nullptr) throw std::bad_alloc();
+  out->assign(InitialCapacity(size, limit), 0);
+  ZSTD_inBuffer in{data, size, 0};
+  size_t produced = 0;
+  InflateStatus status = InflateStatus::kOk;
+  size_t pending = 1;  // nonzero: a frame is open
+  while (true) {
+    if (produced == out->size() && !Grow(out, limit)) {
+      status = InflateStatus::kTooLong;
+      break;
+    }
+    ZSTD_outBuffer ob{out->data(), out->size(), produced};
+    const size_t in_before = in.pos;
+    pending = ZSTD_decompressStream(ctx, &ob, &in);
+    if (ZSTD_isError(pending)) {
+      status = InflateStatus::kCorrupt;
+      break;
+    }
+    const bool progressed = ob.pos != produced || in.pos != in_before;
+    produced = ob.pos;
+    if (pending == 0 && in.pos == in.size) break;  // last frame closed, input used up
+    if (!progressed && ob.pos < ob.size) {         // starved: input ended inside a frame
+      status = InflateStatus::kCorrupt;
+      break;
+    }
+  }
+  ZSTD_freeDCtx(ctx);
+  if (status == InflateStatus::kOk && produced > expected) status = InflateStatus::kTooLong;
+  if (status == InflateStatus::kOk && produced < expected) status = InflateStatus::kTooShort;
+  out->resize(std::min<size_t>(produced, out->size()));
+  return status;
+}
+
+InflateStatus InflateLz4(const uint8_t* data, size_t size, uint64_t expected,
+                         std::vector<uint8_t>* out) {
+  const uint64_t limit = expected + 1;
+  LZ4F_dctx* ctx = nullptr;
+  if (LZ4F_isError(LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION))) throw std::bad_alloc();
+  out->assign(InitialCapacity(size, limit), 0);
+  size_t produced = 0, consumed = 0;
+  size_t hint = 1;  // nonzero: a frame is open
+  InflateStatus status = InflateStatus::kOk;
+  while (true) {
+    if (produced == out->size() && !Grow(out, limit)) {
+      status = InflateStatus::kTooLong;
+      break;
+    }
+    size_t dst_size = out->size() - produced;
+    size_t src_size = size - consumed;
+    hint = LZ4F_decompress(ctx, out->data() + produced, &dst_size, data + consumed, &src_size,
+                           nullptr);
+    if (LZ4F_isError(hint)) {
+      status = InflateStatus::kCorrupt;
+      break;
+    }
+    produced += dst_size;
+    consumed += src_size;
+    if (hint == 0 && consumed == size) break;
+    if (dst_size == 0 && src_size == 0 && produced < out->size()) {
+      status = InflateStatus::kCorrupt;  // input ended inside a frame
+      break;
+    }
+  }
+  LZ4F_freeDecompressionContext(ctx);
+  if (status == InflateStatus::kOk && produced > expected) status = InflateStatus::kTooLong;
+  if (status == InflateStatus::kOk && produced < expected) status = InflateStatus::kTooShort;
+  out->resize(std::min<size_t>(produced, out->size()));
+  return status;
+}
+
+}  // namespace
+
+InflateStatus Inflate(Codec codec, const uint8_t* data, size_t size, uint64_t expected_size,
+                      std::vector<uint8_t>* out) {
+  if (size == 0) {  // nothing to decode: right only when nothing was declared
+    out->clear();
+    return expected_size == 0 ? InflateStatus::kOk : InflateStatus::kTooShort;
+  }
+  return codec == Codec::kZstd ? InflateZstd(data, size, expected_size, out)
+                               : InflateLz4(data, size, expected_size, out);
+}
+
+std::vector<uint8_t> Deflate(Codec codec, const uint8_t* data, size_t size) {
+  std::vector<uint8_t> out;
+  if (codec == Codec::kZstd) {
+    out.resize(ZSTD_compressBound(size));
+    const size_t n = ZSTD_compress(out.data(), out.size(), data, size, 3);
+    if (ZSTD_isError(n)) throw std::runtime_error(ZSTD_getErrorName(n));
+    out.resize(n);
+  } else {
+    out.resize(LZ4F_compressFrameBound(size, nullptr));
+    const size_t n = LZ4F_compressFrame(out.data(), out.size(), data, size, nullptr);
+    if (LZ4F_isError(n)) throw std::runtime_error(LZ4F_getErrorName(n));
+    out.resize(n);
+  }
+  return out;
+}
+
+const char* InflateStatusText(InflateStatus status) {
+  switch (status) {
+    case InflateStatus::kOk:
+      return "ok";
+    case InflateStatus::kCorrupt:
+      return "the compressed data is damaged";
+    case InflateStatus::kTooLong:
+      return "it decompresses to more bytes than declared";
+    case InflateStatus::kTooShort:
+      return "it decompresses to fewer bytes than declared";
+  }
+  return "?";
+}
+
+}  // namespace wallcal::io

@@ -1,0 +1,227 @@
+#include "io/survey/internal/survey_csv.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+
+#include "io/internal/decimal.h"
+
+namespace wallcal::io {
+namespace {
+
+// The quantities a survey row carries, in the order of the arrays below.
+enum Role { kId = 0, kEasting, kNorthing, kElevation, kCode, kRoleCount };
+
+constexpr std::array<const char*, kRoleCount> kRoleNames = {"point id", "easting", "northing",
+                                                            "elevation", "code"};
+
+// Header names accepted for each role, compared after lower-casing and dropping blanks, '_',
+// '-' and '.' ("Point ID", "point_id" and "PointID" are one name; x_m is the dump's x). x is
+// east and y north: the
+// survey frame is right-handed with z up (docs/survey-files.md).
+const std::array<std::vector<std::string>, kRoleCount> kAliases = {{
+    {"id", "point", "pointid", "pointno", "pointnumber", "pointname", "pt", "ptid", "pnt",
+     "name"},
+    {"x", "xm", "e", "east", "easting"},
+    {"y", "ym", "n", "north", "northing"},
+    {"z", "zm", "h", "el", "elev", "elevation", "height", "rl"},
+    {"code", "description", "desc", "pointcode", "feature", "featurecode"},
+}};
+
+std::string NormalName(const std::string& field) {
+  std::string name;
+  for (char c : field) {
+    if (c == ' ' || c == '\t' || c == '_' || c == '-' || c == '.') continue;
+    name += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  return name;
+}
+
+std::string Column(int index) { return "column " + std::to_string(index + 1); }
+
+// Which column holds each role (-1: none). Throws when two columns name the same role.
+std::array<int, kRoleCount> MatchHeader(const std::vector<std::string>& fields,
+                                        const std::string& name, int line) {
+  std::array<int, kRoleCount> columns;
+  columns.fill(-1);
+  for (size_t i = 0; i < fields.size(); ++i) {
+    const std::string normal = NormalName(fields[i]);
+    for (int role = 0; role < kRoleCount; ++role) {
+      const std::vector<std::string>& aliases = kAliases[static_cast<size_t>(role)];
+      if (std::find(aliases.begin(), aliases.end(), normal) == aliases.end()) continue;
+      int& column = columns[static_cast<size_t>(role)];
+      if (column >= 0) {
+        throw InputError(Where(name, line,
+                               Column(column) + " and " + Column(static_cast<int>(i)) +
+                                   " both name the " + kRoleNames[static_cast<size_t>(role)] +
+                                   "; expected one column for it"));
+      }
+      column = static_cast<int>(i);
+    }
+  }
+  std::string missing;
+  int missing_count = 0;
+  for (int role = 0; role < kRoleCount; ++role) {
+    if (columns[static_cast<size_t>(role)] >= 0) continue;
+    missing += std::string(missing_count++ > 0 ? ", " : "") + kRoleNames[static_cast<size_t>(role)];
+  }
+  if (missing_count > 0) {
+    throw InputError(Where(
+        name, line,
+        "the header's " + std::to_string(fields.size()) + " columns name no " + missing +
+            "; expected a header naming the point id (id, point, ...), easting (x, e, easting), "
+            "northing (y, n, northing), elevation (z, h, elevation) and code (code, "
+            "description) in any order and case (docs/survey-files.md); a file without a "
+            "header needs survey.columns: PNEZD or PENZD in session.yaml"));
+  }
+  return columns;
+}
+
+void CheckPrintable(const std::string& text, const std::string& what, const std::string& name,
+                    int line) {
+  for (char c : text) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      throw InputError(Where(name, line,
+                             "the " + what + " has a control character; expected printable text"));
+    }
+  }
+}
+
+double Number(const std::string& text, int column, Role role, const std::string& name, int line,
+              const std::string& hint) {
+  const std::string label = Column(column) + " (" + kRoleNames[role] + ")";
+  if (text.empty()) {
+    throw InputError(Where(name, line, label + " is empty; expected a number in metres" + hint));
+  }
+  double value = 0.0;
+  if (!ParseDecimal(text, &value) || !std::isfinite(value)) {
+    throw InputError(Where(name, line,
+                           label + " is not a finite number (" + std::to_string(text.size()) +
+                               " characters); expected a number in metres" + hint));
+  }
+  return value;
+}
+
+}  // namespace
+
+bool SplitCsvRow(std::string_view row, std::vector<std::string>* fields) {
+  fields->clear();
+  size_t i = 0;
+  while (true) {
+    while (i < row.size() && (row[i] == ' ' || row[i] == '\t')) ++i;
+    std::string field;
+    size_t quoted = 0;  // characters of the field that came from inside quotes: never trimmed
+    if (i < row.size() && row[i] == '"') {
+      ++i;
+      while (true) {
+        if (i >= row.size()) return false;
+        if (row[i] == '"') {
+          if (i + 1 < row.size() && row[i + 1] == '"') {
+            field += '"';
+            i += 2;
+            continue;
+          }
+          ++i;
+          break;
+        }
+        field += row[i++];
+      }
+      quoted = field.size();
+      while (i < row.size() && row[i] != ',') field += row[i++];  // text after the quote
+    } else {
+      while (i < row.size() && row[i] != ',') field += row[i++];
+    }
+    while (field.size() > quoted && (field.back() == ' ' || field.back() == '\t')) {
+      field.pop_back();
+    }
+    fields->push_back(std::move(field));
+    if (i >= row.size()) return true;
+    ++i;  // the comma
+  }
+}
+
+std::vector<SurveyPoint> ParseSurveyCsv(std::string_view text, const std::string& name,
+                                        SurveyColumns columns) {
+  std::array<int, kRoleCount> column_of = {-1, -1, -1, -1, -1};
+  size_t width = 0;  // fields a row must have (header mode)
+  bool have_columns = columns != SurveyColumns::kHeader;
+  if (columns == SurveyColumns::kPNEZD) column_of = {0, 2, 1, 3, 4};
+  if (columns == SurveyColumns::kPENZD) column_of = {0, 1, 2, 3, 4};
+  const char* layout = columns == SurveyColumns::kPNEZD ? "PNEZD" : "PENZD";
+
+  std::vector<SurveyPoint> points;
+  std::vector<std::string> fields;
+  int line_number = 0;
+  bool first_row = true;
+  size_t start = 0;
+  while (start < text.size()) {
+    size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(start, end - start);
+    start = end + 1;
+    ++line_number;
+    if (line_number == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    size_t first = 0;
+    while (first < line.size() && std::isspace(static_cast<unsigned char>(line[first]))) ++first;
+    if (first == line.size() || line[first] == '#') continue;
+
+    if (!SplitCsvRow(line, &fields)) {
+      throw InputError(Where(name, line_number,
+                             "a quoted field is never closed; expected a closing \" on the same "
+                             "line"));
+    }
+    if (!have_columns) {
+      column_of = MatchHeader(fields, name, line_number);
+      width = fields.size();
+      have_columns = true;
+      first_row = false;
+      continue;
+    }
+    std::string hint;
+    if (columns != SurveyColumns::kHeader) {
+      if (fields.size() != 4 && fields.size() != 5) {
+        throw InputError(Where(name, line_number,
+                               std::to_string(fields.size()) + " fields; expected 5 (" + layout +
+                                   ") or 4 (without the description)"));
+      }
+      if (first_row) {
+        hint = std::string(" (survey.columns: ") + layout + " says the file has no header row)";
+      }
+    } else if (fields.size() != width) {
+      throw InputError(Where(name, line_number,
+                             std::to_string(fields.size()) + " fields; expected " +
+                                 std::to_string(width) + " as in the header"));
+    }
+    first_row = false;
+    SurveyPoint point;
+    point.line = line_number;
+    point.id = fields[static_cast<size_t>(column_of[kId])];
+    if (point.id.empty()) {
+      throw InputError(Where(name, line_number,
+                             Column(column_of[kId]) + " (point id) is empty; expected an id"));
+    }
+    CheckPrintable(point.id, "point id", name, line_number);
+    const size_t code_column = static_cast<size_t>(column_of[kCode]);
+    if (code_column < fields.size()) point.code = fields[code_column];
+    CheckPrintable(point.code, "code", name, line_number);
+    point.x_m = Number(fields[static_cast<size_t>(column_of[kEasting])], column_of[kEasting],
+                       kEasting, name, line_number, hint);
+    point.y_m = Number(fields[static_cast<size_t>(column_of[kNorthing])], column_of[kNorthing],
+                       kNorthing, name, line_number, hint);
+    point.z_m = Number(fields[static_cast<size_t>(column_of[kElevation])], column_of[kElevation],
+                       kElevation, name, line_number, hint);
+    points.push_back(std::move(point));
+  }
+  if (!have_columns) {
+    throw InputError(Where(name, 0,
+                           "no header; expected a first row naming the columns, like "
+                           "Point,Northing,Easting,Elevation,Description"));
+  }
+  if (points.empty()) throw InputError(Where(name, 0, "no survey points"));
+  return points;
+}
+
+}  // namespace wallcal::io

@@ -1,0 +1,40 @@
+#pragma once
+// Writing the simulator's session (CARMEN, NMEA, CSV, session.yaml,
+// truth.yaml). The Format* functions only build text; each line formatter returns one line
+// without its newline. Angles in the files are degrees where the format says so.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "io/config/session_reader.h"
+#include "io/types.h"
+
+namespace wallcal::io {
+
+// "RAWLASER1 0 start fov res maxrange 0.01 0 n r1 .. rn 0 ts wallcal-sim ts"
+// with fov = step * (n - 1), ranges in mm resolution, ts = scan.stamp_s.
+std::string FormatCarmenRawlaser(const ScanRecord& scan);
+
+// "<stamp> $GNGGA,..." : logger-time prefix = fix.stamp_s, UTC field from stamp_s as UNIX time,
+// latitude/longitude with 7 decimals of minutes, altitude = height_m, geoid separation 0.
+std::string FormatGgaLine(const GnssFix& fix);
+
+// "<stamp> $GNGST,time,rms,smaj,smin,orient,sigma_lat,sigma_lon,sigma_alt*hh" from the fix's σ.
+// sigma_alt is written as twice the larger horizontal σ (wallcal does not read it).
+std::string FormatGstLine(const GnssFix& fix);
+
+// "<stamp> $HEHDT,ddd.dddd,T*hh" (degrees clockwise from north, 4 decimals).
+std::string FormatHdtLine(double stamp_s, double heading_rad);
+
+// CSV with the header "id,x,y,z,code", coordinates with 4 decimals.
+std::string FormatSurveyCsv(const std::vector<SurveyPoint>& points);
+
+// session.yaml for `spec`; paths written relative to spec.dir. ReadSession reads it back to the
+// same spec.
+std::string FormatSessionYaml(const SessionSpec& spec);
+
+// Two upper-case hex digits: XOR of the bytes of `body` (the text between '$' and '*').
+std::string NmeaChecksum(const std::string& body);
+
+}  // namespace wallcal::io

@@ -1,0 +1,54 @@
+#pragma once
+// Everything configs/calibrate.yaml sets: each module's options (declared beside the module)
+// and the verdict's tolerances (`acceptance:`), read strictly from YAML.
+
+#include <string>
+
+#include "calib/time_alignment_options.h"
+#include "calib/wall_detector_options.h"
+#include "common/angles.h"
+#include "io/config/options_map.h"
+#include "solvers/solver_options.h"
+
+namespace wallcal::pipeline {
+
+// The verdict's tolerances (`acceptance:`): a usable mount within all of them is ACCEPT; a σ
+// beyond them is REJECT; a change since the previous calibration (--compare) beyond them is
+// REVIEW (the scanner may have been moved or bumped: a person decides). pipeline/verdict.h.
+struct AcceptanceOptions {
+  double max_sigma_xy_m = 0.02;             // 1σ of x and of y
+  double max_sigma_yaw_rad = 0.0034906585;  // 1σ of yaw, 0.2 deg
+  double max_change_xy_m = 0.02;            // |Δx|, |Δy| since the previous calibration
+  double max_change_yaw_rad = 0.0052359878;  // |Δyaw|, 0.3 deg
+  // A change is also REVIEW when it exceeds this many combined σ (σ_now² + σ_previous²)^½:
+  // larger than the two calibrations' errors explain.
+  double max_change_sigmas = 3.0;
+  void Validate() const;
+};
+
+// The `acceptance:` keys, for any visitor of io/config/options_map.h.
+template <class V>
+void VisitAcceptanceOptions(V& v, AcceptanceOptions& o) {
+  v.Number("max_sigma_xy_m", o.max_sigma_xy_m);
+  v.Scaled("max_sigma_yaw_deg", o.max_sigma_yaw_rad, kRadToDeg);
+  v.Number("max_change_xy_m", o.max_change_xy_m);
+  v.Scaled("max_change_yaw_deg", o.max_change_yaw_rad, kRadToDeg);
+  v.Number("max_change_sigmas", o.max_change_sigmas);
+}
+
+// configs/calibrate.yaml: one section per module, each optional.
+struct CalibrateOptions {
+  calib::DetectorOptions detector;
+  calib::AlignmentOptions alignment;
+  solvers::SolverOptions solver;
+  AcceptanceOptions acceptance;
+  int first_pass_max_scans = 3000;  // scans sampled evenly for the first (wide-gate) pass
+  void Validate() const;
+};
+
+// Reads an options file (configs/calibrate.yaml's keys: detector, alignment, solver, acceptance,
+// first_pass_max_scans; each section optional, unknown keys refused) and validates it. Throws
+// io::InputError "file:line: ..." naming the key at fault.
+CalibrateOptions ReadCalibrateOptions(const std::string& file);
+
+}  // namespace wallcal::pipeline

@@ -1,0 +1,212 @@
+#pragma once
+// The simulator's settings (configs/simulate/*.yaml, and truth.yaml's `simulation:`): the site,
+// the true mount, walls and clutter, the trajectory, the sensors' noise and delays. Defaults at
+// the declaration; angles are radians here and degrees in the files (keys ending in _deg).
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/angles.h"
+#include "io/config/options_map.h"
+#include "io/types.h"
+
+namespace wallcal::sim {
+
+using io::kNaN;
+
+// A straight wall in the simulated site's local ground frame (east, north, metres).
+struct SimWall {
+  std::string id;
+  std::string code;        // survey code; empty: not surveyed (a distractor wall)
+  double x0_m = 0.0, y0_m = 0.0;  // one end, local east/north
+  double x1_m = 0.0, y1_m = 0.0;  // other end
+  double height_m = 3.0;
+  double survey_spacing_m = 1.0;  // total-station point spacing along the wall
+};
+
+// A round obstacle (tree trunk, person) in the local ground frame.
+struct SimObstacle {
+  double x_m = 0.0, y_m = 0.0;
+  double radius_m = 0.2;
+};
+
+struct SimulationConfig {
+  // Site
+  double site_lat_deg = 43.07;
+  double site_lon_deg = 141.34;
+  double site_height_m = 70.0;
+  std::string name = "simulated";
+  // Scanner
+  std::string scanner_model = "sick_lms291";
+  double log_every_n = 1;  // log every n-th scan (>= 1)
+  double scanner_time_offset_s = 0.0;  // true offset: logged scan time = true time - this
+  // True mount (vehicle frame: x forward, y left)
+  double mount_x_m = 2.57;
+  double mount_y_m = 0.056;
+  double mount_yaw_rad = 0.048869;  // 2.8 deg
+  // Walls and clutter (local east/north metres relative to the site origin)
+  std::vector<SimWall> walls;
+  std::vector<SimObstacle> obstacles;
+  // Trajectory: stations in front of the first wall
+  int num_stations = 10;
+  double station_distance_m = 8.0;     // antenna distance from the wall at stations
+  double heading_spread_rad = 1.22;    // headings spread over ±(spread/2) around facing the wall
+  double dwell_s = 4.0;                // time stopped at each station
+  double drive_speed_mps = 1.0;
+  double lateral_spread_m = 6.0;       // station positions spread along the wall
+  // > 0: each drive between two stations backs the vehicle out to a point this far (m) behind
+  // the two stations' midpoint and drives it forward into the next station, along curves that
+  // keep its velocity on its own axis: a car-like vehicle (a tractor cannot move sideways),
+  // turning while it moves. 0: the drive moves it on the straight line between the stations
+  // (sideways, along the wall), as before. Written to truth.yaml only when set.
+  double drive_reverse_m = 0.0;
+  // Continuous driving (no stops): the vehicle sweeps the stations' headings and positions once,
+  // smoothly, over continuous_duration_s (0: as long as the stop-and-go plan), while weaving
+  // forward and back along the wall normal by ±weave_amplitude_m at a mean speed of
+  // drive_speed_mps.
+  bool continuous = false;
+  double weave_amplitude_m = 1.0;
+  // > 0: the weave is driven along the vehicle's own axis, forward and back on an arc that turns
+  // its heading by this much at ±weave_amplitude_m (a car-like vehicle steering as it weaves:
+  // 8° over 1 m at 0.8 m/s turns at up to 10°/s, the sweep adding its own). 0: the weave moves
+  // the vehicle along the wall normal whatever its heading (sideways when it is turned), as
+  // before. Written to truth.yaml only when set.
+  double weave_turn_rad = 0.0;
+  double continuous_duration_s = 0.0;
+  // GNSS
+  double gnss_rate_hz = 10.0;
+  double gnss_bias_sigma_m = 0.015;    // time-correlated (Gauss-Markov) RTK error
+  double gnss_bias_tau_s = 60.0;
+  double gnss_white_sigma_m = 0.003;
+  double float_fraction = 0.0;         // share of time in RTK float (quality 5, σ ×10)
+  bool write_gst = true;
+  // Heading
+  double heading_rate_hz = 20.0;
+  double heading_white_sigma_rad = 0.0009;  // 0.05 deg
+  double heading_drift_rad_per_s = 2.42e-6;  // 0.5 deg/h (Barawid 2007 FOG)
+  double heading_bias_rad = 0.0;             // constant heading-sensor zero offset
+  // Survey
+  double total_station_sigma_m = 0.003;
+  double control_sigma_m = 0.015;
+  double survey_rotation_rad = 0.4;      // total station frame rotation vs local east
+  double survey_origin_x_m = -3.0;       // total station frame origin in local east/north
+  double survey_origin_y_m = 20.0;
+  // Scanner effects
+  double lost_scan_fraction = 0.0008;    // Ye & Borenstein 2002: ≤ 0.08 %
+  double mixed_pixel_probability = 0.5;  // chance a beam at a depth jump returns a mixed range
+  // Logging clock: UNIX seconds at the start of the run
+  double start_time_s = 1747031522.0;
+  // ---- Per-stream logging delays (issue 16). The logger stamps each record when it receives
+  // it: a GGA/GST `gnss_latency_s` + U(0, gnss_jitter_s) after its epoch (the sentence keeps
+  // the epoch's UTC), an HDT `heading_latency_s` after its sample, a scan `scanner_latency_s`
+  // after it was taken (on top of scanner_time_offset_s). 0: stamped at the epoch, as before.
+  double gnss_latency_s = 0.0;
+  double gnss_jitter_s = 0.0;
+  double heading_latency_s = 0.0;
+  double scanner_latency_s = 0.0;
+  // ---- Characterisation (characterise): the scanner's true range model and the stations'
+  // distances. Not written to truth.yaml unless set, so older scenarios simulate unchanged.
+  // scanner_truth: {n:, c_m:, sigma_m:, resolution_m:, max_incidence_deg:, drift: {amplitude_m:,
+  // time_constant_s:}}; NaN: the preset's value (simulation.n, c_m, sigma_m, range_resolution_m,
+  // max_incidence_deg). The logged range is z = Int(n·true + c + drift(t) + ξ) (Ye & Borenstein
+  // 2002; Okubo, Ye & Borenstein 2009), drift(t) = amplitude·(1 − exp(−t/time_constant)), t from
+  // the run's start: a warm-up (Okubo et al. 2009 saw the URG's ranges drift for hours).
+  double truth_scale_n = kNaN;
+  double truth_offset_c_m = kNaN;
+  double truth_sigma_m = kNaN;
+  double truth_resolution_m = kNaN;
+  double truth_max_incidence_rad = kNaN;
+  double truth_drift_amplitude_m = 0.0;
+  double truth_drift_time_constant_s = 0.0;  // 0 with amplitude != 0: a step at t = 0
+  // > 0: the stations' antenna distances spread from station_distance_m to this (metres), in a
+  // shuffled order so that distance and heading are not tied; 0: all at station_distance_m.
+  double station_distance_far_m = 0.0;
+  bool HasScannerTruth() const {
+    return !std::isnan(truth_scale_n) || !std::isnan(truth_offset_c_m) ||
+           !std::isnan(truth_sigma_m) || !std::isnan(truth_resolution_m) ||
+           !std::isnan(truth_max_incidence_rad) || truth_drift_amplitude_m != 0.0 ||
+           truth_drift_time_constant_s != 0.0;
+  }
+  void Validate() const;
+};
+
+// The keys every scenario and truth.yaml carry, for any visitor of io/config/options_map.h.
+// The per-stream delays, the car-like drives and the scanner's true range model are read
+// beside them (ReadSimulationConfig) and written only when set.
+template <class V>
+void VisitSimWall(V& v, SimWall& w) {
+  v.Text("id", w.id);
+  v.Text("code", w.code);
+  v.Number("x0_m", w.x0_m);
+  v.Number("y0_m", w.y0_m);
+  v.Number("x1_m", w.x1_m);
+  v.Number("y1_m", w.y1_m);
+  v.Number("height_m", w.height_m);
+  v.Number("survey_spacing_m", w.survey_spacing_m);
+}
+
+template <class V>
+void VisitSimObstacle(V& v, SimObstacle& o) {
+  v.Number("x_m", o.x_m);
+  v.Number("y_m", o.y_m);
+  v.Number("radius_m", o.radius_m);
+}
+
+template <class V>
+void VisitSimulationConfig(V& v, SimulationConfig& c) {
+  v.Number("site_lat_deg", c.site_lat_deg);
+  v.Number("site_lon_deg", c.site_lon_deg);
+  v.Number("site_height_m", c.site_height_m);
+  v.Text("name", c.name);
+  v.Text("scanner_model", c.scanner_model);
+  v.Number("log_every_n", c.log_every_n);
+  v.Number("scanner_time_offset_s", c.scanner_time_offset_s);
+  v.Number("mount_x_m", c.mount_x_m);
+  v.Number("mount_y_m", c.mount_y_m);
+  v.Scaled("mount_yaw_deg", c.mount_yaw_rad, kRadToDeg);
+  v.List("walls", c.walls, [](V& item_v, SimWall& w) { VisitSimWall(item_v, w); });
+  v.List("obstacles", c.obstacles, [](V& item_v, SimObstacle& o) { VisitSimObstacle(item_v, o); });
+  v.Integer("num_stations", c.num_stations);
+  v.Number("station_distance_m", c.station_distance_m);
+  v.Scaled("heading_spread_deg", c.heading_spread_rad, kRadToDeg);
+  v.Number("dwell_s", c.dwell_s);
+  v.Number("drive_speed_mps", c.drive_speed_mps);
+  v.Number("lateral_spread_m", c.lateral_spread_m);
+  v.Boolean("continuous", c.continuous);
+  v.Number("weave_amplitude_m", c.weave_amplitude_m);
+  v.Number("continuous_duration_s", c.continuous_duration_s);
+  v.Number("gnss_rate_hz", c.gnss_rate_hz);
+  v.Number("gnss_bias_sigma_m", c.gnss_bias_sigma_m);
+  v.Number("gnss_bias_tau_s", c.gnss_bias_tau_s);
+  v.Number("gnss_white_sigma_m", c.gnss_white_sigma_m);
+  v.Number("float_fraction", c.float_fraction);
+  v.Boolean("write_gst", c.write_gst);
+  v.Number("heading_rate_hz", c.heading_rate_hz);
+  v.Scaled("heading_white_sigma_deg", c.heading_white_sigma_rad, kRadToDeg);
+  v.Scaled("heading_drift_deg_per_h", c.heading_drift_rad_per_s, kDegPerHourPerRadPerS);
+  v.Scaled("heading_bias_deg", c.heading_bias_rad, kRadToDeg);
+  v.Number("total_station_sigma_m", c.total_station_sigma_m);
+  v.Number("control_sigma_m", c.control_sigma_m);
+  v.Scaled("survey_rotation_deg", c.survey_rotation_rad, kRadToDeg);
+  v.Number("survey_origin_x_m", c.survey_origin_x_m);
+  v.Number("survey_origin_y_m", c.survey_origin_y_m);
+  v.Number("lost_scan_fraction", c.lost_scan_fraction);
+  v.Number("mixed_pixel_probability", c.mixed_pixel_probability);
+  v.Number("start_time_s", c.start_time_s);
+}
+
+// A simulation configuration: the SimulationConfig keys at the top level, `walls:` a list of
+// maps. Throws io::InputError "file:line: ..." for a bad or unknown key.
+SimulationConfig ReadSimulationConfig(const std::string& file);
+
+// truth.yaml as written by FormatTruthYaml: the settings under `simulation:`, the exact mount
+// under `truth:`.
+SimulationConfig ReadTruthYaml(const std::string& file);
+
+// truth.yaml: `truth: {x, y, yaw, yaw_deg}` (the true mount), `seed:` and `simulation:` with
+// every SimulationConfig key (names as in ReadSimulationConfig). ReadTruthYaml reads it back.
+std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed);
+
+}  // namespace wallcal::sim

@@ -1,0 +1,80 @@
+#include "io/output_file.h"
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "common/angles.h"
+#include "io/types.h"
+#include "test/support/scratch_dir.h"
+
+namespace wallcal::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+// An empty folder in this process's scratch folder, removed when the process ends.
+std::string Dir(const std::string& name) {
+  static const testing_support::ScratchDir scratch("output_file_test_");
+  const fs::path dir = scratch.path() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+size_t FilesIn(const std::string& dir) {
+  size_t n = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    (void)entry;
+    ++n;
+  }
+  return n;
+}
+
+TEST(OutputFileTest, WriteFileAtomicallyCreatesAndReplaces) {
+  const std::string dir = Dir("atomic");
+  const std::string path = dir + "/offsets.yaml";
+  WriteFileAtomically(path, "first\n");
+  EXPECT_EQ(ReadText(path), "first\n");
+  WriteFileAtomically(path, "second, longer content\n");
+  EXPECT_EQ(ReadText(path), "second, longer content\n");
+  EXPECT_EQ(FilesIn(dir), 1u);  // no temporary file left behind
+  const auto permissions = fs::status(path).permissions();
+  EXPECT_NE(permissions & fs::perms::others_read, fs::perms::none);
+}
+
+TEST(OutputFileTest, WriteFileAtomicallyFailsCleanlyOnAMissingFolder) {
+  const std::string dir = Dir("missing_parent") + "/no_such_folder";
+  const std::string path = dir + "/offsets.yaml";
+  try {
+    WriteFileAtomically(path, "content\n");
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+TEST(OutputFileTest, WriteFileAtomicallyKeepsTheOldFileWhenTheTargetIsAFolder) {
+  const std::string dir = Dir("target_is_folder");
+  const std::string path = dir + "/offsets.yaml";
+  fs::create_directories(path + "/inside");  // rename over a non-empty folder fails
+  EXPECT_THROW(WriteFileAtomically(path, "content\n"), InputError);
+  EXPECT_TRUE(fs::is_directory(path));
+  EXPECT_EQ(FilesIn(dir), 1u);  // the temporary file was removed
+}
+
+}  // namespace
+}  // namespace wallcal::io

@@ -1,0 +1,376 @@
+// calibrate --report: the page is well-formed (XML-strict), self-contained, and has its sections
+// and plots, for a real calibration of a simulated session.
+
+#include "outputs/report.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "io/config/session_reader.h"
+#include "pipeline/calibration.h"
+#include "sim/simulated_session.h"
+#include "test/support/flow_names.h"
+#include "test/support/scratch_dir.h"
+
+namespace wallcal {
+
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---- A strict XML well-formedness checker ----
+// Elements must nest and close in order; attribute values quoted; '&' only in the five named
+// entities or numeric references; '<' only opening markup; one root element. <!DOCTYPE ...> and
+// <!-- comments --> are allowed. Returns "" when well-formed, else what is wrong and where.
+std::string XmlProblem(const std::string& s) {
+  std::vector<std::string> stack;
+  int roots = 0;
+  size_t i = 0;
+  auto where = [&](size_t at) {
+    return " at offset " + std::to_string(at) + ": '" + s.substr(at, 60) + "'";
+  };
+  auto entity_ok = [&](size_t at, size_t* next) {
+    const size_t semi = s.find(';', at);
+    if (semi == std::string::npos || semi - at > 10) return false;
+    const std::string name = s.substr(at + 1, semi - at - 1);
+    static const std::regex kEntity("^(amp|lt|gt|quot|apos|#[0-9]+|#x[0-9a-fA-F]+)$");
+    if (!std::regex_match(name, kEntity)) return false;
+    *next = semi + 1;
+    return true;
+  };
+  auto is_name_char = [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == ':' || c == '.';
+  };
+  while (i < s.size()) {
+    const char c = s[i];
+    if (c == '&') {
+      size_t next = 0;
+      if (!entity_ok(i, &next)) return "stray '&'" + where(i);
+      i = next;
+      continue;
+    }
+    if (c != '<') {
+      if (stack.empty() && !std::isspace(static_cast<unsigned char>(c))) {
+        return "text outside the root element" + where(i);
+      }
+      ++i;
+      continue;
+    }
+    if (s.compare(i, 4, "<!--") == 0) {
+      const size_t end = s.find("-->", i + 4);
+      if (end == std::string::npos) return "unclosed comment" + where(i);
+      i = end + 3;
+      continue;
+    }
+    if (s.compare(i, 9, "<!DOCTYPE") == 0) {
+      if (roots > 0 || !stack.empty()) return "DOCTYPE after the root" + where(i);
+      const size_t end = s.find('>', i);
+      if (end == std::string::npos) return "unclosed DOCTYPE" + where(i);
+      i = end + 1;
+      continue;
+    }
+    size_t p = i + 1;
+    const bool closing = p < s.size() && s[p] == '/';
+    if (closing) ++p;
+    std::string name;
+    while (p < s.size() && is_name_char(s[p])) name += s[p++];
+    if (name.empty() || !std::isalpha(static_cast<unsigned char>(name[0]))) {
+      return "stray '<'" + where(i);
+    }
+    if (closing) {
+      while (p < s.size() && std::isspace(static_cast<unsigned char>(s[p]))) ++p;
+      if (p >= s.size() || s[p] != '>') return "malformed end tag" + where(i);
+      if (stack.empty() || stack.back() != name) {
+        return "</" + name + "> closes " + (stack.empty() ? std::string("nothing") : "<" + stack.back() + ">") + where(i);
+      }
+      stack.pop_back();
+      i = p + 1;
+      continue;
+    }
+    // Attributes.
+    std::vector<std::string> seen;
+    bool self_closing = false;
+    while (true) {
+      const size_t before = p;
+      while (p < s.size() && std::isspace(static_cast<unsigned char>(s[p]))) ++p;
+      if (p >= s.size()) return "unclosed tag" + where(i);
+      if (s[p] == '>') { ++p; break; }
+      if (s[p] == '/') {
+        if (p + 1 < s.size() && s[p + 1] == '>') { self_closing = true; p += 2; break; }
+        return "stray '/' in tag" + where(i);
+      }
+      if (p == before) return "attributes not separated by space" + where(i);
+      std::string attribute;
+      while (p < s.size() && is_name_char(s[p])) attribute += s[p++];
+      if (attribute.empty()) return "bad attribute name" + where(p);
+      for (const std::string& a : seen) {
+        if (a == attribute) return "duplicate attribute " + attribute + where(i);
+      }
+      seen.push_back(attribute);
+      if (p >= s.size() || s[p] != '=') return "attribute without a value: " + attribute + where(i);
+      ++p;
+      if (p >= s.size() || (s[p] != '"' && s[p] != '\'')) return "unquoted attribute " + attribute + where(i);
+      const char quote = s[p++];
+      while (p < s.size() && s[p] != quote) {
+        if (s[p] == '<') return "'<' in attribute value" + where(p);
+        if (s[p] == '&') {
+          size_t next = 0;
+          if (!entity_ok(p, &next)) return "stray '&' in attribute" + where(p);
+          p = next;
+          continue;
+        }
+        ++p;
+      }
+      if (p >= s.size()) return "unterminated attribute value" + where(i);
+      ++p;
+    }
+    if (stack.empty()) {
+      if (++roots > 1) return "second root element" + where(i);
+    }
+    if (!self_closing) stack.push_back(name);
+    i = p;
+  }
+  if (!stack.empty()) return "<" + stack.back() + "> never closed";
+  if (roots != 1) return "no root element";
+  return "";
+}
+
+// "" when the page fetches nothing and runs nothing, else the offending text.
+std::string SelfContainedProblem(const std::string& html) {
+  std::string lower = html;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const char* banned : {"<script", "<link", "<iframe", "<object", "<embed", "@import",
+                             "@font-face", "javascript:"}) {
+    if (lower.find(banned) != std::string::npos) return std::string("contains ") + banned;
+  }
+  // Event handler attributes (onload=, onclick=, ...).
+  static const std::regex kHandler("<[^>]*\\son[a-z]+\\s*=");
+  if (std::regex_search(lower, kHandler)) return "event handler attribute";
+  // Every http(s) URL must be the SVG namespace.
+  for (size_t at = lower.find("http"); at != std::string::npos; at = lower.find("http", at + 4)) {
+    const std::string rest = lower.substr(at, 30);
+    if (rest.rfind("http://", 0) != 0 && rest.rfind("https://", 0) != 0) continue;
+    if (rest.rfind("http://www.w3.org/2000/svg\"", 0) != 0) return "URL " + html.substr(at, 60);
+    if (at < 7 || lower.compare(at - 7, 7, "xmlns=\"") != 0) return "SVG namespace outside xmlns";
+  }
+  if (lower.find("//") != std::string::npos) {
+    // Protocol-relative URLs ("//host/...") in attributes.
+    static const std::regex kRelative("(src|href)\\s*=\\s*[\"']//");
+    if (std::regex_search(lower, kRelative)) return "protocol-relative URL";
+  }
+  // src/href/url(...) only to data: URIs or fragments of this page.
+  static const std::regex kRef("(src|href|xlink:href)\\s*=\\s*[\"']([^\"']*)[\"']");
+  for (auto it = std::sregex_iterator(lower.begin(), lower.end(), kRef); it != std::sregex_iterator(); ++it) {
+    const std::string target = (*it)[2];
+    if (target.rfind("#", 0) != 0 && target.rfind("data:", 0) != 0) return "reference to " + target;
+  }
+  static const std::regex kUrl("url\\(\\s*['\"]?([^)'\"]*)");
+  for (auto it = std::sregex_iterator(lower.begin(), lower.end(), kUrl); it != std::sregex_iterator(); ++it) {
+    const std::string target = (*it)[1];
+    if (target.rfind("#", 0) != 0 && target.rfind("data:", 0) != 0) return "url() to " + target;
+  }
+  return "";
+}
+
+int Count(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+std::string ScenarioPath(const std::string& name) {
+  return std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/" + name + ".yaml";
+}
+
+fs::path FreshDir(const std::string& name) {
+  // One folder per process, removed when it ends: ctest runs each test of this suite in its own
+  // process, each building the suite's fixture; a shared folder would be rebuilt under the
+  // others' feet.
+  static const testing_support::ScratchDir scratch("wallcal_report_");
+  const fs::path dir = scratch.path() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// One calibrated simulated session shared by the tests (calibrating takes a fraction of a second,
+// but there is no reason to repeat it).
+class ReportTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const fs::path dir = FreshDir("session");
+    WriteSimulatedSession(sim::ReadSimulationConfig(ScenarioPath("lms291_sapporo")), 7, dir.string());
+    CalibrateRequest request;
+    request.session_path = dir.string();
+    request.collect_report_data = true;
+    result_ = std::make_unique<CalibrationResult>(RunCalibration(request));
+    html_ = std::make_unique<std::string>(FormatReportHtml(*result_));
+  }
+  static void TearDownTestSuite() {
+    result_.reset();
+    html_.reset();
+  }
+  static std::unique_ptr<CalibrationResult> result_;
+  static std::unique_ptr<std::string> html_;
+};
+std::unique_ptr<CalibrationResult> ReportTest::result_;
+std::unique_ptr<std::string> ReportTest::html_;
+
+TEST(XmlCheckerTest, RejectsBrokenMarkup) {
+  // The checks below rely on the checker: it must say no to each kind of error.
+  EXPECT_EQ(XmlProblem("<a><b></b></a>"), "");
+  EXPECT_EQ(XmlProblem("<!DOCTYPE html>\n<a x=\"1\" y='2'>t &amp; &#176; &#x3b1;<b/></a>\n"), "");
+  EXPECT_NE(XmlProblem("<a><b></a></b>"), "");
+  EXPECT_NE(XmlProblem("<a><b></b>"), "");
+  EXPECT_NE(XmlProblem("<a x=1></a>"), "");
+  EXPECT_NE(XmlProblem("<a x></a>"), "");
+  EXPECT_NE(XmlProblem("<a>fish & chips</a>"), "");
+  EXPECT_NE(XmlProblem("<a>1 < 2</a>"), "");
+  EXPECT_NE(XmlProblem("<a x=\"a<b\"></a>"), "");
+  EXPECT_NE(XmlProblem("<a></a><b></b>"), "");
+  EXPECT_NE(XmlProblem("<a x=\"1\"x=\"2\"></a>"), "");
+  EXPECT_NE(XmlProblem("<a>&nbsp;</a>"), "");
+  EXPECT_NE(XmlProblem("<meta charset=\"utf-8\"><a></a>"), "");
+}
+
+TEST(XmlCheckerTest, SelfContainedCheckCatchesFetchesAndScripts) {
+  EXPECT_EQ(SelfContainedProblem("<svg xmlns=\"http://www.w3.org/2000/svg\"><a href=\"#x\"/></svg>"), "");
+  EXPECT_NE(SelfContainedProblem("<script>1</script>"), "");
+  EXPECT_NE(SelfContainedProblem("<link rel=\"stylesheet\" href=\"a.css\"/>"), "");
+  EXPECT_NE(SelfContainedProblem("<img src=\"plot.png\"/>"), "");
+  EXPECT_NE(SelfContainedProblem("<img src=\"https://x.org/a.png\"/>"), "");
+  EXPECT_NE(SelfContainedProblem("<style>@import 'x.css';</style>"), "");
+  EXPECT_NE(SelfContainedProblem("<div style=\"background:url(a.png)\"></div>"), "");
+  EXPECT_NE(SelfContainedProblem("<p>see http://example.com</p>"), "");
+  EXPECT_NE(SelfContainedProblem("<body onload=\"x()\"></body>"), "");
+  EXPECT_EQ(SelfContainedProblem("<img src=\"data:image/png;base64,AAAA\"/>"), "");
+}
+
+TEST_F(ReportTest, CalibrationOfTheSimulatedSessionSucceeded) {
+  ASSERT_TRUE(result_->estimate.usable) << result_->estimate.message;
+}
+
+TEST_F(ReportTest, PageIsWellFormed) { EXPECT_EQ(XmlProblem(*html_), ""); }
+
+TEST_F(ReportTest, PageIsSelfContained) { EXPECT_EQ(SelfContainedProblem(*html_), ""); }
+
+TEST_F(ReportTest, PageHasEverySection) {
+  for (const char* id : {"mount", "warnings", "site-map", "scans", "hough", "residuals", "coverage",
+                         "counts"}) {
+    EXPECT_EQ(Count(*html_, std::string("id=\"") + id + "\""), 1) << id;
+  }
+}
+
+TEST_F(ReportTest, PageHasThePlots) {
+  // Ellipse, site map, 4 scans, Hough, 4 residual panels, coverage.
+  EXPECT_GE(Count(*html_, "<svg "), 12);
+  EXPECT_EQ(Count(*html_, "<svg "), Count(*html_, "</svg>"));
+  // Every plot's clip path id is unique (a repeated id would clip one plot by another's box).
+  std::regex clip("clipPath id=\"([a-z0-9]+)\"");
+  std::vector<std::string> ids;
+  for (auto it = std::sregex_iterator(html_->begin(), html_->end(), clip); it != std::sregex_iterator(); ++it) {
+    const std::string id = (*it)[1];
+    EXPECT_EQ(std::count(ids.begin(), ids.end(), id), 0) << id;
+    ids.push_back(id);
+  }
+  // Axes carry units.
+  for (const char* label : {"x, grid east (m)", "residual (mm)", "x, scanner forward (m)",
+                            "range of the characteristic beam (m)", "incidence angle on the wall (deg)",
+                            "(deg)"}) {
+    EXPECT_NE(html_->find(label), std::string::npos) << label;
+  }
+}
+
+TEST_F(ReportTest, PageShowsTheMountWithSigmaAndTheCounts) {
+  char x[32], sx[32];
+  std::snprintf(x, sizeof(x), "%.4f", result_->estimate.mount.x_m);
+  std::snprintf(sx, sizeof(sx), "%.4f", std::sqrt(result_->estimate.covariance(0, 0)));
+  EXPECT_NE(html_->find(x), std::string::npos) << x;
+  EXPECT_NE(html_->find(sx), std::string::npos) << sx;
+  EXPECT_NE(html_->find(">" + std::to_string(result_->scans_total) + "<"), std::string::npos);
+  EXPECT_NE(html_->find(">" + std::to_string(result_->scans_used) + "<"), std::string::npos);
+  EXPECT_NE(html_->find("RTK fixed"), std::string::npos);
+  // The scan panels found the wall again in every scan shown.
+  EXPECT_EQ(html_->find("Not detected again"), std::string::npos);
+  // Simulated sessions carry their truth: the ellipse plot marks it.
+  EXPECT_NE(html_->find("truth"), std::string::npos);
+}
+
+TEST_F(ReportTest, ResidualAnalysisRepeatabilityAndForceAreShownWhenPresent) {
+  CalibrationResult r = *result_;
+  r.session.name = "a<b & \"c\"";  // must be escaped
+  r.forced = true;
+  r.residual_analysis.done = true;
+  r.residual_analysis.robust_sigma_m = 0.0031;
+  ResidualTrend trend;
+  trend.against = "range";
+  trend.unit = "m/m";
+  trend.slope = 0.002;
+  trend.significance = 5.5;
+  trend.flagged = true;
+  trend.message = "range scale error: check k";
+  r.residual_analysis.trends.push_back(trend);
+  r.residual_analysis.flags.push_back("residuals grow with range <k>");
+  r.repeatability.done = true;
+  RepeatabilitySplit split;
+  split.name = "first half";
+  split.usable = true;
+  split.mount = r.estimate.mount;
+  split.mount.x_m += 0.01;
+  r.repeatability.splits.push_back(split);
+  r.time_offset_s = 0.0123;
+  r.time_offset_sigma_s = 0.0011;
+  const std::string html = FormatReportHtml(r);
+  EXPECT_EQ(XmlProblem(html), "");
+  EXPECT_NE(html.find("TREND FLAGGED"), std::string::npos);
+  EXPECT_NE(html.find("range scale error: check k"), std::string::npos);
+  EXPECT_NE(html.find("residuals grow with range &lt;k&gt;"), std::string::npos);
+  EXPECT_NE(html.find("Repeatability"), std::string::npos);
+  EXPECT_NE(html.find("first half"), std::string::npos);
+  EXPECT_NE(html.find("--force"), std::string::npos);
+  EXPECT_NE(html.find("0.0123"), std::string::npos);
+  EXPECT_NE(html.find("a&lt;b &amp; &quot;c&quot;"), std::string::npos);
+}
+
+TEST_F(ReportTest, WriteReportCreatesTheFolderAndTheFile) {
+  const fs::path dir = FreshDir("write") / "nested" / "out";
+  const std::string path = WriteReport(*result_, dir.string());
+  EXPECT_EQ(fs::path(path), dir / "report.html");
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str(), *html_);
+}
+
+TEST(ReportUnusableTest, ARefusedEstimateStillGivesAWellFormedReport) {
+  const fs::path dir = FreshDir("narrow");
+  sim::SimulationConfig config = sim::ReadSimulationConfig(ScenarioPath("lms291_sapporo"));
+  config.heading_spread_rad = 4.0 * 3.14159265358979 / 180.0;
+  config.num_stations = 8;
+  WriteSimulatedSession(config, 21, dir.string());
+  CalibrateRequest request;
+  request.session_path = dir.string();
+  request.collect_report_data = true;
+  const CalibrationResult result = RunCalibration(request);
+  ASSERT_FALSE(result.estimate.usable);
+  const std::string html = FormatReportHtml(result);
+  EXPECT_EQ(XmlProblem(html), "");
+  EXPECT_EQ(SelfContainedProblem(html), "");
+  EXPECT_NE(html.find("NOT DETERMINED"), std::string::npos);
+  EXPECT_NE(html.find("id=\"counts\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace wallcal

@@ -1,0 +1,221 @@
+// End to end: simulate a session with known truth, calibrate it, compare with the truth.
+//
+// Tolerances, derived from the simulated noise (configs/simulate/*.yaml, SimulationConfig
+// defaults). The reference, not the scanner, sets the error floor:
+//  - The wall is placed by two RTK control points, 1.5 cm per axis each: the wall offset is
+//    known to about 1.5/sqrt(2) = 1.1 cm and its direction to about sqrt(2)*1.5 cm / 26 m
+//    (their separation) = 0.05 deg.
+//  - The RTK error is correlated over tau = 60 s (1.5 cm): stations ~15 s apart share it, so a
+//    2–3 minute session sees only a few independent realisations: about 1 cm on the mean.
+//  - Heading: 0.05 deg white noise (averages out), FOG drift 0.5 deg/h (0.02 deg over 3 min).
+//  Together: about 1.5 cm (1 sigma) on the offset along the wall normal (mostly x), about
+//  2 cm on y (seen at ±35 deg only, so y is known with 1/sin(35 deg) less leverage), and
+//  0.06 deg in yaw. We accept 4 sigma: 6 cm in x and y, 0.25 deg in yaw, for both methods.
+//  For Ceres, whose sigma is meant to be honest, each error must also be within 4 reported sigma.
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "pipeline/calibration.h"
+#include "pipeline/config_dirs.h"
+#include "calib/pose_samples.h"
+#include "outputs/offsets_document.h"
+#include "outputs/summary.h"
+#include "sim/simulated_session.h"
+#include "sim/simulator.h"
+#include "io/config/session_reader.h"
+#include "common/angles.h"
+#include "test/support/flow_names.h"
+#include "test/support/scratch_dir.h"
+
+namespace wallcal {
+
+
+namespace {
+
+namespace fs = std::filesystem;
+std::string ScenarioPath(const std::string& name) {
+  return std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/" + name + ".yaml";
+}
+
+// An empty folder in this process's scratch folder, removed when the process ends.
+fs::path FreshDir(const std::string& name) {
+  static const testing_support::ScratchDir scratch("wallcal_e2e_");
+  const fs::path dir = scratch.path() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+struct Errors {
+  double dx_m, dy_m, dyaw_deg;
+  double sx_m, sy_m, syaw_deg;
+};
+
+Errors CalibrateAndCompare(const fs::path& session, const sim::SimulationConfig& truth,
+                           const std::string& method) {
+  CalibrateRequest request;
+  request.session_path = session.string();
+  request.method = method == "barawid" ? solvers::Method::kBarawid : solvers::Method::kCeres;
+  const CalibrationResult result = RunCalibration(request, nullptr);
+  EXPECT_TRUE(result.estimate.usable) << result.estimate.message;
+  const solvers::MountEstimate& e = result.estimate;
+  Errors errors;
+  errors.dx_m = e.mount.x_m - truth.mount_x_m;
+  errors.dy_m = e.mount.y_m - truth.mount_y_m;
+  errors.dyaw_deg = (e.mount.yaw_rad - truth.mount_yaw_rad) / kDegToRad;
+  errors.sx_m = std::sqrt(e.covariance(0, 0));
+  errors.sy_m = std::sqrt(e.covariance(1, 1));
+  errors.syaw_deg = std::sqrt(e.covariance(2, 2)) / kDegToRad;
+  std::printf("[ e2e      ] %-28s %-8s dx %+.4f m (σ %.4f)  dy %+.4f m (σ %.4f)  dyaw %+.4f deg "
+              "(σ %.4f)  obs %d  %.2f s\n",
+              truth.name.c_str(), method.c_str(), errors.dx_m, errors.sx_m, errors.dy_m,
+              errors.sy_m, errors.dyaw_deg, errors.syaw_deg, e.observations_used, result.seconds);
+  return errors;
+}
+
+void RunScenario(const std::string& scenario, uint64_t seed) {
+  const sim::SimulationConfig config = sim::ReadSimulationConfig(ScenarioPath(scenario));
+  const fs::path dir = FreshDir(scenario + "_" + std::to_string(seed));
+  WriteSimulatedSession(config, seed, dir.string());
+  const sim::SimulationConfig truth = sim::ReadTruthYaml((dir / "truth.yaml").string());
+  ASSERT_NEAR(truth.mount_x_m, config.mount_x_m, 1e-9);
+
+  const Errors ceres = CalibrateAndCompare(dir, truth, "ceres");
+  EXPECT_LT(std::abs(ceres.dx_m), 0.06);
+  EXPECT_LT(std::abs(ceres.dy_m), 0.06);
+  EXPECT_LT(std::abs(ceres.dyaw_deg), 0.25);
+  EXPECT_LT(std::abs(ceres.dx_m), 4.0 * ceres.sx_m);
+  EXPECT_LT(std::abs(ceres.dy_m), 4.0 * ceres.sy_m);
+  EXPECT_LT(std::abs(ceres.dyaw_deg), 4.0 * ceres.syaw_deg);
+
+  const Errors barawid = CalibrateAndCompare(dir, truth, "barawid");
+  EXPECT_LT(std::abs(barawid.dx_m), 0.06);
+  EXPECT_LT(std::abs(barawid.dy_m), 0.06);
+  EXPECT_LT(std::abs(barawid.dyaw_deg), 0.25);
+}
+
+TEST(EndToEndTest, Lms291AtSapporoLikeSeed002) { RunScenario("lms291_sapporo", 11); }
+
+TEST(EndToEndTest, Urg04lxRangeBiasIsCorrected) { RunScenario("urg04lx_lab", 12); }
+
+TEST(EndToEndTest, HighLatitudeFarFromCentralMeridian) {
+  RunScenario("lms291_high_latitude", 13);
+}
+
+TEST(EndToEndTest, SouthernHemisphereWestLongitude) { RunScenario("lms200_south_west", 14); }
+
+// ---- The programs ----------------------------------------------------------------------------
+
+struct CommandRun {
+  int status = -1;
+  std::string out;
+};
+
+CommandRun RunCommand(const std::string& command) {
+  CommandRun run;
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  if (pipe == nullptr) return run;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) run.out += buffer;
+  const int raw = ::pclose(pipe);
+  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return run;
+}
+
+const std::string kCalibrate = std::string(WALLCAL_BINARY_DIR) + "/calibrate";
+const std::string kSimulate = std::string(WALLCAL_BINARY_DIR) + "/simulate";
+
+// Parses "x = 2.5712 ± 0.0061 m" style numbers after a label in calibrate's summary.
+double Printed(const std::string& out, const std::string& label) {
+  const size_t at = out.find(label);
+  if (at == std::string::npos) return NAN;
+  return std::stod(out.substr(at + label.size()));
+}
+
+TEST(CalibrateProgramTest, SampleSessionPrintsTheTrueMount) {
+  const fs::path sample = fs::path(WALLCAL_SOURCE_DIR) / "samples" / "lms291-sapporo";
+  const fs::path out = FreshDir("sample") / "offsets.yaml";
+  const CommandRun run = RunCommand(kCalibrate + " " + sample.string() + " --output " + out.string());
+  ASSERT_EQ(run.status, 0) << run.out;
+  const sim::SimulationConfig truth = sim::ReadTruthYaml((sample / "truth.yaml").string());
+  // Printed with 4 decimals; same tolerances as the end-to-end tests above.
+  EXPECT_NEAR(Printed(run.out, "x = "), truth.mount_x_m, 0.06) << run.out;
+  EXPECT_NEAR(Printed(run.out, "y = "), truth.mount_y_m, 0.06) << run.out;
+  EXPECT_NEAR(Printed(run.out, "yaw = ") * kDegToRad, truth.mount_yaw_rad, 0.25 * kDegToRad) << run.out;
+  EXPECT_TRUE(fs::exists(out));
+}
+
+TEST(CalibrateProgramTest, MissingSessionFailsWithReasonAndWritesNothing) {
+  const fs::path dir = FreshDir("missing");
+  const CommandRun run = RunCommand(kCalibrate + " " + (dir / "nope").string());
+  EXPECT_EQ(run.status, 2) << run.out;
+  EXPECT_NE(run.out.find("session.yaml"), std::string::npos) << run.out;
+  EXPECT_FALSE(fs::exists(dir / "nope" / "offsets.yaml"));
+}
+
+TEST(CalibrateProgramTest, UnknownOptionIsAUsageError) {
+  const CommandRun run = RunCommand(kCalibrate + " x --frobnicate");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.out.find("--frobnicate"), std::string::npos) << run.out;
+}
+
+TEST(CalibrateProgramTest, HelpExplainsTheProgram) {
+  const CommandRun run = RunCommand(kCalibrate + " --help");
+  EXPECT_EQ(run.status, 0);
+  EXPECT_NE(run.out.find("--method"), std::string::npos);
+  EXPECT_NE(run.out.find("offsets.yaml"), std::string::npos);
+}
+
+// A session whose vehicle only ever faced the wall square-on cannot determine the mount: the
+// tool refuses, says why, and leaves an existing offsets.yaml untouched.
+TEST(CalibrateProgramTest, NarrowHeadingsAreRefusedAndOldOffsetsKept) {
+  const fs::path dir = FreshDir("narrow");
+  sim::SimulationConfig config = sim::ReadSimulationConfig(ScenarioPath("lms291_sapporo"));
+  config.heading_spread_rad = 4.0 * kDegToRad;
+  config.num_stations = 8;
+  WriteSimulatedSession(config, 21, dir.string());
+  const fs::path out = dir / "offsets.yaml";
+  {
+    std::ofstream old(out);
+    old << "previous: calibration\n";
+  }
+  const CommandRun run = RunCommand(kCalibrate + " " + dir.string());
+  EXPECT_EQ(run.status, 1) << run.out;
+  EXPECT_NE(run.out.find("not determined"), std::string::npos) << run.out;
+  std::ifstream in(out);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str(), "previous: calibration\n");
+}
+
+TEST(SimulateProgramTest, WritesACompleteSessionThatCalibrates) {
+  const fs::path dir = FreshDir("simulate_cli");
+  const CommandRun sim = RunCommand(kSimulate + " --config " + ScenarioPath("lms291_sapporo") +
+                             " --seed 5 --output " + dir.string());
+  ASSERT_EQ(sim.status, 0) << sim.out;
+  for (const char* file : {"session.yaml", "scans.clf", "gnss.nmea", "heading.nmea",
+                           "survey.csv", "truth.yaml"}) {
+    EXPECT_TRUE(fs::exists(dir / file)) << file;
+  }
+  const CommandRun cal = RunCommand(kCalibrate + " " + (dir / "session.yaml").string() + " --method barawid");
+  EXPECT_EQ(cal.status, 0) << cal.out;
+  EXPECT_TRUE(fs::exists(dir / "offsets.yaml"));
+}
+
+TEST(SimulateProgramTest, BadSeedIsAUsageError) {
+  const CommandRun run = RunCommand(kSimulate + " --seed -3 --output /tmp/x");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.out.find("--seed"), std::string::npos) << run.out;
+}
+
+}  // namespace
+}  // namespace wallcal

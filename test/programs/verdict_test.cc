@@ -1,0 +1,318 @@
+// The findings of a new user's trial, each at the program level: the real `calibrate` (and
+// `inspect`) on a copy of the bundled sample, changed to make the mistake. Checked: the exit
+// status, the message, and which files are written or not.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include <yaml-cpp/yaml.h>
+
+#include "common/sha256.h"
+#include "test/support/scratch_dir.h"
+
+namespace wallcal {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kSample = fs::path(WALLCAL_SOURCE_DIR) / "samples" / "lms291-sapporo";
+const std::string kCalibrate = std::string(WALLCAL_BINARY_DIR) + "/calibrate";
+const std::string kInspect = std::string(WALLCAL_BINARY_DIR) + "/inspect";
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void WriteText(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
+}
+
+void Replace(const fs::path& path, const std::string& from, const std::string& to) {
+  std::string text = ReadText(path);
+  const size_t at = text.find(from);
+  ASSERT_NE(at, std::string::npos) << from;
+  text.replace(at, from.size(), to);
+  WriteText(path, text);
+}
+
+struct RunOut {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+RunOut Exec(const std::string& program, const std::string& args, const fs::path& scratch) {
+  const fs::path out = scratch / "stdout.txt", err = scratch / "stderr.txt";
+  const int status = std::system(("exec " + program + " " + args + " >" + out.string() + " 2>" +
+                                  err.string()).c_str());
+  RunOut run;
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  run.out = ReadText(out);
+  run.err = ReadText(err);
+  fs::remove(out);
+  fs::remove(err);
+  return run;
+}
+
+// A fresh copy of the sample (without an offsets.yaml) in its own folder, in this process's
+// scratch folder (removed when the process ends).
+fs::path Copy(const std::string& name) {
+  static const testing_support::ScratchDir scratch("wallcal_verdict_");
+  const fs::path dir = scratch.path() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const auto& entry : fs::directory_iterator(kSample)) {
+    if (entry.path().filename() != "offsets.yaml") fs::copy(entry.path(), dir / entry.path().filename());
+  }
+  return dir;
+}
+
+bool Has(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// Finding 1: one tree of transforms, z stated, a well-formed URDF.
+TEST(VerdictTest, EmitsOneTreeAndSaysWhenTheHeightIsUnknown) {
+  const fs::path dir = Copy("tree");
+  std::ofstream(dir / "session.yaml", std::ios::app) << "antenna_in_base: {x: -0.4, y: 0.0, z: 2.1}\n";
+  const RunOut tf = Exec(kCalibrate, dir.string() + " --emit ros2-static-tf --quiet", dir);
+  ASSERT_EQ(tf.exit_code, 0) << tf.err;
+  EXPECT_TRUE(Has(tf.out, "--frame-id base_link --child-frame-id gnss_antenna")) << tf.out;
+  EXPECT_TRUE(Has(tf.out, "--frame-id gnss_antenna --child-frame-id laser")) << tf.out;
+  EXPECT_FALSE(Has(tf.out, "--frame-id base_link --child-frame-id laser")) << tf.out;
+  EXPECT_TRUE(Has(tf.out, "# gnss_antenna -> laser: z = 0: the scanner's height")) << tf.out;
+
+  const RunOut urdf = Exec(kCalibrate, dir.string() + " --emit urdf --quiet", dir);
+  ASSERT_EQ(urdf.exit_code, 0) << urdf.err;
+  EXPECT_EQ(urdf.out.rfind("<?xml version=\"1.0\"?>\n", 0), 0u) << urdf.out;
+  EXPECT_TRUE(Has(urdf.out, "<robot name=\"wallcal_mount\">")) << urdf.out;
+  // Every link is the child of at most one joint: one tree.
+  EXPECT_EQ(urdf.out.find("<child link=\"laser\"/>"), urdf.out.rfind("<child link=\"laser\"/>"));
+  EXPECT_TRUE(Has(urdf.out, "<child link=\"gnss_antenna\"/>"));
+  EXPECT_NO_THROW(YAML::Load("x: 1"));  // (yaml-cpp linked for the provenance test below)
+  const fs::path urdf_file = dir / "mount.urdf";
+  WriteText(urdf_file, urdf.out);
+  // check_urdf (liburdfdom-tools) when installed; otherwise xmllint's well-formedness check.
+  if (std::system("command -v check_urdf >/dev/null 2>&1") == 0) {
+    const RunOut check = Exec("check_urdf", urdf_file.string(), dir);
+    EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+  } else if (std::system("command -v xmllint >/dev/null 2>&1") == 0) {
+    EXPECT_EQ(Exec("xmllint", "--noout " + urdf_file.string(), dir).exit_code, 0);
+  }
+
+  // With the height in session.yaml it is used and the note goes away.
+  Replace(dir / "session.yaml", "  time_offset_s: 0\n", "  time_offset_s: 0\n  z_m: -0.85\n");
+  const RunOut known = Exec(kCalibrate, dir.string() + " --emit ros2-static-tf --quiet", dir);
+  ASSERT_EQ(known.exit_code, 0) << known.err;
+  EXPECT_TRUE(Has(known.out, "--z -0.85 ")) << known.out;
+  EXPECT_FALSE(Has(known.out, "z = 0")) << known.out;
+}
+
+// Finding 2: the closed form writes no σ, and says so.
+TEST(VerdictTest, ClosedFormWritesNoSigmaAndAWarning) {
+  const fs::path dir = Copy("barawid");
+  const RunOut run = Exec(kCalibrate, dir.string() + " --method barawid --quiet", dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(Has(run.out, "no sigma")) << run.out;
+  EXPECT_TRUE(Has(run.out, "verdict    REVIEW")) << run.out;
+  const YAML::Node doc = YAML::LoadFile((dir / "offsets.yaml").string());
+  EXPECT_TRUE(doc["scanner_mount"]["stddev"].IsNull());
+  EXPECT_TRUE(doc["scanner_mount"]["covariance"].IsNull());
+  ASSERT_GE(doc["warnings"].size(), 1u);
+  EXPECT_TRUE(Has(ReadText(dir / "offsets.yaml"), "no σ: the closed form"));
+}
+
+// Finding 3: a preset that does not fit the data stops the run, naming both; inspect agrees.
+TEST(VerdictTest, WrongPresetIsRefusedNamingBoth) {
+  for (const std::string& model : {std::string("hokuyo_urg04lx"), std::string("sick_lms200")}) {
+    const fs::path dir = Copy("preset_" + model);
+    Replace(dir / "session.yaml", "model: sick_lms291", "model: " + model);
+    const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+    EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
+    EXPECT_TRUE(Has(run.err, "scanner.model '" + model + "' does not fit")) << run.err;
+    EXPECT_TRUE(Has(run.err, model == "sick_lms200" ? "maximum range 8.18 m" : "181 beams"))
+        << run.err;
+    EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
+    const RunOut inspect = Exec(kInspect, dir.string(), dir);
+    EXPECT_FALSE(Has(inspect.out, "VERDICT: enough data")) << inspect.out;
+    EXPECT_TRUE(Has(inspect.out, "does not fit")) << inspect.out;
+    const RunOut forced = Exec(kCalibrate, dir.string() + " --quiet --force", dir);
+    if (forced.exit_code == 0) {
+      EXPECT_TRUE(Has(ReadText(dir / "offsets.yaml"), "FORCED: scanner.model"));
+    }
+  }
+}
+
+// Finding 4: a survey that is not where the GNSS track is, and a mount far from the guess.
+TEST(VerdictTest, SurveyFarFromTheTrackIsASurveyMistake) {
+  const fs::path dir = Copy("far");
+  Replace(dir / "session.yaml", "lat: 43.07129002690411", "lat: 43.17129002690411");
+  Replace(dir / "session.yaml", "lat: 43.07128991302616", "lat: 43.17128991302616");
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+  EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
+  EXPECT_TRUE(Has(run.err, "the GNSS track passes no closer than")) << run.err;
+  EXPECT_TRUE(Has(run.err, "control points")) << run.err;
+  EXPECT_FALSE(Has(run.err, "stations")) << run.err;
+  EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
+}
+
+TEST(VerdictTest, MountGuessToleranceRefusesAGrossError) {
+  const fs::path dir = Copy("guess");
+  Replace(dir / "session.yaml", "  time_offset_s: 0\n",
+          "  time_offset_s: 0\n  mount_guess: {x: 2.0, y: 0.05, yaw_deg: 2.8, tolerance_m: 0.2}\n");
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+  EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
+  EXPECT_TRUE(Has(run.err, "from scanner.mount_guess")) << run.err;
+  EXPECT_TRUE(Has(run.err, "tolerance_m 0.200 m")) << run.err;
+  EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
+  const RunOut forced = Exec(kCalibrate, dir.string() + " --quiet --force", dir);
+  EXPECT_EQ(forced.exit_code, 0) << forced.err;
+  EXPECT_TRUE(Has(forced.out, "verdict    REJECT")) << forced.out;
+}
+
+// Finding 5: the refusal for σ follows the dominant term, with the counts of the final pass.
+TEST(VerdictTest, SigmaRefusalFollowsTheDominantTermAndCountsTheScans) {
+  const fs::path dir = Copy("sigma");
+  WriteText(dir / "strict.yaml", "solver: {max_sigma_xy_m: 0.01}\n");
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "strict.yaml").string(), dir);
+  EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
+  EXPECT_TRUE(Has(run.err, "of its variance comes from the")) << run.err;
+  EXPECT_FALSE(Has(run.err, "turned ≥ 30°")) << run.err;
+  EXPECT_FALSE(Has(run.out, " 0 used")) << run.out;
+  EXPECT_FALSE(Has(run.out, "headings 0.0..0.0")) << run.out;
+  EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
+}
+
+// Finding 6: frame names validated as tf2 does, and written into offsets.yaml.
+TEST(VerdictTest, FrameNamesAreValidatedAndWritten) {
+  const fs::path dir = Copy("frames");
+  const RunOut run =
+      Exec(kCalibrate, dir.string() + " --quiet --parent-frame gps --child-frame laser_front", dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const YAML::Node doc = YAML::LoadFile((dir / "offsets.yaml").string());
+  EXPECT_EQ(doc["scanner_mount"]["parent_frame"].as<std::string>(), "gps");
+  EXPECT_EQ(doc["scanner_mount"]["child_frame"].as<std::string>(), "laser_front");
+  fs::remove(dir / "offsets.yaml");
+  const RunOut bad = Exec(kCalibrate, dir.string() + " --child-frame /laser", dir);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_TRUE(Has(bad.err, "leading slash")) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
+}
+
+// Finding 7: provenance, and no names of files a user does not have.
+TEST(VerdictTest, OffsetsCarryProvenanceAndNoInternalNames) {
+  const fs::path dir = Copy("provenance");
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_FALSE(Has(run.out, "seed")) << run.out;
+  const std::string text = ReadText(dir / "offsets.yaml");
+  EXPECT_FALSE(Has(text, "seed_002")) << text;
+  const YAML::Node doc = YAML::Load(text);
+  EXPECT_NEAR(doc["barawid_2007_notation"]["b"].as<double>(), doc["scanner_mount"]["x"].as<double>(), 1e-6);
+  const YAML::Node source = doc["source"];
+  EXPECT_TRUE(std::regex_match(source["created_utc"].as<std::string>(),
+                               std::regex(R"(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ)")));
+  EXPECT_FALSE(source["tool_version"].as<std::string>().empty());
+  ASSERT_GE(source["command_line"].size(), 2u);
+  EXPECT_EQ(source["command_line"][1].as<std::string>(), dir.string());
+  int hashed = 0;
+  for (const YAML::Node& input : source["inputs"]) {
+    const std::string path = input["path"].as<std::string>();
+    EXPECT_EQ(input["sha256"].as<std::string>(), Sha256OfFile(path)) << path;
+    hashed += fs::path(path).filename() == "scans.clf" ? 1 : 0;
+  }
+  EXPECT_EQ(hashed, 1);
+  for (const auto& entry : fs::directory_iterator(fs::path(WALLCAL_SOURCE_DIR) / "docs")) {
+    if (entry.path().extension() != ".md") continue;
+    const std::string doc_text = ReadText(entry.path());
+    for (const char* internal : {"docs/session-format.md", "../shared", "seed 00", "seed_002", "issue 1", "issue 3"}) {
+      EXPECT_FALSE(Has(doc_text, internal)) << entry.path() << ": " << internal;
+    }
+  }
+}
+
+// Finding 9: the verdict, the change since a previous calibration, the report's top.
+TEST(VerdictTest, VerdictCompareAndReportTop) {
+  const fs::path dir = Copy("compare");
+  const RunOut first = Exec(kCalibrate, dir.string() + " --quiet --output " + (dir / "previous.yaml").string(), dir);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  EXPECT_TRUE(Has(first.out, "  verdict    ")) << first.out;
+  EXPECT_TRUE(Has(first.out, "σ budget")) << first.out;
+  // The same data again: no change.
+  const RunOut same = Exec(kCalibrate, dir.string() + " --quiet --compare " + (dir / "previous.yaml").string(), dir);
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_TRUE(Has(same.out, "change     since")) << same.out;
+  EXPECT_TRUE(Has(same.out, "x +0.0 mm, y +0.0 mm")) << same.out;
+  EXPECT_TRUE(Has(ReadText(dir / "offsets.yaml"), "change_since_previous: {previous:"));
+  // A previous calibration 50 mm further forward: REVIEW, naming the move.
+  Replace(dir / "previous.yaml", "  x: 2.", "  x: 2.05");  // crude: +0.05 m on x's first decimal
+  WriteText(dir / "lenient.yaml", "acceptance: {max_sigma_xy_m: 0.05, max_sigma_yaw_deg: 1.0}\n");
+  const RunOut moved = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "lenient.yaml").string() +
+                                         " --compare " + (dir / "previous.yaml").string() +
+                                         " --report " + (dir / "report").string(), dir);
+  ASSERT_EQ(moved.exit_code, 0) << moved.err;
+  EXPECT_TRUE(Has(moved.out, "verdict    REVIEW")) << moved.out;
+  EXPECT_TRUE(Has(moved.out, "since " + (dir / "previous.yaml").string())) << moved.out;
+  const std::string html = ReadText(dir / "report" / "report.html");
+  const size_t verdict = html.find("class=\"verdict v-review\"");
+  const size_t budget = html.find("Error budget");
+  const size_t folded = html.find("<details id=\"diagnostics\">");
+  const size_t hough = html.find("<section id=\"hough\">");
+  ASSERT_NE(verdict, std::string::npos);
+  ASSERT_NE(budget, std::string::npos);
+  ASSERT_NE(folded, std::string::npos);
+  EXPECT_LT(verdict, budget);
+  EXPECT_LT(budget, folded);
+  if (hough != std::string::npos) {
+    EXPECT_GT(hough, folded);
+  }
+  EXPECT_TRUE(Has(html, "error (estimate &#8722; truth)"));
+  EXPECT_TRUE(Has(html, "change since previous"));
+
+  // Bootstrap off: no "bootstrap (0)".
+  WriteText(dir / "noboot.yaml", "solver: {bootstrap_samples: 0}\n");
+  const RunOut noboot = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "noboot.yaml").string(), dir);
+  ASSERT_EQ(noboot.exit_code, 0) << noboot.err;
+  EXPECT_FALSE(Has(noboot.out, "bootstrap (0)")) << noboot.out;
+}
+
+}  // namespace
+}  // namespace wallcal
+
+namespace wallcal {
+namespace {
+
+// Finding 4, two control points: a mirrored survey cannot be told from the tie; the refusal
+// then points at the survey, not at the stations.
+TEST(VerdictTest, MirroredSurveyWithTwoControlPointsPointsAtTheSurvey) {
+  const fs::path dir = Copy("mirrored");
+  std::istringstream in(ReadText(dir / "survey.csv"));
+  std::string line, out;
+  std::getline(in, line);
+  out = line + "\n";
+  while (std::getline(in, line)) {
+    // id,x,y,z,code -> id,y,x,z,code
+    const size_t a = line.find(','), b = line.find(',', a + 1), c = line.find(',', b + 1);
+    out += line.substr(0, a + 1) + line.substr(b + 1, c - b - 1) + "," +
+           line.substr(a + 1, b - a - 1) + line.substr(c) + "\n";
+  }
+  WriteText(dir / "survey.csv", out);
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+  EXPECT_NE(run.exit_code, 0) << run.out;
+  EXPECT_TRUE(Has(run.err, "survey")) << run.err;
+  EXPECT_TRUE(Has(run.err, "swapped")) << run.err;
+  EXPECT_FALSE(Has(run.err, "turned ≥ 30°")) << run.err;
+  EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
+}
+
+}  // namespace
+}  // namespace wallcal

@@ -1,0 +1,127 @@
+#include "sim/simulation_config.h"
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "common/angles.h"
+#include "io/types.h"
+#include "test/support/scratch_dir.h"
+
+namespace wallcal::sim {
+namespace {
+
+namespace fs = std::filesystem;
+using io::InputError;
+
+// A folder in this process's scratch folder, removed when the process ends.
+std::string Dir(const std::string& name) {
+  static const testing_support::ScratchDir scratch("simulation_config_test_");
+  const fs::path dir = scratch.path() / name;
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+std::string WriteFile(const std::string& path, const std::string& content) {
+  std::ofstream(path, std::ios::binary) << content;
+  return path;
+}
+
+TEST(SimulationConfigTest, SimulationConfigDefaultsAndLists) {
+  const std::string dir = Dir("simulation");
+  const SimulationConfig defaults = ReadSimulationConfig(WriteFile(dir + "/empty.yaml", ""));
+  const SimulationConfig expected;
+  EXPECT_EQ(defaults.name, expected.name);
+  EXPECT_EQ(defaults.scanner_model, expected.scanner_model);
+  EXPECT_DOUBLE_EQ(defaults.mount_yaw_rad, expected.mount_yaw_rad);
+  EXPECT_DOUBLE_EQ(defaults.heading_drift_rad_per_s, expected.heading_drift_rad_per_s);
+  EXPECT_EQ(defaults.num_stations, expected.num_stations);
+  EXPECT_TRUE(defaults.walls.empty());
+
+  const SimulationConfig config = ReadSimulationConfig(WriteFile(dir + "/site.yaml", R"(
+name: yard
+mount_yaw_deg: -1.5
+heading_drift_deg_per_h: 0.5
+heading_spread_deg: 90
+write_gst: false
+walls:
+  - {id: north, code: WALL1, x0_m: -10, y0_m: 20, x1_m: 10, y1_m: 20}
+  - {id: shed, code: "", x0_m: 15, y0_m: 0, x1_m: 15, y1_m: 8, height_m: 2.5}
+obstacles:
+  - {x_m: 1, y_m: 5, radius_m: 0.3}
+)"));
+  EXPECT_EQ(config.name, "yard");
+  EXPECT_NEAR(config.mount_yaw_rad, -1.5 * kDegToRad, 1e-15);
+  EXPECT_NEAR(config.heading_drift_rad_per_s, 0.5 * kDegToRad / 3600.0, 1e-18);
+  EXPECT_NEAR(config.heading_spread_rad, 90 * kDegToRad, 1e-15);
+  EXPECT_FALSE(config.write_gst);
+  ASSERT_EQ(config.walls.size(), 2u);
+  EXPECT_EQ(config.walls[0].code, "WALL1");
+  EXPECT_DOUBLE_EQ(config.walls[0].y1_m, 20.0);
+  EXPECT_DOUBLE_EQ(config.walls[0].height_m, SimWall().height_m);
+  EXPECT_EQ(config.walls[1].code, "");
+  EXPECT_DOUBLE_EQ(config.walls[1].height_m, 2.5);
+  ASSERT_EQ(config.obstacles.size(), 1u);
+  EXPECT_DOUBLE_EQ(config.obstacles[0].radius_m, 0.3);
+
+  try {
+    ReadSimulationConfig(WriteFile(dir + "/bad.yaml", "walls:\n  - {id: a, x0: 1}\n"));
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml:2: unknown key 'walls[0].x0'"),
+              std::string::npos)
+        << e.what();
+  }
+  try {
+    ReadSimulationConfig(WriteFile(dir + "/invalid.yaml", "num_stations: 0\n"));
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("simulation.num_stations must be >= 1, got 0"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(SimulationConfigTest, TruthYamlRoundTrips) {
+  SimulationConfig config;
+  config.name = "two walls";
+  config.mount_x_m = 2.5703;
+  config.mount_y_m = -0.0561;
+  config.mount_yaw_rad = 0.0488692190558412;
+  config.heading_drift_rad_per_s = 2.42e-6;
+  config.write_gst = false;
+  config.walls = {{"north", "WALL1", -10, 20, 10, 20, 3.0, 0.5},
+                  {"shed", "", 15, 0, 15, 8, 2.5, 1.0}};
+  config.obstacles = {{1.0, 5.0, 0.3}};
+  const std::string path = WriteFile(Dir("truth") + "/truth.yaml", FormatTruthYaml(config, 42));
+
+  const YAML::Node root = YAML::LoadFile(path);
+  EXPECT_EQ(root["seed"].as<uint64_t>(), 42u);
+  EXPECT_DOUBLE_EQ(root["truth"]["x"].as<double>(), 2.5703);
+  EXPECT_NEAR(root["truth"]["yaw_deg"].as<double>(), 2.8, 1e-9);
+
+  const SimulationConfig read = ReadTruthYaml(path);
+  EXPECT_EQ(read.name, "two walls");
+  EXPECT_DOUBLE_EQ(read.mount_x_m, config.mount_x_m);
+  EXPECT_DOUBLE_EQ(read.mount_y_m, config.mount_y_m);
+  EXPECT_DOUBLE_EQ(read.mount_yaw_rad, config.mount_yaw_rad);
+  EXPECT_NEAR(read.heading_drift_rad_per_s, config.heading_drift_rad_per_s, 1e-18);
+  EXPECT_NEAR(read.heading_spread_rad, config.heading_spread_rad, 1e-15);
+  EXPECT_NEAR(read.survey_rotation_rad, config.survey_rotation_rad, 1e-15);
+  EXPECT_DOUBLE_EQ(read.start_time_s, config.start_time_s);
+  EXPECT_EQ(read.num_stations, config.num_stations);
+  EXPECT_FALSE(read.write_gst);
+  ASSERT_EQ(read.walls.size(), 2u);
+  EXPECT_EQ(read.walls[1].id, "shed");
+  EXPECT_EQ(read.walls[1].code, "");
+  EXPECT_DOUBLE_EQ(read.walls[0].survey_spacing_m, 0.5);
+  EXPECT_DOUBLE_EQ(read.walls[1].y1_m, 8.0);
+  ASSERT_EQ(read.obstacles.size(), 1u);
+  EXPECT_DOUBLE_EQ(read.obstacles[0].radius_m, 0.3);
+}
+
+}  // namespace
+}  // namespace wallcal::sim
