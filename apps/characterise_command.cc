@@ -1,4 +1,5 @@
-// characterise: measure the scanner itself (range model, noise, quantum, incidence limit,
+// SPDX-License-Identifier: Apache-2.0
+// wallcal characterise: measure the scanner itself (range model, noise, quantum, incidence limit,
 // mixed pixels, warm-up drift) on a wall session and write its preset. Argument parsing and
 // wiring only; the work is characterise/.
 
@@ -9,56 +10,74 @@
 #include <string>
 #include <vector>
 
+#include "apps/commands.h"
 #include "characterise/characterisation.h"
 #include "io/output_file.h"
 #include "io/version.h"
 #include "io/config/config_writer.h"
 #include "io/output_file.h"
 
+namespace wallcal::apps {
+
+const CommandHelp& CharacteriseHelp() {
+  static const CommandHelp help{
+      "characterise",
+      "measure the scanner's range model and noise on a wall session; write its preset",
+      {"SESSION [--mount OFFSETS.yaml] [--output PRESET.yaml] [--report DIR] [--config FILE] "
+       "[--threads N]"},
+      "Measures the laser scanner on a wall session (docs/field-guide.md, \"Characterising the\n"
+      "scanner\"): every beam that hits the surveyed wall has a true range from the vehicle's pose and\n"
+      "the mount, so the session fits the range model z = n*true + c of Ye & Borenstein 2002 and\n"
+      "Okubo, Ye & Borenstein 2009, with sigma for every number: the range correction k, b\n"
+      "(y = k*z + b), the noise sigma and its growth with range and incidence, the range quantum, the\n"
+      "incidence limit, the mixed-pixel rate at the wall's ends and the warm-up drift over time.\n",
+      {
+          {"SESSION", "", "", ValueKind::kPath, {},
+           "a session.yaml, or the folder holding one (docs/session-format.md)"},
+          {"--mount", "", "FILE", ValueKind::kFile, {},
+           "an earlier calibration's offsets.yaml: its scanner_mount (and covariance,\n"
+           "when given) is used; without it the mount is estimated jointly"},
+          {"--output", "", "FILE", ValueKind::kFile, {},
+           "the measured preset (default: SESSION_DIR/scanners/MODEL_measured.yaml,\n"
+           "which calibrate finds as scanner.model: MODEL_measured). Only a regular\n"
+           "file or a new path is replaced, never an input"},
+          {"--report", "", "DIR", ValueKind::kFolder, {},
+           "also write SVG plots of the range error against true range, incidence\n"
+           "and time into DIR"},
+          {"--config", "", "FILE", ValueKind::kFile, {},
+           "calibration options (YAML; defaults: configs/calibrate.yaml)"},
+          {"--threads", "", "N", ValueKind::kWord, {},
+           "threads for the wall detection (default: every core)"},
+          {"--help", "-h", "", ValueKind::kNone, {}, "this text"},
+          {"--version", "", "", ValueKind::kNone, {}, "the tool version"},
+      },
+      "",
+      "0 preset written; 1 a parameter not determined (the reason names it and what to\n"
+      "collect); 2 bad input or usage; 3 an internal error (a bug: please report it).\n"};
+  return help;
+}
+
+}  // namespace wallcal::apps
+
 namespace {
 
-constexpr const char* kUsage = R"(usage: characterise SESSION [--mount OFFSETS.yaml] [--output PRESET.yaml] [--report DIR]
-                    [--config FILE] [--threads N]
-
-Measures the laser scanner on a wall session (docs/field-guide.md, "Characterising the
-scanner"): every beam that hits the surveyed wall has a true range from the vehicle's pose and
-the mount, so the session fits the range model z = n*true + c of Ye & Borenstein 2002 and
-Okubo, Ye & Borenstein 2009, with sigma for every number: the range correction k, b
-(y = k*z + b), the noise sigma and its growth with range and incidence, the range quantum, the
-incidence limit, the mixed-pixel rate at the wall's ends and the warm-up drift over time.
-
-  SESSION              a session.yaml, or the folder holding one (docs/session-format.md)
-  --mount FILE         an earlier calibration's offsets.yaml: its scanner_mount (and covariance,
-                       when given) is used; without it the mount is estimated jointly
-  --output FILE        the measured preset (default: SESSION_DIR/scanners/MODEL_measured.yaml,
-                       which calibrate finds as scanner.model: MODEL_measured). Only a regular
-                       file or a new path is replaced, never an input
-  --report DIR         also write SVG plots of the range error against true range, incidence
-                       and time into DIR
-  --config FILE        calibration options (YAML; defaults: configs/calibrate.yaml)
-  --threads N          threads for the wall detection (default: every core)
-  --help               this text;  --version  the tool version
-
-Exit status: 0 preset written; 1 a parameter not determined (the reason names it and what to
-collect); 2 bad input or usage; 3 an internal error (a bug: please report it).
-)";
-
 int Usage(const std::string& message) {
-  std::cerr << "characterise: " << message << "\n(run 'characterise --help' for usage)\n";
+  std::cerr << "characterise: " << message << "\n(run 'wallcal characterise --help' for usage)\n";
   return 2;
 }
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int wallcal::apps::RunCharacterise(int argc, char** argv) {
   namespace fs = std::filesystem;
   wallcal::characterise::CharacteriseRequest request;
   std::string output, report_dir;
+  request.command_line.push_back("wallcal");
   for (int i = 0; i < argc; ++i) request.command_line.push_back(argv[i]);
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
-      std::cout << kUsage;
+      std::cout << wallcal::apps::FormatHelp(wallcal::apps::CharacteriseHelp());
       return 0;
     } else if (arg == "--version") {
       std::cout << "wallcal characterise " << wallcal::io::kToolVersion << "\n";

@@ -1,5 +1,5 @@
-// calibrate: estimate the scanner mount from a logged wall session and write offsets.yaml.
-// The one place (with simulate_main) that catches io::InputError and turns it into an exit code.
+// SPDX-License-Identifier: Apache-2.0
+// wallcal calibrate: estimate the scanner mount from a logged wall session and write offsets.yaml.
 
 #include <unistd.h>
 
@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 
+#include "apps/commands.h"
 #include "io/input_file.h"
 #include "io/output_file.h"
 #include "io/config/session_reader.h"
@@ -24,70 +25,88 @@
 #include "outputs/summary.h"
 #include "pipeline/calibration.h"
 
+namespace wallcal::apps {
+
+const CommandHelp& CalibrateHelp() {
+  static const CommandHelp help{
+      "calibrate",
+      "estimate the scanner mount from a wall session and write offsets.yaml",
+      {"SESSION [--output FILE] [--method ceres|barawid] [--config FILE] [--report DIR] "
+       "[--emit ros2-static-tf|urdf|json] [--parent-frame NAME] [--child-frame NAME] "
+       "[--base-frame NAME] [--compare PREVIOUS.yaml] [--force] [--quiet] [--threads N]"},
+      "Estimates where a 2-D laser scanner sits on a vehicle (x, y, yaw of the scanner in the GNSS\n"
+      "antenna's frame: x forward, y left, yaw counter-clockwise) from a logged session in front of a\n"
+      "surveyed wall, and writes offsets.yaml.\n",
+      {
+          {"SESSION", "", "", ValueKind::kPath, {},
+           "a session.yaml, or the folder holding one (format: docs/session-format.md)"},
+          {"--output", "-o", "FILE", ValueKind::kFile, {},
+           "where to write the offsets (default: offsets.yaml beside session.yaml);\n"
+           "- writes them to stdout (the summary then goes to stderr). Only a regular\n"
+           "file or a new path is replaced (a link is followed), never an input"},
+          {"--method", "", "M", ValueKind::kChoice, {"ceres", "barawid"},
+           "ceres   (default) joint least squares with a robust loss; the sigma includes\n"
+           "        the survey, control-point and correlated GNSS errors\n"
+           "barawid the closed form of Barawid et al. 2007 (Eq. 8-16), for\n"
+           "        comparison; its sigma treats every scan as independent"},
+          {"--config", "", "FILE", ValueKind::kFile, {},
+           "calibration options (YAML; defaults: configs/calibrate.yaml)"},
+          {"--report", "", "DIR", ValueKind::kFolder, {},
+           "also write DIR/report.html: one self-contained page (inline SVG plots, no\n"
+           "script, nothing fetched) showing the mount and its uncertainty, the site,\n"
+           "scans, the Hough accumulator, residuals, heading coverage and the counts\n"
+           "(docs/report.md). Written even when the mount is not determined."},
+          {"--emit", "", "FORMAT", ValueKind::kChoice, {"ros2-static-tf", "urdf", "json"},
+           "print the mount for a navigation stack: ros2-static-tf (a\n"
+           "`ros2 run tf2_ros static_transform_publisher ...` line), urdf (a fixed\n"
+           "<joint>), json (mount, sigma, covariance, frames). With --emit, stdout\n"
+           "carries ONLY the emitted text (pipe it); the summary goes to stderr.\n"
+           "Emitted only when the mount is determined. One tree: when session.yaml\n"
+           "gives antenna_in_base, base frame -> antenna frame is emitted too, then\n"
+           "antenna frame -> scanner frame. The scanner's height relative to the\n"
+           "antenna is session.yaml's scanner.z_m (the calibration cannot see it);\n"
+           "without it z = 0 and the emitted text says so."},
+          {"--parent-frame", "", "NAME", ValueKind::kWord, {},
+           "the antenna frame's name (default gnss_antenna)"},
+          {"--child-frame", "", "NAME", ValueKind::kWord, {}, "the scanner frame's name (default laser)"},
+          {"--base-frame", "", "NAME", ValueKind::kWord, {},
+           "the vehicle frame's name (default base_link). Frame names as tf2 takes\n"
+           "them: letters, digits, '_', '.', '/', '-', no leading '/'. The names are\n"
+           "written into offsets.yaml."},
+          {"--compare", "", "FILE", ValueKind::kFile, {},
+           "an earlier offsets.yaml: the change since then (mm, degrees and combined\n"
+           "sigma) in the summary, offsets.yaml and the report; the verdict says\n"
+           "REVIEW when it is beyond the acceptance tolerances"},
+          {"--force", "", "", ValueKind::kNone, {},
+           "write an estimate a check refuses (observability, scanner preset against\n"
+           "the data, scanner.mount_guess tolerance), with a warning"},
+          {"--quiet", "-q", "", ValueKind::kNone, {},
+           "no progress on stderr, only the summary, warnings and errors"},
+          {"--threads", "", "N", ValueKind::kWord, {},
+           "threads for wall detection and the solve (default: every core); the\n"
+           "result does not depend on N"},
+          {"--help", "-h", "", ValueKind::kNone, {}, "this text"},
+          {"--version", "", "", ValueKind::kNone, {}, "the tool version"},
+      },
+      "On a terminal (stderr is a tty) progress is shown on stderr: scans read / total, rate and time\n"
+      "left, updated in place. When stderr is not a terminal, nothing but the summary and warnings.\n"
+      "\n"
+      "The summary starts with the verdict: ACCEPT (within the acceptance tolerances of the options'\n"
+      "`acceptance:` section), REVIEW (usable, but look first: the reasons follow) or REJECT.\n",
+      "0 offsets written; 1 the data cannot determine the mount, or the estimate is refused\n"
+      "(outside scanner.mount_guess's tolerance; nothing written but the report); 2 bad input or usage,\n"
+      "including a scanner preset that does not fit the data or a survey that is not where the GNSS\n"
+      "track is (nothing written); 3 an internal error (a bug: please report it; never the answer to\n"
+      "any input). The reason is one line on stderr.\n"};
+  return help;
+}
+
+}  // namespace wallcal::apps
+
 namespace {
 
-constexpr const char* kUsage = R"(usage: calibrate SESSION [--output FILE] [--method ceres|barawid] [--config FILE]
-                 [--report DIR] [--emit ros2-static-tf|urdf|json] [--parent-frame NAME]
-                 [--child-frame NAME] [--base-frame NAME] [--compare PREVIOUS.yaml]
-                 [--force] [--quiet] [--threads N]
-
-Estimates where a 2-D laser scanner sits on a vehicle (x, y, yaw of the scanner in the GNSS
-antenna's frame: x forward, y left, yaw counter-clockwise) from a logged session in front of a
-surveyed wall, and writes offsets.yaml.
-
-  SESSION            a session.yaml, or the folder holding one (format: docs/session-format.md)
-  --output FILE      where to write the offsets (default: offsets.yaml beside session.yaml);
-                     - writes them to stdout (the summary then goes to stderr). Only a regular
-                     file or a new path is replaced (a link is followed), never an input
-  --method M         ceres   (default) joint least squares with a robust loss; the sigma includes
-                             the survey, control-point and correlated GNSS errors
-                     barawid the closed form of Barawid et al. 2007 (Eq. 8-16), for
-                             comparison; its sigma treats every scan as independent
-  --config FILE      calibration options (YAML; defaults: configs/calibrate.yaml)
-  --report DIR       also write DIR/report.html: one self-contained page (inline SVG plots, no
-                     script, nothing fetched) showing the mount and its uncertainty, the site,
-                     scans, the Hough accumulator, residuals, heading coverage and the counts
-                     (docs/report.md). Written even when the mount is not determined.
-  --emit FORMAT      print the mount for a navigation stack: ros2-static-tf (a
-                     `ros2 run tf2_ros static_transform_publisher ...` line), urdf (a fixed
-                     <joint>), json (mount, sigma, covariance, frames). With --emit, stdout
-                     carries ONLY the emitted text (pipe it); the summary goes to stderr.
-                     Emitted only when the mount is determined. One tree: when session.yaml
-                     gives antenna_in_base, base frame -> antenna frame is emitted too, then
-                     antenna frame -> scanner frame. The scanner's height relative to the
-                     antenna is session.yaml's scanner.z_m (the calibration cannot see it);
-                     without it z = 0 and the emitted text says so.
-  --parent-frame N   the antenna frame's name (default gnss_antenna)
-  --child-frame N    the scanner frame's name (default laser)
-  --base-frame N     the vehicle frame's name (default base_link). Frame names as tf2 takes
-                     them: letters, digits, '_', '.', '/', '-', no leading '/'. The names are
-                     written into offsets.yaml.
-  --compare FILE     an earlier offsets.yaml: the change since then (mm, degrees and combined
-                     sigma) in the summary, offsets.yaml and the report; the verdict says
-                     REVIEW when it is beyond the acceptance tolerances
-  --force            write an estimate a check refuses (observability, scanner preset against
-                     the data, scanner.mount_guess tolerance), with a warning
-  --quiet            no progress on stderr, only the summary, warnings and errors
-  --threads N        threads for wall detection and the solve (default: every core); the
-                     result does not depend on N
-  --help             this text;  --version  the tool version
-
-On a terminal (stderr is a tty) progress is shown on stderr: scans read / total, rate and time
-left, updated in place. When stderr is not a terminal, nothing but the summary and warnings.
-
-The summary starts with the verdict: ACCEPT (within the acceptance tolerances of the options'
-`acceptance:` section), REVIEW (usable, but look first: the reasons follow) or REJECT.
-
-Exit status: 0 offsets written; 1 the data cannot determine the mount, or the estimate is refused
-(outside scanner.mount_guess's tolerance; nothing written but the report); 2 bad input or usage,
-including a scanner preset that does not fit the data or a survey that is not where the GNSS
-track is (nothing written); 3 an internal error (a bug: please report it;
-never the answer to any input). The reason is one line
-on stderr.
-)";
-
 int Usage(const std::string& message) {
-  std::cerr << "calibrate: " << message << "\n(run 'calibrate --help' for usage)\n";
+  std::cerr << "calibrate: " << message << "\n(run 'wallcal calibrate --help' for usage)\n";
   return 2;
 }
 
@@ -155,7 +174,7 @@ class ProgressLine {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int wallcal::apps::RunCalibrate(int argc, char** argv) {
   namespace pipeline = wallcal::pipeline;
   namespace outputs = wallcal::outputs;
   pipeline::CalibrateRequest request;
@@ -180,7 +199,7 @@ int main(int argc, char** argv) {
       return 0;
     };
     if (arg == "--help" || arg == "-h") {
-      std::cout << kUsage;
+      std::cout << FormatHelp(CalibrateHelp());
       return 0;
     } else if (arg == "--version") {
       std::cout << "wallcal calibrate " << wallcal::io::kToolVersion << "\n";
@@ -255,7 +274,8 @@ int main(int argc, char** argv) {
   if (frames.parent == frames.child || frames.parent == frames.base || frames.child == frames.base) {
     return Usage("--parent-frame, --child-frame and --base-frame must be three different names");
   }
-  request.command_line.assign(argv, argv + argc);
+  request.command_line = {"wallcal"};
+  request.command_line.insert(request.command_line.end(), argv, argv + argc);
 
   // With --emit or --output -, stdout is reserved for that text so it can be piped.
   std::ostream& summary_out = emit || wallcal::io::IsStdoutPath(output) ? std::cerr : std::cout;

@@ -1,4 +1,5 @@
-// inspect: the pre-flight check of a session or a log file, and CSV dumps of decoded records.
+// SPDX-License-Identifier: Apache-2.0
+// wallcal inspect: the pre-flight check of a session or a log file, and CSV dumps of decoded records.
 // Argument parsing and error reporting only; the work is in preflight/.
 
 #include <exception>
@@ -7,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/commands.h"
 #include "io/output_file.h"
 #include "io/recording/recording.h"
 #include "io/survey/survey_reader.h"
@@ -14,47 +16,60 @@
 #include "io/version.h"
 #include "preflight/inspect.h"
 
+namespace wallcal::apps {
+
+const CommandHelp& InspectHelp() {
+  static const CommandHelp help{
+      "inspect",
+      "check a session, a log or a recording before leaving the site; dump decoded records",
+      {"PATH [--dump gnss|heading|scans|survey] [--topic NAME] [--config FILE]",
+       "RECORDING --suggest-session"},
+      "The pre-flight check of a wall session: run it before leaving the site.\n",
+      {
+          {"PATH", "", "", ValueKind::kPath, {},
+           "a session (session.yaml or its folder), one log file: NMEA (GNSS,\n"
+           "heading) or CARMEN (scans, plain or gzip), a robot recording (ROS 1 .bag,\n"
+           "MCAP, rosbag2 .db3 or folder), or a survey file (with --dump survey);\n"
+           "recognised by content"},
+          {"--dump", "", "KIND", ValueKind::kChoice, {"gnss", "heading", "scans", "survey"},
+           "write the decoded records as CSV on stdout instead of the report:\n"
+           "  gnss     time_s,lat_deg,lon_deg,height_m,quality,satellites,hdop,\n"
+           "           sigma_lat_m,sigma_lon_m,line\n"
+           "  heading  time_s,heading_deg,line\n"
+           "  scans    time_s,beams,valid,min_range_m,max_range_m,line\n"
+           "  survey   id,x_m,y_m,z_m,code (one row per observation; x east, y north)\n"
+           "(on a session: that log of the session; on a recording: --topic's)"},
+          {"--topic", "", "NAME", ValueKind::kWord, {},
+           "the recording topic to dump (needed when several topics fit)"},
+          {"--suggest-session", "", "", ValueKind::kNone, {},
+           "print a ready-to-edit session.yaml for the recording, the topics chosen\n"
+           "by type (and why, when several fit)"},
+          {"--config", "", "FILE", ValueKind::kFile, {},
+           "calibrate options used for the detection and the checks (as calibrate)"},
+          {"--help", "-h", "", ValueKind::kNone, {}, "this text"},
+          {"--version", "", "", ValueKind::kNone, {}, "the version"},
+      },
+      "On a session: each log's time span, rate, gaps and their overlap; GNSS fix qualities and time\n"
+      "RTK fixed; survey control residuals; stations and how well the wall was detected at each; the\n"
+      "headings at which the wall was seen; and a verdict: enough data for a calibration, or what is\n"
+      "missing. On one log: its time span, rate, gaps, counts and skipped lines. On a recording: every\n"
+      "topic's type, count, rate, span and gaps, and the statistics of the types wallcal reads.\n",
+      "0 report or dump written (whatever the verdict); 2 unusable input or bad usage\n"
+      "(one line on stderr naming the file, the line and what was expected).\n"};
+  return help;
+}
+
+}  // namespace wallcal::apps
+
 namespace {
 
 int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-  static const char* kUsage =
-      R"(usage: inspect PATH [--dump gnss|heading|scans|survey] [--topic NAME] [--config FILE]
-       inspect RECORDING --suggest-session
-
-The pre-flight check of a wall session: run it before leaving the site.
-
-  PATH            a session (session.yaml or its folder), one log file: NMEA (GNSS,
-                  heading) or CARMEN (scans, plain or gzip), a robot recording (ROS 1 .bag,
-                  MCAP, rosbag2 .db3 or folder), or a survey file (with --dump survey);
-                  recognised by content
-  --dump KIND     write the decoded records as CSV on stdout instead of the report:
-                    gnss     time_s,lat_deg,lon_deg,height_m,quality,satellites,hdop,
-                             sigma_lat_m,sigma_lon_m,line
-                    heading  time_s,heading_deg,line
-                    scans    time_s,beams,valid,min_range_m,max_range_m,line
-                    survey   id,x_m,y_m,z_m,code (one row per observation; x east, y north)
-                  (on a session: that log of the session; on a recording: --topic's)
-  --topic NAME    the recording topic to dump (needed when several topics fit)
-  --suggest-session  print a ready-to-edit session.yaml for the recording, the topics chosen
-                  by type (and why, when several fit)
-  --config FILE   calibrate options used for the detection and the checks (as calibrate)
-  --help          this text
-  --version       the version
-
-On a session: each log's time span, rate, gaps and their overlap; GNSS fix qualities and time
-RTK fixed; survey control residuals; stations and how well the wall was detected at each; the
-headings at which the wall was seen; and a verdict: enough data for a calibration, or what is
-missing. On one log: its time span, rate, gaps, counts and skipped lines. On a recording: every
-topic's type, count, rate, span and gaps, and the statistics of the types wallcal reads.
-Exit status: 0 report or dump written (whatever the verdict); 2 unusable input or bad usage
-(one line on stderr naming the file, the line and what was expected).
-)";
   std::string path, dump, config, topic;
   bool suggest = false;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
     if (arg == "--help" || arg == "-h") {
-      out << kUsage;
+      out << wallcal::apps::FormatHelp(wallcal::apps::InspectHelp());
       return 0;
     } else if (arg == "--version") {
       out << "wallcal inspect " << wallcal::io::kToolVersion << "\n";
@@ -63,12 +78,12 @@ Exit status: 0 report or dump written (whatever the verdict); 2 unusable input o
       suggest = true;
     } else if (arg == "--dump" || arg == "--config" || arg == "--topic") {
       if (i + 1 >= args.size()) {
-        err << "inspect: " << arg << " needs a value (run 'inspect --help' for usage)\n";
+        err << "inspect: " << arg << " needs a value (run 'wallcal inspect --help' for usage)\n";
         return 2;
       }
       (arg == "--dump" ? dump : arg == "--topic" ? topic : config) = args[++i];
     } else if (!arg.empty() && arg[0] == '-') {
-      err << "inspect: unknown option '" << arg << "' (run 'inspect --help' for usage)\n";
+      err << "inspect: unknown option '" << arg << "' (run 'wallcal inspect --help' for usage)\n";
       return 2;
     } else if (path.empty()) {
       path = arg;
@@ -78,7 +93,7 @@ Exit status: 0 report or dump written (whatever the verdict); 2 unusable input o
     }
   }
   if (path.empty()) {
-    err << "inspect: no PATH given (run 'inspect --help' for usage)\n";
+    err << "inspect: no PATH given (run 'wallcal inspect --help' for usage)\n";
     return 2;
   }
   try {
@@ -142,7 +157,7 @@ Exit status: 0 report or dump written (whatever the verdict); 2 unusable input o
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int wallcal::apps::RunInspect(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   // Names and text from the files never reach the terminal raw (control characters escaped).
   wallcal::io::ControlEscapingStreamBuf out_buffer(std::cout.rdbuf());
