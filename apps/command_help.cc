@@ -84,6 +84,13 @@ std::string Roff(const std::string& text) {
   return out;
 }
 
+// An option's name or alias: every hyphen a minus sign.
+std::string RoffOption(const std::string& name) {
+  std::string out;
+  for (char c : name) out += c == '-' ? std::string("\\-") : std::string(1, c);
+  return out;
+}
+
 // Text with blank lines between paragraphs; indented lines (small tables) are kept unfilled.
 std::string RoffText(const std::string& text) {
   std::string out;
@@ -181,8 +188,8 @@ std::string FormatManPage(const std::vector<const CommandHelp*>& commands,
     for (const ArgumentHelp& a : c->arguments) {
       out += ".TP\n";
       std::string label = a.positional() ? "\\fI" + a.name + "\\fR"
-                                         : "\\fB" + Roff(a.name) + "\\fR";
-      if (!a.alias.empty()) label = "\\fB" + Roff(a.alias) + "\\fR, " + label;
+                                         : "\\fB" + RoffOption(a.name) + "\\fR";
+      if (!a.alias.empty()) label = "\\fB" + RoffOption(a.alias) + "\\fR, " + label;
       if (!a.value.empty()) label += " \\fI" + Roff(a.value) + "\\fR";
       out += label + "\n" + RoffText(a.help);
     }

@@ -5,7 +5,7 @@
 # interval an honest σ would give for that many seeds (chi distribution), and the RMS of each
 # block of 20 consecutive seeds (20 seeds alone scatter by ±16 %: 0.74–1.25 at 90 %).
 # Usage: bench/characterise_bench.sh BUILD_DIR [SEEDS=200]
-# Needs build/simulate and build/characterise (cmake --build BUILD --target simulate characterise).
+# Needs build/wallcal (cmake --build BUILD --target wallcal).
 set -euo pipefail
 build=${1:?usage: characterise_bench.sh BUILD_DIR [SEEDS]}
 seeds=${2:-200}
@@ -43,9 +43,9 @@ run() {
   local scenario=$1 n=$2 c=$3 sigma=$4
   : > "$work/$scenario.txt"
   for seed in $(seq 1 "$seeds"); do
-    "$build/simulate" --config "$src/configs/simulate/$scenario.yaml" --seed "$seed" \
+    "$build/wallcal" simulate --config "$src/configs/simulate/$scenario.yaml" --seed "$seed" \
         --output "$work/s" > /dev/null
-    "$build/characterise" "$work/s" --config "$work/fast.yaml" --output "$work/p.yaml" \
+    "$build/wallcal" characterise "$work/s" --config "$work/fast.yaml" --output "$work/p.yaml" \
         > "$work/out.txt" || true
     awk -v n="$n" -v c="$c" -v s="$sigma" -v seed="$seed" '
       $1 == "k" { k = $3; sk = $5 }
@@ -66,9 +66,9 @@ run characterise_urg04lx 0.9899 0.007 0.0029
 drift_seeds=${DRIFT_SEEDS:-10}
 : > "$work/drift.txt"
 for seed in $(seq 1 "$drift_seeds"); do
-  "$build/simulate" --config "$src/configs/simulate/characterise_lms291_warmup.yaml" \
+  "$build/wallcal" simulate --config "$src/configs/simulate/characterise_lms291_warmup.yaml" \
       --seed "$seed" --output "$work/s" > /dev/null
-  "$build/characterise" "$work/s" --config "$work/fast.yaml" --output "$work/p.yaml" \
+  "$build/wallcal" characterise "$work/s" --config "$work/fast.yaml" --output "$work/p.yaml" \
       > "$work/out.txt" || true
   awk '$1 == "drift_mm" { printf "%.3f\n", ($3 - 7.98) / $5 }' "$work/out.txt" >> "$work/drift.txt"
   rm -rf "$work/s"

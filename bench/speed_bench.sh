@@ -4,12 +4,12 @@
 # measured in the same run. Prints a markdown table (docs/results.md, "Speed").
 #
 # usage: bench/speed_bench.sh [BUILD_DIR] [MINUTES...]
-#   BUILD_DIR  the build with calibrate, inspect, simulate and bench/parse_floor (default build)
+#   BUILD_DIR  the build with wallcal and bench/parse_floor (default build)
 #   MINUTES    session lengths (default: 5 15 60 240); one station a minute (59.5 s stops),
 #              75 scans/s, the scenario of configs/simulate/bench_lms291_hour.yaml
 # Environment: SPEED_BENCH_DIR, when set, holds the sessions and keeps them for the next run (a
 # 4-hour session is 1.4 GB, simulated once); unset, they go to a temporary folder removed at
-# exit. THREADS is passed to calibrate --threads (default: every core).
+# exit. THREADS is passed to wallcal calibrate --threads (default: every core).
 # Needs /usr/bin/time (Debian package `time`: scripts/install-deps.sh bench).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -19,7 +19,7 @@ minutes=("$@")
 [ ${#minutes[@]} -gt 0 ] || minutes=(5 15 60 240)
 case "$build" in /*) ;; *) build="$root/$build" ;; esac
 threads="${THREADS:-0}"
-for program in calibrate inspect simulate bench/parse_floor; do
+for program in wallcal bench/parse_floor; do
   [ -x "$build/$program" ] || { echo "speed_bench: $build/$program not built" >&2; exit 2; }
 done
 [ -x /usr/bin/time ] || { echo "speed_bench: /usr/bin/time missing (apt-get install time)" >&2; exit 2; }
@@ -43,7 +43,7 @@ thread_args=()
 [ "$threads" = 0 ] || thread_args=(--threads "$threads")
 
 echo "machine: $(nproc) cores, $(awk '/model name/ {sub(/.*: /, ""); print; exit}' /proc/cpuinfo)"
-read -r sample_s sample_mb < <(measure "$build/calibrate" "$root/samples/lms291-sapporo" \
+read -r sample_s sample_mb < <(measure "$build/wallcal" calibrate "$root/samples/lms291-sapporo" \
                                --output "$work/sample-offsets.yaml" --quiet "${thread_args[@]}")
 echo "bundled sample (samples/lms291-sapporo): calibrate ${sample_s} s, peak ${sample_mb} MB"
 echo
@@ -54,15 +54,15 @@ for m in "${minutes[@]}"; do
   if [ ! -f "$session/scans.clf" ]; then
     sed -e "s/^num_stations: .*/num_stations: ${m}/" -e "s/^name: .*/name: speed-${m}min/" \
       "$root/configs/simulate/bench_lms291_hour.yaml" > "$work/speed-${m}min.yaml"
-    "$build/simulate" --config "$work/speed-${m}min.yaml" --output "$session" > /dev/null
+    "$build/wallcal" simulate --config "$work/speed-${m}min.yaml" --output "$session" > /dev/null
   fi
   scans=$(grep -c '^RAWLASER1' "$session/scans.clf")
   log_mb=$(( $(stat -c %s "$session/scans.clf") / 1000000 ))
   cat "$session/scans.clf" > /dev/null  # the page cache holds the log for every reader alike
   read -r floor_s _ < <(measure "$build/bench/parse_floor" "$session/scans.clf")
-  read -r cal_s cal_mb < <(measure "$build/calibrate" "$session" --output "$work/offsets.yaml" \
+  read -r cal_s cal_mb < <(measure "$build/wallcal" calibrate "$session" --output "$work/offsets.yaml" \
                            --force --quiet "${thread_args[@]}")
-  read -r ins_s _ < <(measure "$build/inspect" "$session")
+  read -r ins_s _ < <(measure "$build/wallcal" inspect "$session")
   awk -v m="$m" -v n="$scans" -v mb="$log_mb" -v f="$floor_s" -v c="$cal_s" -v r="$cal_mb" \
       -v i="$ins_s" 'BEGIN {printf "| %d | %d | %d | %.2f | %.2f | %.2f | %d | %.2f | %.2f | %.1f |\n",
                      m, n, mb, f, c, c / f, r, i, i / f, 1e6 * c / n}'

@@ -5,5 +5,5 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo
 cmake --build build -j2
-./build/calibrate samples/lms291-sapporo --output build/sample-offsets.yaml
+./build/wallcal calibrate samples/lms291-sapporo --output build/sample-offsets.yaml
 echo "setup: offsets written to build/sample-offsets.yaml; programs are in build/"

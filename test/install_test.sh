@@ -15,9 +15,9 @@ cp -r "$src/samples/lms291-sapporo" "$work/session"
 rm -f "$work/session/offsets.yaml"
 cd "$work"
 unset WALLCAL_CONFIG_DIR
-"$work/prefix/bin/calibrate" --version
-"$work/prefix/bin/characterise" --version
-"$work/prefix/bin/calibrate" session --output "$work/offsets.yaml" --quiet > "$work/summary.txt"
+"$work/prefix/bin/wallcal" calibrate --version
+"$work/prefix/bin/wallcal" characterise --version
+"$work/prefix/bin/wallcal" calibrate session --output "$work/offsets.yaml" --quiet > "$work/summary.txt"
 grep -q "x = 2.5422" "$work/summary.txt" || { cat "$work/summary.txt"; echo "install_test: installed calibrate gave another mount" >&2; exit 1; }
 test -s "$work/offsets.yaml"
 cmake -S "$src/test/downstream" -B "$work/downstream" -DCMAKE_PREFIX_PATH="$work/prefix" \

@@ -22,6 +22,7 @@
 #include "io/config/config_writer.h"
 #include "pipeline/calibration.h"
 #include "sim/simulated_session.h"
+#include "test/support/program_runner.h"
 #include "test/support/scratch_dir.h"
 
 namespace wallcal::characterise {
@@ -281,14 +282,13 @@ TEST(CharacteriseScenarioTest, ScannerTruthRoundTripsThroughTruthYamlOnlyWhenSet
 }
 
 // The program: usage and exit codes.
-int RunProgram(const std::string& command) {
-  const int raw = std::system((command + " > /dev/null 2>&1").c_str());
-  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-}
+// COMMAND is a shell command line (test/support/program_runner.h); the exit status.
+int RunProgram(const std::string& command) { return testing_support::RunShell(command).exit_code; }
 
 TEST(CharacteriseProgramTest, ExitCodes) {
-  const std::string program = std::string(WALLCAL_BINARY_DIR) + "/characterise";
-  ASSERT_TRUE(fs::exists(program)) << "build the characterise target first";
+  ASSERT_TRUE(fs::exists(testing_support::WallcalPath())) << "build the wallcal target first";
+  const std::string program =
+      testing_support::ShellQuote(testing_support::WallcalPath()) + " characterise";
   EXPECT_EQ(RunProgram(program + " --help"), 0);
   EXPECT_EQ(RunProgram(program + " --version"), 0);
   EXPECT_EQ(RunProgram(program), 2);

@@ -25,6 +25,7 @@
 #include "io/config/session_reader.h"
 #include "common/angles.h"
 #include "test/support/flow_names.h"
+#include "test/support/program_runner.h"
 #include "test/support/scratch_dir.h"
 
 namespace wallcal {
@@ -533,16 +534,10 @@ struct CommandRun {
   std::string out;
 };
 
+// Runs a shell command line (test/support/program_runner.h); stdout only unless redirected.
 CommandRun Capture(const std::string& command) {
-  CommandRun run;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  char buffer[4096];
-  size_t n;
-  while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) run.out.append(buffer, n);
-  const int raw = ::pclose(pipe);
-  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return run;
+  const testing_support::ProgramRun run = testing_support::RunShell(command);
+  return {run.exit_code, run.out};
 }
 
 TEST(EmitProgramTest, EmitJsonPrintsOnlyJsonOnStdout) {
@@ -551,8 +546,8 @@ TEST(EmitProgramTest, EmitJsonPrintsOnlyJsonOnStdout) {
   const sim::SimulationConfig config = sim::ReadSimulationConfig(
       std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/lms291_sapporo.yaml");
   WriteSimulatedSession(config, 3, dir.string());
-  const std::string calibrate = std::string(WALLCAL_BINARY_DIR) + "/calibrate";
-  ASSERT_TRUE(fs::exists(calibrate)) << "build the calibrate target first";
+  ASSERT_TRUE(fs::exists(testing_support::WallcalPath())) << "build the wallcal target first";
+  const std::string calibrate = testing_support::ShellQuote(testing_support::WallcalPath()) + " calibrate";
   const CommandRun run = Capture(calibrate + " " + dir.string() + " --emit json --child-frame lms 2>/dev/null");
   ASSERT_EQ(run.status, 0) << run.out;
   Json j;

@@ -31,6 +31,7 @@
 #include "io/config/config_writer.h"
 #include "common/angles.h"
 #include "test/support/flow_names.h"
+#include "test/support/program_runner.h"
 #include "test/support/scratch_dir.h"
 
 namespace wallcal {
@@ -39,7 +40,6 @@ namespace wallcal {
 namespace {
 
 namespace fs = std::filesystem;
-const std::string kInspect = WALLCAL_BINARY_DIR "/inspect";
 const std::string kRealDir = WALLCAL_SOURCE_DIR "/../shared/testdata/real/";
 
 // An empty folder in this process's scratch folder, removed when the process ends.
@@ -72,29 +72,11 @@ struct ProgramRun {
   std::string err;  // stderr
 };
 
-// Runs the inspect program; stdout and stderr captured separately.
+// Runs `wallcal inspect ARGS` (ARGS as the shell splits them); stdout and stderr captured
+// separately.
 ProgramRun RunInspectProgram(const std::string& args) {
-  ProgramRun run;
-  // One file per process: ctest runs the tests of this file in parallel processes.
-  const fs::path err_file = fs::path(::testing::TempDir()) /
-                            ("inspect_test_stderr_" + std::to_string(::getpid()) + ".txt");
-  const std::string command = kInspect + " " + args + " 2>" + err_file.string();
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  char buffer[4096];
-  size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) run.out.append(buffer, n);
-  const int raw = ::pclose(pipe);
-  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  {
-    std::ifstream in(err_file);
-    std::stringstream text;
-    text << in.rdbuf();
-    run.err = text.str();
-  }
-  std::error_code ignored;
-  fs::remove(err_file, ignored);  // one per process: do not leave them in the temp folder
-  return run;
+  const testing_support::ProgramRun run = testing_support::RunWallcalLine("inspect", args);
+  return {run.exit_code, run.out, run.err};
 }
 
 std::vector<std::vector<std::string>> ParseCsv(const std::string& text, std::string* header) {

@@ -35,6 +35,7 @@
 #include "io/writers/writers.h"
 #include "io/output_file.h"
 #include "io/config/config_writer.h"
+#include "test/support/program_runner.h"
 
 namespace wallcal {
 namespace {
@@ -42,7 +43,6 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::string kSourceDir = WALLCAL_SOURCE_DIR;
-const std::string kBinaryDir = WALLCAL_BINARY_DIR;
 const std::string kSentinel = "# an offsets.yaml from an earlier, good run: must survive\nx: 1\n";
 
 std::string ReadText(const fs::path& path) {
@@ -118,30 +118,7 @@ std::string EditRange(const std::string& line, int beam, const std::string& valu
   return out;
 }
 
-struct RunResult {
-  bool exited = false;
-  int exit_code = -1;
-  int signal = 0;
-  std::string out, err;
-};
-
-// Runs `program args` with stdout and stderr to files (exec: a signal reaches the status).
-RunResult RunProgram(const std::string& program, const std::string& args, const fs::path& scratch) {
-  const fs::path out = scratch / "stdout.txt";
-  const fs::path err = scratch / "stderr.txt";
-  const std::string command =
-      "exec " + program + " " + args + " >" + out.string() + " 2>" + err.string();
-  const int status = std::system(command.c_str());
-  RunResult result;
-  result.exited = WIFEXITED(status);
-  result.exit_code = result.exited ? WEXITSTATUS(status) : -1;
-  result.signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
-  result.out = ReadText(out);
-  result.err = ReadText(err);
-  fs::remove(out);
-  fs::remove(err);
-  return result;
-}
+using RunResult = testing_support::ProgramRun;
 
 // A sanitizer report anywhere in the output is a failure even when the exit status looks right.
 void ExpectNoSanitizerReport(const RunResult& run, const std::string& what) {
@@ -214,8 +191,8 @@ TEST_P(BadSessionsTest, FailsCleanlyOrWarns) {
 
   std::string args = dir.string() + " --quiet " + bad.extra_args;
   for (size_t at; (at = args.find("{dir}")) != std::string::npos;) args.replace(at, 5, dir.string());
-  const RunResult run = RunProgram(kBinaryDir + "/calibrate", args, root_);
-  ASSERT_TRUE(run.exited) << bad.name << ": calibrate killed by signal " << run.signal << "\n"
+  const RunResult run = testing_support::RunWallcalLine("calibrate", args);
+  ASSERT_TRUE(run.exited()) << bad.name << ": calibrate killed by signal " << run.signal << "\n"
                           << run.err;
   ExpectNoSanitizerReport(run, bad.name + ": calibrate");
   EXPECT_EQ(run.exit_code, bad.exit_code) << "stdout:\n" << run.out << "stderr:\n" << run.err;
@@ -243,8 +220,8 @@ TEST_P(BadSessionsTest, FailsCleanlyOrWarns) {
   }
 
   // The pre-flight check must survive the same session.
-  const RunResult inspect = RunProgram(kBinaryDir + "/inspect", dir.string(), root_);
-  ASSERT_TRUE(inspect.exited) << bad.name << ": inspect killed by signal " << inspect.signal
+  const RunResult inspect = testing_support::RunWallcal({"inspect", dir.string()});
+  ASSERT_TRUE(inspect.exited()) << bad.name << ": inspect killed by signal " << inspect.signal
                               << "\n" << inspect.err;
   ExpectNoSanitizerReport(inspect, bad.name + ": inspect");
   EXPECT_GE(inspect.exit_code, 0);

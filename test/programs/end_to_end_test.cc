@@ -34,6 +34,7 @@
 #include "io/config/session_reader.h"
 #include "common/angles.h"
 #include "test/support/flow_names.h"
+#include "test/support/program_runner.h"
 #include "test/support/scratch_dir.h"
 
 namespace wallcal {
@@ -120,19 +121,16 @@ struct CommandRun {
   std::string out;
 };
 
+// Runs a shell command line (test/support/program_runner.h), stderr merged into out.
 CommandRun RunCommand(const std::string& command) {
-  CommandRun run;
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return run;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) run.out += buffer;
-  const int raw = ::pclose(pipe);
-  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return run;
+  testing_support::RunOptions options;
+  options.merge_stderr = true;
+  const testing_support::ProgramRun run = testing_support::RunShell(command, options);
+  return {run.exit_code, run.out};
 }
 
-const std::string kCalibrate = std::string(WALLCAL_BINARY_DIR) + "/calibrate";
-const std::string kSimulate = std::string(WALLCAL_BINARY_DIR) + "/simulate";
+const std::string kCalibrate = testing_support::ShellQuote(testing_support::WallcalPath()) + " calibrate";
+const std::string kSimulate = testing_support::ShellQuote(testing_support::WallcalPath()) + " simulate";
 
 // Parses "x = 2.5712 ± 0.0061 m" style numbers after a label in calibrate's summary.
 double Printed(const std::string& out, const std::string& label) {

@@ -25,6 +25,7 @@
 #include "io/writers/writers.h"
 #include "io/output_file.h"
 #include "io/config/config_writer.h"
+#include "test/support/program_runner.h"
 
 namespace wallcal {
 namespace {
@@ -32,14 +33,9 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kSample = fs::path(WALLCAL_SOURCE_DIR) / "samples" / "lms291-sapporo";
-// WALLCAL_PROGRAMS_DIR runs the same tests against other builds (e.g. an older main, to see
-// each test fail there).
-std::string ProgramsDir() {
-  const char* dir = std::getenv("WALLCAL_PROGRAMS_DIR");
-  return dir != nullptr && *dir != '\0' ? dir : WALLCAL_BINARY_DIR;
-}
-const std::string kCalibrate = ProgramsDir() + "/calibrate";
-const std::string kInspect = ProgramsDir() + "/inspect";
+// The program under test (test/support/program_runner.h: WALLCAL_PROGRAMS_DIR runs the same
+// tests against another build, e.g. an older main, to see each test fail there).
+const std::string kWallcal = testing_support::WallcalPath();
 
 std::string ReadText(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -59,31 +55,27 @@ void Replace(const fs::path& path, const std::string& from, const std::string& t
   WriteText(path, text);
 }
 
-std::string Quote(const std::string& text) {
-  std::string quoted = "'";
-  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
+std::string Quote(const std::string& text) { return testing_support::ShellQuote(text); }
 
 struct Outcome {
   int status = -1;  // exit code; 137 when `timeout` killed it (a hang)
   std::string out, err;
 };
 
-// Runs `program args` (args already shell-quoted) in `dir` with a 60 s limit.
+// Runs `program args` (args already shell-quoted) in `dir` with a 60 s limit; ENV is a shell
+// prefix of assignments ("LC_ALL=C").
 Outcome RunIn(const fs::path& dir, const std::string& program, const std::string& args,
-          const std::string& env = "") {
-  const fs::path out = dir / ".." / "stdout.txt";
-  const fs::path err = dir / ".." / "stderr.txt";
-  const std::string command = "cd " + Quote(dir.string()) + " && " + env + " timeout -s KILL 60 " +
-                              Quote(program) + " " + args + " >" + Quote(out.string()) + " 2>" +
-                              Quote(err.string()) + " </dev/null";
-  const int raw = std::system(command.c_str());
-  Outcome run;
-  if (WIFEXITED(raw)) run.status = WEXITSTATUS(raw);
-  run.out = ReadText(out);
-  run.err = ReadText(err);
-  return run;
+              const std::string& env = "") {
+  testing_support::RunOptions options;
+  options.cwd = dir.string();
+  options.timeout_s = 60;
+  const testing_support::ProgramRun run =
+      testing_support::RunShell(env + " exec " + Quote(program) + " " + args, options);
+  Outcome outcome;
+  outcome.status = run.timed_out ? 137 : run.exit_code;
+  outcome.out = run.out;
+  outcome.err = run.err;
+  return outcome;
 }
 
 class HostileInputTest : public ::testing::Test {
@@ -101,9 +93,9 @@ class HostileInputTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(root_); }
   Outcome Calibrate(const std::string& args, const std::string& env = "") {
-    return RunIn(session_, kCalibrate, args, env);
+    return RunIn(session_, kWallcal, "calibrate " + args, env);
   }
-  Outcome Inspect(const std::string& args) { return RunIn(session_, kInspect, args); }
+  Outcome Inspect(const std::string& args) { return RunIn(session_, kWallcal, "inspect " + args); }
   // No temporary file of an atomic write is left in the session folder.
   void ExpectNoTempFiles() {
     for (const auto& entry : fs::directory_iterator(session_)) {
@@ -566,9 +558,9 @@ TEST_F(HostileInputTest, TwoGigabyteSparseLogEndsWithAMessage) {
 }
 
 TEST_F(HostileInputTest, ConcurrentRunsLeaveOneWholeFile) {
-  const Outcome run = RunIn(session_, "/bin/sh",
-                            "-c " + Quote(Quote(kCalibrate) + " . & " + Quote(kCalibrate) +
-                                          " . & wait"));
+  const std::string calibrate = Quote(kWallcal) + " calibrate .";
+  const Outcome run =
+      RunIn(session_, "/bin/sh", "-c " + Quote(calibrate + " & " + calibrate + " & wait"));
   EXPECT_EQ(run.status, 0) << run.err;
   const std::string yaml = ReadText(session_ / "offsets.yaml");
   EXPECT_EQ(yaml.rfind("# Mount of the scanner", 0), 0u);

@@ -29,6 +29,7 @@
 #include "pipeline/calibration.h"
 #include "sim/recording_session.h"
 #include "sim/simulated_session.h"
+#include "test/support/program_runner.h"
 #include "test/support/scratch_dir.h"
 
 namespace wallcal {
@@ -83,18 +84,15 @@ struct CommandRun {
   std::string out;
 };
 
+// Runs a shell command line (test/support/program_runner.h), stderr merged into out.
 CommandRun RunCommand(const std::string& command) {
-  CommandRun run;
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return run;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) run.out += buffer;
-  const int raw = ::pclose(pipe);
-  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return run;
+  testing_support::RunOptions options;
+  options.merge_stderr = true;
+  const testing_support::ProgramRun run = testing_support::RunShell(command, options);
+  return {run.exit_code, run.out};
 }
 
-const std::string kCalibrate = std::string(WALLCAL_BINARY_DIR) + "/calibrate";
+const std::string kCalibrate = testing_support::ShellQuote(testing_support::WallcalPath()) + " calibrate";
 
 void ReplaceInFile(const fs::path& file, const std::string& from, const std::string& to) {
   std::ifstream in(file);
@@ -288,7 +286,7 @@ TEST(RecordingStreamsTest, EnuYawBecomesHeadingClockwiseFromNorth) {
 namespace wallcal {
 namespace {
 
-const std::string kInspect = std::string(WALLCAL_BINARY_DIR) + "/inspect";
+const std::string kInspect = testing_support::ShellQuote(testing_support::WallcalPath()) + " inspect";
 const std::string kRealRos1 = WALLCAL_SOURCE_DIR "/../shared/testdata/real/ros1";
 
 TEST(InspectRecordingTest, SuggestSessionOnTheRealBagsProposesScanAndFix) {

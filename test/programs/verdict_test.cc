@@ -1,5 +1,5 @@
-// The findings of a new user's trial, each at the program level: the real `calibrate` (and
-// `inspect`) on a copy of the bundled sample, changed to make the mistake. Checked: the exit
+// The findings of a new user's trial, each at the program level: the real `wallcal calibrate`
+// (and `wallcal inspect`) on a copy of the bundled sample, changed to make the mistake. Checked: the exit
 // status, the message, and which files are written or not.
 
 #include <gtest/gtest.h>
@@ -15,6 +15,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "common/sha256.h"
+#include "test/support/program_runner.h"
 #include "test/support/scratch_dir.h"
 
 namespace wallcal {
@@ -23,8 +24,8 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kSample = fs::path(WALLCAL_SOURCE_DIR) / "samples" / "lms291-sapporo";
-const std::string kCalibrate = std::string(WALLCAL_BINARY_DIR) + "/calibrate";
-const std::string kInspect = std::string(WALLCAL_BINARY_DIR) + "/inspect";
+const std::string kCalibrate = testing_support::ShellQuote(testing_support::WallcalPath()) + " calibrate";
+const std::string kInspect = testing_support::ShellQuote(testing_support::WallcalPath()) + " inspect";
 
 std::string ReadText(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -45,22 +46,11 @@ void Replace(const fs::path& path, const std::string& from, const std::string& t
   WriteText(path, text);
 }
 
-struct RunOut {
-  int exit_code = -1;
-  std::string out, err;
-};
+using RunOut = testing_support::ProgramRun;
 
-RunOut Exec(const std::string& program, const std::string& args, const fs::path& scratch) {
-  const fs::path out = scratch / "stdout.txt", err = scratch / "stderr.txt";
-  const int status = std::system(("exec " + program + " " + args + " >" + out.string() + " 2>" +
-                                  err.string()).c_str());
-  RunOut run;
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  run.out = ReadText(out);
-  run.err = ReadText(err);
-  fs::remove(out);
-  fs::remove(err);
-  return run;
+// Runs `program args` as the shell splits them.
+RunOut Exec(const std::string& program, const std::string& args) {
+  return testing_support::RunShell("exec " + program + " " + args);
 }
 
 // A fresh copy of the sample (without an offsets.yaml) in its own folder, in this process's
@@ -84,14 +74,14 @@ bool Has(const std::string& text, const std::string& part) {
 TEST(VerdictTest, EmitsOneTreeAndSaysWhenTheHeightIsUnknown) {
   const fs::path dir = Copy("tree");
   std::ofstream(dir / "session.yaml", std::ios::app) << "antenna_in_base: {x: -0.4, y: 0.0, z: 2.1}\n";
-  const RunOut tf = Exec(kCalibrate, dir.string() + " --emit ros2-static-tf --quiet", dir);
+  const RunOut tf = Exec(kCalibrate, dir.string() + " --emit ros2-static-tf --quiet");
   ASSERT_EQ(tf.exit_code, 0) << tf.err;
   EXPECT_TRUE(Has(tf.out, "--frame-id base_link --child-frame-id gnss_antenna")) << tf.out;
   EXPECT_TRUE(Has(tf.out, "--frame-id gnss_antenna --child-frame-id laser")) << tf.out;
   EXPECT_FALSE(Has(tf.out, "--frame-id base_link --child-frame-id laser")) << tf.out;
   EXPECT_TRUE(Has(tf.out, "# gnss_antenna -> laser: z = 0: the scanner's height")) << tf.out;
 
-  const RunOut urdf = Exec(kCalibrate, dir.string() + " --emit urdf --quiet", dir);
+  const RunOut urdf = Exec(kCalibrate, dir.string() + " --emit urdf --quiet");
   ASSERT_EQ(urdf.exit_code, 0) << urdf.err;
   EXPECT_EQ(urdf.out.rfind("<?xml version=\"1.0\"?>\n", 0), 0u) << urdf.out;
   EXPECT_TRUE(Has(urdf.out, "<robot name=\"wallcal_mount\">")) << urdf.out;
@@ -102,16 +92,16 @@ TEST(VerdictTest, EmitsOneTreeAndSaysWhenTheHeightIsUnknown) {
   const fs::path urdf_file = dir / "mount.urdf";
   WriteText(urdf_file, urdf.out);
   // check_urdf (liburdfdom-tools) when installed; otherwise xmllint's well-formedness check.
-  if (std::system("command -v check_urdf >/dev/null 2>&1") == 0) {
-    const RunOut check = Exec("check_urdf", urdf_file.string(), dir);
+  if (testing_support::RunShell("command -v check_urdf").exit_code == 0) {
+    const RunOut check = Exec("check_urdf", urdf_file.string());
     EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
-  } else if (std::system("command -v xmllint >/dev/null 2>&1") == 0) {
-    EXPECT_EQ(Exec("xmllint", "--noout " + urdf_file.string(), dir).exit_code, 0);
+  } else if (testing_support::RunShell("command -v xmllint").exit_code == 0) {
+    EXPECT_EQ(Exec("xmllint", "--noout " + urdf_file.string()).exit_code, 0);
   }
 
   // With the height in session.yaml it is used and the note goes away.
   Replace(dir / "session.yaml", "  time_offset_s: 0\n", "  time_offset_s: 0\n  z_m: -0.85\n");
-  const RunOut known = Exec(kCalibrate, dir.string() + " --emit ros2-static-tf --quiet", dir);
+  const RunOut known = Exec(kCalibrate, dir.string() + " --emit ros2-static-tf --quiet");
   ASSERT_EQ(known.exit_code, 0) << known.err;
   EXPECT_TRUE(Has(known.out, "--z -0.85 ")) << known.out;
   EXPECT_FALSE(Has(known.out, "z = 0")) << known.out;
@@ -120,7 +110,7 @@ TEST(VerdictTest, EmitsOneTreeAndSaysWhenTheHeightIsUnknown) {
 // Finding 2: the closed form writes no σ, and says so.
 TEST(VerdictTest, ClosedFormWritesNoSigmaAndAWarning) {
   const fs::path dir = Copy("barawid");
-  const RunOut run = Exec(kCalibrate, dir.string() + " --method barawid --quiet", dir);
+  const RunOut run = Exec(kCalibrate, dir.string() + " --method barawid --quiet");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_TRUE(Has(run.out, "no sigma")) << run.out;
   EXPECT_TRUE(Has(run.out, "verdict    REVIEW")) << run.out;
@@ -136,16 +126,16 @@ TEST(VerdictTest, WrongPresetIsRefusedNamingBoth) {
   for (const std::string& model : {std::string("hokuyo_urg04lx"), std::string("sick_lms200")}) {
     const fs::path dir = Copy("preset_" + model);
     Replace(dir / "session.yaml", "model: sick_lms291", "model: " + model);
-    const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+    const RunOut run = Exec(kCalibrate, dir.string() + " --quiet");
     EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
     EXPECT_TRUE(Has(run.err, "scanner.model '" + model + "' does not fit")) << run.err;
     EXPECT_TRUE(Has(run.err, model == "sick_lms200" ? "maximum range 8.18 m" : "181 beams"))
         << run.err;
     EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
-    const RunOut inspect = Exec(kInspect, dir.string(), dir);
+    const RunOut inspect = Exec(kInspect, dir.string());
     EXPECT_FALSE(Has(inspect.out, "VERDICT: enough data")) << inspect.out;
     EXPECT_TRUE(Has(inspect.out, "does not fit")) << inspect.out;
-    const RunOut forced = Exec(kCalibrate, dir.string() + " --quiet --force", dir);
+    const RunOut forced = Exec(kCalibrate, dir.string() + " --quiet --force");
     if (forced.exit_code == 0) {
       EXPECT_TRUE(Has(ReadText(dir / "offsets.yaml"), "FORCED: scanner.model"));
     }
@@ -157,7 +147,7 @@ TEST(VerdictTest, SurveyFarFromTheTrackIsASurveyMistake) {
   const fs::path dir = Copy("far");
   Replace(dir / "session.yaml", "lat: 43.07129002690411", "lat: 43.17129002690411");
   Replace(dir / "session.yaml", "lat: 43.07128991302616", "lat: 43.17128991302616");
-  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet");
   EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
   EXPECT_TRUE(Has(run.err, "the GNSS track passes no closer than")) << run.err;
   EXPECT_TRUE(Has(run.err, "control points")) << run.err;
@@ -169,12 +159,12 @@ TEST(VerdictTest, MountGuessToleranceRefusesAGrossError) {
   const fs::path dir = Copy("guess");
   Replace(dir / "session.yaml", "  time_offset_s: 0\n",
           "  time_offset_s: 0\n  mount_guess: {x: 2.0, y: 0.05, yaw_deg: 2.8, tolerance_m: 0.2}\n");
-  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet");
   EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
   EXPECT_TRUE(Has(run.err, "from scanner.mount_guess")) << run.err;
   EXPECT_TRUE(Has(run.err, "tolerance_m 0.200 m")) << run.err;
   EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
-  const RunOut forced = Exec(kCalibrate, dir.string() + " --quiet --force", dir);
+  const RunOut forced = Exec(kCalibrate, dir.string() + " --quiet --force");
   EXPECT_EQ(forced.exit_code, 0) << forced.err;
   EXPECT_TRUE(Has(forced.out, "verdict    REJECT")) << forced.out;
 }
@@ -183,7 +173,7 @@ TEST(VerdictTest, MountGuessToleranceRefusesAGrossError) {
 TEST(VerdictTest, SigmaRefusalFollowsTheDominantTermAndCountsTheScans) {
   const fs::path dir = Copy("sigma");
   WriteText(dir / "strict.yaml", "solver: {max_sigma_xy_m: 0.01}\n");
-  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "strict.yaml").string(), dir);
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "strict.yaml").string());
   EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
   EXPECT_TRUE(Has(run.err, "of its variance comes from the")) << run.err;
   EXPECT_FALSE(Has(run.err, "turned ≥ 30°")) << run.err;
@@ -196,13 +186,13 @@ TEST(VerdictTest, SigmaRefusalFollowsTheDominantTermAndCountsTheScans) {
 TEST(VerdictTest, FrameNamesAreValidatedAndWritten) {
   const fs::path dir = Copy("frames");
   const RunOut run =
-      Exec(kCalibrate, dir.string() + " --quiet --parent-frame gps --child-frame laser_front", dir);
+      Exec(kCalibrate, dir.string() + " --quiet --parent-frame gps --child-frame laser_front");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const YAML::Node doc = YAML::LoadFile((dir / "offsets.yaml").string());
   EXPECT_EQ(doc["scanner_mount"]["parent_frame"].as<std::string>(), "gps");
   EXPECT_EQ(doc["scanner_mount"]["child_frame"].as<std::string>(), "laser_front");
   fs::remove(dir / "offsets.yaml");
-  const RunOut bad = Exec(kCalibrate, dir.string() + " --child-frame /laser", dir);
+  const RunOut bad = Exec(kCalibrate, dir.string() + " --child-frame /laser");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_TRUE(Has(bad.err, "leading slash")) << bad.err;
   EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
@@ -211,7 +201,7 @@ TEST(VerdictTest, FrameNamesAreValidatedAndWritten) {
 // Finding 7: provenance, and no names of files a user does not have.
 TEST(VerdictTest, OffsetsCarryProvenanceAndNoInternalNames) {
   const fs::path dir = Copy("provenance");
-  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_FALSE(Has(run.out, "seed")) << run.out;
   const std::string text = ReadText(dir / "offsets.yaml");
@@ -222,8 +212,10 @@ TEST(VerdictTest, OffsetsCarryProvenanceAndNoInternalNames) {
   EXPECT_TRUE(std::regex_match(source["created_utc"].as<std::string>(),
                                std::regex(R"(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ)")));
   EXPECT_FALSE(source["tool_version"].as<std::string>().empty());
-  ASSERT_GE(source["command_line"].size(), 2u);
-  EXPECT_EQ(source["command_line"][1].as<std::string>(), dir.string());
+  ASSERT_GE(source["command_line"].size(), 3u);
+  EXPECT_EQ(source["command_line"][0].as<std::string>(), "wallcal");
+  EXPECT_EQ(source["command_line"][1].as<std::string>(), "calibrate");
+  EXPECT_EQ(source["command_line"][2].as<std::string>(), dir.string());
   int hashed = 0;
   for (const YAML::Node& input : source["inputs"]) {
     const std::string path = input["path"].as<std::string>();
@@ -243,12 +235,12 @@ TEST(VerdictTest, OffsetsCarryProvenanceAndNoInternalNames) {
 // Finding 9: the verdict, the change since a previous calibration, the report's top.
 TEST(VerdictTest, VerdictCompareAndReportTop) {
   const fs::path dir = Copy("compare");
-  const RunOut first = Exec(kCalibrate, dir.string() + " --quiet --output " + (dir / "previous.yaml").string(), dir);
+  const RunOut first = Exec(kCalibrate, dir.string() + " --quiet --output " + (dir / "previous.yaml").string());
   ASSERT_EQ(first.exit_code, 0) << first.err;
   EXPECT_TRUE(Has(first.out, "  verdict    ")) << first.out;
   EXPECT_TRUE(Has(first.out, "σ budget")) << first.out;
   // The same data again: no change.
-  const RunOut same = Exec(kCalibrate, dir.string() + " --quiet --compare " + (dir / "previous.yaml").string(), dir);
+  const RunOut same = Exec(kCalibrate, dir.string() + " --quiet --compare " + (dir / "previous.yaml").string());
   ASSERT_EQ(same.exit_code, 0) << same.err;
   EXPECT_TRUE(Has(same.out, "change     since")) << same.out;
   EXPECT_TRUE(Has(same.out, "x +0.0 mm, y +0.0 mm")) << same.out;
@@ -258,7 +250,7 @@ TEST(VerdictTest, VerdictCompareAndReportTop) {
   WriteText(dir / "lenient.yaml", "acceptance: {max_sigma_xy_m: 0.05, max_sigma_yaw_deg: 1.0}\n");
   const RunOut moved = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "lenient.yaml").string() +
                                          " --compare " + (dir / "previous.yaml").string() +
-                                         " --report " + (dir / "report").string(), dir);
+                                         " --report " + (dir / "report").string());
   ASSERT_EQ(moved.exit_code, 0) << moved.err;
   EXPECT_TRUE(Has(moved.out, "verdict    REVIEW")) << moved.out;
   EXPECT_TRUE(Has(moved.out, "since " + (dir / "previous.yaml").string())) << moved.out;
@@ -280,7 +272,7 @@ TEST(VerdictTest, VerdictCompareAndReportTop) {
 
   // Bootstrap off: no "bootstrap (0)".
   WriteText(dir / "noboot.yaml", "solver: {bootstrap_samples: 0}\n");
-  const RunOut noboot = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "noboot.yaml").string(), dir);
+  const RunOut noboot = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "noboot.yaml").string());
   ASSERT_EQ(noboot.exit_code, 0) << noboot.err;
   EXPECT_FALSE(Has(noboot.out, "bootstrap (0)")) << noboot.out;
 }
@@ -306,7 +298,7 @@ TEST(VerdictTest, MirroredSurveyWithTwoControlPointsPointsAtTheSurvey) {
            line.substr(a + 1, b - a - 1) + line.substr(c) + "\n";
   }
   WriteText(dir / "survey.csv", out);
-  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet", dir);
+  const RunOut run = Exec(kCalibrate, dir.string() + " --quiet");
   EXPECT_NE(run.exit_code, 0) << run.out;
   EXPECT_TRUE(Has(run.err, "survey")) << run.err;
   EXPECT_TRUE(Has(run.err, "swapped")) << run.err;
