@@ -194,11 +194,11 @@ std::string ReportBuilder::ResidualsSection() {
   const analysis::ResidualAnalysis& ra = r_.residual_analysis;
   const std::vector<double>& res = r_.estimate.residual_rho_m;
   const size_t n = res.size();
-  // Thin very long sessions so the page stays small (every k-th observation).
-  const size_t stride = n > 4000 ? n / 4000 + 1 : 1;
   std::vector<ObservationAxes> axes;
   std::vector<double> res_mm;
-  for (size_t i = 0; i < n; i += stride) {
+  axes.reserve(n);
+  res_mm.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
     const calib::WallObservation& o = r_.observations[i];
     axes.push_back(AxesOf(o, r_.walls[o.wall_index], mount_));
     res_mm.push_back(res[i] * 1000.0);
@@ -215,9 +215,9 @@ std::string ReportBuilder::ResidualsSection() {
   std::sort(sorted.begin(), sorted.end());
   if (!sorted.empty()) lim = std::max(lim, 1.1 * sorted[static_cast<size_t>(0.995 * (sorted.size() - 1))]);
   s << "<p>Distance residual of each observation (observed &#8722; adjusted wall line, mm; "
-    << N(static_cast<int64_t>(n)) << " observations"
-    << (stride > 1 ? ", every " + N(static_cast<int64_t>(stride)) + "th shown" : std::string())
-    << ") against what a systematic error would show up in (Hartzell, Glennie et al., Fig. 6). Each observation's "
+    << N(static_cast<int64_t>(n)) << " observations: every one beyond the band in red (those at the "
+       "same pixel drawn once); of those inside it, one dot per dot-sized cell of the plot, so that the page stays small whatever "
+       "the session's length) against what a systematic error would show up in (Hartzell, Glennie et al., Fig. 6). Each observation's "
        "range and incidence are those of its characteristic beam: the beam at the middle of its "
        "inliers' range span. Dashed: "
     << band_name << ".</p>\n<div class=\"flex\">\n";
@@ -246,10 +246,16 @@ std::string ReportBuilder::ResidualsSection() {
     plot.Line(box.x0, 0, box.x1, 0, "#666", 1);
     plot.Line(box.x0, band_mm, box.x1, band_mm, kOrange, 1, "5 3");
     plot.Line(box.x0, -band_mm, box.x1, -band_mm, kOrange, 1, "5 3");
+    // Inliers thinned to one dot per cell (svg_plot.h DotCloud), drawn first; every outlier
+    // drawn on top of them.
+    std::vector<Eigen::Vector2d> inliers, outliers;
     for (size_t i = 0; i < axes.size(); ++i) {
-      const double y = std::clamp(res_mm[i], -lim, lim);
-      plot.Dot(axes[i].*(axis.field), y, 1.8, std::fabs(res_mm[i]) > band_mm ? kRed : kBlue);
+      const Eigen::Vector2d p(axes[i].*(axis.field), std::clamp(res_mm[i], -lim, lim));
+      (std::fabs(res_mm[i]) > band_mm ? outliers : inliers).push_back(p);
     }
+    constexpr double kDotRadiusPx = 1.8;
+    plot.DotCloud(inliers, kDotRadiusPx, kBlue, 2.0 * kDotRadiusPx);
+    plot.DotCloud(outliers, kDotRadiusPx, kRed, 1.0);
     std::string caption;
     if (ra.done) {
       for (const analysis::ResidualTrend& t : ra.trends) {
