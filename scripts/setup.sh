@@ -1,9 +1,15 @@
 #!/usr/bin/env bash
-# README command 1: install what is missing, build, and calibrate the bundled sample session.
+# SPDX-License-Identifier: Apache-2.0
+# README command 1: install what is missing, build what `wallcal calibrate` needs (the wallcal
+# target and its configs: no tests, no benchmarks) and calibrate the bundled sample session.
+# ccache is used when found. scripts/test.sh then builds the tests in the same build/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo
-cmake --build build -j2
+launcher=()
+if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWALLCAL_WERROR="${WALLCAL_WERROR:-ON}" \
+  "${launcher[@]}"
+cmake --build build -j"${JOBS:-2}" --target wallcal
 ./build/wallcal calibrate samples/lms291-sapporo --output build/sample-offsets.yaml
-echo "setup: offsets written to build/sample-offsets.yaml; programs are in build/"
+echo "setup: offsets written to build/sample-offsets.yaml; the program is build/wallcal"

@@ -1,8 +1,13 @@
 #!/usr/bin/env bash
-# README command 2: build with warnings as errors and run the whole test suite under ctest.
+# SPDX-License-Identifier: Apache-2.0
+# README command 2: build everything (tests and benchmarks, warnings as errors) in build/ and run
+# the whole test suite under ctest. After scripts/setup.sh only the tests are left to compile.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWALLCAL_WERROR=ON
-cmake --build build -j2
-ctest --test-dir build --output-on-failure -j2
+launcher=()
+if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWALLCAL_WERROR="${WALLCAL_WERROR:-ON}" \
+  "${launcher[@]}"
+cmake --build build -j"${JOBS:-2}"
+ctest --test-dir build --output-on-failure -j"${JOBS:-2}"
