@@ -1,7 +1,7 @@
 #pragma once
 // Synthesises a wall-calibration session with known truth: scans, GNSS fixes, headings, a
 // total-station survey and RTK control points, as a field crew would log them (Barawid 2007 set-up).
-// Plain structs out; writing files is io/'s job (apps/simulate_main.cc).
+// Plain structs out; writing files is io/'s job (apps/simulate_command.cc).
 //
 // Frames and units:
 // - Physics happens in the site's local ENU tangent plane (GeographicLib::LocalCartesian at
