@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What the mount's σ is made of: how much of the variance of x, y and yaw comes from each error
 // source of the adjustment's error model. Method (docs/method.md, "Error budget"): the

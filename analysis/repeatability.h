@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // How much the mount moves when the session is split or resampled ("how do I know it is
 // right?"): the Ceres adjustment re-run on

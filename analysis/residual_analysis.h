@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The residual analysis of an adjustment against surveyed surfaces applied to the mount adjustment: after the solve, the distance
 // residuals (observed − predicted rho, metres) are examined for their robust spread, their

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // accuracy_bench: issue 3 §1 and §4. For each scenario, simulates N sessions (seeds first..
 // first+N−1), calibrates each with --method ceres and --method barawid through the public
 // pipeline (apps::WriteSimulatedSession, apps::RunCalibration), and compares per axis (x, y,

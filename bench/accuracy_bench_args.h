@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // accuracy_bench's scenarios (docs/results.md, (a) ...) and its command line.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # characterise's honesty over seeds: for each characterisation scenario, SEEDS simulated
 # sessions (seeds 1..SEEDS), characterise on each, and RMS((estimate − truth) / reported σ) of
 # k, b and the noise σ (honest σ: 0.8–1.25). Printed: the RMS over all seeds with the 90 %

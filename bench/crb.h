@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The Cramér–Rao bound of the scanner mount (x, y, yaw) for a simulated session, from the
 // simulator's own noise model (calib/simulator.h, configs/simulate/bench_*.yaml). Used by

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The floor of the speed benchmark (bench/speed_bench.sh): the least any program must spend to
 // read a CARMEN scan log, measured on the same file in the same run as calibrate. One thread,
 // the C library only: getline for each line, strtod for every whitespace-separated field that

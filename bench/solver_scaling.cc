@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // solver_scaling: how long the joint Ceres adjustment (solve + mount covariance) takes as the
 // number of wall observations grows, up to an hour of LMS 291 scans at 75 Hz (270 000
 // observations) in 100 GNSS segments. Synthetic observations (no scans, no files): stations

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Speed benchmark: simulate -> calibrate on LMS 291 sessions of growing length, against the
 # floor of reading the same scan log (bench/parse_floor: getline + strtod, one thread),
 # measured in the same run. Prints a markdown table (docs/results.md, "Speed").

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The observation finder: one pass over the scans that turns each scan into wall observations.
 // For every scan it takes the vehicle pose at the scan's time, predicts where each surveyed wall

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // WGS84 <-> UTM and the session's local ground frame (see LocalFrame in calib/observation.h).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "calib/gnss_epoch_time.h"
 
 #include <algorithm>

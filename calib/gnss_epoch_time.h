@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // GNSS time from the receiver's own epoch (issue 16, item 1). A logger stamps each GGA when it
 // arrives: epoch + receiver/serial latency + a jitter of a few ms, on the logger's clock. The

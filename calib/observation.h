@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What calib/ hands to solvers/: the surveyed walls and, per scan, the wall line the scanner saw
 // together with the vehicle pose at that instant. All in the session's local ground frame:

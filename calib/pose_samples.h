@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // GNSS fixes and headings as the pose interpolator's samples (calib/time_alignment.h): fixes of
 // accepted quality as local positions, headings as vehicle yaws in the local frame.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The scanner's range model: one logged scan (raw ranges, error codes and no-returns still in
 // place) -> corrected points in the scanner frame, ready for the wall detector.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "calib/survey_tie.h"
 
 #include <Eigen/Eigenvalues>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Putting the total-station survey into the session's local ground frame (the "tie"), and the
 // surveyed walls as lines in that frame.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The vehicle pose at any instant (scan times) from the GNSS position and heading streams, and
 // the stations (dwells) where the vehicle stood still.

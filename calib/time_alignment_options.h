@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Pose interpolation and dwell detection options (`alignment:` in configs/calibrate.yaml) and
 // their YAML keys. Angles are radians here and degrees in the file.

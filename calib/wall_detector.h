@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Finds the surveyed wall as a straight line in one scan (Barawid 2007 §III.1, Eq. 2–3: the Hough
 // transform r = x cos θ + y sin θ), improved: the accumulator covers only the gate predicted

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The wall detector's options (`detector:` in configs/calibrate.yaml) and their YAML keys.
 // Angles are radians here and degrees in the file (keys ending in _deg).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "calib/wall_geometry.h"
 
 #include <cmath>

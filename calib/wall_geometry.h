@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A surveyed wall line seen from one vehicle pose and a scanner mount: what the wall detector's
 // gates predict and what both mount solvers compare observations with. All in the session's

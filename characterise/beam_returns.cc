@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Beams paired with their true ranges (characterise/beam_returns.h).
 
 #include "characterise/beam_returns.h"

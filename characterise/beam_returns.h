@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Every beam of the standing scans paired with the surveyed wall it should hit: the true range
 // from the station's pose, the mount and the wall line (calib/observation.h frames). Internal to

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The characterisation run (characterise/characterisation.h): calibrate's steps, the beams, the
 // fit, the statistics, the refusals and the measured preset.
 

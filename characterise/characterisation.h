@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // characterise: the scanner itself measured on a wall session. A surveyed wall seen from known
 // poses is the motion table of Ye & Borenstein 2002 and Okubo, Ye & Borenstein 2009: every beam

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The --report plots: range error against true range, incidence and time, as in Ye &
 // Borenstein 2002 (Fig. 5-7) and Okubo, Ye & Borenstein 2009 (error against distance and
 // incidence, drift against time).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The range model's fit (characterise/range_fit.h).
 
 #include "characterise/range_fit.h"

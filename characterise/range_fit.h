@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The range model fitted to the wall returns (Ye & Borenstein 2002; Okubo, Ye & Borenstein 2009,
 // whose straight-line fit of measured against true distance this is, with the true distance

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Quantum, noise growth, incidence limit and mixed pixels (characterise/scanner_stats.h).
 
 #include "characterise/scanner_stats.h"

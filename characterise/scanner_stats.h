@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What the wall returns say about the scanner beyond its range model: the range quantum, the
 // noise's growth with range and incidence, the incidence limit and the mixed pixels at the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The stdout summary of a characterisation (characterise/characterisation.h).
 
 #include <sstream>

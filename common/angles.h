@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Angles: the one home for π, degree/radian factors and angle normalisation. Inside wallcal every
 // angle is in radians; degrees appear only at the edges (files, YAML, printed text), converted

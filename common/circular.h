@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Circular statistics of angles (rad): the mean direction and the extent of a set of angles
 // about it, for headings that straddle north and relative angles that straddle ±180°.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Number formatting for people and for the YAML/HTML writers: one printf-style helper, so that
 // every program prints a number the same way.

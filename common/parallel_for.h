@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Runs fn(0) .. fn(n - 1) over up to `threads` threads (the calling thread is one of them).
 // Each index runs exactly once; the callers write their results into slot i, so the outcome

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SHA-256 through OpenSSL's EVP digest interface (libcrypto), which picks the CPU's SHA
 // instructions at run time.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // SHA-256 (FIPS 180-4) of bytes and of files, for the provenance of offsets.yaml: which input
 // files a calibration was computed from. Computed by OpenSSL's libcrypto (Debian libssl-dev),

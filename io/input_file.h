@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Reading input files with bounded resources (docs/session-format.md, "Limits").
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Output files that never destroy anything but an earlier output (docs/field-guide.md,
 // "Outputs").

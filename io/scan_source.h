@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A stream of scans, whatever holds them (a CARMEN text log today; a robot recording's
 // LaserScan topic beside it). Downstream code reads scans through this and never knows the

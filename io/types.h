@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Plain records read from (or written to) a logged session. No behaviour here: io/ fills these
 // structs from files, calib/ turns them into observations. Units are in every name; angles are

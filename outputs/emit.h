@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The calibrated mount in the forms navigation stacks read: a ROS 2
 // static_transform_publisher command line, a URDF <joint>, and a JSON object.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // offsets.yaml's content for a calibration result (io/writers.h formats and writes it).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // calibrate --report DIR: one self-contained HTML page (DIR/report.html) that shows what the
 // calibration saw and concluded. Plots are inline SVG (outputs/svg_plot.h); the page has no

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The report page's builder and its drawing helpers, shared by outputs/report.cc (the page, the
 // mount, the site map and the counts) and outputs/report_panels.cc (scans, Hough accumulator,

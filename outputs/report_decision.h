@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The top of the report: the decision section (verdict with its reasons, the error budget, the
 // change since the previous calibration, the error against truth.yaml when known). Internal to

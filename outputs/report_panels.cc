@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The report's data panels (outputs/report_builder.h): scans in the scanner frame, the Hough
 // accumulator, residuals and heading coverage.
 

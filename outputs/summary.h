@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The human summary calibrate prints: counts, the mount with its σ, the analysis, warnings.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A small SVG plotting component for the report: a data rectangle mapped onto a pixel box with
 // axes, ticks, clipping, markers and a legend; the output is XML-clean text (escaped, every

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Everything configs/calibrate.yaml sets: each module's options (declared beside the module)
 // and the verdict's tolerances (`acceptance:`), read strictly from YAML.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A whole calibration run as one library call, so that the programs, the tests and another
 // program (a ROS node) run the same steps in-process:

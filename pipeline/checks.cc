@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The mistake checks of pipeline/checks.h. The thresholds are generous on purpose: each check
 // is for a gross mistake (a wrong preset, a mirrored or misplaced survey, a wrong sign on the
 // tape), never for the noise of a good session.

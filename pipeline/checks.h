@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Checks that catch a user's mistakes before (or right after) the estimate, and name the cause:
 // a scanner preset that does not fit the data, a survey that cannot be where the GNSS track is,

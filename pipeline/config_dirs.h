@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Where the shipped scanner presets and default configs are found. In order:
 //   $WALLCAL_CONFIG_DIR (when set and not empty);

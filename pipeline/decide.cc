@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The last steps of a run (pipeline/steps.h): the closed form's σ, the mount-guess check, the
 // error budget with the refusal advice it supports, and the verdict with its provenance.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CollectReportData (pipeline/steps.h): what the report shows beyond the result, gathered from
 // what the run already read and one pass over the scans the report draws.
 

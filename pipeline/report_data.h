@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What the HTML report shows beyond the calibration result, collected during the run (from the
 // inputs the run already read, and one extra pass over the scans the report draws), so that the

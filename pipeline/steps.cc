@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The steps of a calibration run (pipeline/steps.h).
 
 #include <algorithm>

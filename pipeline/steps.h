@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The steps RunCalibration takes, one function each (pipeline/calibration.cc strings them
 // together). Internal to pipeline/.

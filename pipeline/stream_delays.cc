@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "pipeline/stream_delays.h"
 
 namespace wallcal::pipeline {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The scanner clock offset and the heading delay as the run reports them: the value, its σ,
 // and whether the data determine it (pipeline::StreamDelay, docs/time-alignment.md).

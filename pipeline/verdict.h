@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The decision a field engineer acts on: ACCEPT, REVIEW or REJECT against the tolerances of
 // `acceptance:` (pipeline::AcceptanceOptions), with the reasons; the change since the previous

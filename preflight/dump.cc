@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // inspect --dump: the decoded records of one log as CSV.
 #include <algorithm>
 #include <optional>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // inspect: the pre-flight check of a session (or of one log file) and the CSV dumps of the
 // decoded records. Read-only: nothing is written but the report / dump stream.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What the inspect files share (not part of the public preflight API): text formatting of the
 // report, the scan-log summary and the per-stream statistics helpers.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The report on one log file (InspectLogFile) and the scan-log summary it and the session
 // report share.
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Recognising a log by its content (SniffLogKind) and the path checks of inspect.
 #include <zlib.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // inspect on a robot recording: every topic's type, count, rate, span and gaps, the statistics
 // of the supported types, the suggested session.yaml, and the dumps of one topic.
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Text formatting shared by the inspect reports: numbers, stamps, heading histograms, stream
 // statistics.
 #include <algorithm>

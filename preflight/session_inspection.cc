@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The pre-flight check of a whole session (InspectSession): preset, logs (session_logs.cc),
 // survey, stations, wall detection by the calibration pipeline itself, and the verdict.
 #include <algorithm>

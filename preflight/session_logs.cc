@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The "logs" part of a session's inspection: each stream's statistics, its skipped lines, and
 // their overlap in time.
 #include <sstream>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Time statistics of one stream of stamps, and of the NMEA streams (fixes, headings).
 #include <cmath>
 #include <sstream>

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Builds the libFuzzer targets (one per reader, test/fuzz/) with clang into build-fuzz/ and runs
 # each for FUZZ_SECONDS (default 60) with AddressSanitizer + UndefinedBehaviorSanitizer.
 # Seeds: test/fuzz/corpus/<target>/, the bundled sample session, configs/, the bad-session corpus

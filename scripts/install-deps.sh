@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Installs the Debian 12 packages wallcal builds with, if any is missing. Needs root (or sudo).
 # Usage: install-deps.sh [fuzz] [bench]
 #   fuzz: also clang with its libFuzzer/sanitizer runtimes (scripts/fuzz.sh);

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Builds everything with AddressSanitizer + UndefinedBehaviorSanitizer (g++, -DWALLCAL_SANITIZE=ON)
 # into build-asan/ and runs the whole ctest suite under it. Any sanitizer report fails the run:
 # UBSan halts on the first error (-fno-sanitize-recover), LeakSanitizer reports leaks at exit.

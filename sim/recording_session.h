@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // simulate --format: the simulated session as a robot recording instead of text logs.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The simulator's scene (surveyed walls, an unsurveyed wall, trees) and its ray casting, and the
 // scanner's range model (Ye & Borenstein 2002; Okubo, Ye & Borenstein 2009: z = Int(n·y + c + ξ)).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The simulator's settings (configs/simulate/*.yaml, and truth.yaml's `simulation:`): the site,
 // the true mount, walls and clutter, the trajectory, the sensors' noise and delays. Defaults at

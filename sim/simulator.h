@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Synthesises a wall-calibration session with known truth: scans, GNSS fixes, headings, a
 // total-station survey and RTK control points, as a field crew would log them (Barawid 2007 set-up).

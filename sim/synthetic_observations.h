@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The one fixture of synthetic wall observations shared by the solver tests and the benchmarks:
 // stations in front of a surveyed wall (y = 10 m, x from −10 to 10; optionally a second wall

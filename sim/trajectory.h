@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The simulator's random streams and the vehicle's planned trajectory (stations facing the wall,
 // drives and turns between them). Internal to sim/.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Barawid 2007's closed form (Barawid et al. 2007, §III.2(2), Eq. 8-16), kept as published for
 // comparison with the joint adjustment: the wall and the GNSS positions are taken as exact, every
 // scan as an independent measurement, and no observation is down-weighted.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The joint mount adjustment: Barawid 2007's wall geometry (Eq. 8-10) written as one least-squares
 // problem over every scan, with the things Barawid 2007 treats as exact made uncertain instead:
 // the surveyed wall lines (offset and direction) and the RTK-GNSS error that is common to all

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The one information / covariance path of the adjustment. Everything that needs the mount's
 // uncertainty (its σ, the observability checks, the refits of the repeatability analysis) takes

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Building the mount adjustment as a Ceres problem (solvers/mount_problem.h): the noise model
 // of each observation, the joint prior of the walls, the GNSS-error chain, the heading offsets.
 // Solving it is solvers/ceres_solver.cc.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The joint mount adjustment as a Ceres problem, built apart from solving it.
 // SolveMountCeres (mount_solver.h) is CheckObservability + BuildMountProblem + SolveMountProblem

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Estimating the scanner mount (vehicle_T_scanner = [x_m, y_m, yaw_rad]) from wall
 // observations. Two methods on the same observations:

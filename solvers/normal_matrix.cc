@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "solvers/normal_matrix.h"
 
 #include <ceres/cost_function.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The Gauss–Newton normal matrix JᵀJ of a Ceres problem at its current values, accumulated
 // residual block by residual block: nothing the size of the Jacobian is ever stored (an

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Checks, before any solve, whether a set of wall observations can determine the mount at all.
 // Both solvers run these same checks, so that they refuse the same data with the same words.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A Gaussian prior on a 2-vector nuisance parameter block (solvers/ceres_solver.cc), zero-mean
 // unless a mean is given:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The solve policy: which solver runs, and the rounds around it. With moving scans the
 // adjustment estimates a scanner clock offset; its p + v·dt, ψ + ω·dt is a linearisation, poor

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The mount solve's noise model and limits (`solver:` in configs/calibrate.yaml) and their YAML
 // keys. Angles are radians here and degrees in the file; σ values are 1σ.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What the data hold of the two timing unknowns of the adjustment: the scanner clock offset dt
 // and the heading stream's delay δh after the GNSS epochs (wall_line_cost.h), from the solve's

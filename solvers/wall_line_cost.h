@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The cost of one wall observation (one scan's line fit on one surveyed wall) in the joint mount
 // adjustment (solvers/ceres_solver.cc).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The wall observations that share all six parameter blocks (the scans of one GNSS-error slice
 // on one wall: same wall, bias and heading-offset blocks) as one Ceres residual block, two

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Reading the YAML files beside session.yaml: scanner presets, calibrate options, simulation
 // scenarios and truth.yaml (io/session_reader.h).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Writing the YAML files a calibration run produces: offsets.yaml and a measured scanner preset.
 // The functions only build text; io/output_file.h writes it safely.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "io/config/offsets_reader.h"
 
 #include <yaml-cpp/yaml.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Reading an earlier offsets.yaml (written by io/writers.h FormatOffsetsYaml) for
 // `calibrate --compare`: the mount, its covariance and when it was made.

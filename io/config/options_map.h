@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The generic side of option files: each module declares its own option struct and the list of
 // its YAML keys (a Visit function over any visitor with the methods below), and io/ reads the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Writing an option struct as YAML through its Visit function (io/config/options_map.h): the
 // writing visitor collects `key: value` pairs; lists become one flow map per item.

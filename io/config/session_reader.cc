@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "io/config/session_reader.h"
 
 #include "io/config/internal/yaml_map_reader.h"

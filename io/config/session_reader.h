@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Reading the YAML inputs of a session: session.yaml, scanner presets, option files and the
 // simulator's configuration / truth. Every key is optional unless said otherwise (defaults come

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Scalars for the YAML files wallcal writes (offsets.yaml, presets, session.yaml, truth.yaml):
 // the one escaper, so that whatever text a run carries (a folder name in Latin-1, a warning with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Reading a decimal number from a log field, as std::from_chars does but faster for the plain
 // form loggers write ("80.000", "-1.5707963267948966").

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A robot recording (ROS 1 bag v2.0, MCAP with the ros2 profile, rosbag2 sqlite3 storage) seen as
 // topics and time-ordered messages, whatever the container. No ROS installation is used: each

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A session's streams (scans, GNSS, heading) whatever holds them: the text logs of old (CARMEN,
 // NMEA), or topics of a robot recording (ROS 1 bag, MCAP, rosbag2), told apart by content

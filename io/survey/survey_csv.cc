@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "io/survey/internal/survey_csv.h"
 
 #include <algorithm>

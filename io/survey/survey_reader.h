@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Survey files (docs/survey-files.md): a surveyor's CSV or a Leica GSI-8/GSI-16 job, either one
 // plain or gzip-compressed. The kind is recognised by content: a file whose first line begins as

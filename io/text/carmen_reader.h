@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Streaming reader of CARMEN laser logs (RAWLASER1, ROBOTLASER1, FLASER; formats in docs/session-format.md),
 // plain or gzip-compressed (detected by zlib). Memory does not grow with the log: one line is

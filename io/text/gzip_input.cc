@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "io/text/internal/gzip_input.h"
 
 #include <zlib.h>

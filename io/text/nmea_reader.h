@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // NMEA 0183 reader for the GNSS and heading logs (docs/session-format.md).
 //

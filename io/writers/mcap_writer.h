@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Writes MCAP files with the ros2 profile (mcap.dev/spec): Header (profile "ros2"), Schema
 // records (encoding "ros2msg", the definition text the caller passes, e.g.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Writes ROS 1 bags, format v2.0, as rosbag does: the bag header (padded to 4096 bytes, with the
 // index position filled in at Close), chunks of about `chunk_bytes` uncompressed bytes

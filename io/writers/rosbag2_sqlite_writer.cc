@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "io/writers/rosbag2_sqlite_writer.h"
 
 #include <sqlite3.h>

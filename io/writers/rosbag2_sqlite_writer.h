@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Writes rosbag2 sqlite3 storage files (.db3) for tests and the simulator, in the layout of a
 // ROS 2 release: Humble (tables topics and messages only) or Iron and later (topics with

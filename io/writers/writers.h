@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Writing the simulator's session (CARMEN, NMEA, CSV, session.yaml,
 // truth.yaml). The Format* functions only build text; each line formatter returns one line

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The residual analysis after the mount solve (apps/residual_analysis.cc, Hartzell, Glennie et al.): trends
 // are flagged when a systematic error is there, and not on clean data.
 

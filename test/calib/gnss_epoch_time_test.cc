@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // GNSS epochs mapped onto the logger clock (calib/gnss_epoch_time.h) and the reader's UTC of
 // each logger-stamped GGA (io/nmea_reader.h).
 #include "calib/gnss_epoch_time.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "calib/wall_detector.h"
 #include "test/support/shipped_presets.h"
 

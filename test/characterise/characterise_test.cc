@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // characterise on simulated sessions whose scanner model is known (scanner_truth): the range
 // model recovered within its reported σ, the warm-up drift, the preset fed back to calibrate,
 // and the refusals.

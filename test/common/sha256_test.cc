@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SHA-256 against the FIPS 180-2 / NIST test vectors, split updates, and a file.
 
 #include "common/sha256.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Calibrates a session in-process through the installed wallcal library and prints the mount.
 // Usage: downstream SESSION   (exit 0 with "x_m y_m yaw_rad" on stdout, 1 not determined, 2 bad
 // input)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: the CARMEN scan-log reader (plain or gzip: zlib detects which). Every scan
 // it returns must be whole: finite time and geometry, non-negative finite ranges, a beam count
 // in range; a malformed line is skipped and counted, a corrupt gzip stream throws InputError.

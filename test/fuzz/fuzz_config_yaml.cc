@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: the other YAML inputs — a scanner preset, calibrate options, a simulation
 // configuration and a truth.yaml — all read from the same bytes. Each must give a validated
 // struct or throw io::InputError.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: the Leica GSI reader. Any input either parses into points with non-empty,
 // printable ids, finite coordinates and line numbers, which combine and dump without trouble,
 // or throws io::InputError.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: the MCAP reader, through its memory entry point. Opening and a ForEach over
 // every cdr topic must either work or throw io::InputError; whatever it hands out must point
 // into its own topic list and carry a payload that can be read. A crash, hang, sanitizer report

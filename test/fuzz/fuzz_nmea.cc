@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: the NMEA reader (GNSS and heading logs). Any input must either parse into
 // records that keep the reader's promises or throw io::InputError; anything else (a crash, a
 // sanitizer report, another exception) is a bug.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: the ROS message decoders, every type on both wires. The first input byte
 // picks the type (its value modulo 5) and the wire (bit 3 set: CDR); the rest is the payload. A decode either
 // fails with an offset inside the payload, or succeeds; then re-encoding and decoding again

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: the ROS 1 bag reader, from bytes in memory. Any input must either open and
 // deliver messages that keep the reader's promises (receive-time order, per-topic indices
 // counting up, counts as listed by topics(), payloads inside the chunk) or throw InputError.

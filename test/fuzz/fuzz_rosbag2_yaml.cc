@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: rosbag2's metadata.yaml parser. It must return storage files to read (at
 // least one, none empty) or throw io::InputError: a yaml-cpp exception escaping, a crash or a
 // sanitizer report is a bug.

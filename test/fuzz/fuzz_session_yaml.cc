@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: session.yaml. ReadSession must give a complete spec (the keys docs/session-format.md
 // requires) or throw io::InputError: a yaml-cpp exception escaping, a crash or a sanitizer
 // report is a bug.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: the survey reader (CSV, or GSI when the input looks like it). Any input
 // either gives points with finite coordinates and non-empty ids, or throws io::InputError.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Shared by the libFuzzer targets: the readers that take a path get the input through a file
 // in a private temporary folder (one per fuzzing process, removed at exit).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // io::ParseDecimal against std::from_chars: the same double, bit for bit (sign of zero
 // included), on the plain decimals its fast path takes and on everything it hands over.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The emitters of calibrate --emit: each form is parsed back and compared with the estimate.
 
 #include "outputs/emit.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // calibrate --report: the page is well-formed (XML-strict), self-contained, and has its sections
 // and plots, for a real calibration of a simulated session.
 

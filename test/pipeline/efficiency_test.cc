@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The reported σ against the Cramér–Rao bound of the same simulated run.
 //
 // The σ calibrate prints comes from its own noise model; the bound (bench/crb.h) from the

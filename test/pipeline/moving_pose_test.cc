@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Scans taken while driving: their pose uncertainty in the observation covariance
 // (solvers/mount_problem.h MovingPoseCovariance, MovingScansPerGnssFix), and their use by
 // stop-and-go sessions (alignment.moving_scans_in_stop_and_go) when the scanner clock offset is

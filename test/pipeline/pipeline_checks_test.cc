@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The calibrate pipeline's round-2 checks on simulated sessions: a degenerate session is
 // refused (and can be forced), a second surveyed wall shrinks σ, moving scans with a clock
 // offset recover it, and the residual analysis and repeatability come with every estimate.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // inspect's preview of a long session: solved on every k-th observation, each weighted by k
 // (pipeline/calibration.h), it must agree with the calibration it previews.
 //

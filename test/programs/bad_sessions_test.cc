@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Bad input never crashes and never half-writes.
 //
 // Each case starts from a good simulated session (generated once per run with the shipped

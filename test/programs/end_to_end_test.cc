@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // End to end: simulate a session with known truth, calibrate it, compare with the truth.
 //
 // Tolerances, derived from the simulated noise (configs/simulate/*.yaml, SimulationConfig

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Hostile and mistaken input, at the program level: `calibrate` and `inspect` run as
 // subprocesses (each under `timeout 60`, so a hang fails the test instead of the suite) on a copy
 // of samples/lms291-sapporo broken one way per test. Checked: the exit code (never 3, never a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Sessions whose streams are robot recordings (session.yaml `topic:`), end to end, and the
 // message -> record conversions of io/recording_streams.h.
 //

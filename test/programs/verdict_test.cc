@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The findings of a new user's trial, each at the program level: the real `wallcal calibrate`
 // (and `wallcal inspect`) on a copy of the bundled sample, changed to make the mistake. Checked: the exit
 // status, the message, and which files are written or not.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The simulator's driving between and through the stations: continuous sweeps with a weave
 // (sideways or a car's arc), car-like reversing drives, and the truth helpers that follow them.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The simulated site: the survey and control points the surveyor would hand over, the walls
 // placed when none are given, and which surface each beam meets (occlusions, mixed-pixel edges).
 #include <gtest/gtest.h>

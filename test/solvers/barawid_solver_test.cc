@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Tests of Barawid 2007's closed-form mount estimate (solvers/barawid_solver.cc), on wall
 // observations synthesised here from a known mount, a known wall and known poses.
 

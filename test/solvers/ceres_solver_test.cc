@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Tests of the joint mount adjustment (solvers/ceres_solver.cc), on wall observations
 // synthesised from a known mount, known walls and known poses. Its cost functors:
 // test/cost_functors_test.cc.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Tests of the mount adjustment's cost functors: the wall-line cost (hand-worked values, the
 // heading delay, offsets and drift, the wall's orientation, Jacobians against numeric and
 // automatic differentiation), the Gaussian prior, the Gauss–Markov step, and the observation

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The normal matrix accumulated block by block (solvers/normal_matrix.h) against JᵀJ of the
 // Jacobian Ceres itself evaluates (Problem::Evaluate, loss applied), on problems with every
 // feature the adjustment uses: a robust loss in both its regions, a manifold holding one

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One residual block per GNSS-error slice (solvers/wall_slice_cost.h) against one block per
 // scan with ceres::HuberLoss, the form it replaced: the same cost, the same gradient and the
 // same Gauss–Newton matrix (Ceres's loss-corrected JᵀJ), with scans in both regions of the

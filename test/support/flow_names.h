@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // For the program-level tests: every library of the flow reachable by its short names inside
 // namespace wallcal (RunCalibration, FormatSummary, WriteSimulatedSession, ...).

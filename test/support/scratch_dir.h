@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A scratch folder for tests: made empty under ::testing::TempDir() and removed with everything
 // in it when the object goes out of scope, so a test run leaves nothing behind in /tmp. A test

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The scanner presets as shipped in configs/scanners/, for tests: one definition (the YAML files
 // users get) instead of hand-copied numbers, so the tests also exercise the shipped files.

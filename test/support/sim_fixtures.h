@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The simulator's test fixtures: the shipped presets, cheap and perfect variants of them, the
 // default and noise-free configs, and a run collected in memory. Shared by the simulator's tests.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Reading one YAML mapping strictly: every key known, every value checked where it is read, the
 // file and line in every message. Shared by io/session_reader.cc (session.yaml) and

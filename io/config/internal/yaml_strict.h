@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Internal to io/: loading YAML files strictly (session.yaml, options, presets, truth.yaml).
 // Beyond yaml-cpp's own checks: the file must be a regular file of at most

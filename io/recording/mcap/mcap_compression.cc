@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "io/recording/mcap/internal/mcap_compression.h"
 
 #include <lz4frame.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The time-ordered pass over an MCAP file's messages. Blocks (chunks, runs of loose messages)
 // are loaded in order of their first log time; their messages wait in a min-heap keyed by
 // (log time, block offset, position in block) and leave it once no unloaded block can hold an

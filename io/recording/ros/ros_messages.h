@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The ROS message types wallcal reads from recordings, as plain structs, and their decoders for
 // the two wire formats: ROS 1 serialization (little-endian, no alignment, uint32 length before

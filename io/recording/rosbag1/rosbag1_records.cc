@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "io/recording/rosbag1/internal/rosbag1_records.h"
 
 #include <cerrno>

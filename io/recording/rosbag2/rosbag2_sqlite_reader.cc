@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "io/recording/rosbag2/internal/rosbag2_sqlite_reader.h"
 
 #include <sqlite3.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Leica GSI-8 / GSI-16 survey files (docs/survey-files.md). Word layout (Leica TPS1100 User
 // Manual, "Data format"): a two-digit word index (WI), four information characters (the fourth,

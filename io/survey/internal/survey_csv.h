@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The CSV half of the survey reader (io/survey_reader.h documents the format). Internal to io/.
 

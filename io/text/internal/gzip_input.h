@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Reading gzip-compressed text files through a std::istream, for the readers that take a stream
 // (NMEA, survey). Memory stays bounded: the file is inflated in small pieces as it is read, not

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The files shipped in configs/ load, validate, and say what the code's defaults say.
 
 #include <filesystem>

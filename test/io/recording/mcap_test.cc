@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // MCAP reader and writer: the real rosbag2 MCAP files (expected values from an independent
 // decode of the files, not from this reader), writer round trips for every chunk compression,
 // records walked without a summary, and damaged input (cuts, flipped bytes, CRCs, codecs).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The ROS message codecs: type table, hand-worked byte layouts on both wires, round trips, and
 // what a damaged payload reports (kind and offset).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ROS 1 bag v2.0: the real bags in ../shared/testdata/real/ros1 (counts and fields checked
 // against an independent decoder), writer round trips for each compression, and damaged input.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // rosbag2 sqlite3 storage and folders: the real Iron-layout .db3 (expected values from an
 // independent decode with Python's sqlite3), writer round trips in the Humble and Iron layouts,
 // split bags read in order, mcap-storage folders, metadata.yaml, and inputs that are not rosbag2.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // gzip-compressed NMEA logs and survey files read like plain ones (the files are written here
 // with zlib), and damaged gzip data are reported, not half-read in silence.
 #include "io/text/internal/gzip_input.h"

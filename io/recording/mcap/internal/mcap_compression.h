@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Chunk codecs for MCAP (and rosbag2 files that store MCAP): zstd (libzstd) and lz4 in its frame
 // format (liblz4's LZ4F, as MCAP's registry names it). Decompression never writes more than the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // MCAP recordings (mcap.dev/spec) with the ros2 profile: channels whose message_encoding is
 // "cdr", schemas "ros2msg" / "ros2idl" named like "sensor_msgs/msg/LaserScan" (the topic's type).

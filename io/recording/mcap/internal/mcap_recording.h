@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The MCAP Recording (internal to io/): opening lives in mcap_reader.cc, the time-ordered
 // message pass in mcap_foreach.cc.

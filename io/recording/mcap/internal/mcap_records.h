@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // MCAP building blocks shared by io/mcap_reader.cc and io/mcap_writer.cc: opcodes, the magic,
 // little-endian encoding, and a bounds-checked cursor over one record's bytes. Format: the MCAP

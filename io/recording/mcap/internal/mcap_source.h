@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Random-access bytes for the MCAP reader: a file read with pread, or a buffer in memory (tests,
 // fuzzing). Internal to io/. Reads past the end are the caller's bug: callers bound every

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Internal to io/ros_messages.cc: cursors over a serialized ROS message, one that reads and one
 // that writes, with the same member names so that one field walker per message type (written

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Chunk (de)compression for ROS 1 bags: bz2 (libbz2, one stream per chunk) and lz4 in the LZ4
 // *frame* format as ROS's roslz4 writes it (magic 0x184D2204, independent blocks, content

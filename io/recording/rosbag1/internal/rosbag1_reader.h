@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // ROS 1 bag format v2.0 (wiki.ros.org/Bags/Format/2.0) read without ROS: connection records,
 // chunks (compression none, bz2, lz4 frames as roslz4 writes them), index data and chunk info.

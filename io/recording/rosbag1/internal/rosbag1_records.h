@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The record layer of the ROS 1 bag format v2.0 (wiki.ros.org/Bags/Format/2.0), shared by the
 // reader and the writer. Internal to io/.

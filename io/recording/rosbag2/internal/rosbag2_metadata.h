@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // rosbag2's metadata.yaml (the bag folder's index): which storage files hold the recording, in
 // order, and what rosbag2 counted. Keys read (versions 4 to 9; other keys are ignored):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // rosbag2 recordings: one sqlite3 storage file (.db3), or a rosbag2 folder whose metadata.yaml
 // lists its storage files in recording order (sqlite3 or mcap storage; each .mcap goes through
