@@ -47,7 +47,8 @@ rm -f "$work/session/offsets.yaml"
 cd "$work"
 unset WALLCAL_CONFIG_DIR
 "$prefix/bin/wallcal" --version
-"$prefix/bin/wallcal" --help | grep -q "^  calibrate " || fail "wallcal --help lists no calibrate"
+help=$("$prefix/bin/wallcal" --help)
+grep -q "^  calibrate " <<< "$help" || fail "wallcal --help lists no calibrate"
 "$prefix/bin/wallcal" characterise --version
 "$prefix/bin/wallcal" calibrate session --output "$work/offsets.yaml" --quiet > "$work/summary.txt"
 grep -q "x = 2.5422" "$work/summary.txt" || { cat "$work/summary.txt"; fail "installed wallcal calibrate gave another mount"; }
