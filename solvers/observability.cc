@@ -9,6 +9,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "calib/geodesy.h"
 #include "calib/wall_geometry.h"
 #include "common/angles.h"
 #include "common/angles.h"
@@ -128,9 +129,7 @@ std::string HeadingArc(const std::vector<calib::WallObservation>& observations) 
   std::vector<double> headings;
   headings.reserve(observations.size());
   for (const auto& o : observations) {
-    double h = std::fmod(0.5 * kPi - o.pose.yaw_rad, 2.0 * kPi);
-    if (h < 0.0) h += 2.0 * kPi;
-    headings.push_back(h);
+    headings.push_back(WrapTwoPi(calib::GridHeadingFromYaw(o.pose.yaw_rad)));
   }
   std::sort(headings.begin(), headings.end());
   double widest = headings.front() + 2.0 * kPi - headings.back();

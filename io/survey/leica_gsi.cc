@@ -4,10 +4,12 @@
 #include <cmath>
 #include <cstdint>
 
+#include "common/angles.h"
+#include "io/input_file.h"
+
 namespace wallcal::io {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMetresPerFoot = 0.3048;  // international foot
 
 std::string WordName(const GsiWord& word) {
@@ -185,6 +187,7 @@ GsiPosition ReduceGsiPolar(const GsiSetup& setup, const GsiPolar& polar) {
 }
 
 GsiFile ParseGsi(std::string_view text, const std::string& name) {
+  StripUtf8Bom(&text);
   GsiFile file;
   GsiSetup setup;
   double reflector_height_m = 0.0;
@@ -197,7 +200,6 @@ GsiFile ParseGsi(std::string_view text, const std::string& name) {
     std::string_view line = text.substr(start, end - start);
     start = end + 1;
     ++line_number;
-    if (line_number == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
     while (!line.empty() && line.front() == ' ') line.remove_prefix(1);
     while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) {
       line.remove_suffix(1);

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 
+#include "io/input_file.h"
 #include "io/internal/decimal.h"
 
 namespace wallcal::io {
@@ -144,6 +145,7 @@ bool SplitCsvRow(std::string_view row, std::vector<std::string>* fields) {
 
 std::vector<SurveyPoint> ParseSurveyCsv(std::string_view text, const std::string& name,
                                         SurveyColumns columns) {
+  StripUtf8Bom(&text);
   std::array<int, kRoleCount> column_of = {-1, -1, -1, -1, -1};
   size_t width = 0;  // fields a row must have (header mode)
   bool have_columns = columns != SurveyColumns::kHeader;
@@ -162,7 +164,6 @@ std::vector<SurveyPoint> ParseSurveyCsv(std::string_view text, const std::string
     std::string_view line = text.substr(start, end - start);
     start = end + 1;
     ++line_number;
-    if (line_number == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     size_t first = 0;
     while (first < line.size() && std::isspace(static_cast<unsigned char>(line[first]))) ++first;

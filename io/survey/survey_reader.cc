@@ -19,7 +19,7 @@ namespace {
 
 // The first line that is neither blank nor a CSV comment.
 std::string_view FirstContentLine(std::string_view text) {
-  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  StripUtf8Bom(&text);
   size_t start = 0;
   while (start < text.size()) {
     size_t end = text.find('\n', start);
