@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: Apache-2.0
+// What the mount's σ is made of (analysis/error_budget.h), on synthetic sessions whose error
+// sources are known: the total is the adjustment's variance, each source's share lies within
+// it, and the source the session is made to be dominated by is named.
+
+#include "analysis/error_budget.h"
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "sim/synthetic_observations.h"
+#include "solvers/mount_solver.h"
+
+namespace wallcal::analysis {
+namespace {
+
+solvers::SolverOptions OptionsFor(const sim::SimSettings& s) {
+  solvers::SolverOptions options;
+  options.gnss_white_sigma_m = s.gnss_white_sigma_m;
+  options.gnss_bias_sigma_m = s.gnss_bias_sigma_m;
+  options.use_gst_sigma = false;
+  options.heading_sigma_rad = s.heading_sigma_rad;
+  return options;
+}
+
+TEST(ErrorBudgetTest, SharesLieWithinTheAdjustmentsVariance) {
+  const sim::SimSettings settings;
+  std::mt19937 rng(5);
+  const sim::SimData data = sim::SimulateObservations(settings, rng);
+  const solvers::SolverOptions options = OptionsFor(settings);
+  const solvers::MountEstimate estimate =
+      solvers::SolveMountCeres(data.observations, data.walls, options, settings.truth);
+  ASSERT_TRUE(estimate.usable) << estimate.message;
+  const ErrorBudget budget =
+      ComputeErrorBudget(data.observations, data.walls, options, estimate.mount);
+  ASSERT_TRUE(budget.done);
+  for (int axis = 0; axis < 3; ++axis) {
+    // The budget's linearised variance is the adjustment's (both from the information matrix
+    // at the estimate; the budget's weights are its own linearisation: a few per cent apart).
+    const double total = budget.total_variance[axis];
+    EXPECT_NEAR(total, estimate.covariance(axis, axis), 0.05 * estimate.covariance(axis, axis))
+        << "axis " << axis;
+    for (int s = 0; s < kNumErrorSources; ++s) {
+      EXPECT_GE(budget.variance[s][axis], 0.0) << ErrorSourceName(static_cast<ErrorSource>(s));
+      EXPECT_LE(budget.variance[s][axis], total * (1.0 + 1e-9))
+          << ErrorSourceName(static_cast<ErrorSource>(s));
+    }
+    EXPECT_GE(budget.dominant_share[axis], 0.0);
+    EXPECT_LE(budget.dominant_share[axis], 1.0 + 1e-9);
+    EXPECT_NEAR(budget.dominant_share[axis],
+                budget.variance[static_cast<int>(budget.dominant[axis])][axis] / total, 1e-9);
+  }
+}
+
+TEST(ErrorBudgetTest, ALargeRtkErrorDominatesTheOffsets) {
+  // 10 cm of RTK error per station against 3 mm line fits and a 5 mm survey: the offsets' σ is
+  // the GNSS error's.
+  sim::SimSettings settings;
+  settings.gnss_bias_sigma_m = 0.10;
+  std::mt19937 rng(6);
+  const sim::SimData data = sim::SimulateObservations(settings, rng);
+  const solvers::SolverOptions options = OptionsFor(settings);
+  const solvers::MountEstimate estimate =
+      solvers::SolveMountCeres(data.observations, data.walls, options, settings.truth);
+  ASSERT_TRUE(estimate.usable) << estimate.message;
+  const ErrorBudget budget =
+      ComputeErrorBudget(data.observations, data.walls, options, estimate.mount);
+  ASSERT_TRUE(budget.done);
+  for (int axis = 0; axis < 2; ++axis) {
+    EXPECT_EQ(budget.dominant[axis], ErrorSource::kGnss) << "axis " << axis;
+    EXPECT_GT(budget.dominant_share[axis], 0.5) << "axis " << axis;
+  }
+}
+
+}  // namespace
+}  // namespace wallcal::analysis
