@@ -12,18 +12,12 @@
 
 #include "sim/synthetic_observations.h"
 #include "solvers/mount_solver.h"
+#include "test/support/synthetic_fixtures.h"
 
 namespace wallcal::analysis {
 namespace {
 
-solvers::SolverOptions OptionsFor(const sim::SimSettings& s) {
-  solvers::SolverOptions options;
-  options.gnss_white_sigma_m = s.gnss_white_sigma_m;
-  options.gnss_bias_sigma_m = s.gnss_bias_sigma_m;
-  options.use_gst_sigma = false;
-  options.heading_sigma_rad = s.heading_sigma_rad;
-  return options;
-}
+using testing_support::OptionsFor;
 
 TEST(ErrorBudgetTest, SharesLieWithinTheAdjustmentsVariance) {
   const sim::SimSettings settings;

@@ -22,6 +22,7 @@
 #include "sim/simulator.h"
 #include "solvers/mount_problem.h"
 #include "test/support/scratch_dir.h"
+#include "test/support/synthetic_fixtures.h"
 
 namespace wallcal {
 namespace {
@@ -29,14 +30,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // A wall along y = 10 (normal +y) seen by a vehicle near the origin heading north.
-calib::WallGeometry NorthWall() {
-  calib::WallGeometry wall;
-  wall.normal_local = Eigen::Vector2d(0.0, 1.0);
-  wall.offset_m = 10.0;
-  wall.end_a_local = Eigen::Vector2d(-10.0, 10.0);
-  wall.end_b_local = Eigen::Vector2d(10.0, 10.0);
-  return wall;
-}
+using testing_support::NorthWall;
 
 calib::WallObservation At(bool standing, const Eigen::Vector2d& velocity, double yaw_rate) {
   calib::WallObservation o;

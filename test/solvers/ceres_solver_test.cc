@@ -17,6 +17,7 @@
 
 #include "calib/wall_geometry.h"
 #include "sim/synthetic_observations.h"
+#include "test/support/synthetic_fixtures.h"
 #include "solvers/information.h"
 #include "solvers/mount_problem.h"
 #include "solvers/mount_solver.h"
@@ -32,14 +33,7 @@ using sim::SimSettings;
 SimData Simulate(const SimSettings& s, std::mt19937& rng) { return sim::SimulateObservations(s, rng); }
 
 // The noise model the solver is told, matching the simulation.
-solvers::SolverOptions OptionsFor(const SimSettings& s) {
-  solvers::SolverOptions options;
-  options.gnss_white_sigma_m = s.gnss_white_sigma_m;
-  options.gnss_bias_sigma_m = s.gnss_bias_sigma_m;
-  options.use_gst_sigma = false;
-  options.heading_sigma_rad = s.heading_sigma_rad;
-  return options;
-}
+using testing_support::OptionsFor;
 
 Eigen::Vector3d Error(const MountEstimate& estimate, const Mount& truth) {
   return Eigen::Vector3d(estimate.mount.x_m - truth.x_m, estimate.mount.y_m - truth.y_m,

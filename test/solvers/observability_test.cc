@@ -10,19 +10,12 @@
 #include <gtest/gtest.h>
 
 #include "common/angles.h"
+#include "test/support/synthetic_fixtures.h"
 
 namespace wallcal::solvers {
 namespace {
 
-// The wall y = 10 m in the local frame, normal north.
-calib::WallGeometry NorthWall() {
-  calib::WallGeometry wall;
-  wall.normal_local = Eigen::Vector2d(0.0, 1.0);
-  wall.offset_m = 10.0;
-  wall.end_a_local = Eigen::Vector2d(-10.0, 10.0);
-  wall.end_b_local = Eigen::Vector2d(10.0, 10.0);
-  return wall;
-}
+using testing_support::NorthWall;
 
 // `per_station` observations at each of the yaws (rad), one station per yaw, the vehicle at the
 // origin (in front of the wall): φ = π/2 − yaw.
