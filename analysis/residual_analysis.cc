@@ -8,6 +8,7 @@
 
 #include "calib/wall_geometry.h"
 #include "common/angles.h"
+#include "common/format.h"
 #include "common/statistics.h"
 
 namespace wallcal::analysis {
@@ -79,11 +80,6 @@ Slope FitSlope(const std::vector<double>& q, const std::vector<double>& r,
   return out;
 }
 
-std::string Format(const char* format, double a, double b = 0.0, double c = 0.0) {
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer, format, a, b, c);
-  return buffer;
-}
 
 }  // namespace
 

@@ -12,18 +12,9 @@
 #include "calib/geodesy.h"
 #include "calib/wall_geometry.h"
 #include "common/angles.h"
-#include "common/angles.h"
+#include "common/format.h"
 
 namespace wallcal::solvers {
-
-namespace {
-std::string Format(const char* format, double a, double b, double c, double d) {
-  char buffer[128];
-  std::snprintf(buffer, sizeof buffer, format, a, b, c, d);
-  return buffer;
-}
-
-}  // namespace
 
 ObservabilityReport CheckObservability(const std::vector<calib::WallObservation>& observations,
                                        const std::vector<calib::WallGeometry>& walls,
