@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -33,22 +34,31 @@ namespace fs = std::filesystem;
 
 std::string FileName(const std::string& path) { return fs::path(path).filename().string(); }
 
+// "reason: n, first at line L; ..." for the reasons `skips` counts (its problems only when
+// `problems_only`), at most `max_reasons` of them and then "; ...".
+std::string ListReasons(const io::SkipCounts& skips, bool problems_only,
+                        size_t max_reasons = std::numeric_limits<size_t>::max()) {
+  std::ostringstream out;
+  size_t shown = 0;
+  for (const auto& [reason, count] : skips.by_reason) {
+    if (problems_only && skips.IsInformational(reason)) continue;
+    if (shown == max_reasons) {
+      out << "; ...";
+      break;
+    }
+    out << (shown++ > 0 ? "; " : "") << reason << ": " << count;
+    const auto line = skips.first_line.find(reason);
+    if (line != skips.first_line.end() && line->second > 0) out << ", first at line " << line->second;
+  }
+  return out.str();
+}
+
 // "file: N lines skipped (reason: n, first at line L; ...)" for the problem reasons; empty
 // when there are none.
 std::string DescribeSkips(const std::string& file, const io::SkipCounts& skips) {
   if (skips.Problems() == 0) return std::string();
-  std::ostringstream out;
-  out << FileName(file) << ": " << skips.Problems() << " lines skipped (";
-  bool first = true;
-  for (const auto& [reason, count] : skips.by_reason) {
-    if (skips.IsInformational(reason)) continue;
-    out << (first ? "" : "; ") << reason << ": " << count;
-    first = false;
-    const auto line = skips.first_line.find(reason);
-    if (line != skips.first_line.end() && line->second > 0) out << ", first at line " << line->second;
-  }
-  out << ")";
-  return out.str();
+  return FileName(file) + ": " + std::to_string(skips.Problems()) + " lines skipped (" +
+         ListReasons(skips, true) + ")";
 }
 
 // Stops the run after the first pass: the estimate says why.
@@ -187,25 +197,13 @@ PoseStep ReadPoses(const CalibrationResult& result) {
     }
     // Why the lines were not fixes, with the first line of each reason: the user can open the
     // log there (a missing checksum, a latitude of 91°, a misspelt sentence type).
-    std::ostringstream reasons;
-    int shown = 0;
-    for (const auto& [reason, count] : step.gnss.skipped.by_reason) {
-      if (shown++ == 6) {
-        reasons << "; ...";
-        break;
-      }
-      reasons << (shown > 1 ? "; " : "") << reason << ": " << count;
-      const auto line = step.gnss.skipped.first_line.find(reason);
-      if (line != step.gnss.skipped.first_line.end() && line->second > 0) {
-        reasons << ", first at line " << line->second;
-      }
-    }
+    const std::string reasons = ListReasons(step.gnss.skipped, false, 6);
     throw io::InputError(io::Where(
         session.gnss_log, 0,
         "fewer than 2 GGA fixes of accepted quality (gnss.min_fix_quality " +
             std::to_string(session.min_fix_quality) + "); found" +
             (found.str().empty() ? std::string(" none") : found.str()) +
-            (shown > 0 ? " (lines skipped: " + reasons.str() + ")" : std::string()) +
+            (reasons.empty() ? std::string() : " (lines skipped: " + reasons + ")") +
             "; expected NMEA GGA sentences with checksums, e.g. $GNGGA,...*hh"));
   }
   const int64_t rejected = static_cast<int64_t>(step.gnss.fixes.size()) - step.fixes_used;
