@@ -5,7 +5,7 @@
 #include <cstdint>
 
 #include "common/angles.h"
-#include "io/input_file.h"
+#include "io/survey/internal/line_splitter.h"
 
 namespace wallcal::io {
 namespace {
@@ -187,19 +187,14 @@ GsiPosition ReduceGsiPolar(const GsiSetup& setup, const GsiPolar& polar) {
 }
 
 GsiFile ParseGsi(std::string_view text, const std::string& name) {
-  StripUtf8Bom(&text);
   GsiFile file;
   GsiSetup setup;
   double reflector_height_m = 0.0;
   bool first_word_line = true;
-  int line_number = 0;
-  size_t start = 0;
-  while (start < text.size()) {
-    size_t end = text.find('\n', start);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(start, end - start);
-    start = end + 1;
-    ++line_number;
+  LineSplitter lines(text);
+  std::string_view line;
+  while (lines.Next(&line)) {
+    const int line_number = lines.line_number();
     while (!line.empty() && line.front() == ' ') line.remove_prefix(1);
     while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) {
       line.remove_suffix(1);

@@ -5,7 +5,7 @@
 #include <cctype>
 #include <cmath>
 
-#include "io/input_file.h"
+#include "io/survey/internal/line_splitter.h"
 #include "io/internal/decimal.h"
 
 namespace wallcal::io {
@@ -145,7 +145,6 @@ bool SplitCsvRow(std::string_view row, std::vector<std::string>* fields) {
 
 std::vector<SurveyPoint> ParseSurveyCsv(std::string_view text, const std::string& name,
                                         SurveyColumns columns) {
-  StripUtf8Bom(&text);
   std::array<int, kRoleCount> column_of = {-1, -1, -1, -1, -1};
   size_t width = 0;  // fields a row must have (header mode)
   bool have_columns = columns != SurveyColumns::kHeader;
@@ -155,15 +154,11 @@ std::vector<SurveyPoint> ParseSurveyCsv(std::string_view text, const std::string
 
   std::vector<SurveyPoint> points;
   std::vector<std::string> fields;
-  int line_number = 0;
   bool first_row = true;
-  size_t start = 0;
-  while (start < text.size()) {
-    size_t end = text.find('\n', start);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(start, end - start);
-    start = end + 1;
-    ++line_number;
+  LineSplitter lines(text);
+  std::string_view line;
+  while (lines.Next(&line)) {
+    const int line_number = lines.line_number();
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     size_t first = 0;
     while (first < line.size() && std::isspace(static_cast<unsigned char>(line[first]))) ++first;

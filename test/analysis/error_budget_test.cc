@@ -19,16 +19,28 @@ namespace {
 
 using testing_support::OptionsFor;
 
-TEST(ErrorBudgetTest, SharesLieWithinTheAdjustmentsVariance) {
-  const sim::SimSettings settings;
-  std::mt19937 rng(5);
+// A session drawn from `settings` with `seed`, solved, and its budget at the estimate.
+struct Budgeted {
+  solvers::MountEstimate estimate;
+  ErrorBudget budget;
+};
+Budgeted SolveAndBudget(const sim::SimSettings& settings, unsigned seed) {
+  std::mt19937 rng(seed);
   const sim::SimData data = sim::SimulateObservations(settings, rng);
   const solvers::SolverOptions options = OptionsFor(settings);
-  const solvers::MountEstimate estimate =
-      solvers::SolveMountCeres(data.observations, data.walls, options, settings.truth);
+  Budgeted out;
+  out.estimate = solvers::SolveMountCeres(data.observations, data.walls, options, settings.truth);
+  if (out.estimate.usable) {
+    out.budget = ComputeErrorBudget(data.observations, data.walls, options, out.estimate.mount);
+  }
+  return out;
+}
+
+TEST(ErrorBudgetTest, SharesLieWithinTheAdjustmentsVariance) {
+  const Budgeted run = SolveAndBudget(sim::SimSettings(), 5);
+  const solvers::MountEstimate& estimate = run.estimate;
+  const ErrorBudget& budget = run.budget;
   ASSERT_TRUE(estimate.usable) << estimate.message;
-  const ErrorBudget budget =
-      ComputeErrorBudget(data.observations, data.walls, options, estimate.mount);
   ASSERT_TRUE(budget.done);
   for (int axis = 0; axis < 3; ++axis) {
     // The budget's linearised variance is the adjustment's (both from the information matrix
@@ -53,14 +65,9 @@ TEST(ErrorBudgetTest, ALargeRtkErrorDominatesTheOffsets) {
   // the GNSS error's.
   sim::SimSettings settings;
   settings.gnss_bias_sigma_m = 0.10;
-  std::mt19937 rng(6);
-  const sim::SimData data = sim::SimulateObservations(settings, rng);
-  const solvers::SolverOptions options = OptionsFor(settings);
-  const solvers::MountEstimate estimate =
-      solvers::SolveMountCeres(data.observations, data.walls, options, settings.truth);
-  ASSERT_TRUE(estimate.usable) << estimate.message;
-  const ErrorBudget budget =
-      ComputeErrorBudget(data.observations, data.walls, options, estimate.mount);
+  const Budgeted run = SolveAndBudget(settings, 6);
+  ASSERT_TRUE(run.estimate.usable) << run.estimate.message;
+  const ErrorBudget& budget = run.budget;
   ASSERT_TRUE(budget.done);
   for (int axis = 0; axis < 2; ++axis) {
     EXPECT_EQ(budget.dominant[axis], ErrorSource::kGnss) << "axis " << axis;
