@@ -9,6 +9,8 @@
 
 #include "calib/wall_geometry.h"
 #include "common/angles.h"
+#include "common/format.h"
+#include "common/statistics.h"
 
 namespace wallcal::analysis {
 namespace {
@@ -16,17 +18,6 @@ namespace {
 constexpr double kJumpSigmas = 3.5;
 // Range span (m) from which the range trend is turned into a corrected k.
 constexpr double kMinRangeSpanForK = 3.0;
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  double m = values[mid];
-  if (values.size() % 2 == 0) {
-    m = 0.5 * (m + *std::max_element(values.begin(), values.begin() + mid));
-  }
-  return m;
-}
 
 struct Slope {
   double slope = 0.0;
@@ -90,13 +81,20 @@ Slope FitSlope(const std::vector<double>& q, const std::vector<double>& r,
   return out;
 }
 
-std::string Format(const char* format, double a, double b = 0.0, double c = 0.0) {
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer, format, a, b, c);
-  return buffer;
-}
 
 }  // namespace
+
+const char* TrendAxisName(TrendAxis axis) {
+  switch (axis) {
+    case TrendAxis::kRange: return "range";
+    case TrendAxis::kIncidence: return "incidence";
+    case TrendAxis::kBearing: return "bearing";
+    case TrendAxis::kHeading: return "heading";
+    case TrendAxis::kStation: return "station";
+    case TrendAxis::kTime: return "time";
+  }
+  return "";
+}
 
 ResidualAnalysis AnalyseResiduals(const std::vector<calib::WallObservation>& observations,
                                   const std::vector<calib::WallGeometry>& walls,
@@ -176,21 +174,21 @@ ResidualAnalysis AnalyseResiduals(const std::vector<calib::WallObservation>& obs
   }
 
   struct Spec {
-    const char* against;
+    TrendAxis against;
     const char* unit;
     const std::vector<double>* values;
     const char* suggestion;
   };
   const Spec specs[] = {
-      {"range", "m/m", &range,
+      {TrendAxis::kRange, "m/m", &range,
        "range scale error: the preset's k may be wrong (residuals grow with range)"},
-      {"incidence", "m/deg", &incidence,
+      {TrendAxis::kIncidence, "m/deg", &incidence,
        "residuals change with incidence angle: beam footprint / mixed pixels at grazing angles?"},
-      {"bearing", "m/deg", &bearing,
+      {TrendAxis::kBearing, "m/deg", &bearing,
        "residuals change with beam bearing: the scanner's angular zero or the mount yaw?"},
-      {"heading", "m/deg", &heading, "a trend with heading: a yaw/heading problem"},
-      {"station", "m/station", &station, "a step between stations: a GNSS jump?"},
-      {"time", "m/s", &time, "residuals drift with time: heading drift or a clock offset?"},
+      {TrendAxis::kHeading, "m/deg", &heading, "a trend with heading: a yaw/heading problem"},
+      {TrendAxis::kStation, "m/station", &station, "a step between stations: a GNSS jump?"},
+      {TrendAxis::kTime, "m/s", &time, "residuals drift with time: heading drift or a clock offset?"},
   };
   // The RTK error's σ between stations: the mean prior σ of the GNSS-error slices (0 when the
   // estimate has none, e.g. barawid).
@@ -225,7 +223,7 @@ ResidualAnalysis AnalyseResiduals(const std::vector<calib::WallObservation>& obs
 
     // The range trend as a corrected k: corrected ranges scaled by s give residuals ≈ (s − 1)
     // rho, so k / s ≈ k (1 − slope) undoes it. b is not separable from the mount's x.
-    if (std::string(spec.against) == "range" && fit.sigma > 0.0 && fit.span >= kMinRangeSpanForK) {
+    if (spec.against == TrendAxis::kRange && fit.sigma > 0.0 && fit.span >= kMinRangeSpanForK) {
       analysis.range_model_estimated = true;
       analysis.range_scale_k = preset.range_scale_k * (1.0 - fit.slope);
       analysis.sigma_range_scale_k = std::abs(preset.range_scale_k) * fit.sigma;
@@ -256,7 +254,7 @@ ResidualAnalysis AnalyseResiduals(const std::vector<calib::WallObservation>& obs
         "a step between stations: a GNSS jump? (station " + std::to_string(station_rank + 1) +
         Format(": GNSS bias %.3f m, ", entry.second) + Format("%.1f prior sigma)", entry.first));
     for (ResidualTrend& trend : analysis.trends) {
-      if (trend.against == "station" && !trend.flagged) {
+      if (trend.against == TrendAxis::kStation && !trend.flagged) {
         trend.flagged = true;
         trend.message = "a step between stations: a GNSS jump?";
       }

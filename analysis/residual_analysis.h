@@ -29,8 +29,13 @@ namespace wallcal::analysis {
 
 // Residuals examined after the solve (Hartzell, Glennie et al.'s residual analysis): robust spread, outliers,
 // and trends against what a systematic error would show up in.
+// What a trend is against: the beam's range, its incidence on the wall, its bearing in the
+// scanner frame, the vehicle's grid heading, the station's rank, the time since the start.
+enum class TrendAxis { kRange, kIncidence, kBearing, kHeading, kStation, kTime };
+const char* TrendAxisName(TrendAxis axis);  // "range", "incidence", ... (offsets.yaml's keys)
+
 struct ResidualTrend {
-  std::string against;   // "range", "incidence", "bearing", "heading", "station", "time"
+  TrendAxis against = TrendAxis::kRange;
   std::string unit;      // unit of the slope, e.g. "m/m", "m/deg", "m/station"
   double slope = 0.0;    // least-squares slope of the distance residual against that quantity
   double significance = 0.0;  // |slope| / σ(slope)

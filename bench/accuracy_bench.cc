@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// accuracy_bench: issue 3 §1 and §4. For each scenario, simulates N sessions (seeds first..
+// accuracy_bench: accuracy and σ honesty against the Cramér–Rao bound. For each scenario, simulates N sessions (seeds first..
 // first+N−1), calibrates each with --method ceres and --method barawid through the public
 // pipeline (apps::WriteSimulatedSession, apps::RunCalibration), and compares per axis (x, y,
 // yaw): the RMS error, the mean reported σ, RMS(error/σ) and the Cramér–Rao bound of the

@@ -119,4 +119,8 @@ double YawFromGridHeading(double heading_grid_rad) {
   return WrapAngle(0.5 * kPi - heading_grid_rad);
 }
 
+double GridHeadingFromYaw(double yaw_rad) { return kPi / 2.0 - yaw_rad; }
+
+double GridHeadingDeg(double yaw_rad) { return WrapAngle(GridHeadingFromYaw(yaw_rad)) * kRadToDeg; }
+
 }  // namespace wallcal::calib

@@ -4,19 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/statistics.h"
+
 namespace wallcal::calib {
 namespace {
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return io::kNaN;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  double median = values[mid];
-  if (values.size() % 2 == 0) {
-    median = 0.5 * (median + *std::max_element(values.begin(), values.begin() + mid));
-  }
-  return median;
-}
 
 // 1.4826 · median |r|: the σ of a normal sample, robust to a few wild arrivals.
 double RobustSigma(const std::vector<double>& residuals) {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// GNSS time from the receiver's own epoch (issue 16, item 1). A logger stamps each GGA when it
+// GNSS time from the receiver's own epoch. A logger stamps each GGA when it
 // arrives: epoch + receiver/serial latency + a jitter of a few ms, on the logger's clock. The
 // sentence also carries the epoch's UTC. The difference (logger stamp − UTC) is latency + the
 // logger clock's offset to UTC (+ a slow clock drift); fitted robustly over the log it maps each

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <limits>
 #include "common/angles.h"
+#include "common/format.h"
 
 namespace wallcal::calib {
 namespace {
@@ -250,11 +251,6 @@ void RowCells(double x, double y, const double* cos_k, const double* sin_k, int 
   }
 }
 
-std::string Format(const char* fmt, double a, double b) {
-  char buf[160];
-  std::snprintf(buf, sizeof(buf), fmt, a, b);
-  return buf;
-}
 
 }  // namespace
 

@@ -15,6 +15,7 @@
 #include <opencv2/core.hpp>
 
 #include "calib/range_model.h"
+#include "common/angles.h"
 #include "calib/wall_detector_options.h"
 
 namespace wallcal::calib {
@@ -24,7 +25,7 @@ namespace wallcal::calib {
 // Gates are half-widths. Predicted from the surveyed wall, the vehicle pose and the current mount
 // estimate. The defaults accept any line (theta over the full circle, any rho > 0).
 struct LineGate {
-  double theta_rad = 0, theta_halfwidth_rad = M_PI;
+  double theta_rad = 0, theta_halfwidth_rad = kPi;
   double rho_m = 0, rho_halfwidth_m = 1e9;
   // Optional: the surveyed wall's ends in the scanner frame; inliers must project onto the
   // segment ± margin (calib::DetectorOptions::wall_extent_margin_m).

@@ -59,7 +59,7 @@ Characterisation Characterise(const CharacteriseRequest& request) {
   result.calibration = pipeline::RunCalibration(calibrate);
   const pipeline::CalibrationResult& calibration = result.calibration;
   const io::ScannerPreset& preset = calibration.preset;
-  result.warnings = calibration.warnings;
+  result.warnings = pipeline::Messages(calibration.warnings);
 
   if (calibration.observations.empty() || (!given_mount && !calibration.estimate.usable)) {
     Refuse(&result, Undetermined::kCalibrationFailed,

@@ -36,9 +36,9 @@ std::string Plot(const Characterisation& r, const std::string& title, const std:
       line.emplace_back(x, model_mm(x));
     }
     plot.Polyline(line, "#c03030", 2.0);
-    plot.Legend("#c03030", "line", "fitted model");
+    plot.Legend("#c03030", outputs::Swatch::kLine, "fitted model");
   }
-  plot.Legend("#4a78b0", "dot", "wall returns (a subsample)");
+  plot.Legend("#4a78b0", outputs::Swatch::kDot, "wall returns (a subsample)");
   return plot.Svg(title);
 }
 

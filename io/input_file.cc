@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "io/types.h"
+#include "io/internal/file_kind.h"
 
 namespace wallcal::io {
 namespace {
@@ -21,15 +22,6 @@ int64_t FromEnvironment(const char* name, int64_t fallback) {
   const long long value = std::strtoll(text, &end, 10);
   if (errno != 0 || end == text || *end != '\0' || value <= 0) return fallback;
   return static_cast<int64_t>(value);
-}
-
-const char* KindOf(mode_t mode) {
-  if (S_ISDIR(mode)) return "a folder";
-  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
 }
 
 size_t Utf8LengthImpl(std::string_view text, size_t i) {

@@ -16,20 +16,12 @@
 
 #include "io/types.h"
 #include "io/output_file.h"
+#include "io/internal/file_kind.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-const char* KindOf(mode_t mode) {
-  if (S_ISDIR(mode)) return "a folder";
-  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
-}
 
 // The temporary file being written, for the signal handler: a fixed buffer (no allocation in
 // the handler) guarded by an atomic flag. One write at a time per process is all wallcal does.

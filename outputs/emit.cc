@@ -196,7 +196,7 @@ std::string FormatEmit(EmitFormat format, const solvers::MountEstimate& estimate
       const Eigen::Matrix3d& c = estimate.covariance;
       const bool sigma_known = c.allFinite();
       out += "{\n";
-      out += "  \"method\": " + JsonString(estimate.method) + ",\n";
+      out += "  \"method\": " + JsonString(solvers::MethodText(estimate)) + ",\n";
       out += "  \"parent_frame\": " + JsonString(frames.parent) + ",\n";
       out += "  \"child_frame\": " + JsonString(frames.child) + ",\n";
       out += "  \"mount\": {\"x_m\": " + Num(antenna_t.x_m) + ", \"y_m\": " + Num(antenna_t.y_m) +

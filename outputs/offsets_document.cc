@@ -6,6 +6,7 @@
 
 #include "common/angles.h"
 #include "common/format.h"
+#include "io/config/yaml_text.h"
 #include "io/version.h"
 
 namespace wallcal::outputs {
@@ -13,14 +14,8 @@ namespace wallcal::outputs {
 using pipeline::CalibrationResult;
 
 namespace {
-std::string Quoted(const std::string& text) {
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += (static_cast<unsigned char>(c) < 0x20) ? ' ' : c;
-  }
-  return out + "\"";
-}
+// Free text (reasons, paths, times) by the one YAML escaper.
+std::string Quoted(const std::string& text) { return io::YamlQuoted(text); }
 // Metres as millimetres, radians as degrees, NaN as null: the YAML reads in the units people use.
 std::string Mm(double m) { return std::isfinite(m) ? Format("%.2f", m * 1e3) : "null"; }
 std::string Deg(double rad) { return std::isfinite(rad) ? Format("%.4f", rad * kRadToDeg) : "null"; }
@@ -71,7 +66,7 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const E
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) doc.covariance[3 * r + c] = e.covariance(r, c);
   }
-  doc.method = e.method;
+  doc.method = solvers::MethodText(e);
   doc.scans_total = result.scans_total;
   doc.scans_used = result.scans_used;
   doc.heading_min_deg = result.heading_min_deg;
@@ -158,9 +153,9 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const E
     std::string trends = "{";
     for (size_t i = 0; i < ra.trends.size(); ++i) {
       const analysis::ResidualTrend& t = ra.trends[i];
-      trends += (i ? ", " : "") + t.against + ": {slope: " + Format("%.4g", t.slope) + ", unit: \"" +
-                t.unit + "\", significance: " + Format("%.2f", t.significance) +
-                ", flagged: " + (t.flagged ? "true" : "false") + "}";
+      trends += (i ? ", " : "") + std::string(analysis::TrendAxisName(t.against)) +
+                ": {slope: " + Format("%.4g", t.slope) + ", unit: \"" + t.unit +
+                "\", significance: " + Format("%.2f", t.significance) + ", flagged: " + (t.flagged ? "true" : "false") + "}";
     }
     add("residual_trends", trends + "}");
     std::string flags = "[";
@@ -204,7 +199,7 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const E
           Format("%.3f", e.heading_reference_s) +
           " s): a constant heading bias is indistinguishable from mount yaw; the heading drift "
           "after that time is estimated (heading_drift_deg_per_h)\"");
-  doc.warnings = result.warnings;
+  doc.warnings = pipeline::Messages(result.warnings);
   doc.sections.emplace_back("verdict", VerdictYaml(result));
   if (result.budget.done) doc.sections.emplace_back("error_budget", BudgetYaml(result.budget));
   if (result.change) doc.sections.emplace_back("change_since_previous", ChangeYaml(*result.change));

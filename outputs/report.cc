@@ -57,11 +57,11 @@ std::string ReportBuilder::MountSection() {
     s << "<p class=\"bad\">Mount NOT DETERMINED: " << Esc(e.message) << "</p>\n";
   }
   s << "<table>\n";
-  s << Row("method", Esc(e.method.empty() ? "(none)" : e.method) +
-                         (e.method == "barawid" ? " (closed form, Barawid et al. 2007, Eq. 8-16)"
-                                                : e.method == "ceres"
-                                                      ? " (joint least squares, robust loss)"
-                                                      : ""));
+  const char* method_note = !e.method ? "(none)"
+                            : *e.method == solvers::Method::kBarawid
+                                ? "barawid (closed form, Barawid et al. 2007, Eq. 8-16)"
+                                : "ceres (joint least squares, robust loss)";
+  s << Row("method", Esc(method_note));
   if (e.usable) {
     const double sxy = e.covariance(0, 1) / std::max(1e-300, SigmaOf(e.covariance, 0) *
                                                                   SigmaOf(e.covariance, 1));
@@ -101,7 +101,9 @@ std::string ReportBuilder::MountSection() {
     s << "<p class=\"ok\">none</p>\n";
   } else {
     s << "<ul>\n";
-    for (const std::string& w : r_.warnings) s << "<li class=\"warn\">" << Esc(w) << "</li>\n";
+    for (const pipeline::Warning& w : r_.warnings) {
+      s << "<li class=\"warn\">" << Esc(w.message) << "</li>\n";
+    }
     s << "</ul>\n";
   }
   s << "</div>\n";
@@ -151,23 +153,23 @@ std::string ReportBuilder::EllipsePlot() {
   plot.Axes("x, forward (m)", "y, left (m)");
   plot.Polyline(e95, kBlue, 1.5, "5 3");
   plot.Polyline(e1, kBlue, 2.0);
-  plot.Marker(e.mount.x_m, e.mount.y_m, "plus", 7, kBlue);
-  plot.Legend(kBlue, "marker:plus", "estimate");
-  plot.Legend(kBlue, "line", "1\xcf\x83 ellipse (39 %)");
-  plot.Legend(kBlue, "dash", "95 % ellipse");
+  plot.Marker(e.mount.x_m, e.mount.y_m, Shape::kPlus, 7, kBlue);
+  plot.Legend(kBlue, Swatch::kPlus, "estimate");
+  plot.Legend(kBlue, Swatch::kLine, "1\xcf\x83 ellipse (39 %)");
+  plot.Legend(kBlue, Swatch::kDash, "95 % ellipse");
   bool first = true;
   for (const auto& [name, m] : others) {
     const bool fp = name == "first pass";
-    plot.Marker(m.x_m, m.y_m, fp ? "ring" : "cross", fp ? 5 : 4, fp ? kOrange : kGrey);
-    if (fp) plot.Legend(kOrange, "marker:ring", "first-pass estimate");
+    plot.Marker(m.x_m, m.y_m, fp ? Shape::kRing : Shape::kCross, fp ? 5 : 4, fp ? kOrange : kGrey);
+    if (fp) plot.Legend(kOrange, Swatch::kRing, "first-pass estimate");
     if (!fp && first) {
-      plot.Legend(kGrey, "marker:cross", "repeatability subsets (table below)");
+      plot.Legend(kGrey, Swatch::kCross, "repeatability subsets (table below)");
       first = false;
     }
   }
   if (truth) {
-    plot.Marker(truth->x_m, truth->y_m, "square", 3.5, kGreen);
-    plot.Legend(kGreen, "marker:square", "truth (truth.yaml of a simulated session)");
+    plot.Marker(truth->x_m, truth->y_m, Shape::kSquare, 3.5, kGreen);
+    plot.Legend(kGreen, Swatch::kSquare, "truth (truth.yaml of a simulated session)");
   }
   return Figure(plot.Svg("Uncertainty of the scanner position (x, y)"),
                 "The estimate (+) with its 1&#963; and 95 % ellipses from the estimate's "
@@ -240,10 +242,10 @@ std::string ReportBuilder::SiteMapSection() {
     const Eigen::Vector2d mid = 0.5 * (w.end_a_local + w.end_b_local);
     plot.Text(mid.x(), mid.y(), w.id, kDark, "middle", 0, -10);
   }
-  for (const auto& p : wall_points) plot.Marker(p.x(), p.y(), "square", 2, "#000");
+  for (const auto& p : wall_points) plot.Marker(p.x(), p.y(), Shape::kSquare, 2, "#000");
   for (size_t i = 0; i < control_survey.size(); ++i) {
-    plot.Marker(control_survey[i].x(), control_survey[i].y(), "triangle", 7, kPurple);
-    plot.Marker(control_rtk[i].x(), control_rtk[i].y(), "cross", 4, kPurple);
+    plot.Marker(control_survey[i].x(), control_survey[i].y(), Shape::kTriangle, 7, kPurple);
+    plot.Marker(control_rtk[i].x(), control_rtk[i].y(), Shape::kCross, 4, kPurple);
     plot.Text(control_rtk[i].x(), control_rtk[i].y(), control_ids[i], kPurple, "start", 9, 4);
   }
   const double arrow_m = 1.8 * std::max(1.0, std::hypot(mount_.x_m, mount_.y_m));
@@ -257,13 +259,13 @@ std::string ReportBuilder::SiteMapSection() {
     plot.Dot(st.scanner_local_m.x(), st.scanner_local_m.y(), 3.5, kRed);
     plot.Text(a.x(), a.y(), std::to_string(i + 1), kBlue, "middle", 0, 16);
   }
-  plot.Legend("#8c8c8c", "line", "vehicle track (GNSS antenna, all fixes with a position)");
-  plot.Legend(kDark, "line", "surveyed wall (fitted line)");
-  plot.Legend("#000", "marker:square", "surveyed wall points");
-  plot.Legend(kPurple, "marker:triangle", "control point in the survey (tied)");
-  plot.Legend(kPurple, "marker:cross", "control point by RTK");
-  plot.Legend(kBlue, "dot", "stations: antenna, dashed: heading");
-  plot.Legend(kRed, "dot", "scanner at each station (" + mount_source_ + ")");
+  plot.Legend("#8c8c8c", Swatch::kLine, "vehicle track (GNSS antenna, all fixes with a position)");
+  plot.Legend(kDark, Swatch::kLine, "surveyed wall (fitted line)");
+  plot.Legend("#000", Swatch::kSquare, "surveyed wall points");
+  plot.Legend(kPurple, Swatch::kTriangle, "control point in the survey (tied)");
+  plot.Legend(kPurple, Swatch::kCross, "control point by RTK");
+  plot.Legend(kBlue, Swatch::kDot, "stations: antenna, dashed: heading");
+  plot.Legend(kRed, Swatch::kDot, "scanner at each station (" + mount_source_ + ")");
   s << Figure(plot.Svg("Site map"),
               "Local ground frame of the session (UTM zone " + N(r_.frame.zone) +
                   (r_.frame.north ? "N" : "S") +

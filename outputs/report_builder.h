@@ -18,6 +18,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include "calib/geodesy.h"
 #include "calib/range_model.h"
 #include "calib/wall_detector.h"
 #include "io/version.h"
@@ -47,9 +48,7 @@ inline double SigmaOf(const Eigen::Matrix3d& covariance, int i) {
   return std::sqrt(std::max(0.0, covariance(i, i)));
 }
 
-// Grid heading (deg, clockwise from grid north) wrapped to (−180, 180] from a vehicle yaw (ccw
-// from grid east): the sessions circle a wall, so headings straddle north as often as not.
-inline double GridHeadingDeg(double yaw_rad) { return WrapAngle(kPi / 2.0 - yaw_rad) * kRadToDeg; }
+using calib::GridHeadingDeg;  // (−180°, 180°], clockwise from grid north
 
 inline constexpr const char* kBlue = "#1f5fbf";
 inline constexpr const char* kRed = "#d62728";

@@ -58,7 +58,7 @@ std::string ReportBuilder::ScanPlot(const pipeline::ScanPanel& panel) {
     if (inlier[i]) continue;  // drawn on top below
     if (points.mixed_suspect[i]) {
       ++mixed;
-      plot.Marker(p.x(), p.y(), "cross", 3, kOrange);
+      plot.Marker(p.x(), p.y(), Shape::kCross, 3, kOrange);
     } else {
       ++clutter;
       plot.Dot(p.x(), p.y(), 1.8, kGrey);
@@ -90,11 +90,11 @@ std::string ReportBuilder::ScanPlot(const pipeline::ScanPanel& panel) {
   const double axis_m = 25.0 / plot.PixelsPerUnitX();  // 25 px long whatever the scale
   plot.Line(0, 0, axis_m, 0, "#000", 2);
   plot.Dot(0, 0, 4, "#000");
-  plot.Legend(kBlue, "dot", "inliers (" + N(d.num_inliers) + ")");
-  plot.Legend(kOrange, "marker:cross", "possible mixed pixels (" + N(mixed) + ")");
-  plot.Legend(kGrey, "dot", "other points: clutter, other surfaces (" + N(clutter) + ")");
-  plot.Legend(kRed, "line", "detected wall line (\xcf\x81, \xce\xb8) and its normal");
-  plot.Legend(kGreen, "line", "surveyed wall predicted from the mount");
+  plot.Legend(kBlue, Swatch::kDot, "inliers (" + N(d.num_inliers) + ")");
+  plot.Legend(kOrange, Swatch::kCross, "possible mixed pixels (" + N(mixed) + ")");
+  plot.Legend(kGrey, Swatch::kDot, "other points: clutter, other surfaces (" + N(clutter) + ")");
+  plot.Legend(kRed, Swatch::kLine, "detected wall line (\xcf\x81, \xce\xb8) and its normal");
+  plot.Legend(kGreen, Swatch::kLine, "surveyed wall predicted from the mount");
   std::string caption = "Station " + N(station_number) + ", scan " + N(o.scan_index) +
                         " (log line " + N(panel.line) + "), grid heading " +
                         F("%.1f", GridHeadingDeg(o.pose.yaw_rad)) + "&#176;. ";
@@ -170,11 +170,11 @@ std::string ReportBuilder::HoughSection() {
   const double tg = TightAngleGate() * kRadToDeg, og = TightOffsetGate();
   const double gt = gate.theta_rad * kRadToDeg;
   plot.Rect(gt - tg, gate.rho_m - og, gt + tg, gate.rho_m + og, "none", "#fff", "5 4");
-  plot.Marker(t0 + peak_row * ts, r0 + peak_col * rs, "ring", 9, "#ff3030");
-  if (d.found) plot.Marker(d.theta_rad * kRadToDeg, d.rho_m, "plus", 6, "#ffffff");
-  plot.Legend("#ff3030", "marker:ring", "peak: most votes (" + N(max_votes) + ")");
-  plot.Legend("#888", "marker:plus", "least-squares line (\xcf\x81, \xce\xb8) (white +)");
-  plot.Legend("#888", "dash", "second-pass gate (white dashes)");
+  plot.Marker(t0 + peak_row * ts, r0 + peak_col * rs, Shape::kRing, 9, "#ff3030");
+  if (d.found) plot.Marker(d.theta_rad * kRadToDeg, d.rho_m, Shape::kPlus, 6, "#ffffff");
+  plot.Legend("#ff3030", Swatch::kRing, "peak: most votes (" + N(max_votes) + ")");
+  plot.Legend("#888", Swatch::kPlus, "least-squares line (\xcf\x81, \xce\xb8) (white +)");
+  plot.Legend("#888", Swatch::kDash, "second-pass gate (white dashes)");
   s << Figure(plot.Svg("Hough accumulator, station " + N(panel->station + 1) + ", scan " + N(o.scan_index)),
               "Votes of the scan's points (Barawid 2007 Eq. 2, r = x cos &#952; + y sin &#952;) over a window "
               "of &#177;" + F("%.1f", angle_gate * kRadToDeg) + "&#176; and &#177;" + F("%.2f", offset_gate) +
@@ -225,16 +225,16 @@ std::string ReportBuilder::ResidualsSection() {
   struct Axis {
     const char* title;
     const char* label;
-    const char* key;
+    analysis::TrendAxis key;
     double ObservationAxes::*field;
   };
   const Axis panels[] = {
-      {"Residual vs heading", "grid heading of the vehicle (deg, \xe2\x88\x92" "180..180)", "heading",
+      {"Residual vs heading", "grid heading of the vehicle (deg, \xe2\x88\x92" "180..180)", analysis::TrendAxis::kHeading,
        &ObservationAxes::heading_deg},
-      {"Residual vs range", "range of the characteristic beam (m)", "range", &ObservationAxes::range_m},
-      {"Residual vs incidence angle", "incidence angle on the wall (deg)", "incidence",
+      {"Residual vs range", "range of the characteristic beam (m)", analysis::TrendAxis::kRange, &ObservationAxes::range_m},
+      {"Residual vs incidence angle", "incidence angle on the wall (deg)", analysis::TrendAxis::kIncidence,
        &ObservationAxes::incidence_deg},
-      {"Residual vs beam bearing", "beam bearing in the scanner frame (deg, ccw from forward)", "bearing",
+      {"Residual vs beam bearing", "beam bearing in the scanner frame (deg, ccw from forward)", analysis::TrendAxis::kBearing,
        &ObservationAxes::bearing_deg},
   };
   for (const Axis& axis : panels) {
@@ -285,7 +285,7 @@ std::string ReportBuilder::ResidualsSection() {
     s << "</table>\n<table>\n<tr><th>against</th><th>slope</th><th>significance</th><th>flag</th>"
          "<th>meaning</th></tr>\n";
     for (const analysis::ResidualTrend& t : ra.trends) {
-      s << "<tr><th>" << Esc(t.against) << "</th><td class=\"num\">" << F("%.3g", t.slope) << " "
+      s << "<tr><th>" << Esc(analysis::TrendAxisName(t.against)) << "</th><td class=\"num\">" << F("%.3g", t.slope) << " "
         << Esc(t.unit) << "</td><td class=\"num\">" << F("%.1f", t.significance) << " &#963;</td><td>"
         << (t.flagged ? "<span class=\"bad\">flagged</span>" : "<span class=\"ok\">ok</span>")
         << "</td><td>" << Esc(t.message) << "</td></tr>\n";

@@ -58,7 +58,7 @@ std::string FormatSummary(const CalibrationResult& result) {
     std::snprintf(line, sizeof(line),
                   "  mount      x = %.4f m   y = %.4f m   yaw = %.3f deg  (%s; no sigma: see the "
                   "warning)\n",
-                  e.mount.x_m, e.mount.y_m, e.mount.yaw_rad * kRadToDeg, e.method.c_str());
+                  e.mount.x_m, e.mount.y_m, e.mount.yaw_rad * kRadToDeg, MethodText(e));
     out << line;
   }
   if (e.usable && result.sigma_known) {
@@ -69,7 +69,7 @@ std::string FormatSummary(const CalibrationResult& result) {
                   "  mount      x = %.4f ± %.4f m   y = %.4f ± %.4f m   yaw = %.3f ± %.3f deg  "
                   "(%s)\n",
                   e.mount.x_m, sx, e.mount.y_m, sy, e.mount.yaw_rad * kRadToDeg, syaw * kRadToDeg,
-                  e.method.c_str());
+                  MethodText(e));
     out << line;
   }
   if (e.usable) {
@@ -144,8 +144,8 @@ std::string FormatSummary(const CalibrationResult& result) {
                     pipeline::DelayStatusName(result.heading_delay.status));
       out << line;
     } else {
-      out << "  clock      heading delay not estimated (" << e.method
-          << (e.method == "ceres" ? ": no moving scans in the adjustment, and at a station the "
+      out << "  clock      heading delay not estimated (" << MethodText(e)
+          << (e.method == solvers::Method::kCeres ? ": no moving scans in the adjustment, and at a station the "
                                     "heading does not change with time)\n"
                                   : " does not model it)\n");
     }
@@ -176,7 +176,7 @@ std::string FormatSummary(const CalibrationResult& result) {
   } else {
     out << "  mount      NOT DETERMINED: " << e.message << "\n";
   }
-  for (const std::string& w : result.warnings) out << "  warning    " << w << "\n";
+  for (const pipeline::Warning& w : result.warnings) out << "  warning    " << w.message << "\n";
   std::snprintf(line, sizeof(line), "  time       %.2f s\n", result.seconds);
   out << line;
   return out.str();

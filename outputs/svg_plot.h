@@ -42,6 +42,11 @@ inline std::string Esc(const std::string& text) {
 // One plot: a data rectangle mapped onto a pixel box with margins for the axes. Everything drawn
 // with data coordinates is clipped to the box. Pixel coordinates are printed with one decimal,
 // which keeps a plot of a few thousand points at a few hundred kilobytes.
+// The marker shapes a plot draws (Marker) and shows in its legend.
+enum class Shape { kPlus, kCross, kTriangle, kSquare, kRing };
+// A legend line's swatch: a dot, a solid or dashed line, or one of the plot's markers.
+enum class Swatch { kDot, kLine, kDash, kPlus, kCross, kTriangle, kSquare, kRing };
+
 class SvgPlot {
  public:
   SvgPlot(int width_px, int height_px, int* clip_counter)
@@ -157,7 +162,7 @@ class SvgPlot {
           << "\" stroke-linecap=\"round\"/>";
     return pixels.size();
   }
-  void Marker(double x, double y, const std::string& shape, double size_px,
+  void Marker(double x, double y, Shape shape, double size_px,
               const std::string& color) {
     MarkerPx(data_, Px(x), Py(y), shape, size_px, color);
   }
@@ -177,20 +182,21 @@ class SvgPlot {
           << "</text>";
   }
   // A legend line in the top-left corner of the box (pixel placement, not clipped).
-  void Legend(const std::string& swatch_svg_color, const std::string& kind,
-              const std::string& text) {
+  void Legend(const std::string& swatch_svg_color, Swatch swatch, const std::string& text) {
     const double x = kLeft + 8, y = kTop + 14 + 15 * legend_rows_++;
-    if (kind == "line") {
+    if (swatch == Swatch::kLine) {
       over_ << "<line x1=\"" << P(x) << "\" y1=\"" << P(y - 4) << "\" x2=\"" << P(x + 14)
             << "\" y2=\"" << P(y - 4) << "\" stroke=\"" << swatch_svg_color
             << "\" stroke-width=\"2.5\"/>";
-    } else if (kind == "dash") {
+    } else if (swatch == Swatch::kDash) {
       over_ << "<line x1=\"" << P(x) << "\" y1=\"" << P(y - 4) << "\" x2=\"" << P(x + 14)
             << "\" y2=\"" << P(y - 4) << "\" stroke=\"" << swatch_svg_color
             << "\" stroke-width=\"2\" stroke-dasharray=\"4 3\"/>";
-    } else if (kind.rfind("marker:", 0) == 0) {
-      // The same marker the plot draws (plus, cross, triangle, square, ring).
-      MarkerPx(over_, x + 7, y - 4, kind.substr(7), 4.5, swatch_svg_color);
+    } else if (swatch != Swatch::kDot) {
+      // The same marker the plot draws: the marker swatches follow Shape's order.
+      const Shape shape = static_cast<Shape>(static_cast<int>(swatch) -
+                                             static_cast<int>(Swatch::kPlus));
+      MarkerPx(over_, x + 7, y - 4, shape, 4.5, swatch_svg_color);
     } else {
       over_ << "<circle cx=\"" << P(x + 7) << "\" cy=\"" << P(y - 4) << "\" r=\"3.5\" fill=\""
             << swatch_svg_color << "\"/>";
@@ -207,20 +213,20 @@ class SvgPlot {
   void Raw(const std::string& svg_data) { data_ << svg_data; }
 
   // A marker centred at pixel (px, py), `s` pixels from centre to edge.
-  static void MarkerPx(std::ostringstream& out, double px, double py, const std::string& shape,
-                       double s, const std::string& color) {
-    if (shape == "plus" || shape == "cross") {
-      const double a = shape == "plus" ? 0.0 : 0.7071;
-      const double b = shape == "plus" ? 1.0 : 0.7071;
+  static void MarkerPx(std::ostringstream& out, double px, double py, Shape shape, double s,
+                       const std::string& color) {
+    if (shape == Shape::kPlus || shape == Shape::kCross) {
+      const double a = shape == Shape::kPlus ? 0.0 : 0.7071;
+      const double b = shape == Shape::kPlus ? 1.0 : 0.7071;
       out << "<path d=\"M" << P(px - s * b) << "," << P(py - s * a) << "L" << P(px + s * b)
           << "," << P(py + s * a) << "M" << P(px + s * a) << "," << P(py - s * b) << "L"
           << P(px - s * a) << "," << P(py + s * b) << "\" stroke=\"" << color
           << "\" stroke-width=\"2\" fill=\"none\"/>";
-    } else if (shape == "triangle") {
+    } else if (shape == Shape::kTriangle) {
       out << "<polygon points=\"" << P(px) << "," << P(py - s) << " " << P(px - s) << ","
           << P(py + s * 0.8) << " " << P(px + s) << "," << P(py + s * 0.8) << "\" fill=\"none\""
           << " stroke=\"" << color << "\" stroke-width=\"1.5\"/>";
-    } else if (shape == "square") {
+    } else if (shape == Shape::kSquare) {
       out << "<rect x=\"" << P(px - s) << "\" y=\"" << P(py - s) << "\" width=\"" << P(2 * s)
           << "\" height=\"" << P(2 * s) << "\" fill=\"" << color << "\"/>";
     } else {  // ring

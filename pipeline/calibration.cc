@@ -53,37 +53,124 @@ void RestoreDetections(const RunInputs& inputs, CalibrationResult* result,
   if (dropped > 0) result->warnings.push_back(DrivesNotUsedWarning(dropped));
 }
 
+void AddSkips(const std::map<calib::ScanSkip, int64_t>& more,
+              std::map<calib::ScanSkip, int64_t>* all) {
+  for (const auto& [reason, count] : more) (*all)[reason] += count;
+}
+
 }  // namespace
 
 CalibrationResult RunCalibration(const CalibrateRequest& request, const ProgressFn& progress) {
   const auto start = std::chrono::steady_clock::now();
   CalibrationResult result;
   RunInputs inputs;
-  LoadSessionAndOptions(request, &result, &inputs);
+  {
+    Setup setup = LoadSessionAndOptions(request);
+    result.session = std::move(setup.session);
+    result.options = std::move(setup.options);
+    result.preset = std::move(setup.preset);
+    inputs.previous = std::move(setup.previous);
+  }
   if (!request.preview) StartDigests(request, result, &inputs);
-  TieSurveyAndFitWalls(&result, &inputs);
-  ReadPoses(&result, &inputs);
-  PreparePasses(request, &result, &inputs);
-  if (FirstPass(request, progress, &result, &inputs)) {
-    SecondPass(request, progress, &result, &inputs);
+  {
+    SurveyStep survey = TieSurveyAndFitWalls(result.session, result.options.solver);
+    result.frame = survey.frame;
+    result.control_rms_m = survey.tie.control_rms_m;
+    result.num_control = survey.tie.num_control;
+    result.walls = std::move(survey.walls);
+    inputs.survey = std::move(survey.survey);
+    inputs.tie = std::move(survey.tie);
+    Append(&result.warnings, std::move(survey.warnings));
+  }
+  {
+    PoseStep poses = ReadPoses(result);
+    result.gnss_epochs = poses.gnss_epochs;
+    result.fixes_by_quality = poses.gnss.fixes_by_quality;
+    result.gnss_skipped = poses.gnss.skipped;
+    result.heading_skipped = poses.headings.skipped;
+    result.fixes_used = poses.fixes_used;
+    result.headings_used = poses.headings_used;
+    result.num_dwells = poses.num_dwells;
+    inputs.gnss = std::move(poses.gnss);  // used_fixes point into its fixes: they move along
+    inputs.headings = std::move(poses.headings);
+    inputs.used_fixes = std::move(poses.used_fixes);
+    inputs.poses = std::move(poses.poses);
+    Append(&result.warnings, std::move(poses.warnings));
+  }
+  {
+    PassSetup passes = PreparePasses(request, result, *inputs.poses);
+    inputs.pass = std::move(passes.pass);
+    inputs.moving_by_default = passes.moving_by_default;
+    Append(&result.warnings, std::move(passes.warnings));
+  }
+  FirstPassStep first = FirstPass(request, progress, result, inputs);
+  inputs.scans_in_log = first.scans_in_log;
+  result.first_pass = first.estimate;
+  if (first.stopped) {
+    result.estimate = std::move(first.estimate);
+    result.scans_total = first.scans_total;
+  } else {
+    SecondPassStep second = SecondPass(request, progress, result, inputs);
+    result.observations = std::move(second.observations);
+    result.scans_skipped = std::move(second.scans_skipped);
+    result.scan_lines_skipped = std::move(second.scan_lines_skipped);
+    result.scans_total = second.scans_total;
+    result.scan_log = std::move(second.scan_log);
+    Append(&result.warnings, std::move(second.warnings));
+
     std::vector<calib::WallObservation> all_detections;
     if (request.preview) ThinForPreview(&result, &inputs, &all_detections);
-    Solve(request, progress, &result, &inputs);
-    FinishEstimate(request, &result);
+    SolveStep solved =
+        Solve(request, progress, result, inputs, std::move(result.observations));
+    result.observations = std::move(solved.observations);
+    AddSkips(solved.scans_skipped, &result.scans_skipped);
+    inputs.drives_dropped = solved.drives_dropped;
+    result.forced = solved.forced;
+    result.time_offset_s = solved.time_offset_s;
+    result.time_offset_sigma_s = solved.time_offset_sigma_s;
+    result.drives_timing_sigma_s = solved.drives_timing_sigma_s;
+    result.scanner_offset = solved.scanner_offset;
+    result.heading_delay = solved.heading_delay;
+    Append(&result.warnings, std::move(solved.warnings));
+
+    FinishedEstimate finished = FinishEstimate(request, result, std::move(solved.estimate));
+    result.estimate = std::move(finished.estimate);
+    result.sigma_known = finished.sigma_known;
+    result.forced = result.forced || finished.forced;
+    Append(&result.warnings, std::move(finished.warnings));
     // A thinned set's residuals are not the session's: one observation in a GNSS-error slice
     // is mostly absorbed by its bias, so no residual analysis of them.
-    if (inputs.observation_weight == 1.0) Analyse(request, progress, &result);
+    if (inputs.observation_weight == 1.0) {
+      AnalysisStep analysed = Analyse(request, progress, result);
+      result.residual_analysis = std::move(analysed.residual_analysis);
+      result.repeatability = std::move(analysed.repeatability);
+      Append(&result.warnings, std::move(analysed.warnings));
+    }
     if (request.preview) RestoreDetections(inputs, &result, &all_detections);
     if (!request.preview) {
       Say(progress, Stage::kErrorBudget, "error budget: what the σ is made of");
-      BudgetAndAdvice(request, &result);
+      BudgetStep budget = BudgetAndAdvice(request, result);
+      result.budget = std::move(budget.budget);
+      if (budget.refusal_message) result.estimate.message = std::move(*budget.refusal_message);
     }
-    CountCoverage(&result);
+    const Coverage coverage = CountCoverage(result);
+    result.scans_used = coverage.scans_used;
+    result.scans_used_moving = coverage.scans_used_moving;
+    result.num_segments_used = coverage.num_segments_used;
+    result.heading_min_deg = coverage.heading_min_deg;
+    result.heading_max_deg = coverage.heading_max_deg;
+    result.wall_angle_min_deg = coverage.wall_angle_min_deg;
+    result.wall_angle_max_deg = coverage.wall_angle_max_deg;
   }
-  Decide(request, &result, inputs);
+  {
+    DecideStep decided = Decide(request, result, inputs);
+    result.change = std::move(decided.change);
+    result.decision = std::move(decided.decision);
+    result.provenance = std::move(decided.provenance);
+  }
   if (request.collect_report_data) {
     Say(progress, Stage::kReportData, "collecting the report's scans and site map");
-    CollectReportData(&result, inputs);
+    result.report = CollectReportData(result, inputs);
   }
   Say(progress, Stage::kDone, "done");
   result.seconds =

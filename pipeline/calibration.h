@@ -22,6 +22,7 @@
 #include "io/types.h"
 #include "analysis/error_budget.h"
 #include "pipeline/report_data.h"
+#include "pipeline/run_warnings.h"
 #include "pipeline/verdict.h"
 #include "solvers/mount_solver.h"
 #include "solvers/solve_policy.h"
@@ -122,7 +123,7 @@ struct CalibrationResult {
   // clock offset when driving towards a wall, offset + heading delay when turning in front of
   // it. 0 when no moving scan is used.
   double drives_timing_sigma_s = 0.0;
-  // Per-stream delays (issue 16). gnss_epochs: the GGA epochs mapped onto the logger clock
+  // Per-stream delays. gnss_epochs: the GGA epochs mapped onto the logger clock
   // (offset_s = receiver latency + logger clock offset to UTC, jitter_s its scatter);
   // scanner_offset: time_offset_s above with its status (true scan time = stamp + dt, on the
   // GNSS-epoch clock); heading_delay: the heading stream's delay after the GNSS epochs.
@@ -137,7 +138,7 @@ struct CalibrationResult {
   std::optional<Change> change;      // since the --compare file, when given and usable
   Decision decision;                 // ACCEPT / REVIEW / REJECT with the reasons
   Provenance provenance;
-  std::vector<std::string> warnings;
+  Warnings warnings;  // collected from the steps, in step order (pipeline/run_warnings.h)
   ReportData report;                 // filled when the request asked for it
   double seconds = 0.0;  // wall-clock run time, for the summary
 };

@@ -112,7 +112,7 @@ PresetFit CheckPresetAgainstScans(const std::function<std::unique_ptr<io::ScanSo
 
 void EnforcePresetFit(const PresetFit& fit, const io::ScannerPreset& preset,
                       const io::SessionSpec& session, bool force,
-                      std::vector<std::string>* warnings) {
+                      Warnings* warnings) {
   if (fit.problems.empty()) return;
   std::string what;
   for (const std::string& p : fit.problems) what += (what.empty() ? "" : "; ") + p;
@@ -125,7 +125,7 @@ void EnforcePresetFit(const PresetFit& fit, const io::ScannerPreset& preset,
         message + "; expected the preset of the scanner that recorded the log (configs/scanners/), "
                   "or --force to use it anyway"));
   }
-  warnings->push_back("FORCED: " + message);
+  warnings->push_back({WarningKind::kForcedPresetMismatch, "FORCED: " + message});
 }
 
 void CheckSurveyNotMirrored(const std::vector<io::SurveyPoint>& survey,

@@ -16,6 +16,7 @@
 #include "calib/observation.h"
 #include "io/scan_source.h"
 #include "io/types.h"
+#include "pipeline/run_warnings.h"
 
 namespace wallcal::pipeline {
 
@@ -39,7 +40,7 @@ PresetFit CheckPresetAgainstScans(const std::function<std::unique_ptr<io::ScanSo
 // `force` (then each problem is appended to `warnings`).
 void EnforcePresetFit(const PresetFit& fit, const io::ScannerPreset& preset,
                       const io::SessionSpec& session, bool force,
-                      std::vector<std::string>* warnings);
+                      Warnings* warnings);
 
 // With 3 or more control points: fits the survey onto the control points' RTK positions (in
 // `frame`) by a rotation and by a reflection; throws io::InputError when the reflection fits

@@ -40,19 +40,23 @@ const char* kAxisNames[3] = {"forward offset x", "lateral offset y", "yaw"};
 
 }  // namespace
 
-void FinishEstimate(const CalibrateRequest& request, CalibrationResult* result) {
-  solvers::MountEstimate& e = result->estimate;
+FinishedEstimate FinishEstimate(const CalibrateRequest& request, const CalibrationResult& result,
+                                solvers::MountEstimate estimate) {
+  FinishedEstimate finished;
+  finished.estimate = std::move(estimate);
+  solvers::MountEstimate& e = finished.estimate;
   if (request.method == solvers::Method::kBarawid && e.usable) {
     // The closed form's σ treats every scan as independent (no survey, control-point or
     // correlated GNSS error): far too small. No σ is better than a wrong one.
-    result->sigma_known = false;
+    finished.sigma_known = false;
     e.covariance.setConstant(std::numeric_limits<double>::quiet_NaN());
-    result->warnings.push_back(
-        "no σ: the closed form (--method barawid) has no error model for the survey, the "
-        "control points or the correlated GNSS error; run the adjustment (--method ceres) for "
-        "the σ");
+    finished.warnings.push_back(
+        {WarningKind::kNoSigma,
+         "no σ: the closed form (--method barawid) has no error model for the survey, the "
+         "control points or the correlated GNSS error; run the adjustment (--method ceres) for "
+         "the σ"});
   }
-  if (!e.usable && result->first_pass.usable && result->observations.empty()) {
+  if (!e.usable && result.first_pass.usable && result.observations.empty()) {
     // The wide-gate pass saw a line where the survey predicts one, but nothing is left near
     // the estimate it gave: the scans and the survey disagree, more stations will not help.
     e.message += "; the first pass matched a line with wide gates, but no scan sees the surveyed "
@@ -61,13 +65,13 @@ void FinishEstimate(const CalibrateRequest& request, CalibrationResult* result) 
                  "mirrored survey cannot be told from two control points), the control points, "
                  "and the walls' survey codes";
   }
-  const std::optional<io::MountGuess>& guess = result->session.mount_guess;
+  const std::optional<io::MountGuess>& guess = result.session.mount_guess;
   if (e.usable && guess) {
     const std::string outside = CheckMountGuess(*guess, e.mount);
     if (!outside.empty()) {
       if (request.force) {
-        result->forced = true;
-        result->warnings.push_back("FORCED: " + outside);
+        finished.forced = true;
+        finished.warnings.push_back({WarningKind::kForcedMountGuess, "FORCED: " + outside});
       } else {
         e.usable = false;
         e.failure = solvers::EstimateFailure::kOutsideMountGuess;
@@ -75,22 +79,24 @@ void FinishEstimate(const CalibrateRequest& request, CalibrationResult* result) 
       }
     }
   }
+  return finished;
 }
 
-void BudgetAndAdvice(const CalibrateRequest& request, CalibrationResult* result) {
-  solvers::MountEstimate& e = result->estimate;
-  if (request.method != solvers::Method::kCeres || result->observations.empty() ||
+BudgetStep BudgetAndAdvice(const CalibrateRequest& request, const CalibrationResult& result) {
+  BudgetStep step;
+  const solvers::MountEstimate& e = result.estimate;
+  if (request.method != solvers::Method::kCeres || result.observations.empty() ||
       !e.covariance.allFinite()) {
-    return;
+    return step;
   }
-  if (!e.usable && e.failure != solvers::EstimateFailure::kNotDetermined) return;
-  result->budget = analysis::ComputeErrorBudget(result->observations, result->walls,
-                                                result->options.solver, e.mount);
-  const analysis::ErrorBudget& b = result->budget;
-  if (e.usable || !b.done) return;
+  if (!e.usable && e.failure != solvers::EstimateFailure::kNotDetermined) return step;
+  step.budget = analysis::ComputeErrorBudget(result.observations, result.walls,
+                                             result.options.solver, e.mount);
+  const analysis::ErrorBudget& b = step.budget;
+  if (e.usable || !b.done) return step;
   // The axis furthest beyond its limit; when one source explains most of its variance, the
   // advice is about that source, not about the stations' geometry.
-  const solvers::SolverOptions& s = result->options.solver;
+  const solvers::SolverOptions& s = result.options.solver;
   const double limits[3] = {s.max_sigma_xy_m, s.max_sigma_xy_m, s.max_sigma_yaw_rad};
   // A refused estimate may carry no covariance: the budget's linearised one then stands in.
   const bool have_covariance = e.covariance.diagonal().minCoeff() > 0.0;
@@ -105,42 +111,46 @@ void BudgetAndAdvice(const CalibrateRequest& request, CalibrationResult* result)
       worst = k;
     }
   }
-  if (worst_ratio <= 1.0 || b.dominant_share[worst] < 0.5) return;  // geometry: keep it
+  if (worst_ratio <= 1.0 || b.dominant_share[worst] < 0.5) return step;  // geometry: keep it
   const double sigma = std::sqrt(variance[worst]);
   const bool yaw = worst == 2;
-  e.message = Format("%s is not determined: σ %.4f %s, more than solver.max_sigma_%s %.4f %s; "
+  step.refusal_message = Format("%s is not determined: σ %.4f %s, more than solver.max_sigma_%s %.4f %s; "
                      "%.0f %% of its variance comes from the %s: ",
                      kAxisNames[worst], yaw ? sigma * kRadToDeg : sigma, yaw ? "°" : "m",
                      yaw ? "yaw_deg" : "xy_m", yaw ? limits[2] * kRadToDeg : limits[worst],
                      yaw ? "°" : "m", 100.0 * b.dominant_share[worst],
                      analysis::ErrorSourceName(b.dominant[worst])) +
               AdviceFor(b.dominant[worst]);
+  return step;
 }
 
-void Decide(const CalibrateRequest& request, CalibrationResult* result, const RunInputs& inputs) {
-  if (inputs.previous && result->estimate.usable) {
-    result->change = CompareMounts(result->estimate, *inputs.previous);
+DecideStep Decide(const CalibrateRequest& request, const CalibrationResult& result,
+                  const RunInputs& inputs) {
+  DecideStep step;
+  if (inputs.previous && result.estimate.usable) {
+    step.change = CompareMounts(result.estimate, *inputs.previous);
   }
   DecisionInputs in;
-  in.estimate = &result->estimate;
-  in.forced = result->forced;
-  in.sigma_known = result->sigma_known;
-  in.change = &result->change;
-  in.acceptance = &result->options.acceptance;
-  for (const analysis::ResidualTrend& t : result->residual_analysis.trends) {
+  in.estimate = &result.estimate;
+  in.forced = result.forced;
+  in.sigma_known = result.sigma_known;
+  in.change = &step.change;
+  in.acceptance = &result.options.acceptance;
+  for (const analysis::ResidualTrend& t : result.residual_analysis.trends) {
     in.flagged_trends += t.flagged ? 1 : 0;
   }
-  result->decision = pipeline::Decide(in);
+  step.decision = pipeline::Decide(in);
 
-  Provenance& p = result->provenance;
+  Provenance& p = step.provenance;
   p.created_utc = NowUtcIso8601();
   p.tool_version = io::kToolVersion;
   p.command_line = request.command_line;
-  if (request.preview) return;
+  if (request.preview) return step;
   p.inputs = inputs.digests.valid()
                  ? inputs.digests.get()
-                 : DigestInputs(result->session, request.config_path,
-                                PresetPath(result->session.scanner_model));
+                 : DigestInputs(result.session, request.config_path,
+                                PresetPath(result.session.scanner_model));
+  return step;
 }
 
 std::string PresetPath(const std::string& model) {

@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 constexpr int kMaxScanPanels = 4;       // stations whose scan is drawn, spread over the headings
 constexpr size_t kMaxTrackVertices = 3000;  // the site map cannot show more
 
-double GridHeadingDeg(double yaw_rad) { return WrapAngle(kPi / 2.0 - yaw_rad) * kRadToDeg; }
+using calib::GridHeadingDeg;
 
 // The mount the report draws with: the final estimate, else the first pass's, else the guess.
 void ChooseMount(const CalibrationResult& result, ReportData* data) {
@@ -207,16 +207,17 @@ void CollectTruth(const CalibrationResult& result, ReportData* data) {
 
 }  // namespace
 
-void CollectReportData(CalibrationResult* result, const RunInputs& inputs) {
-  ReportData& data = result->report;
+ReportData CollectReportData(const CalibrationResult& result, const RunInputs& inputs) {
+  ReportData data;
   data.collected = true;
-  ChooseMount(*result, &data);
-  data.tight_gates = TightGates(*result);
-  data.stations = FindStations(*result, data.mount);
-  CollectSiteMap(*result, inputs, &data);
-  CollectPanels(*result, inputs, &data);
-  CollectHough(*result, &data);
-  CollectTruth(*result, &data);
+  ChooseMount(result, &data);
+  data.tight_gates = TightGates(result);
+  data.stations = FindStations(result, data.mount);
+  CollectSiteMap(result, inputs, &data);
+  CollectPanels(result, inputs, &data);
+  CollectHough(result, &data);
+  CollectTruth(result, &data);
+  return data;
 }
 
 }  // namespace wallcal::pipeline

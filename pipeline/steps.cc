@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -34,30 +35,41 @@ namespace fs = std::filesystem;
 
 std::string FileName(const std::string& path) { return fs::path(path).filename().string(); }
 
+// "reason: n, first at line L; ..." for the reasons `skips` counts (its problems only when
+// `problems_only`), at most `max_reasons` of them and then "; ...".
+std::string ListReasons(const io::SkipCounts& skips, bool problems_only,
+                        size_t max_reasons = std::numeric_limits<size_t>::max()) {
+  std::ostringstream out;
+  size_t shown = 0;
+  for (const auto& [reason, count] : skips.by_reason) {
+    if (problems_only && skips.IsInformational(reason)) continue;
+    if (shown == max_reasons) {
+      out << "; ...";
+      break;
+    }
+    out << (shown++ > 0 ? "; " : "") << reason << ": " << count;
+    const auto line = skips.first_line.find(reason);
+    if (line != skips.first_line.end() && line->second > 0) out << ", first at line " << line->second;
+  }
+  return out.str();
+}
+
 // "file: N lines skipped (reason: n, first at line L; ...)" for the problem reasons; empty
 // when there are none.
 std::string DescribeSkips(const std::string& file, const io::SkipCounts& skips) {
   if (skips.Problems() == 0) return std::string();
-  std::ostringstream out;
-  out << FileName(file) << ": " << skips.Problems() << " lines skipped (";
-  bool first = true;
-  for (const auto& [reason, count] : skips.by_reason) {
-    if (skips.IsInformational(reason)) continue;
-    out << (first ? "" : "; ") << reason << ": " << count;
-    first = false;
-    const auto line = skips.first_line.find(reason);
-    if (line != skips.first_line.end() && line->second > 0) out << ", first at line " << line->second;
-  }
-  out << ")";
-  return out.str();
+  return FileName(file) + ": " + std::to_string(skips.Problems()) + " lines skipped (" +
+         ListReasons(skips, true) + ")";
 }
 
 // Stops the run after the first pass: the estimate says why.
-void StopAfterFirstPass(const solvers::MountEstimate& estimate, const calib::PassOutcome& pass,
-                        CalibrationResult* result) {
-  result->first_pass = estimate;
-  result->estimate = estimate;
-  result->scans_total = pass.scans_read + pass.line_skips.Problems();
+FirstPassStep StopAfterFirstPass(solvers::MountEstimate estimate, const calib::PassOutcome& pass) {
+  FirstPassStep step;
+  step.estimate = std::move(estimate);
+  step.stopped = true;
+  step.scans_in_log = pass.scans_read;
+  step.scans_total = pass.scans_read + pass.line_skips.Problems();
+  return step;
 }
 
 }  // namespace
@@ -75,34 +87,37 @@ calib::Gates TightGates(const CalibrationResult& result) {
       true, detector.tight_min_inliers};
 }
 
-void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* result,
-                           RunInputs* inputs) {
-  result->session = io::ReadSession(request.session_path);
-  if (!request.config_path.empty()) result->options = pipeline::ReadCalibrateOptions(request.config_path);
-  result->options.Validate();
-  result->options.solver.num_threads =
+Setup LoadSessionAndOptions(const CalibrateRequest& request) {
+  Setup setup;
+  setup.session = io::ReadSession(request.session_path);
+  if (!request.config_path.empty()) setup.options = ReadCalibrateOptions(request.config_path);
+  setup.options.Validate();
+  setup.options.solver.num_threads =
       request.threads > 0 ? request.threads
                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   // A measured preset beside the session (characterise writes <session>/scanners/NAME.yaml)
   // is found first, then the shipped ones.
   std::vector<std::string> preset_dirs = PresetDirs();
-  preset_dirs.insert(preset_dirs.begin(), (fs::path(result->session.dir) / "scanners").string());
-  result->preset = io::LoadScannerPreset(result->session.scanner_model, preset_dirs);
+  preset_dirs.insert(preset_dirs.begin(), (fs::path(setup.session.dir) / "scanners").string());
+  setup.preset = io::LoadScannerPreset(setup.session.scanner_model, preset_dirs);
   // The previous calibration is read now: a bad --compare file fails before the work.
-  if (!request.compare_path.empty()) inputs->previous = io::ReadPreviousOffsets(request.compare_path);
+  if (!request.compare_path.empty()) setup.previous = io::ReadPreviousOffsets(request.compare_path);
+  return setup;
 }
 
-void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs) {
-  const io::SessionSpec& session = result->session;
-  const solvers::SolverOptions& solver = result->options.solver;
+SurveyStep TieSurveyAndFitWalls(const io::SessionSpec& session,
+                                const solvers::SolverOptions& solver) {
+  SurveyStep step;
   // Points measured more than once (both faces, two set-ups) are averaged (io/survey_reader.h).
   const io::SurveyCombination combined = io::CombineSurveyObservations(
       io::ReadSurvey(session.survey_points, session.survey_columns));
-  inputs->survey = combined.points;
-  for (const std::string& w : combined.warnings) result->warnings.push_back(w);
+  step.survey = combined.points;
+  for (const std::string& w : combined.warnings) {
+    step.warnings.push_back({WarningKind::kSurveyPoints, w});
+  }
   const io::ControlPoint& first_control = session.control.front();
   try {
-    result->frame =
+    step.frame =
         calib::MakeLocalFrame(first_control.lat_deg, first_control.lon_deg, session.utm_zone);
   } catch (const io::InputError& e) {
     // The frame comes from session.yaml's first control point and utm_zone: name the line.
@@ -110,166 +125,160 @@ void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs) {
                                    std::string("survey.control[0] / utm_zone: ") + e.what()));
   }
   // Before the tie: a mirrored survey would fail it with a message about one control point.
-  CheckSurveyNotMirrored(inputs->survey, session, result->frame);
-  inputs->tie =
-      calib::TieSurvey(inputs->survey, session.survey_points, session, result->frame, solver.survey());
-  result->control_rms_m = inputs->tie.control_rms_m;
-  result->num_control = inputs->tie.num_control;
-  result->walls =
-      calib::FitWalls(inputs->survey, session.survey_points, session, inputs->tie, solver.survey());
-  if (inputs->tie.num_control >= 2 &&
-      inputs->tie.control_rms_m >
+  CheckSurveyNotMirrored(step.survey, session, step.frame);
+  step.tie =
+      calib::TieSurvey(step.survey, session.survey_points, session, step.frame, solver.survey());
+  step.walls =
+      calib::FitWalls(step.survey, session.survey_points, session, step.tie, solver.survey());
+  if (step.tie.num_control >= 2 &&
+      step.tie.control_rms_m >
           3.0 * std::hypot(solver.control_sigma_m, solver.total_station_sigma_m)) {
-    result->warnings.push_back("control points fit the survey with RMS " +
-                               Format("%.3f", inputs->tie.control_rms_m) +
-                               " m, more than 3x the expected RTK + total-station error");
+    step.warnings.push_back({WarningKind::kControlFit,
+                             "control points fit the survey with RMS " +
+                                 Format("%.3f", step.tie.control_rms_m) +
+                                 " m, more than 3x the expected RTK + total-station error"});
   }
+  return step;
 }
 
-void ReadPoses(CalibrationResult* result, RunInputs* inputs) {
-  const io::SessionSpec& session = result->session;
-  const pipeline::CalibrateOptions& options = result->options;
+PoseStep ReadPoses(const CalibrationResult& result) {
+  PoseStep step;
+  const io::SessionSpec& session = result.session;
+  const CalibrateOptions& options = result.options;
   const bool one_log = session.heading_log == session.gnss_log;
   // Text logs or recording topics (one pass when GNSS and heading share a recording).
   io::PoseLogs logs = io::ReadPoseLogs(session);
-  inputs->gnss = std::move(logs.gnss);
-  inputs->headings = std::move(logs.headings);
-  for (std::string& w : logs.warnings) result->warnings.push_back(std::move(w));
+  step.gnss = std::move(logs.gnss);
+  step.headings = std::move(logs.headings);
+  for (std::string& w : logs.warnings) step.warnings.push_back({WarningKind::kPoseLog, std::move(w)});
   // Each GGA at its epoch on the logger clock, not at its jittered arrival (docs/time-alignment.md).
-  result->gnss_epochs =
-      calib::MapGnssEpochs(&inputs->gnss.fixes, options.alignment.gnss_epoch_time);
-  if (result->gnss_epochs.status == calib::EpochMappingStatus::kInconsistent ||
-      result->gnss_epochs.status == calib::EpochMappingStatus::kTooFew) {
-    result->warnings.push_back(
-        "GNSS epoch time " + std::string(calib::EpochMappingStatusName(result->gnss_epochs.status)) +
-        ": logger stamp − UTC over " + std::to_string(result->gnss_epochs.fixes) +
-        " fixes has scatter " + Format("%.1f", 1000.0 * result->gnss_epochs.jitter_s) +
-        " ms, drift " + Format("%.0f", 1e6 * result->gnss_epochs.drift) + " ppm, " +
-        std::to_string(result->gnss_epochs.outliers) +
-        " outliers; the fixes keep their arrival stamps");
+  step.gnss_epochs =
+      calib::MapGnssEpochs(&step.gnss.fixes, options.alignment.gnss_epoch_time);
+  if (step.gnss_epochs.status == calib::EpochMappingStatus::kInconsistent ||
+      step.gnss_epochs.status == calib::EpochMappingStatus::kTooFew) {
+    step.warnings.push_back(
+        {WarningKind::kGnssEpochTime,
+        "GNSS epoch time " + std::string(calib::EpochMappingStatusName(step.gnss_epochs.status)) +
+        ": logger stamp − UTC over " + std::to_string(step.gnss_epochs.fixes) +
+        " fixes has scatter " + Format("%.1f", 1000.0 * step.gnss_epochs.jitter_s) +
+        " ms, drift " + Format("%.0f", 1e6 * step.gnss_epochs.drift) + " ppm, " +
+        std::to_string(step.gnss_epochs.outliers) +
+        " outliers; the fixes keep their arrival stamps"});
   }
-  result->fixes_by_quality = inputs->gnss.fixes_by_quality;
-  result->gnss_skipped = inputs->gnss.skipped;
-  result->heading_skipped = inputs->headings.skipped;
-  if (const std::string w = DescribeSkips(session.gnss_log, inputs->gnss.skipped); !w.empty()) {
-    result->warnings.push_back(w);
+  if (const std::string w = DescribeSkips(session.gnss_log, step.gnss.skipped); !w.empty()) {
+    step.warnings.push_back({WarningKind::kLinesSkipped, w});
   }
   if (!one_log) {
-    if (const std::string w = DescribeSkips(session.heading_log, inputs->headings.skipped);
+    if (const std::string w = DescribeSkips(session.heading_log, step.headings.skipped);
         !w.empty()) {
-      result->warnings.push_back(w);
+      step.warnings.push_back({WarningKind::kLinesSkipped, w});
     }
   }
 
   std::vector<calib::PositionSample> positions;
   try {
-    positions = calib::PositionSamples(inputs->gnss, session.min_fix_quality, result->frame,
-                                       &inputs->used_fixes);
+    positions = calib::PositionSamples(step.gnss, session.min_fix_quality, result.frame,
+                                       &step.used_fixes);
   } catch (const io::InputError& e) {
     throw io::InputError(io::Where(session.gnss_log, 0, e.what()));  // a fix outside the grid
   }
-  result->fixes_used = static_cast<int64_t>(positions.size());
+  step.fixes_used = static_cast<int64_t>(positions.size());
   {
     // A survey (or control point) far from where the vehicle drove is a survey mistake: say so
     // now rather than after a search for a wall that cannot be in the scans.
     std::vector<Eigen::Vector2d> track;
     track.reserve(positions.size());
     for (const calib::PositionSample& p : positions) track.push_back(p.p_local_m);
-    CheckTrackNearWalls(track, result->walls, result->preset, session);
+    CheckTrackNearWalls(track, result.walls, result.preset, session);
   }
   if (positions.size() < 2) {
     std::ostringstream found;
-    for (const auto& [quality, count] : inputs->gnss.fixes_by_quality) {
+    for (const auto& [quality, count] : step.gnss.fixes_by_quality) {
       found << " quality " << quality << ": " << count << ";";
     }
     // Why the lines were not fixes, with the first line of each reason: the user can open the
     // log there (a missing checksum, a latitude of 91°, a misspelt sentence type).
-    std::ostringstream reasons;
-    int shown = 0;
-    for (const auto& [reason, count] : inputs->gnss.skipped.by_reason) {
-      if (shown++ == 6) {
-        reasons << "; ...";
-        break;
-      }
-      reasons << (shown > 1 ? "; " : "") << reason << ": " << count;
-      const auto line = inputs->gnss.skipped.first_line.find(reason);
-      if (line != inputs->gnss.skipped.first_line.end() && line->second > 0) {
-        reasons << ", first at line " << line->second;
-      }
-    }
+    const std::string reasons = ListReasons(step.gnss.skipped, false, 6);
     throw io::InputError(io::Where(
         session.gnss_log, 0,
         "fewer than 2 GGA fixes of accepted quality (gnss.min_fix_quality " +
             std::to_string(session.min_fix_quality) + "); found" +
             (found.str().empty() ? std::string(" none") : found.str()) +
-            (shown > 0 ? " (lines skipped: " + reasons.str() + ")" : std::string()) +
+            (reasons.empty() ? std::string() : " (lines skipped: " + reasons + ")") +
             "; expected NMEA GGA sentences with checksums, e.g. $GNGGA,...*hh"));
   }
-  const int64_t rejected = static_cast<int64_t>(inputs->gnss.fixes.size()) - result->fixes_used;
+  const int64_t rejected = static_cast<int64_t>(step.gnss.fixes.size()) - step.fixes_used;
   if (rejected > 0) {
-    result->warnings.push_back(std::to_string(rejected) +
-                               " GGA fixes below gnss.min_fix_quality (or out of time order) not used");
+    step.warnings.push_back(
+        {WarningKind::kFixesNotUsed,
+         std::to_string(rejected) +
+             " GGA fixes below gnss.min_fix_quality (or out of time order) not used"});
   }
   const std::vector<calib::YawSample> yaws = calib::YawSamples(
-      inputs->headings, session.heading_reference, result->frame, inputs->used_fixes);
-  result->headings_used = static_cast<int64_t>(yaws.size());
+      step.headings, session.heading_reference, result.frame, step.used_fixes);
+  step.headings_used = static_cast<int64_t>(yaws.size());
   if (yaws.size() < 2) {
     throw io::InputError(io::Where(session.heading_log, 0,
                                    "fewer than 2 usable HDT/THS headings; expected a heading log"));
   }
-  inputs->poses = std::make_unique<calib::PoseInterpolator>(positions, yaws, options.alignment);
+  step.poses = std::make_unique<calib::PoseInterpolator>(positions, yaws, options.alignment);
   if (options.solver.gnss_bias_tau_s > 0.0 &&
       options.alignment.segment_max_s > options.solver.gnss_bias_tau_s / 60.0) {
     // The solver holds the RTK error constant within a slice; over a long slice it wanders and
     // the σ is no longer honest (docs/method.md, "GNSS error").
-    result->warnings.push_back(
+    step.warnings.push_back(
+        {WarningKind::kSliceTooLong,
         "alignment.segment_max_s = " + Format("%.2f", options.alignment.segment_max_s) +
         " s is long against the RTK error's correlation time (solver.gnss_bias_tau_s = " +
         Format("%.0f", options.solver.gnss_bias_tau_s) +
         " s): the error wanders within a slice and the σ may be too small; use at most " +
-        Format("%.2f", options.solver.gnss_bias_tau_s / 240.0) + " s");
+        Format("%.2f", options.solver.gnss_bias_tau_s / 240.0) + " s"});
   }
-  if (!(inputs->poses->start_s() < inputs->poses->end_s())) {
+  if (!(step.poses->start_s() < step.poses->end_s())) {
     throw io::InputError(session.gnss_log + " and " + session.heading_log +
                          ": the GNSS and heading logs do not overlap in time");
   }
-  result->num_dwells = static_cast<int>(inputs->poses->dwells().size());
+  step.num_dwells = static_cast<int>(step.poses->dwells().size());
+  return step;
 }
 
-void PreparePasses(const CalibrateRequest& request, CalibrationResult* result, RunInputs* inputs) {
-  const pipeline::CalibrateOptions& options = result->options;
-  calib::PassContext& pass = inputs->pass;
+PassSetup PreparePasses(const CalibrateRequest& request, const CalibrationResult& result,
+                        const calib::PoseInterpolator& poses) {
+  PassSetup setup;
+  const CalibrateOptions& options = result.options;
+  calib::PassContext& pass = setup.pass;
   // A CARMEN log, or a recording's LaserScan topic checked against the preset.
-  pass.open_scans = io::MakeScanOpener(result->session, &result->preset);
-  pass.scanner_time_offset_s = result->session.scanner_time_offset_s;
-  pass.preset = &result->preset;
+  pass.open_scans = io::MakeScanOpener(result.session, &result.preset);
+  pass.scanner_time_offset_s = result.session.scanner_time_offset_s;
+  pass.preset = &result.preset;
   pass.detector = &options.detector;
-  pass.walls = &result->walls;
-  pass.poses = inputs->poses.get();
+  pass.walls = &result.walls;
+  pass.poses = &poses;
   // A preset that does not fit the scans (beams, step, range) misplaces every beam: refuse
   // before the detection passes, naming both, unless forced.
-  EnforcePresetFit(CheckPresetAgainstScans(pass.open_scans, result->preset), result->preset,
-                   result->session, request.force, &result->warnings);
+  EnforcePresetFit(CheckPresetAgainstScans(pass.open_scans, result.preset), result.preset,
+                   result.session, request.force, &setup.warnings);
   pass.threads = options.solver.num_threads;
   // Moving scans: when asked for, or when the engineer drove continuously (too few dwells to
   // calibrate from stations alone). The solver then estimates the scanner clock offset too.
   pass.use_moving = options.alignment.use_moving_scans ||
                     (options.alignment.moving_scans_if_few_stations &&
-                     result->num_dwells < options.solver.min_stations);
+                     result.num_dwells < options.solver.min_stations);
   // Stop-and-go: the drives between the stops too, kept if the clock offset is determined.
-  inputs->moving_by_default = !pass.use_moving && options.alignment.moving_scans_in_stop_and_go;
-  pass.use_moving = pass.use_moving || inputs->moving_by_default;
-  if (pass.use_moving && !options.alignment.use_moving_scans && !inputs->moving_by_default) {
-    result->warnings.push_back("only " + std::to_string(result->num_dwells) +
+  setup.moving_by_default = !pass.use_moving && options.alignment.moving_scans_in_stop_and_go;
+  pass.use_moving = pass.use_moving || setup.moving_by_default;
+  if (pass.use_moving && !options.alignment.use_moving_scans && !setup.moving_by_default) {
+    setup.warnings.push_back({WarningKind::kMovingScansUsed, "only " + std::to_string(result.num_dwells) +
                                " stations (dwells) found: scans taken while moving are used, with "
-                               "an estimated scanner clock offset (stop-and-go is more accurate)");
+                               "an estimated scanner clock offset (stop-and-go is more accurate)"});
   }
+  return setup;
 }
 
-bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
-               CalibrationResult* result, RunInputs* inputs) {
-  const io::SessionSpec& session = result->session;
-  const pipeline::CalibrateOptions& options = result->options;
+FirstPassStep FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
+                        const CalibrationResult& result, const RunInputs& inputs) {
+  const io::SessionSpec& session = result.session;
+  const CalibrateOptions& options = result.options;
   calib::PassRequest pass;
   if (session.mount_guess) {
     pass.mount = calib::Mount{session.mount_guess->x_m, session.mount_guess->y_m,
@@ -277,7 +286,7 @@ bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
   }
   pass.gates = calib::Gates{options.detector.wide_angle_gate_rad,
                             options.detector.wide_offset_gate_m, false};
-  pass.min_interval_s = (inputs->poses->end_s() - inputs->poses->start_s()) /
+  pass.min_interval_s = (inputs.poses->end_s() - inputs.poses->start_s()) /
                         std::max(1, options.first_pass_max_scans);
   if (progress) {
     pass.progress = [&progress](int64_t done) {
@@ -285,7 +294,7 @@ bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
     };
   }
   Say(progress, Stage::kFirstPass, "first pass: wall detection on a subsample with wide gates");
-  const calib::PassOutcome first = calib::DetectionPass(inputs->pass, pass);
+  const calib::PassOutcome first = calib::DetectionPass(inputs.pass, pass);
   if (first.scans_read == 0) {
     std::string why = "no scan records";
     if (const std::string w = DescribeSkips(session.scanner_log, first.line_skips); !w.empty()) {
@@ -294,7 +303,6 @@ bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
     throw io::InputError(io::Where(session.scanner_log, 0,
                                    why + "; expected CARMEN RAWLASER1/ROBOTLASER1/FLASER lines"));
   }
-  inputs->scans_in_log = first.scans_read;
   if (first.observations.empty()) {
     // A scan log wholly outside the GNSS/heading time span is bad input (wrong file, wrong
     // clock), not a geometry the data cannot decide.
@@ -309,8 +317,8 @@ bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
           Format("the scans (%.3f..%.3f s) do not overlap the GNSS and heading logs "
                  "(%.3f..%.3f s); expected logs from the same run on the same clock "
                  "(check scanner.time_offset_s)",
-                 first.first_stamp_s, first.last_stamp_s, inputs->poses->start_s(),
-                 inputs->poses->end_s())));
+                 first.first_stamp_s, first.last_stamp_s, inputs.poses->start_s(),
+                 inputs.poses->end_s())));
     }
     std::ostringstream why;
     why << "the wall was not detected in any of " << first.scans_examined << " sampled scans (";
@@ -324,8 +332,7 @@ bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
     solvers::MountEstimate none;
     none.failure = solvers::EstimateFailure::kWallNotDetected;
     none.message = why.str();
-    StopAfterFirstPass(none, first, result);
-    return false;
+    return StopAfterFirstPass(std::move(none), first);
   }
   // The first pass only starts the second: the σ limits (a refusal of the final estimate, with
   // every scan counted) do not apply to it.
@@ -333,88 +340,98 @@ bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
   first_solver.max_sigma_xy_m = 1e3;  // finite: the check scales the information by them
   first_solver.max_sigma_yaw_rad = 1e3;
   const solvers::MountEstimate start = solvers::SolveMountBarawid(
-      first.observations, result->walls, first_solver, request.force);
+      first.observations, result.walls, first_solver, request.force);
   if (!start.usable) {
-    StopAfterFirstPass(start, first, result);
-    return false;
+    return StopAfterFirstPass(start, first);
   }
   const solvers::MountEstimate refined = solvers::SolveMountCeres(
-      first.observations, result->walls, first_solver, start.mount, request.force);
+      first.observations, result.walls, first_solver, start.mount, request.force);
   if (!refined.usable) {
-    StopAfterFirstPass(refined, first, result);
-    return false;
+    return StopAfterFirstPass(refined, first);
   }
-  result->first_pass = refined;
+  FirstPassStep step;
+  step.scans_in_log = first.scans_read;
   Say(progress, Stage::kFirstPass,
       "first pass: " + std::to_string(first.observations.size()) + " observations, mount x " +
           Format("%.3f", refined.mount.x_m) + " m, y " + Format("%.3f", refined.mount.y_m) +
           " m, yaw " + Format("%.2f", refined.mount.yaw_rad * kRadToDeg) + " deg");
-  return true;
+  step.estimate = refined;
+  return step;
 }
 
-void SecondPass(const CalibrateRequest& request, const ProgressFn& progress,
-                CalibrationResult* result, RunInputs* inputs) {
-  const io::SessionSpec& session = result->session;
+SecondPassStep SecondPass(const CalibrateRequest& request, const ProgressFn& progress,
+                          const CalibrationResult& result, const RunInputs& inputs) {
+  SecondPassStep step;
+  const io::SessionSpec& session = result.session;
   calib::PassRequest pass;
-  pass.mount = result->first_pass.mount;
-  pass.gates = TightGates(*result);
+  pass.mount = result.first_pass.mount;
+  pass.gates = TightGates(result);
   pass.gate_time_offset_s =
-      result->first_pass.time_offset_estimated ? result->first_pass.time_offset_s : 0.0;
+      result.first_pass.time_offset_estimated ? result.first_pass.time_offset_s : 0.0;
   Say(progress, Stage::kSecondPass, "second pass: wall detection in every scan with tight gates");
   calib::PassOutcome second;
   if (progress) {
     // The total is known from the first pass: every scan is read again.
-    const int64_t total = inputs->scans_in_log;
+    const int64_t total = inputs.scans_in_log;
     pass.progress = [&progress, total](int64_t done) {
       progress(Progress{Stage::kSecondPass, "second pass", done, total, true});
     };
   }
   calib::ScanLogTally tally;
   if (request.preview) pass.tally = &tally;  // inspect's scan-log summary
-  second = calib::DetectionPass(inputs->pass, pass);
-  if (request.preview) result->scan_log = std::move(tally);
+  second = calib::DetectionPass(inputs.pass, pass);
+  if (request.preview) step.scan_log = std::move(tally);
   if (progress) {
     // The pass reports every 2000 scans: the last count is said here.
     progress(Progress{Stage::kSecondPass, "second pass", second.scans_read,
-                      std::max(inputs->scans_in_log, second.scans_read), true});
+                      std::max(inputs.scans_in_log, second.scans_read), true});
   }
-  result->observations = std::move(second.observations);
+  step.observations = std::move(second.observations);
   // The vector grew by doubling: up to half of it is spare capacity, held through the solve.
-  result->observations.shrink_to_fit();
-  result->scans_skipped = second.skipped;
-  result->scan_lines_skipped = second.line_skips;
-  result->scans_total = second.scans_read + second.line_skips.Problems();
+  step.observations.shrink_to_fit();
+  step.scans_skipped = second.skipped;
+  step.scan_lines_skipped = second.line_skips;
+  step.scans_total = second.scans_read + second.line_skips.Problems();
   if (const std::string w = DescribeSkips(session.scanner_log, second.line_skips); !w.empty()) {
-    result->warnings.push_back(w);
-    result->scans_skipped[calib::ScanSkip::kMalformedLine] += second.line_skips.Problems();
+    step.warnings.push_back({WarningKind::kLinesSkipped, w});
+    step.scans_skipped[calib::ScanSkip::kMalformedLine] += second.line_skips.Problems();
   }
   if (second.not_increasing > 0) {
-    result->warnings.push_back(FileName(session.scanner_log) + ": " +
-                               std::to_string(second.not_increasing) +
-                               " scans not later than the scan before them (first at line " +
-                               std::to_string(second.first_not_increasing_line) +
-                               "); each was used at its own time");
+    step.warnings.push_back({WarningKind::kScansOutOfOrder,
+                             FileName(session.scanner_log) + ": " +
+                                 std::to_string(second.not_increasing) +
+                                 " scans not later than the scan before them (first at line " +
+                                 std::to_string(second.first_not_increasing_line) +
+                                 "); each was used at its own time"});
   }
   if (second.beam_count_mismatch > 0) {
-    result->warnings.push_back(std::to_string(second.beam_count_mismatch) + " scans have " +
-                               std::to_string(second.first_mismatch_beams) + " beams, preset " +
-                               result->preset.name + " has " +
-                               std::to_string(result->preset.num_beams) + ": check scanner.model");
+    step.warnings.push_back({WarningKind::kBeamCountMismatch,
+                             std::to_string(second.beam_count_mismatch) + " scans have " +
+                                 std::to_string(second.first_mismatch_beams) + " beams, preset " +
+                                 result.preset.name + " has " +
+                                 std::to_string(result.preset.num_beams) +
+                                 ": check scanner.model"});
   }
+  return step;
 }
 
-std::string DrivesNotUsedWarning(int64_t scans) {
-  return std::to_string(scans) +
-         " scans taken while driving were not used: the timing their poses need (scanner clock "
-         "offset, heading delay) was not determined (σ above "
-         "alignment.moving_max_time_offset_sigma_s)";
+Warning DrivesNotUsedWarning(int64_t scans) {
+  return {WarningKind::kDrivesNotUsed,
+          std::to_string(scans) +
+              " scans taken while driving were not used: the timing their poses need (scanner "
+              "clock offset, heading delay) was not determined (σ above "
+              "alignment.moving_max_time_offset_sigma_s)"};
 }
 
-void Solve(const CalibrateRequest& request, const ProgressFn& progress,
-           CalibrationResult* result, RunInputs* inputs) {
+SolveStep Solve(const CalibrateRequest& request, const ProgressFn& progress,
+                const CalibrationResult& result, const RunInputs& inputs,
+                std::vector<calib::WallObservation> observations) {
+  SolveStep step;
+  std::vector<calib::WallObservation>& obs = step.observations;
+  obs = std::move(observations);
   Say(progress, Stage::kSolving,
       std::string("solving (") + solvers::MethodName(request.method) + ") on " +
-          std::to_string(result->observations.size()) + " observations");
+          std::to_string(obs.size()) + " observations");
   const auto on_round = [&progress](double shift_s) {
     Say(progress, Stage::kClockOffsetRound,
         "clock offset " + Format("%.4f", shift_s) +
@@ -422,8 +439,7 @@ void Solve(const CalibrateRequest& request, const ProgressFn& progress,
             "scan times, solving again");
   };
   // Drops the observations of moving scans; returns how many scans that was.
-  const auto drop_moving = [result]() {
-    auto& obs = result->observations;
+  const auto drop_moving = [&obs]() {
     const auto moving = std::stable_partition(
         obs.begin(), obs.end(), [](const calib::WallObservation& o) { return o.pose.stationary; });
     std::set<int> scans;
@@ -431,123 +447,128 @@ void Solve(const CalibrateRequest& request, const ProgressFn& progress,
     obs.erase(moving, obs.end());
     return static_cast<int64_t>(scans.size());
   };
+  const solvers::SolverOptions& solver = result.options.solver;
+  const auto solve = [&]() {
+    return solvers::SolveWithPolicy(request.method, &obs, result.walls, solver,
+                                    result.first_pass.mount, request.force, *inputs.poses,
+                                    on_round, inputs.observation_weight);
+  };
   // Moving scans by default only where their clock offset is estimated: not for barawid.
   int64_t moving_dropped = 0;
-  if (inputs->moving_by_default && request.method != solvers::Method::kCeres) {
+  if (inputs.moving_by_default && request.method != solvers::Method::kCeres) {
     moving_dropped = drop_moving();
   }
-  solvers::PolicyOutcome outcome = solvers::SolveWithPolicy(
-      request.method, &result->observations, result->walls, result->options.solver,
-      result->first_pass.mount, request.force, *inputs->poses, on_round,
-      inputs->observation_weight);
-  const double max_offset_sigma_s = result->options.alignment.moving_max_time_offset_sigma_s;
-  if (inputs->moving_by_default && moving_dropped == 0 &&
+  solvers::PolicyOutcome outcome = solve();
+  int64_t unshift_dropped = 0;  // observations without a pose at their own stamp
+  const double max_offset_sigma_s = result.options.alignment.moving_max_time_offset_sigma_s;
+  if (inputs.moving_by_default && moving_dropped == 0 &&
       !(outcome.estimate.time_offset_estimated &&
-        solvers::DrivesTimingSigma(result->observations, result->walls, outcome.estimate.mount,
+        solvers::DrivesTimingSigma(obs, result.walls, outcome.estimate.mount,
                                    outcome.estimate.time_covariance) <= max_offset_sigma_s)) {
     // The timing the drives' poses need (the clock offset when driving towards a wall, the
     // clock offset plus the heading delay when turning in front of it) is not determined: their
-    // scans would misplace the wall by speed × offset. Standing scans alone, from the poses at their stamps.
-    // Back to the poses at the scans' own stamps first (the policy moved them by the offset).
-    if (outcome.estimate.time_offset_s != 0.0) {
-      for (calib::WallObservation& o : result->observations) {
-        calib::VehiclePose pose;
-        if (inputs->poses->At(o.pose.stamp_s - outcome.estimate.time_offset_s, &pose) ==
-            calib::PoseStatus::kOk) {
-          o.pose = pose;
-        }
-      }
+    // scans would misplace the wall by speed × offset. Standing scans alone, back at the poses
+    // of their own stamps (the clock rounds moved every observation by the same shift).
+    if (!obs.empty() && (obs.front().pose.clock_shift_s != 0.0 ||
+                         obs.front().pose.heading_shift_s != 0.0)) {
+      unshift_dropped = calib::ShiftObservations(
+          *inputs.poses, -obs.front().pose.clock_shift_s, -obs.front().pose.heading_shift_s, &obs);
     }
     moving_dropped = drop_moving();
     if (moving_dropped > 0) {
-      inputs->drives_dropped = moving_dropped;
+      step.drives_dropped = moving_dropped;
       // A preview's count is of its thinned set: the warning waits for the whole set.
-      if (!request.preview) result->warnings.push_back(DrivesNotUsedWarning(moving_dropped));
-      outcome = solvers::SolveWithPolicy(request.method, &result->observations, result->walls,
-                                         result->options.solver, result->first_pass.mount,
-                                         request.force, *inputs->poses, on_round,
-                                         inputs->observation_weight);
+      if (!request.preview) step.warnings.push_back(DrivesNotUsedWarning(moving_dropped));
+      outcome = solve();
     }
   }
-  if (moving_dropped > 0) result->scans_skipped[calib::ScanSkip::kVehicleMoving] += moving_dropped;
-  result->estimate = outcome.estimate;
-  if (outcome.dropped_at_shifted_time > 0) {
-    result->scans_skipped[calib::ScanSkip::kNoPoseAtShiftedTime] += outcome.dropped_at_shifted_time;
+  if (moving_dropped > 0) step.scans_skipped[calib::ScanSkip::kVehicleMoving] += moving_dropped;
+  if (outcome.dropped_at_shifted_time + unshift_dropped > 0) {
+    step.scans_skipped[calib::ScanSkip::kNoPoseAtShiftedTime] +=
+        outcome.dropped_at_shifted_time + unshift_dropped;
   }
-  const solvers::MountEstimate& estimate = result->estimate;
-  result->forced = estimate.usable && estimate.forced;
-  for (const std::string& w : estimate.warnings) result->warnings.push_back(w);
+  step.estimate = std::move(outcome.estimate);
+  const solvers::MountEstimate& estimate = step.estimate;
+  step.forced = estimate.usable && estimate.forced;
+  for (const std::string& w : estimate.warnings) {
+    step.warnings.push_back({WarningKind::kForcedObservability, w});
+  }
   if (estimate.time_offset_estimated) {
-    result->time_offset_s = estimate.time_offset_s;
-    result->time_offset_sigma_s = estimate.time_offset_sigma_s;
-    result->drives_timing_sigma_s = solvers::DrivesTimingSigma(
-        result->observations, result->walls, estimate.mount, estimate.time_covariance);
+    step.time_offset_s = estimate.time_offset_s;
+    step.time_offset_sigma_s = estimate.time_offset_sigma_s;
+    step.drives_timing_sigma_s =
+        solvers::DrivesTimingSigma(obs, result.walls, estimate.mount, estimate.time_covariance);
   }
-  const double clock_prior_s = result->options.solver.time_offset_sigma_s;
+  const double clock_prior_s = solver.time_offset_sigma_s;
   const double heading_prior_s =
       estimate.heading_delay_estimated ? estimate.heading_delay_prior_sigma_s : 0.0;
   const auto determined = [&](int index) {
     return solvers::DelayDetermined(estimate.time_covariance, clock_prior_s, heading_prior_s, index);
   };
-  result->scanner_offset =
+  step.scanner_offset =
       ClassifyDelay(estimate.time_offset_estimated, estimate.time_offset_s,
                     estimate.time_offset_sigma_s, clock_prior_s, determined(0));
-  result->heading_delay =
+  step.heading_delay =
       ClassifyDelay(estimate.heading_delay_estimated, estimate.heading_delay_s,
                     estimate.heading_delay_sigma_s, heading_prior_s, determined(1));
+  return step;
 }
 
-void Analyse(const CalibrateRequest& request, const ProgressFn& progress,
-             CalibrationResult* result) {
-  const solvers::MountEstimate& estimate = result->estimate;
-  if (!estimate.usable) return;
+AnalysisStep Analyse(const CalibrateRequest& request, const ProgressFn& progress,
+                     const CalibrationResult& result) {
+  AnalysisStep step;
+  const solvers::MountEstimate& estimate = result.estimate;
+  if (!estimate.usable) return step;
   Say(progress, Stage::kResidualAnalysis, "residual analysis");
-  result->residual_analysis = analysis::AnalyseResiduals(result->observations, result->walls,
-                                                         estimate, result->preset);
-  for (const std::string& flag : result->residual_analysis.flags) {
-    result->warnings.push_back("residuals: " + flag);
+  step.residual_analysis =
+      analysis::AnalyseResiduals(result.observations, result.walls, estimate, result.preset);
+  for (const std::string& flag : step.residual_analysis.flags) {
+    step.warnings.push_back({WarningKind::kResiduals, "residuals: " + flag});
   }
-  const solvers::SolverOptions& solver = result->options.solver;
+  const solvers::SolverOptions& solver = result.options.solver;
   if (request.method == solvers::Method::kCeres && solver.bootstrap_samples >= 0 &&
       !request.preview) {
     Say(progress, Stage::kRepeatability,
         "repeatability: split halves and " + std::to_string(solver.bootstrap_samples) +
             " bootstrap resamples of the stations");
-    result->repeatability = analysis::AssessRepeatability(
-        result->observations, result->walls, solver, estimate.mount, solver.bootstrap_samples,
+    step.repeatability = analysis::AssessRepeatability(
+        result.observations, result.walls, solver, estimate.mount, solver.bootstrap_samples,
         2007, estimate.time_offset_estimated ? &estimate.time_block_s : nullptr,
         estimate.solution_state.get());
   }
+  return step;
 }
 
-void CountCoverage(CalibrationResult* result) {
+Coverage CountCoverage(const CalibrationResult& result) {
+  Coverage coverage;
   std::set<int> used_scans, used_segments, moving_scans;
   std::vector<double> grid_headings, wall_angles;
-  for (const calib::WallObservation& o : result->observations) {
+  for (const calib::WallObservation& o : result.observations) {
     used_scans.insert(o.scan_index);
     if (!o.pose.stationary) moving_scans.insert(o.scan_index);
     used_segments.insert(calib::GnssSegment(o));
-    grid_headings.push_back(kPi / 2.0 - o.pose.yaw_rad);
-    const calib::WallGeometry& wall = result->walls[o.wall_index];
+    grid_headings.push_back(calib::GridHeadingFromYaw(o.pose.yaw_rad));
+    const calib::WallGeometry& wall = result.walls[o.wall_index];
     // φ of Barawid 2007, Eq. 8: the wall normal (towards the wall) in the vehicle frame.
     const double side =
         (wall.offset_m - wall.normal_local.dot(o.pose.antenna_local_m)) >= 0 ? 1 : -1;
     wall_angles.push_back(WrapAngle(
         std::atan2(side * wall.normal_local.y(), side * wall.normal_local.x()) - o.pose.yaw_rad));
   }
-  result->scans_used = static_cast<int64_t>(used_scans.size());
-  result->scans_used_moving = static_cast<int64_t>(moving_scans.size());
-  result->num_segments_used = static_cast<int>(used_segments.size());
+  coverage.scans_used = static_cast<int64_t>(used_scans.size());
+  coverage.scans_used_moving = static_cast<int64_t>(moving_scans.size());
+  coverage.num_segments_used = static_cast<int>(used_segments.size());
   const CircularExtent headings = CircularExtentOf(grid_headings);
   const CircularExtent angles = CircularExtentOf(wall_angles);
   if (!headings.empty) {
-    result->heading_min_deg = WrapTwoPi(headings.min_rad) * kRadToDeg;
-    result->heading_max_deg = WrapTwoPi(headings.max_rad) * kRadToDeg;
+    coverage.heading_min_deg = WrapTwoPi(headings.min_rad) * kRadToDeg;
+    coverage.heading_max_deg = WrapTwoPi(headings.max_rad) * kRadToDeg;
   }
   if (!angles.empty) {
-    result->wall_angle_min_deg = WrapAngle(angles.min_rad) * kRadToDeg;
-    result->wall_angle_max_deg = WrapAngle(angles.max_rad) * kRadToDeg;
+    coverage.wall_angle_min_deg = WrapAngle(angles.min_rad) * kRadToDeg;
+    coverage.wall_angle_max_deg = WrapAngle(angles.max_rad) * kRadToDeg;
   }
+  return coverage;
 }
 
 }  // namespace wallcal::pipeline

@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The steps RunCalibration takes, one function each (pipeline/calibration.cc strings them
-// together). Internal to pipeline/.
+// together). Each step reads what the run has so far (const) and returns its own small result;
+// the run moves those into the CalibrationResult and collects their warnings in step order.
+// Internal to pipeline/.
 
 #include <atomic>
 #include <future>
+#include <map>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -14,6 +17,7 @@
 #include "calib/time_alignment.h"
 #include "io/types.h"
 #include "pipeline/calibration.h"
+#include "pipeline/run_warnings.h"
 
 namespace wallcal::pipeline {
 
@@ -49,49 +53,148 @@ struct RunInputs {
 // Reports a stage to `progress` (may be empty).
 void Say(const ProgressFn& progress, Stage stage, const std::string& text);
 
-// session.yaml, the options and the scanner preset.
-void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* result,
-                           RunInputs* inputs);
+// session.yaml, the options, the scanner preset and the --compare file.
+struct Setup {
+  io::SessionSpec session;
+  CalibrateOptions options;
+  io::ScannerPreset preset;
+  std::optional<io::PreviousOffsets> previous;
+};
+Setup LoadSessionAndOptions(const CalibrateRequest& request);
 // The scanner preset file calibrate would read for `model`, or "" (not found).
 std::string PresetPath(const std::string& model);
 // Starts the SHA-256 digests of the inputs (after LoadSessionAndOptions).
 void StartDigests(const CalibrateRequest& request, const CalibrationResult& result,
                   RunInputs* inputs);
+
 // The survey, its tie to UTM and the walls as lines in the local frame.
-void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs);
-// GNSS fixes and headings, the pose interpolator and the dwells.
-void ReadPoses(CalibrationResult* result, RunInputs* inputs);
-// How the detection passes read scans and which scans they use.
-void PreparePasses(const CalibrateRequest& request, CalibrationResult* result, RunInputs* inputs);
-// First pass (wide gates, subsample) and the start estimate. False when the run stops here
-// (result->estimate then says why).
-bool FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
-               CalibrationResult* result, RunInputs* inputs);
+struct SurveyStep {
+  std::vector<io::SurveyPoint> survey;  // repeated points averaged
+  calib::SurveyTie tie;
+  calib::LocalFrame frame;
+  std::vector<calib::WallGeometry> walls;
+  Warnings warnings;
+};
+SurveyStep TieSurveyAndFitWalls(const io::SessionSpec& session,
+                                const solvers::SolverOptions& solver);
+
+// GNSS fixes and headings, the pose interpolator and the dwells (needs the frame and walls).
+struct PoseStep {
+  io::NmeaLog gnss;
+  io::NmeaLog headings;
+  std::vector<const io::GnssFix*> used_fixes;  // into gnss.fixes
+  std::unique_ptr<calib::PoseInterpolator> poses;
+  calib::GnssEpochMapping gnss_epochs;
+  int64_t fixes_used = 0;
+  int64_t headings_used = 0;
+  int num_dwells = 0;
+  Warnings warnings;
+};
+PoseStep ReadPoses(const CalibrationResult& result);
+
+// How the detection passes read scans and which scans they use. The context points into
+// `result` (preset, detector options, walls) and at `poses`: both outlive the passes.
+struct PassSetup {
+  calib::PassContext pass;
+  bool moving_by_default = false;  // RunInputs::moving_by_default
+  Warnings warnings;
+};
+PassSetup PreparePasses(const CalibrateRequest& request, const CalibrationResult& result,
+                        const calib::PoseInterpolator& poses);
+
+// First pass (wide gates, subsample) and the start estimate.
+struct FirstPassStep {
+  // The refined start; when `stopped`, the estimate that says why the run stops here.
+  solvers::MountEstimate estimate;
+  bool stopped = false;
+  int64_t scans_in_log = 0;  // scan records read
+  int64_t scans_total = 0;   // scan records + malformed scan lines (set when stopped)
+};
+FirstPassStep FirstPass(const CalibrateRequest& request, const ProgressFn& progress,
+                        const CalibrationResult& result, const RunInputs& inputs);
+
 // Second pass (every scan, tight gates) and its accounting; a preview's also tallies every scan
-// read (result->scan_log).
-void SecondPass(const CalibrateRequest& request, const ProgressFn& progress,
-                CalibrationResult* result, RunInputs* inputs);
+// read (scan_log).
+struct SecondPassStep {
+  std::vector<calib::WallObservation> observations;
+  std::map<calib::ScanSkip, int64_t> scans_skipped;
+  io::SkipCounts scan_lines_skipped;
+  int64_t scans_total = 0;
+  std::optional<calib::ScanLogTally> scan_log;
+  Warnings warnings;
+};
+SecondPassStep SecondPass(const CalibrateRequest& request, const ProgressFn& progress,
+                          const CalibrationResult& result, const RunInputs& inputs);
 // The warning that `scans` scans taken while driving were left out.
-std::string DrivesNotUsedWarning(int64_t scans);
-// The final solve by the requested method (with the clock-offset rounds).
-void Solve(const CalibrateRequest& request, const ProgressFn& progress,
-           CalibrationResult* result, RunInputs* inputs);
-// Residual analysis and repeatability of a usable estimate.
-void Analyse(const CalibrateRequest& request, const ProgressFn& progress,
-             CalibrationResult* result);
-// Scans used, GNSS slices, heading and vehicle-to-wall angle extents.
-void CountCoverage(CalibrationResult* result);
-// The site map, stations and scan panels of the report (pipeline/report_collect.cc).
-void CollectReportData(CalibrationResult* result, const RunInputs& inputs);
+Warning DrivesNotUsedWarning(int64_t scans);
+
+// The final solve by the requested method (with the clock-offset rounds) on `observations`.
+struct SolveStep {
+  std::vector<calib::WallObservation> observations;  // those the solve used, at their poses
+  solvers::MountEstimate estimate;
+  bool forced = false;  // usable only because of --force
+  std::map<calib::ScanSkip, int64_t> scans_skipped;  // added to the second pass's
+  int64_t drives_dropped = 0;  // moving scans dropped for undetermined timing
+  double time_offset_s = 0.0;
+  double time_offset_sigma_s = 0.0;
+  double drives_timing_sigma_s = 0.0;
+  StreamDelay scanner_offset;
+  StreamDelay heading_delay;
+  Warnings warnings;
+};
+SolveStep Solve(const CalibrateRequest& request, const ProgressFn& progress,
+                const CalibrationResult& result, const RunInputs& inputs,
+                std::vector<calib::WallObservation> observations);
 
 // After the solve: the closed form's σ dropped (no error model), the estimate checked against
 // scanner.mount_guess's tolerance (refused unless forced).
-void FinishEstimate(const CalibrateRequest& request, CalibrationResult* result);
+struct FinishedEstimate {
+  solvers::MountEstimate estimate;
+  bool sigma_known = true;
+  bool forced = false;  // outside the mount guess, written because of --force
+  Warnings warnings;
+};
+FinishedEstimate FinishEstimate(const CalibrateRequest& request, const CalibrationResult& result,
+                                solvers::MountEstimate estimate);
+
+// Residual analysis and repeatability of a usable estimate.
+struct AnalysisStep {
+  analysis::ResidualAnalysis residual_analysis;
+  analysis::Repeatability repeatability;
+  Warnings warnings;
+};
+AnalysisStep Analyse(const CalibrateRequest& request, const ProgressFn& progress,
+                     const CalibrationResult& result);
+
 // The error budget of a ceres estimate (usable or refused for its σ); a σ refusal whose
-// variance one source dominates gets advice about that source.
-void BudgetAndAdvice(const CalibrateRequest& request, CalibrationResult* result);
+// variance one source dominates gets advice about that source (refusal_message).
+struct BudgetStep {
+  analysis::ErrorBudget budget;
+  std::optional<std::string> refusal_message;  // replaces estimate.message when set
+};
+BudgetStep BudgetAndAdvice(const CalibrateRequest& request, const CalibrationResult& result);
+
+// Scans used, GNSS slices, heading and vehicle-to-wall angle extents.
+struct Coverage {
+  int64_t scans_used = 0;
+  int64_t scans_used_moving = 0;
+  int num_segments_used = 0;
+  double heading_min_deg = 0.0, heading_max_deg = 0.0;
+  double wall_angle_min_deg = 0.0, wall_angle_max_deg = 0.0;
+};
+Coverage CountCoverage(const CalibrationResult& result);
+
 // The verdict, the change since the previous calibration and the provenance (last step).
-void Decide(const CalibrateRequest& request, CalibrationResult* result, const RunInputs& inputs);
+struct DecideStep {
+  std::optional<Change> change;
+  Decision decision;
+  Provenance provenance;
+};
+DecideStep Decide(const CalibrateRequest& request, const CalibrationResult& result,
+               const RunInputs& inputs);
+
+// The site map, stations and scan panels of the report (pipeline/report_collect.cc).
+ReportData CollectReportData(const CalibrationResult& result, const RunInputs& inputs);
 
 // The gates of the second pass, from the first pass's covariance.
 calib::Gates TightGates(const CalibrationResult& result);

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/angles.h"
+#include "common/circular.h"
 #include "preflight/inspect_internal.h"
 
 namespace wallcal::preflight::internal {
@@ -51,23 +52,12 @@ double Median(std::vector<double> values) {
 // [0, 360) degrees and the width in degrees (0 for fewer than one angle).
 AngleExtent Extent(const std::vector<double>& angles_rad) {
   AngleExtent extent;
-  if (angles_rad.empty()) return extent;
-  double sx = 0.0, sy = 0.0;
-  for (double a : angles_rad) {
-    sx += std::cos(a);
-    sy += std::sin(a);
-  }
-  const double mean = std::atan2(sy, sx);
-  double lo = 0.0, hi = 0.0;
-  for (double a : angles_rad) {
-    const double d = WrapAngle(a - mean);
-    lo = std::min(lo, d);
-    hi = std::max(hi, d);
-  }
+  const CircularExtent circular = CircularExtentOf(angles_rad);
+  if (circular.empty) return extent;
   extent.any = true;
-  extent.min_deg = std::fmod((mean + lo) * kRadToDeg + 720.0, 360.0);
-  extent.max_deg = std::fmod((mean + hi) * kRadToDeg + 720.0, 360.0);
-  extent.width_deg = (hi - lo) * kRadToDeg;
+  extent.min_deg = std::fmod(circular.min_rad * kRadToDeg + 720.0, 360.0);
+  extent.max_deg = std::fmod(circular.max_rad * kRadToDeg + 720.0, 360.0);
+  extent.width_deg = (circular.max_rad - circular.min_rad) * kRadToDeg;
   return extent;
 }
 

@@ -161,7 +161,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     const std::vector<calib::YawSample> yaws =
         calib::YawSamples(*heading_log, spec.heading_reference, *frame, used);
     for (const calib::YawSample& sample : yaws) {
-      logged_grid_headings_rad.push_back(kPi / 2.0 - sample.yaw_rad);
+      logged_grid_headings_rad.push_back(calib::GridHeadingFromYaw(sample.yaw_rad));
     }
     if (positions.size() >= 2 && yaws.size() >= 2) {
       try {
@@ -292,7 +292,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     for (const calib::WallObservation& o : calibration->observations) {
       if (o.scan_index < 0 || seen[o.scan_index]) continue;
       seen[o.scan_index] = 1;
-      seen_headings_rad.push_back(kPi / 2.0 - o.pose.yaw_rad);
+      seen_headings_rad.push_back(calib::GridHeadingFromYaw(o.pose.yaw_rad));
     }
   }
 
@@ -341,7 +341,9 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
   bool geometry_named = false;
   if (!dwells.empty() && !options.alignment.use_moving_scans) {
     std::vector<double> station_headings_rad;
-    for (const calib::Dwell& dwell : dwells) station_headings_rad.push_back(kPi / 2.0 - dwell.mean_yaw_rad);
+    for (const calib::Dwell& dwell : dwells) {
+      station_headings_rad.push_back(calib::GridHeadingFromYaw(dwell.mean_yaw_rad));
+    }
     const AngleExtent stations = Extent(station_headings_rad);
     out << "  stations  at grid headings " << Fmt("%.1f", stations.min_deg) << "°.."
         << Fmt("%.1f", stations.max_deg) << "° (" << Fmt("%.1f", stations.width_deg) << "° wide)\n";
@@ -392,9 +394,10 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     if (!c.estimate.usable && !wall_never_seen) {
       block("calibrate refuses the estimate: " + c.estimate.message);
     }
-    for (const std::string& w : c.warnings) {
-      if (std::find(result.warnings.begin(), result.warnings.end(), w) == result.warnings.end()) {
-        warn(w);
+    for (const pipeline::Warning& w : c.warnings) {
+      if (std::find(result.warnings.begin(), result.warnings.end(), w.message) ==
+          result.warnings.end()) {
+        warn(w.message);
       }
     }
     if (c.estimate.usable) {

@@ -15,6 +15,7 @@
 #include "io/recording/ros/ros_messages.h"
 #include "io/writers/rosbag1_writer.h"
 #include "io/writers/rosbag2_sqlite_writer.h"
+#include "io/output_file.h"
 #include "io/types.h"
 #include "common/angles.h"
 
@@ -139,13 +140,7 @@ void RewriteSessionYaml(const std::string& path, const std::string& recording) {
       out << line << "\n";
     }
   }
-  const std::string temp = path + ".tmp";
-  {
-    std::ofstream file(temp, std::ios::trunc);
-    file << out.str();
-    if (!file) throw io::InputError(io::Where(temp, 0, "cannot write"));
-  }
-  fs::rename(temp, path);
+  io::WriteFileAtomically(path, out.str());
 }
 
 }  // namespace

@@ -61,7 +61,7 @@ struct SimulationConfig {
   // the two stations' midpoint and drives it forward into the next station, along curves that
   // keep its velocity on its own axis: a car-like vehicle (a tractor cannot move sideways),
   // turning while it moves. 0: the drive moves it on the straight line between the stations
-  // (sideways, along the wall), as before. Written to truth.yaml only when set.
+  // (sideways, along the wall). Written to truth.yaml only when set.
   double drive_reverse_m = 0.0;
   // Continuous driving (no stops): the vehicle sweeps the stations' headings and positions once,
   // smoothly, over continuous_duration_s (0: as long as the stop-and-go plan), while weaving
@@ -99,10 +99,10 @@ struct SimulationConfig {
   double mixed_pixel_probability = 0.5;  // chance a beam at a depth jump returns a mixed range
   // Logging clock: UNIX seconds at the start of the run
   double start_time_s = 1747031522.0;
-  // ---- Per-stream logging delays (issue 16). The logger stamps each record when it receives
+  // ---- Per-stream logging delays. The logger stamps each record when it receives
   // it: a GGA/GST `gnss_latency_s` + U(0, gnss_jitter_s) after its epoch (the sentence keeps
   // the epoch's UTC), an HDT `heading_latency_s` after its sample, a scan `scanner_latency_s`
-  // after it was taken (on top of scanner_time_offset_s). 0: stamped at the epoch, as before.
+  // after it was taken (on top of scanner_time_offset_s). 0: stamped at the epoch.
   double gnss_latency_s = 0.0;
   double gnss_jitter_s = 0.0;
   double heading_latency_s = 0.0;

@@ -16,6 +16,11 @@
 namespace wallcal::sim {
 namespace {
 
+// Samples at 0, 1/rate, 2/rate, ... up to and including the end of a duration_s run.
+int64_t SampleCount(double duration_s, double rate_hz) {
+  return static_cast<int64_t>(std::floor(duration_s * rate_hz + 1e-9)) + 1;
+}
+
 using namespace detail;  // NOLINT: the simulator's own building blocks
 
 // ---- GNSS ----------------------------------------------------------------------------------
@@ -59,8 +64,7 @@ std::vector<io::GnssFix> SimulateGnss(const sim::SimulationConfig& config,
   const double sigma_up_m = 2.0 * config.gnss_white_sigma_m;
 
   std::vector<io::GnssFix> fixes;
-  const int64_t count =
-      static_cast<int64_t>(std::floor(trajectory.duration_s() * config.gnss_rate_hz + 1e-9)) + 1;
+  const int64_t count = SampleCount(trajectory.duration_s(), config.gnss_rate_hz);
   fixes.reserve(count);
   for (int64_t j = 0; j < count; ++j) {
     const double t_s = j / config.gnss_rate_hz;
@@ -108,8 +112,7 @@ std::vector<io::HeadingSample> SimulateHeadings(const sim::SimulationConfig& con
   const double drift_rad_per_s =
       (noise.Uniform() < 0.5 ? -1.0 : 1.0) * config.heading_drift_rad_per_s;
   std::vector<io::HeadingSample> headings;
-  const int64_t count =
-      static_cast<int64_t>(std::floor(trajectory.duration_s() * config.heading_rate_hz + 1e-9)) + 1;
+  const int64_t count = SampleCount(trajectory.duration_s(), config.heading_rate_hz);
   headings.reserve(count);
   for (int64_t j = 0; j < count; ++j) {
     const double t_s = j / config.heading_rate_hz;

@@ -20,7 +20,7 @@ MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& obser
                                 const std::vector<calib::WallGeometry>& walls,
                                 const solvers::SolverOptions& options, bool force) {
   MountEstimate estimate;
-  estimate.method = "barawid";
+  estimate.method = Method::kBarawid;
   const ObservabilityReport observability = CheckObservability(observations, walls, options);
   if (!observability.ok) {
     if (!force || !observability.solvable) {

@@ -97,7 +97,7 @@ class MountSettled : public ceres::IterationCallback {
 MountEstimate SolveMountProblem(MountProblem& mp, const solvers::SolverOptions& options,
                                 bool compute_covariance) {
   MountEstimate estimate;
-  estimate.method = "ceres";
+  estimate.method = Method::kCeres;
 
   ceres::Solver::Options solver_options;
   // The unknowns: the mount, 2 per wall, 2 per 0.25 s GNSS-error slice (thousands in a long
@@ -285,7 +285,7 @@ Eigen::Matrix3d CovarianceFromInformation(const Eigen::Matrix3d& information) {
 MountEstimate Refused(const Mount& initial, EstimateFailure failure, const std::string& message) {
   MountEstimate refused;
   refused.failure = failure;
-  refused.method = "ceres";
+  refused.method = Method::kCeres;
   refused.mount = initial;
   refused.message = message;
   return refused;

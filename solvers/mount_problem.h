@@ -174,8 +174,8 @@ double DrivesTimingSigma(const std::vector<calib::WallObservation>& observations
 // >= 1, 1 when there are no moving observations or no period.
 double MovingScansPerGnssFix(const std::vector<calib::WallObservation>& observations);
 
-// Solves and fills the estimate (mount, covariance from ceres::Covariance with every nuisance
-// block free, residuals, report). Never throws; failures come back as usable = false.
+// Solves and fills the estimate (mount, covariance from the mount's marginal information with
+// every nuisance block free (solvers/information.cc), residuals, report). Never throws; failures come back as usable = false.
 // compute_covariance false: stop after the solve and the residuals (usable = converged).
 MountEstimate SolveMountProblem(MountProblem& problem, const solvers::SolverOptions& options,
                                 bool compute_covariance = true);

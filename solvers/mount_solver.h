@@ -3,11 +3,13 @@
 // Estimating the scanner mount (vehicle_T_scanner = [x_m, y_m, yaw_rad]) from wall
 // observations. Two methods on the same observations:
 //  - SolveMountCeres: the joint least-squares adjustment (robust loss, nuisance parameters for
-//    the wall lines and the correlated GNSS error per segment, covariance from Ceres);
+//    the wall lines and the correlated GNSS error per segment; the covariance is the inverse of
+//    the mount's marginal information, solvers/information.cc);
 //  - SolveMountBarawid: the closed form of Barawid 2007 (Eq. 8-16), for comparison.
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,10 @@
 #include "solvers/solver_options.h"
 
 namespace wallcal::solvers {
+
+// The two methods on the same observations (solvers/solve_policy.h runs the one asked for).
+enum class Method { kCeres, kBarawid };
+const char* MethodName(Method method);  // "ceres", "barawid"
 
 struct WarmStart;  // solvers/mount_problem.h
 
@@ -42,7 +48,7 @@ struct MountEstimate {
   bool usable = false;  // false: do not write offsets; `failure` and `message` say why
   EstimateFailure failure = EstimateFailure::kNone;
   std::string message;
-  std::string method;   // "ceres" or "barawid"
+  std::optional<Method> method;  // empty: no solve made this estimate (the run stopped before)
   int observations_used = 0;
   int observations_rejected = 0;  // down-weighted as outliers by the robust loss (> 3σ)
   double residual_rms_m = 0.0;    // RMS of the distance residuals of used observations
@@ -91,6 +97,12 @@ struct MountEstimate {
   std::vector<Eigen::Vector2d> segment_bias_m;
   std::vector<double> segment_bias_sigma_m;
 };
+
+// The estimate's method as offsets.yaml, the summary and the JSON write it ("ceres",
+// "barawid"); "" when no solve made it.
+inline const char* MethodText(const MountEstimate& estimate) {
+  return estimate.method ? MethodName(*estimate.method) : "";
+}
 
 // `force`: when an observability check fails (before or after the solve), solve anyway and
 // return the estimate as usable with forced = true and a "FORCED: ..." warning, instead of

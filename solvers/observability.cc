@@ -10,20 +10,12 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "calib/geodesy.h"
 #include "calib/wall_geometry.h"
 #include "common/angles.h"
-#include "common/angles.h"
+#include "common/format.h"
 
 namespace wallcal::solvers {
-
-namespace {
-std::string Format(const char* format, double a, double b, double c, double d) {
-  char buffer[128];
-  std::snprintf(buffer, sizeof buffer, format, a, b, c, d);
-  return buffer;
-}
-
-}  // namespace
 
 ObservabilityReport CheckObservability(const std::vector<calib::WallObservation>& observations,
                                        const std::vector<calib::WallGeometry>& walls,
@@ -129,9 +121,7 @@ std::string HeadingArc(const std::vector<calib::WallObservation>& observations) 
   std::vector<double> headings;
   headings.reserve(observations.size());
   for (const auto& o : observations) {
-    double h = std::fmod(0.5 * kPi - o.pose.yaw_rad, 2.0 * kPi);
-    if (h < 0.0) h += 2.0 * kPi;
-    headings.push_back(h);
+    headings.push_back(WrapTwoPi(calib::GridHeadingFromYaw(o.pose.yaw_rad)));
   }
   std::sort(headings.begin(), headings.end());
   double widest = headings.front() + 2.0 * kPi - headings.back();

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// A Gaussian prior on a 2-vector nuisance parameter block (solvers/ceres_solver.cc), zero-mean
+// A Gaussian prior on a 2-vector nuisance parameter block (solvers/mount_problem.cc), zero-mean
 // unless a mean is given:
 //   r_k = (value_k − mean_k) / sigma_k      (dimensionless), k = 0, 1
 // Used for
@@ -97,7 +97,7 @@ class ScalarPriorCost {
 // A zero-mean Gaussian prior on several coordinates spread over several parameter blocks,
 // with a full covariance Σ (k × k): r = W x, W = L⁻¹ with L Lᵀ = Σ (dimensionless). Used for
 // the walls' [δd_m, δα_rad] jointly: every wall of a session hangs on the same survey tie, so
-// their errors are correlated (calib::WallGeometry, solvers/ceres_solver.cc). `coordinates`
+// their errors are correlated (calib::WallGeometry, solvers/mount_problem.cc). `coordinates`
 // names, for each of the k entries of x in order, (parameter block index, coordinate in it);
 // `block_sizes` gives each block's size. Coordinates of a block not named are not in the prior
 // (their Jacobian column is 0). Linear, so the Jacobian is W itself, scattered into the blocks.

@@ -27,7 +27,7 @@ constexpr double kClockOffsetSigmaFraction = 0.25;
 // solve: the moving scans' headings interpolated at the shifted times, less the linear model's
 // ψ + ω·shift_s, regressed on ω (the model's own regressor, each scan's heading noise alike).
 // A yaw rate smoothed over ±0.5 s, as while driving on, overstates the shift it multiplies
-// (bench (d2): by a fifth); a rate over ±one sample period on a drive between stops hardly
+// (by a fifth on short-stop sessions with car-like drives); a rate over ±one sample period on a drive between stops hardly
 // does, and there a round would only repeat the solve.
 double HeadingRoundChange(const calib::PoseInterpolator& poses,
                           const std::vector<calib::WallObservation>& observations,

@@ -7,9 +7,9 @@
 // again until the offset left over is below a tolerance. The headings are moved the same way
 // by what the turns tell, the clock offset plus the heading delay estimated beside it
 // (wall_line_cost.h): re-interpolated that much later than the stamps. Left linear, ω·(dt + δh)
-// takes a yaw rate smoothed over ±0.5 s while driving on, which overstated a −36 ms heading
-// delay by 2–3 ms on short-stop sessions (bench (d2), 11 of its σ); with the headings moved,
-// the rate only steers the steps, not where they end.
+// takes a yaw rate smoothed over ±0.5 s while driving on, which overstates a −36 ms heading
+// delay by 2–3 ms on short-stop sessions with car-like drives (11 of its σ); with the headings
+// moved, the rate only steers the steps, not where they end.
 
 #include <functional>
 #include <vector>
@@ -20,9 +20,6 @@
 #include "solvers/mount_solver.h"
 
 namespace wallcal::solvers {
-
-enum class Method { kCeres, kBarawid };
-const char* MethodName(Method method);  // "ceres", "barawid"
 
 struct PolicyOutcome {
   MountEstimate estimate;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The cost of one wall observation (one scan's line fit on one surveyed wall) in the joint mount
-// adjustment (solvers/ceres_solver.cc).
+// adjustment (built in solvers/mount_problem.cc, solved in solvers/ceres_solver.cc).
 //
 // Residual (2, dimensionless: whitened by the observation's total covariance):
 //   e = W · [ rho_pred − rho_m ;  wrap(theta_pred − theta_rad) ]          ([m; rad] before W)
@@ -26,7 +26,8 @@
 //   rho_pred   = d − n·s                    [m], > 0 when the scanner is in front of the wall
 //   theta_pred = atan2(σ n_w) + δα − ψ' − yaw  [rad]  (atan2(n) = atan2(σ n_w) + δα exactly)
 // W = L⁻¹ with L Lᵀ = Σ, the 2x2 covariance of [rho; theta] (m², m·rad, rad²): line fit +
-// GNSS white noise + heading noise (built in ceres_solver.cc, where the choice is explained).
+// GNSS white noise + heading noise (ObservationCovariance in mount_problem.cc, where the choice
+// is explained).
 //
 // Parameter blocks: mount [x_m, y_m, yaw_rad] (vehicle frame: x forward, y left, yaw ccw),
 // wall [δd_m, δα_rad], GNSS bias [b_east_m, b_north_m] (measured = true + b), time offset

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Reading an earlier offsets.yaml (written by io/writers.h FormatOffsetsYaml) for
+// Reading an earlier offsets.yaml (written by io/config/config_writer.h FormatOffsetsYaml) for
 // `calibrate --compare`: the mount, its covariance and when it was made.
 
 #include <string>

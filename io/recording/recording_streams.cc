@@ -334,10 +334,7 @@ GnssFix FixFromNavSatFix(const NavSatFixMsg& msg, double stamp_s, double max_sig
 
 double HeadingFromEnuQuaternion(double x, double y, double z, double w) {
   const double yaw = std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
-  double heading = std::fmod(kPi / 2.0 - yaw, 2.0 * kPi);
-  if (heading < 0) heading += 2.0 * kPi;
-  if (heading >= 2.0 * kPi) heading = 0.0;
-  return heading;
+  return WrapTwoPi(kPi / 2.0 - yaw);  // the grid heading of an ENU yaw
 }
 
 PoseLogs ReadPoseLogs(const SessionSpec& spec, bool read_gnss, bool read_heading) {

@@ -5,10 +5,12 @@
 #include <cmath>
 #include <cstdint>
 
+#include "common/angles.h"
+#include "io/survey/internal/line_splitter.h"
+
 namespace wallcal::io {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMetresPerFoot = 0.3048;  // international foot
 
 std::string WordName(const GsiWord& word) {
@@ -190,15 +192,10 @@ GsiFile ParseGsi(std::string_view text, const std::string& name) {
   GsiSetup setup;
   double reflector_height_m = 0.0;
   bool first_word_line = true;
-  int line_number = 0;
-  size_t start = 0;
-  while (start < text.size()) {
-    size_t end = text.find('\n', start);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(start, end - start);
-    start = end + 1;
-    ++line_number;
-    if (line_number == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
+  LineSplitter lines(text);
+  std::string_view line;
+  while (lines.Next(&line)) {
+    const int line_number = lines.line_number();
     while (!line.empty() && line.front() == ' ') line.remove_prefix(1);
     while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) {
       line.remove_suffix(1);

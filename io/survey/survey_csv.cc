@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 
+#include "io/survey/internal/line_splitter.h"
 #include "io/internal/decimal.h"
 
 namespace wallcal::io {
@@ -154,16 +155,11 @@ std::vector<SurveyPoint> ParseSurveyCsv(std::string_view text, const std::string
 
   std::vector<SurveyPoint> points;
   std::vector<std::string> fields;
-  int line_number = 0;
   bool first_row = true;
-  size_t start = 0;
-  while (start < text.size()) {
-    size_t end = text.find('\n', start);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(start, end - start);
-    start = end + 1;
-    ++line_number;
-    if (line_number == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
+  LineSplitter lines(text);
+  std::string_view line;
+  while (lines.Next(&line)) {
+    const int line_number = lines.line_number();
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     size_t first = 0;
     while (first < line.size() && std::isspace(static_cast<unsigned char>(line[first]))) ++first;

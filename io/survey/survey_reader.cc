@@ -12,6 +12,7 @@
 
 #include "io/text/internal/gzip_input.h"
 #include "io/input_file.h"
+#include "io/survey/internal/line_splitter.h"
 #include "io/survey/internal/leica_gsi.h"
 #include "io/survey/internal/survey_csv.h"
 
@@ -20,13 +21,9 @@ namespace {
 
 // The first line that is neither blank nor a CSV comment.
 std::string_view FirstContentLine(std::string_view text) {
-  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
-  size_t start = 0;
-  while (start < text.size()) {
-    size_t end = text.find('\n', start);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(start, end - start);
-    start = end + 1;
+  LineSplitter lines(text);
+  std::string_view line;
+  while (lines.Next(&line)) {
     while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
     while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.remove_suffix(1);
     if (!line.empty()) return line;

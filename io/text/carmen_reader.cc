@@ -173,7 +173,7 @@ void CarmenReader::Skip(const std::string& reason, SkipSeverity how) {
 bool CarmenReader::ReadUsableLine() {
   while (ReadLine()) {
     ++lines_read_;
-    if (lines_read_ == 1 && line_.compare(0, 3, "\xEF\xBB\xBF") == 0) line_.erase(0, 3);  // BOM
+    if (lines_read_ == 1) StripUtf8Bom(&line_);
     if (line_.find('\0') != std::string::npos) {
       Skip("line with a NUL byte");
       continue;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Writing the simulator's session (CARMEN, NMEA, CSV, session.yaml,
-// truth.yaml). The Format* functions only build text; each line formatter returns one line
+// Writing the simulator's session as text logs (CARMEN, NMEA, survey CSV, session.yaml; the
+// simulator writes truth.yaml itself, sim/simulated_session.cc). The Format* functions only build text; each line formatter returns one line
 // without its newline. Angles in the files are degrees where the format says so.
 
 #include <cstdint>

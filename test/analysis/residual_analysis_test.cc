@@ -91,7 +91,7 @@ ResidualAnalysis Analyse(const Session& s) {
   return AnalyseResiduals(s.observations, s.walls, estimate, preset);
 }
 
-const ResidualTrend* Trend(const ResidualAnalysis& a, const std::string& against) {
+const ResidualTrend* Trend(const ResidualAnalysis& a, TrendAxis against) {
   for (const ResidualTrend& t : a.trends) {
     if (t.against == against) return &t;
   }
@@ -105,8 +105,8 @@ TEST(ResidualAnalysisTest, CleanSessionHasNoFlags) {
     EXPECT_TRUE(a.flags.empty()) << a.flags.front();
     EXPECT_NEAR(a.robust_sigma_m, 0.003, 0.0015);
     EXPECT_LT(a.outlier_share, 0.1);
-    ASSERT_NE(Trend(a, "range"), nullptr);
-    EXPECT_FALSE(Trend(a, "range")->flagged);
+    ASSERT_NE(Trend(a, TrendAxis::kRange), nullptr);
+    EXPECT_FALSE(Trend(a, TrendAxis::kRange)->flagged);
     ASSERT_TRUE(a.range_model_estimated);
     EXPECT_NEAR(a.range_scale_k, 1.0, 4.0 * a.sigma_range_scale_k + 1e-4);
   }
@@ -115,7 +115,7 @@ TEST(ResidualAnalysisTest, CleanSessionHasNoFlags) {
 TEST(ResidualAnalysisTest, RangeScaleErrorIsFlaggedAndKIsEstimated) {
   const ResidualAnalysis a = Analyse(Make(1.01, -1, 0.0, 5));  // ranges 1 % long
   ASSERT_TRUE(a.done);
-  const ResidualTrend* range = Trend(a, "range");
+  const ResidualTrend* range = Trend(a, TrendAxis::kRange);
   ASSERT_NE(range, nullptr);
   EXPECT_TRUE(range->flagged) << "significance " << range->significance;
   EXPECT_NE(range->message.find("range scale error"), std::string::npos);
@@ -141,8 +141,8 @@ TEST(ResidualAnalysisTest, GnssJumpAtOneStationIsFlagged) {
   }
   EXPECT_TRUE(flagged);
   EXPECT_EQ(jump_flags, 1);  // one flag per station, however many GNSS-error slices it has
-  ASSERT_NE(Trend(a, "station"), nullptr);
-  EXPECT_TRUE(Trend(a, "station")->flagged);
+  ASSERT_NE(Trend(a, TrendAxis::kStation), nullptr);
+  EXPECT_TRUE(Trend(a, TrendAxis::kStation)->flagged);
 }
 
 }  // namespace

@@ -128,7 +128,7 @@ LineGate TightGate(double theta_rad, double rho_m) {
 void ExpectNearTruth(const WallDetection& det, double theta_rad, double rho_m, double k = 3.0) {
   ASSERT_TRUE(det.found) << det.reason;
   EXPECT_NEAR(det.rho_m, rho_m, k * det.sigma_rho_m);
-  EXPECT_NEAR(std::remainder(det.theta_rad - theta_rad, 2 * M_PI), 0.0, k * det.sigma_theta_rad);
+  EXPECT_NEAR(std::remainder(det.theta_rad - theta_rad, 2 * kPi), 0.0, k * det.sigma_theta_rad);
   EXPECT_GT(det.sigma_rho_m, 0.0);
   EXPECT_GT(det.sigma_theta_rad, 0.0);
 }
@@ -371,7 +371,7 @@ TEST(WallDetectorTest, RejectsWhenTooFewInliers) {
   EXPECT_TRUE(relaxed.found) << relaxed.reason;
 
   // Nothing at all in the gate.
-  const WallDetection empty = DetectWall(pts, Gate(M_PI, 0.1, 8.0, 0.5), opt, sick.range_sigma_m);
+  const WallDetection empty = DetectWall(pts, Gate(kPi, 0.1, 8.0, 0.5), opt, sick.range_sigma_m);
   EXPECT_FALSE(empty.found);
   EXPECT_EQ(empty.reason, "no line within the gates");
   EXPECT_FALSE(DetectWall(ScanPoints(), LineGate(), opt, sick.range_sigma_m).found);
@@ -414,7 +414,7 @@ TEST(WallDetectorTest, HandlesUrgGeometry) {
   const double theta = 0.1, rho = 2.0;
   Scene scene;
   scene.walls.push_back(WallOnLine(theta, rho, -1.5, 1.7));
-  scene.walls.push_back(WallOnLine(theta + M_PI / 2, 1.7, -2.0, 1.6));  // side wall: a corner
+  scene.walls.push_back(WallOnLine(theta + kPi / 2, 1.7, -2.0, 1.6));  // side wall: a corner
   scene.trunks.push_back({Eigen::Vector2d(1.2, -0.4), 0.08});           // a table leg
   std::mt19937 rng(9);
   const io::ScanRecord scan = Log(TrueRanges(scene, urg), urg, &rng);

@@ -44,7 +44,7 @@ solvers::MountEstimate Estimate() {
       7.5e-8, 1.7e-4, -1.6e-6,              //
       -3.4e-8, -1.6e-6, 6.5e-7;
   e.usable = true;
-  e.method = "ceres";
+  e.method = solvers::Method::kCeres;
   return e;
 }
 

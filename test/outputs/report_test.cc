@@ -2,6 +2,7 @@
 // calibrate --report: the page is well-formed (XML-strict), self-contained, and has its sections
 // and plots, for a real calibration of a simulated session.
 
+#include "common/angles.h"
 #include "outputs/report.h"
 
 #include <gtest/gtest.h>
@@ -316,7 +317,7 @@ TEST_F(ReportTest, ResidualAnalysisRepeatabilityAndForceAreShownWhenPresent) {
   r.residual_analysis.done = true;
   r.residual_analysis.robust_sigma_m = 0.0031;
   ResidualTrend trend;
-  trend.against = "range";
+  trend.against = analysis::TrendAxis::kRange;
   trend.unit = "m/m";
   trend.slope = 0.002;
   trend.significance = 5.5;
@@ -358,7 +359,7 @@ TEST_F(ReportTest, WriteReportCreatesTheFolderAndTheFile) {
 TEST(ReportUnusableTest, ARefusedEstimateStillGivesAWellFormedReport) {
   const fs::path dir = FreshDir("narrow");
   sim::SimulationConfig config = sim::ReadSimulationConfig(ScenarioPath("lms291_sapporo"));
-  config.heading_spread_rad = 4.0 * 3.14159265358979 / 180.0;
+  config.heading_spread_rad = 4.0 * kDegToRad;
   config.num_stations = 8;
   WriteSimulatedSession(config, 21, dir.string());
   CalibrateRequest request;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Per-stream delays on a simulated session (issue 16): the logger stamps the GNSS sentences
+// Per-stream delays on a simulated session: the logger stamps the GNSS sentences
 // 35 ms + U(0, 10 ms) after their epochs, the heading 4 ms and the scans 13 ms after they were
 // taken (configs/simulate/bench_lms291_delays_continuous.yaml: continuous driving, a car weaving
 // forward and back towards the wall on an arc, so that the velocity along the wall normal tells

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/angles.h"
 #include "calib/observation.h"
 #include "solvers/solver_options.h"
 #include "sim/simulation_config.h"
@@ -22,6 +23,7 @@
 #include "sim/simulator.h"
 #include "solvers/mount_problem.h"
 #include "test/support/scratch_dir.h"
+#include "test/support/synthetic_fixtures.h"
 
 namespace wallcal {
 namespace {
@@ -29,14 +31,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // A wall along y = 10 (normal +y) seen by a vehicle near the origin heading north.
-calib::WallGeometry NorthWall() {
-  calib::WallGeometry wall;
-  wall.normal_local = Eigen::Vector2d(0.0, 1.0);
-  wall.offset_m = 10.0;
-  wall.end_a_local = Eigen::Vector2d(-10.0, 10.0);
-  wall.end_b_local = Eigen::Vector2d(10.0, 10.0);
-  return wall;
-}
+using testing_support::NorthWall;
 
 calib::WallObservation At(bool standing, const Eigen::Vector2d& velocity, double yaw_rate) {
   calib::WallObservation o;
@@ -45,7 +40,7 @@ calib::WallObservation At(bool standing, const Eigen::Vector2d& velocity, double
   o.sigma_rho_m = 0.002;
   o.sigma_theta_rad = 0.0005;
   o.pose.stamp_s = 100.0;
-  o.pose.yaw_rad = 0.5 * 3.14159265358979323846;
+  o.pose.yaw_rad = 0.5 * kPi;
   o.pose.stationary = standing;
   o.pose.segment = standing ? 0 : 7;
   o.pose.gnss_segment = 3;
@@ -257,8 +252,8 @@ TEST(MovingPoseTest, DrivesAreDroppedWhenTheOffsetIsNotDetermined) {
   EXPECT_EQ(strict.scans_used_moving, 0);
   EXPECT_GT(strict.scans_skipped.at(calib::ScanSkip::kVehicleMoving), 50);
   bool warned = false;
-  for (const std::string& w : strict.warnings) {
-    warned = warned || w.find("taken while driving were not used") != std::string::npos;
+  for (const pipeline::Warning& w : strict.warnings) {
+    warned = warned || w.kind == pipeline::WarningKind::kDrivesNotUsed;
   }
   EXPECT_TRUE(warned);
   // barawid estimates no clock offset: standing scans only.

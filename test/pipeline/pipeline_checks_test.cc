@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/angles.h"
 #include "pipeline/calibration.h"
 #include "calib/wall_geometry.h"
 #include "pipeline/config_dirs.h"
@@ -64,7 +65,7 @@ double Sigma(const CalibrationResult& result, int axis) {
 
 TEST(PipelineChecksTest, DegenerateSessionIsRefusedAndNamesTheWeakAxis) {
   sim::SimulationConfig config = Sapporo();
-  config.heading_spread_rad = 6.0 * 3.14159265358979323846 / 180.0;  // all stations face north
+  config.heading_spread_rad = 6.0 * kDegToRad;  // all stations face north
   const fs::path dir = Simulated(config, 5, "degenerate");
   const CalibrationResult refused = Calibrate(dir);
   EXPECT_FALSE(refused.estimate.usable);
@@ -79,7 +80,8 @@ TEST(PipelineChecksTest, DegenerateSessionIsRefusedAndNamesTheWeakAxis) {
   EXPECT_TRUE(forced.forced);
   const io::OffsetsDocument doc = MakeOffsetsDocument(forced);
   bool warned = false;
-  for (const std::string& w : doc.warnings) warned = warned || w.rfind("FORCED: ", 0) == 0;
+  for (const Warning& w : forced.warnings) warned = warned || IsForced(w.kind);
+  ASSERT_EQ(doc.warnings.size(), forced.warnings.size());
   EXPECT_TRUE(warned);
   EXPECT_NE(FormatSummary(forced).find("FORCED"), std::string::npos);
   // The forced σ says how little is known sideways.
@@ -88,7 +90,7 @@ TEST(PipelineChecksTest, DegenerateSessionIsRefusedAndNamesTheWeakAxis) {
 
 TEST(PipelineChecksTest, SecondPerpendicularWallShrinksSigma) {
   sim::SimulationConfig config = Sapporo();
-  config.heading_spread_rad = 30.0 * 3.14159265358979323846 / 180.0;
+  config.heading_spread_rad = 30.0 * kDegToRad;
   const fs::path one_dir = Simulated(config, 7, "one_wall");
   config.walls[1].code = "WALL2";  // the shed east of the stations, at a right angle
   const fs::path two_dir = Simulated(config, 7, "two_walls");
@@ -185,8 +187,8 @@ TEST(PipelineChecksTest, MovingScansRecoverAKnownScannerClockOffset) {
 TEST(PipelineChecksTest, LongGnssErrorSlicesAreWarnedAbout) {
   const fs::path dir = Simulated(Sapporo(), 4, "long_slices");
   const auto warned = [](const CalibrationResult& result) {
-    for (const std::string& w : result.warnings) {
-      if (w.find("alignment.segment_max_s") != std::string::npos) return true;
+    for (const Warning& w : result.warnings) {
+      if (w.kind == WarningKind::kSliceTooLong) return true;
     }
     return false;
   };
@@ -196,9 +198,9 @@ TEST(PipelineChecksTest, LongGnssErrorSlicesAreWarnedAbout) {
   EXPECT_FALSE(warned(normal));
   const CalibrationResult coarse = Calibrate(dir, false, "alignment:\n  segment_max_s: 5.0\n");
   EXPECT_TRUE(warned(coarse));
-  for (const std::string& w : coarse.warnings) {
-    if (w.find("alignment.segment_max_s") != std::string::npos) {
-      EXPECT_NE(w.find("use at most 0.25 s"), std::string::npos) << w;
+  for (const Warning& w : coarse.warnings) {
+    if (w.kind == WarningKind::kSliceTooLong) {
+      EXPECT_NE(w.message.find("use at most 0.25 s"), std::string::npos) << w.message;
     }
   }
 }

@@ -105,7 +105,7 @@ void RunScenario(const std::string& scenario, uint64_t seed) {
   EXPECT_LT(std::abs(barawid.dyaw_deg), 0.25);
 }
 
-TEST(EndToEndTest, Lms291AtSapporoLikeSeed002) { RunScenario("lms291_sapporo", 11); }
+TEST(EndToEndTest, Lms291AtSapporoSeed11) { RunScenario("lms291_sapporo", 11); }
 
 TEST(EndToEndTest, Urg04lxRangeBiasIsCorrected) { RunScenario("urg04lx_lab", 12); }
 

@@ -271,7 +271,7 @@ TEST_F(HostileInputTest, NulByteSkipsOnlyItsOwnLine) {
   const Outcome run = Inspect("scans.clf");
   EXPECT_EQ(run.status, 0) << run.err;
   EXPECT_NE(run.out.find("1 line with a NUL byte (first line 5)"), std::string::npos) << run.out;
-  // Same number of lines as before: nothing was swallowed.
+  // The same number of lines as the run without the NUL byte: nothing was swallowed.
   const auto lines = [](const std::string& text) {
     const size_t at = text.find(" lines)");
     const size_t open = text.rfind(", ", at);
@@ -490,7 +490,7 @@ TEST_F(HostileInputTest, DeepNestingAndNulInYamlNameTheLine) {
   EXPECT_NE(run.err.find("session.yaml:6: a NUL byte"), std::string::npos) << run.err;
 }
 
-// ---- issue 12, item 8: fail early, and a report failure is only a warning -------------------
+// ---- Fail early, and a report failure is only a warning ----------------------------------------
 
 TEST_F(HostileInputTest, OutputsAreCheckedBeforeTheWork) {
   const Outcome folder = Calibrate(". --output ../missing/offsets.yaml");

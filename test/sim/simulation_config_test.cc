@@ -10,7 +10,7 @@
 
 #include "common/angles.h"
 #include "io/types.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal::sim {
 namespace {
@@ -18,17 +18,11 @@ namespace {
 namespace fs = std::filesystem;
 using io::InputError;
 
+using testing_support::WriteFile;
+
 // A folder in this process's scratch folder, removed when the process ends.
 std::string Dir(const std::string& name) {
-  static const testing_support::ScratchDir scratch("simulation_config_test_");
-  const fs::path dir = scratch.path() / name;
-  fs::create_directories(dir);
-  return dir.string();
-}
-
-std::string WriteFile(const std::string& path, const std::string& content) {
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
+  return testing_support::ScratchFolder("simulation_config_test_", name);
 }
 
 TEST(SimulationConfigTest, SimulationConfigDefaultsAndLists) {

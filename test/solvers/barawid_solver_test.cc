@@ -58,7 +58,7 @@ TEST(SolveMountBarawidTest, RecoversMountExactlyOnNoiseFreeData) {
   const MountEstimate estimate =
       SolveMountBarawid(observations, {NorthWall()}, solvers::SolverOptions{});
   ASSERT_TRUE(estimate.usable) << estimate.message;
-  EXPECT_EQ(estimate.method, "barawid");
+  EXPECT_EQ(estimate.method, solvers::Method::kBarawid);
   EXPECT_NEAR(estimate.mount.x_m, kTruth.x_m, 1e-9);
   EXPECT_NEAR(estimate.mount.y_m, kTruth.y_m, 1e-9);
   EXPECT_NEAR(estimate.mount.yaw_rad, kTruth.yaw_rad, 1e-9);

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "io/recording/rosbag1/internal/bag_compression.h"
+
 namespace wallcal::io {
 namespace {
 
@@ -61,41 +63,22 @@ InflateStatus InflateZstd(const uint8_t* data, size_t size, uint64_t expected,
   return status;
 }
 
+// The one LZ4 frame decoder (ROS 1 bags' roslz4 chunks are the same frame format); its
+// outcome in this container's terms.
 InflateStatus InflateLz4(const uint8_t* data, size_t size, uint64_t expected,
                          std::vector<uint8_t>* out) {
-  const uint64_t limit = expected + 1;
-  LZ4F_dctx* ctx = nullptr;
-  if (LZ4F_isError(LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION))) throw std::bad_alloc();
-  out->assign(InitialCapacity(size, limit), 0);
-  size_t produced = 0, consumed = 0;
-  size_t hint = 1;  // nonzero: a frame is open
-  InflateStatus status = InflateStatus::kOk;
-  while (true) {
-    if (produced == out->size() && !Grow(out, limit)) {
-      status = InflateStatus::kTooLong;
+  const DecompressOutcome outcome =
+      DecompressLz4Frame(data, size, static_cast<size_t>(expected), out);
+  switch (outcome.status) {
+    case DecompressStatus::kOk:
+      return InflateStatus::kOk;
+    case DecompressStatus::kSizeMismatch:
+      return out->size() > expected ? InflateStatus::kTooLong : InflateStatus::kTooShort;
+    case DecompressStatus::kCorrupt:
+    case DecompressStatus::kCutOff:
       break;
-    }
-    size_t dst_size = out->size() - produced;
-    size_t src_size = size - consumed;
-    hint = LZ4F_decompress(ctx, out->data() + produced, &dst_size, data + consumed, &src_size,
-                           nullptr);
-    if (LZ4F_isError(hint)) {
-      status = InflateStatus::kCorrupt;
-      break;
-    }
-    produced += dst_size;
-    consumed += src_size;
-    if (hint == 0 && consumed == size) break;
-    if (dst_size == 0 && src_size == 0 && produced < out->size()) {
-      status = InflateStatus::kCorrupt;  // input ended inside a frame
-      break;
-    }
   }
-  LZ4F_freeDecompressionContext(ctx);
-  if (status == InflateStatus::kOk && produced > expected) status = InflateStatus::kTooLong;
-  if (status == InflateStatus::kOk && produced < expected) status = InflateStatus::kTooShort;
-  out->resize(std::min<size_t>(produced, out->size()));
-  return status;
+  return InflateStatus::kCorrupt;
 }
 
 }  // namespace

@@ -21,6 +21,21 @@ size_t GrownCapacity(size_t current, size_t input_size, size_t expected_size) {
   return std::min(next, limit);
 }
 
+// Before each decompression step: room in *out for more output. False, with *outcome saying
+// so, when the output already holds more than the declared size.
+bool MakeRoom(const char* codec, size_t produced, size_t input_size, size_t expected_size,
+              std::vector<uint8_t>* out, DecompressOutcome* outcome) {
+  if (produced < out->size()) return true;
+  if (out->size() > expected_size) {
+    *outcome = {DecompressStatus::kSizeMismatch, std::string(codec) + ": more than the " +
+                                                     std::to_string(expected_size) +
+                                                     " bytes declared"};
+    return false;
+  }
+  out->resize(GrownCapacity(out->size(), input_size, expected_size));
+  return true;
+}
+
 std::string SizeText(size_t produced, size_t expected) {
   return std::to_string(produced) + " bytes decompressed, " + std::to_string(expected) +
          " declared";
@@ -42,14 +57,7 @@ DecompressOutcome DecompressBz2(const uint8_t* data, size_t size, size_t expecte
   size_t produced = 0;
   DecompressOutcome outcome;
   while (true) {
-    if (produced == out->size()) {
-      if (out->size() > expected_size) {
-        outcome = {DecompressStatus::kSizeMismatch,
-                   "bz2: more than the " + std::to_string(expected_size) + " bytes declared"};
-        break;
-      }
-      out->resize(GrownCapacity(out->size(), size, expected_size));
-    }
+    if (!MakeRoom("bz2", produced, size, expected_size, out, &outcome)) break;
     const size_t in_step = std::min(size - in_pos, kStep);
     const size_t out_step = std::min(out->size() - produced, kStep);
     stream.next_in = const_cast<char*>(reinterpret_cast<const char*>(data + in_pos));
@@ -94,14 +102,7 @@ DecompressOutcome DecompressLz4Frame(const uint8_t* data, size_t size, size_t ex
   size_t produced = 0;
   DecompressOutcome outcome;
   while (true) {
-    if (produced == out->size()) {
-      if (out->size() > expected_size) {
-        outcome = {DecompressStatus::kSizeMismatch,
-                   "lz4: more than the " + std::to_string(expected_size) + " bytes declared"};
-        break;
-      }
-      out->resize(GrownCapacity(out->size(), size, expected_size));
-    }
+    if (!MakeRoom("lz4", produced, size, expected_size, out, &outcome)) break;
     size_t out_step = out->size() - produced;
     size_t in_step = size - in_pos;
     const size_t hint = LZ4F_decompress(context, out->data() + produced, &out_step,

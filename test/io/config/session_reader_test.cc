@@ -10,24 +10,18 @@
 
 #include "io/writers/writers.h"
 #include "common/angles.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
 
+using testing_support::WriteFile;
+
 // A folder in this process's scratch folder, removed when the process ends.
 std::string Dir(const std::string& name) {
-  static const testing_support::ScratchDir scratch("session_reader_test_");
-  const fs::path dir = scratch.path() / name;
-  fs::create_directories(dir);
-  return dir.string();
-}
-
-std::string WriteFile(const std::string& path, const std::string& content) {
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
+  return testing_support::ScratchFolder("session_reader_test_", name);
 }
 
 // The session of docs/session-format.md, as printed there.

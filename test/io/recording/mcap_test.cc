@@ -15,23 +15,20 @@
 #include "io/recording/mcap/internal/mcap_records.h"
 #include "io/writers/mcap_writer.h"
 #include "io/types.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/recorded_messages.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kReal = WALLCAL_SOURCE_DIR "/../shared/testdata/real/ros2";
+using testing_support::kRealRos2;
+const std::string& kReal = kRealRos2;
+using Got = testing_support::GotMessage;
 
+// An empty folder in this process's scratch folder (removed when the process ends).
 std::string Dir(const std::string& name) {
-  // One folder per process (ctest runs the cases of a file in parallel processes), removed when
-  // the process ends.
-  static const testing_support::ScratchDir scratch("mcap_test-");
-  const fs::path dir = scratch.path() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
+  return testing_support::FreshScratchFolder("mcap_test-", name);
 }
 
 std::vector<uint8_t> ReadBytes(const std::string& path) {
@@ -39,22 +36,7 @@ std::vector<uint8_t> ReadBytes(const std::string& path) {
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
 }
 
-struct Got {
-  std::string topic;
-  double receive_s = 0;
-  std::vector<uint8_t> data;
-  int64_t index = 0;
-  uint64_t file_offset = 0;
-};
-
-std::vector<Got> Collect(Recording& rec, const std::set<std::string>& topics) {
-  std::vector<Got> out;
-  rec.ForEach(topics, [&](const RecordedMessage& m) {
-    out.push_back({m.topic->name, m.receive_s, std::vector<uint8_t>(m.data, m.data + m.size),
-                   m.index, m.file_offset});
-  });
-  return out;
-}
+using testing_support::CollectMessages;
 
 uint32_t Crc(const std::vector<uint8_t>& v) {
   return static_cast<uint32_t>(crc32(0, v.data(), static_cast<uInt>(v.size())));
@@ -116,7 +98,7 @@ TEST(McapReaderTest, ReadsRosbag2CdrTestFile) {
       {"/array_topic", 1586406456.866330524, 696, 0xab8a469a},
       {"/array_topic", 1586406456.914169506, 696, 0xab8a469a},
   };
-  const std::vector<Got> got = Collect(*rec, {"/test_topic", "/array_topic"});
+  const std::vector<Got> got = CollectMessages(*rec, {"/test_topic", "/array_topic"});
   ASSERT_EQ(got.size(), 7u);
   int64_t tests = 0, arrays = 0;
   for (size_t i = 0; i < got.size(); ++i) {
@@ -128,7 +110,7 @@ TEST(McapReaderTest, ReadsRosbag2CdrTestFile) {
     EXPECT_EQ(got[i].file_offset, 42u);  // the one chunk starts at byte 42
   }
   // One topic alone.
-  EXPECT_EQ(Collect(*rec, {"/test_topic"}).size(), 3u);
+  EXPECT_EQ(CollectMessages(*rec, {"/test_topic"}).size(), 3u);
 }
 
 TEST(McapReaderTest, ReadsZstdTalkerStrings) {
@@ -146,7 +128,7 @@ TEST(McapReaderTest, ReadsZstdTalkerStrings) {
   EXPECT_NEAR(Find(*rec, "/topic")->first_s, 1585866235.112609068, 1e-6);
   EXPECT_NEAR(Find(*rec, "/topic")->last_s, 1585866239.643508139, 1e-6);
 
-  const std::vector<Got> got = Collect(*rec, {"/topic"});
+  const std::vector<Got> got = CollectMessages(*rec, {"/topic"});
   ASSERT_EQ(got.size(), 10u);
   for (size_t i = 0; i < got.size(); ++i) {
     // CDR: 4-byte encapsulation header, uint32 length including the NUL, the characters.
@@ -162,7 +144,7 @@ TEST(McapReaderTest, ReadsZstdTalkerStrings) {
   }
   EXPECT_NEAR(got[0].receive_s, 1585866235.112609068, 1e-6);
   EXPECT_NEAR(got[9].receive_s, 1585866239.643508139, 1e-6);
-  const std::vector<Got> all = Collect(*rec, {"/topic", "/rosout"});
+  const std::vector<Got> all = CollectMessages(*rec, {"/topic", "/rosout"});
   ASSERT_EQ(all.size(), 20u);
   for (size_t i = 0; i < all.size(); ++i) {
     EXPECT_EQ(all[i].topic, i % 2 == 0 ? "/rosout" : "/topic") << i;  // interleaved by time
@@ -175,8 +157,8 @@ TEST(McapReaderTest, BufferEntryReadsTheSameAsTheFile) {
   const std::string path = kReal + "/rosbag2-talker.mcap";
   auto from_file = OpenMcap(path);
   auto from_buffer = OpenMcapBuffer("talker", ReadBytes(path));
-  const auto a = Collect(*from_file, {"/topic", "/rosout"});
-  const auto b = Collect(*from_buffer, {"/topic", "/rosout"});
+  const auto a = CollectMessages(*from_file, {"/topic", "/rosout"});
+  const auto b = CollectMessages(*from_buffer, {"/topic", "/rosout"});
   ASSERT_EQ(a.size(), b.size());
   for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].data, b[i].data);
 }
@@ -233,7 +215,7 @@ TEST_P(McapRoundTrip, WrittenFileReadsBackThroughTheSummary) {
   EXPECT_EQ(rec->topics()[1].type, "sensor_msgs/msg/LaserScan");
   EXPECT_EQ(rec->topics()[1].count, 60);
   EXPECT_NEAR(rec->topics()[1].last_s, 100.0 + 5.9 + 0.05, 1e-9);
-  ExpectTwoTopicsInOrder(Collect(*rec, {"/a", "/b"}), 60);
+  ExpectTwoTopicsInOrder(CollectMessages(*rec, {"/a", "/b"}), 60);
   const fs::directory_iterator files(fs::path(path).parent_path());
   EXPECT_EQ(std::distance(fs::begin(files), fs::end(files)), 1);  // no temporary file left
 }
@@ -246,7 +228,7 @@ TEST_P(McapRoundTrip, FileWithoutFooterIsWalkedWithAWarning) {
   auto rec = OpenMcapBuffer("cut.mcap", bytes);
   ASSERT_FALSE(rec->warnings().empty());
   EXPECT_NE(rec->warnings()[0].find("no footer"), std::string::npos) << rec->warnings()[0];
-  ExpectTwoTopicsInOrder(Collect(*rec, {"/a", "/b"}), 60);
+  ExpectTwoTopicsInOrder(CollectMessages(*rec, {"/a", "/b"}), 60);
 }
 
 TEST_P(McapRoundTrip, CutAtEvery61stByteNeverCrashes) {
@@ -259,7 +241,7 @@ TEST_P(McapRoundTrip, CutAtEvery61stByteNeverCrashes) {
       auto rec = OpenMcapBuffer("cut", std::vector<uint8_t>(bytes.begin(), bytes.begin() + cut));
       ++opened;
       EXPECT_FALSE(rec->warnings().empty()) << cut;  // a cut file is never silently whole
-      const std::vector<Got> got = Collect(*rec, {"/a", "/b"});
+      const std::vector<Got> got = CollectMessages(*rec, {"/a", "/b"});
       for (size_t i = 1; i < got.size(); ++i) ASSERT_LE(got[i - 1].receive_s, got[i].receive_s);
       best = std::max(best, got.size());
     } catch (const InputError&) {
@@ -296,7 +278,7 @@ TEST(McapReaderTest, FlippedByteFailsTheDataCrcThenTheChunkCrc) {
   ZeroFileCrcs(&bytes);
   error = ErrorOf([&] {
     auto rec = OpenMcapBuffer("flip.mcap", bytes);
-    Collect(*rec, {"/a"});
+    CollectMessages(*rec, {"/a"});
   });
   EXPECT_NE(error.find("flip.mcap:36: chunk CRC mismatch"), std::string::npos) << error;
 }
@@ -321,7 +303,7 @@ TEST(McapReaderTest, DamagedZstdChunkThrows) {
   for (size_t i = records; i < records + 12; ++i) bytes[i] ^= 0xA5;
   const std::string error = ErrorOf([&] {
     auto rec = OpenMcapBuffer("z.mcap", bytes);
-    Collect(*rec, {"/a", "/b"});
+    CollectMessages(*rec, {"/a", "/b"});
   });
   EXPECT_NE(error.find("z.mcap:36: zstd chunk does not decompress"), std::string::npos) << error;
 }
@@ -368,12 +350,12 @@ TEST(McapReaderTest, ChunkIndexPointingPastTheSummaryIsNotFollowed) {
   ASSERT_FALSE(rec->warnings().empty());
   EXPECT_NE(rec->warnings()[0].find("points outside the data section"), std::string::npos)
       << rec->warnings()[0];
-  ExpectTwoTopicsInOrder(Collect(*rec, {"/a", "/b"}), 60);
+  ExpectTwoTopicsInOrder(CollectMessages(*rec, {"/a", "/b"}), 60);
 }
 
 TEST(McapReaderTest, UnknownTopicListsTheTopicsPresent) {
   auto rec = OpenMcap(WriteTwoTopics(Dir("unknown") + "/two.mcap", ChunkCompression::kLz4));
-  const std::string error = ErrorOf([&] { Collect(*rec, {"/scan"}); });
+  const std::string error = ErrorOf([&] { CollectMessages(*rec, {"/scan"}); });
   EXPECT_NE(error.find("no topic /scan"), std::string::npos) << error;
   EXPECT_NE(error.find("topics: /a, /b"), std::string::npos) << error;
 }
@@ -431,7 +413,7 @@ TEST(McapReaderTest, LooseMessagesWithoutSummaryComeOutInTimeOrder) {
   EXPECT_NE(rec->warnings()[0].find("no summary section"), std::string::npos);
   ASSERT_EQ(rec->topics().size(), 2u);
   EXPECT_EQ(rec->topics()[1].encoding, "json");
-  const std::vector<Got> got = Collect(*rec, {"/cdr"});
+  const std::vector<Got> got = CollectMessages(*rec, {"/cdr"});
   ASSERT_EQ(got.size(), 3u);
   EXPECT_DOUBLE_EQ(got[0].receive_s, 10.0);
   EXPECT_EQ(got[0].data, std::vector<uint8_t>{1});
@@ -441,7 +423,7 @@ TEST(McapReaderTest, LooseMessagesWithoutSummaryComeOutInTimeOrder) {
 
 TEST(McapReaderTest, NonCdrTopicIsListedButNotRead) {
   auto rec = OpenMcapBuffer("loose.mcap", LooseFile());
-  const std::string error = ErrorOf([&] { Collect(*rec, {"/json"}); });
+  const std::string error = ErrorOf([&] { CollectMessages(*rec, {"/json"}); });
   EXPECT_NE(error.find("topic /json is encoded as 'json'"), std::string::npos) << error;
 }
 

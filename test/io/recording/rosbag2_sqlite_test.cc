@@ -15,41 +15,27 @@
 #include "io/recording/rosbag2/internal/rosbag2_sqlite_reader.h"
 #include "io/writers/rosbag2_sqlite_writer.h"
 #include "io/types.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/recorded_messages.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kReal = WALLCAL_SOURCE_DIR "/../shared/testdata/real/ros2";
+using testing_support::kRealRos2;
+const std::string& kReal = kRealRos2;
+using Got = testing_support::GotMessage;
 
+// An empty folder in this process's scratch folder (removed when the process ends).
 std::string Dir(const std::string& name) {
-  // One folder per process (ctest runs the cases of a file in parallel processes), removed when
-  // the process ends.
-  static const testing_support::ScratchDir scratch("rosbag2_sqlite_test-");
-  const fs::path dir = scratch.path() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
+  return testing_support::FreshScratchFolder("rosbag2_sqlite_test-", name);
 }
 
-struct Got {
-  std::string topic;
-  double receive_s = 0;
-  std::vector<uint8_t> data;
-  int64_t index = 0;
-  uint64_t file_offset = 0;
-};
-
+// A rosbag2 database holds CDR only.
 std::vector<Got> Collect(Recording& rec, const std::set<std::string>& topics) {
-  std::vector<Got> out;
-  rec.ForEach(topics, [&](const RecordedMessage& m) {
-    EXPECT_EQ(m.wire, WireFormat::kCdr);
-    out.push_back({m.topic->name, m.receive_s, std::vector<uint8_t>(m.data, m.data + m.size),
-                   m.index, m.file_offset});
-  });
-  return out;
+  std::vector<Got> got = testing_support::CollectMessages(rec, topics);
+  for (const Got& g : got) EXPECT_EQ(g.wire, WireFormat::kCdr) << g.topic;
+  return got;
 }
 
 std::string ErrorOf(const std::function<void()>& fn) {

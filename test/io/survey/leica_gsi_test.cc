@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "io/survey/internal/leica_gsi.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +16,6 @@
 namespace wallcal::io {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const std::string kRealDir = WALLCAL_SOURCE_DIR "/../shared/testdata/real/gsi";
 
 // The value of the one word on a line "110001+00000001 <word>": the word is the second.

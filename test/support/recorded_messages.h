@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// Fixtures for the recording readers' tests: where the shared ROS 2 recordings are, a fresh
+// scratch folder per case, and the messages a Recording hands out, copied out of its callback.
+
+#include <cstdint>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "io/recording/recording.h"
+#include "test/support/scratch_files.h"
+
+namespace wallcal::testing_support {
+
+// The ROS 2 recordings of the real test data (absent on machines without it: tests skip).
+inline const std::string kRealRos2 = WALLCAL_SOURCE_DIR "/../shared/testdata/real/ros2";
+
+// ScratchFolder(prefix, name) emptied first: ctest runs each case in a process of its own.
+inline std::string FreshScratchFolder(const std::string& prefix, const std::string& name) {
+  const std::string dir = ScratchFolder(prefix, name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// One message as the callback saw it.
+struct GotMessage {
+  std::string topic;
+  double receive_s = 0;
+  std::vector<uint8_t> data;
+  int64_t index = 0;
+  uint64_t file_offset = 0;
+  io::WireFormat wire = io::WireFormat::kCdr;
+};
+
+// Every message of `topics`, in the order the recording hands them out.
+inline std::vector<GotMessage> CollectMessages(io::Recording& rec,
+                                               const std::set<std::string>& topics) {
+  std::vector<GotMessage> out;
+  rec.ForEach(topics, [&](const io::RecordedMessage& m) {
+    out.push_back({m.topic->name, m.receive_s, std::vector<uint8_t>(m.data, m.data + m.size),
+                   m.index, m.file_offset, m.wire});
+  });
+  return out;
+}
+
+}  // namespace wallcal::testing_support
