@@ -23,6 +23,7 @@
 #include "outputs/report.h"
 #include "outputs/summary.h"
 #include "pipeline/calibration.h"
+#include "pipeline/config_dirs.h"
 
 namespace {
 
@@ -271,10 +272,13 @@ int main(int argc, char** argv) {
     {
       const wallcal::io::SessionSpec session = wallcal::io::ReadSession(request.session_path);
       if (output.empty()) output = pipeline::DefaultOutputPath(session);
-      wallcal::io::CheckOutputPath("--output", output,
-                                   {session.file, session.scanner_log, session.gnss_log,
-                                    session.heading_log, session.survey_points,
-                                    request.config_path});
+      // Every file the run reads: the session's logs and survey, --config, --compare and the
+      // scanner preset calibrate resolves (in SESSION/scanners/ or the shipped folders).
+      wallcal::io::CheckOutputPath(
+          "--output", output,
+          {session.file, session.scanner_log, session.gnss_log, session.heading_log,
+           session.survey_points, request.config_path, request.compare_path,
+           pipeline::SessionPresetPath(session.scanner_model, session.dir)});
       if (!report_dir.empty()) wallcal::io::CheckOutputFolder("--report", report_dir);
     }
     request.collect_report_data = !report_dir.empty();

@@ -83,10 +83,8 @@ void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* r
       request.threads > 0 ? request.threads
                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   // A measured preset beside the session (characterise writes <session>/scanners/NAME.yaml)
-  // is found first, then the shipped ones.
-  std::vector<std::string> preset_dirs = PresetDirs();
-  preset_dirs.insert(preset_dirs.begin(), (fs::path(result->session.dir) / "scanners").string());
-  result->preset = io::LoadScannerPreset(result->session.scanner_model, preset_dirs);
+  // is found first, then the shipped ones (config_dirs.h).
+  result->preset = LoadSessionPreset(result->session.scanner_model, result->session.dir);
   // The previous calibration is read now: a bad --compare file fails before the work.
   if (!request.compare_path.empty()) inputs->previous = io::ReadPreviousOffsets(request.compare_path);
 }

@@ -51,8 +51,6 @@ void Say(const ProgressFn& progress, Stage stage, const std::string& text);
 // session.yaml, the options and the scanner preset.
 void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* result,
                            RunInputs* inputs);
-// The scanner preset file calibrate would read for `model`, or "" (not found).
-std::string PresetPath(const std::string& model);
 // Starts the SHA-256 digests of the inputs (after LoadSessionAndOptions).
 void StartDigests(const CalibrateRequest& request, const CalibrationResult& result,
                   RunInputs* inputs);

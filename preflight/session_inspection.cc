@@ -42,7 +42,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
   // --- Scanner preset ------------------------------------------------------------------
   std::optional<io::ScannerPreset> preset;
   try {
-    preset = io::LoadScannerPreset(spec.scanner_model, pipeline::PresetDirs());
+    preset = pipeline::LoadSessionPreset(spec.scanner_model, spec.dir);
     out << "  scanner   " << preset->name << ": " << preset->num_beams << " beams, "
         << Fmt("%.2f", preset->rate_hz) << " Hz, max range " << Fmt("%.1f", preset->max_range_m)
         << " m\n";

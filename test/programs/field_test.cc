@@ -1,0 +1,212 @@
+// SPDX-License-Identifier: Apache-2.0
+// The first hour in the field, at the program level: `calibrate` and `inspect` run as
+// subprocesses (each under `timeout 120`) on a copy of samples/lms291-sapporo changed the way a
+// new user's session goes wrong or an ordinary surveyor's export differs. Checked: the exit
+// status, the message (file, line, what to do), which files are written or left alone, and that
+// ordinary export variants calibrate to the same mount as the plain CSV.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "common/sha256.h"
+
+namespace wallcal {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kSample = fs::path(WALLCAL_SOURCE_DIR) / "samples" / "lms291-sapporo";
+const fs::path kShippedPresets = fs::path(WALLCAL_SOURCE_DIR) / "configs" / "scanners";
+const fs::path kRealData = fs::path(WALLCAL_SOURCE_DIR) / ".." / "shared" / "testdata" / "real";
+
+std::string Quote(const std::string& text) {
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// The one place that says how a command of the tool is run: Command("calibrate") is the
+// command line of `calibrate`. WALLCAL_PROGRAMS_DIR runs the tests against another build (an
+// older main, to see each test fail there).
+std::string Command(const std::string& subcommand) {
+  const char* dir = std::getenv("WALLCAL_PROGRAMS_DIR");
+  const std::string programs = dir != nullptr && *dir != '\0' ? dir : WALLCAL_BINARY_DIR;
+  return Quote(programs + "/" + subcommand);
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+void WriteText(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
+}
+
+void Replace(const fs::path& path, const std::string& from, const std::string& to) {
+  std::string text = ReadText(path);
+  const size_t at = text.find(from);
+  ASSERT_NE(at, std::string::npos) << from;
+  text.replace(at, from.size(), to);
+  WriteText(path, text);
+}
+
+// Every line end of `text` ("\n") as `eol`.
+std::string WithLineEnds(const std::string& text, const std::string& eol) {
+  std::string out;
+  for (char c : text) out += c == '\n' ? eol : std::string(1, c);
+  return out;
+}
+
+struct Outcome {
+  int status = -1;  // exit code; 137 when `timeout` killed it
+  std::string out, err;
+  std::string all() const { return out + err; }
+};
+
+class FieldTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    root_ = fs::temp_directory_path() /
+            ("wallcal_field_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(root_);
+    session_ = root_ / "S";
+    fs::create_directories(session_);
+    for (const char* name : {"session.yaml", "scans.clf", "gnss.nmea", "heading.nmea", "survey.csv"}) {
+      fs::copy_file(kSample / name, session_ / name);
+    }
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  // Runs `subcommand args` (args already shell-quoted) in the session folder.
+  Outcome Run(const std::string& subcommand, const std::string& args, const std::string& env = "") {
+    const fs::path out = root_ / "stdout.txt";
+    const fs::path err = root_ / "stderr.txt";
+    const std::string command = "cd " + Quote(session_.string()) + " && " + env +
+                                " timeout -s KILL 120 " + Command(subcommand) + " " + args +
+                                " >" + Quote(out.string()) + " 2>" + Quote(err.string()) +
+                                " </dev/null";
+    const int raw = std::system(command.c_str());
+    Outcome run;
+    if (WIFEXITED(raw)) run.status = WEXITSTATUS(raw);
+    run.out = ReadText(out);
+    run.err = ReadText(err);
+    return run;
+  }
+  Outcome Calibrate(const std::string& args, const std::string& env = "") {
+    return Run("calibrate", args, env);
+  }
+  Outcome Inspect(const std::string& args, const std::string& env = "") {
+    return Run("inspect", args, env);
+  }
+
+  // The mount (x, y, yaw) and the whole document of an offsets.yaml.
+  static YAML::Node Offsets(const fs::path& path) { return YAML::LoadFile(path.string()); }
+
+  fs::path root_, session_;
+};
+
+// ---- outputs never replace an input -------------------------------------------------------
+
+TEST_F(FieldTest, OutputNamingThePresetInTheSessionIsRefused) {
+  fs::create_directories(session_ / "scanners");
+  fs::copy_file(kShippedPresets / "sick_lms291.yaml", session_ / "scanners" / "sick_lms291.yaml");
+  const std::string before = ReadText(session_ / "scanners" / "sick_lms291.yaml");
+  const Outcome run = Calibrate(". --output scanners/sick_lms291.yaml");
+  EXPECT_EQ(run.status, 2) << run.all();
+  EXPECT_NE(run.err.find("names an input"), std::string::npos) << run.err;
+  EXPECT_EQ(ReadText(session_ / "scanners" / "sick_lms291.yaml"), before);
+}
+
+TEST_F(FieldTest, OutputNamingTheShippedPresetIsRefused) {
+  // The shipped folder, copied (WALLCAL_CONFIG_DIR is searched first): a failure here must not
+  // overwrite the build's own share/wallcal.
+  const fs::path shipped = root_ / "share" / "wallcal";
+  fs::create_directories(shipped);
+  fs::copy(kShippedPresets, shipped / "scanners", fs::copy_options::recursive);
+  const fs::path preset = shipped / "scanners" / "sick_lms291.yaml";
+  const std::string before = ReadText(preset);
+  const Outcome run = Calibrate(". --output " + Quote(preset.string()),
+                                "WALLCAL_CONFIG_DIR=" + Quote(shipped.string()));
+  EXPECT_EQ(run.status, 2) << run.all();
+  EXPECT_NE(run.err.find("names an input"), std::string::npos) << run.err;
+  EXPECT_EQ(ReadText(preset), before);
+}
+
+TEST_F(FieldTest, OutputNamingTheComparedOffsetsIsRefusedAndEveryInputIsDigested) {
+  fs::create_directories(session_ / "scanners");
+  fs::copy_file(kShippedPresets / "sick_lms291.yaml", session_ / "scanners" / "sick_lms291.yaml");
+  const Outcome first = Calibrate(". --output previous.yaml");
+  ASSERT_EQ(first.status, 0) << first.all();
+  const std::string previous = ReadText(session_ / "previous.yaml");
+  const Outcome same = Calibrate(". --compare previous.yaml --output previous.yaml");
+  EXPECT_EQ(same.status, 2) << same.all();
+  EXPECT_NE(same.err.find("names an input"), std::string::npos) << same.err;
+  EXPECT_EQ(ReadText(session_ / "previous.yaml"), previous);
+
+  const Outcome second = Calibrate(". --compare previous.yaml --output offsets.yaml");
+  ASSERT_EQ(second.status, 0) << second.all();
+  const YAML::Node inputs = Offsets(session_ / "offsets.yaml")["source"]["inputs"];
+  ASSERT_TRUE(inputs.IsSequence());
+  std::string roles;
+  for (const YAML::Node& input : inputs) {
+    const std::string role = input["role"].as<std::string>();
+    roles += role + " ";
+    const fs::path path = fs::path(input["path"].as<std::string>());
+    const fs::path full = path.is_absolute() ? path : session_ / path;
+    EXPECT_EQ(input["sha256"].as<std::string>(), Sha256OfFile(full.string())) << role;
+    if (role == "scanner_preset") {
+      // The preset actually read: the one in the session's scanners/ folder.
+      EXPECT_TRUE(fs::equivalent(full, session_ / "scanners" / "sick_lms291.yaml")) << path;
+    }
+  }
+  for (const char* role : {"session", "scanner_log", "gnss_log", "heading_log", "survey",
+                           "scanner_preset", "previous_offsets"}) {
+    EXPECT_NE(roles.find(std::string(role) + " "), std::string::npos) << role << " in " << roles;
+  }
+}
+
+// ---- one preset resolution ----------------------------------------------------------------
+
+TEST_F(FieldTest, InspectFindsAMeasuredPresetInTheSessionAsCalibrateDoes) {
+  fs::create_directories(session_ / "scanners");
+  fs::copy_file(kShippedPresets / "sick_lms291.yaml",
+                session_ / "scanners" / "sick_lms291_measured.yaml");
+  Replace(session_ / "session.yaml", "model: sick_lms291", "model: sick_lms291_measured");
+  const Outcome calibrate = Calibrate(". --output offsets.yaml");
+  ASSERT_EQ(calibrate.status, 0) << calibrate.all();
+  const Outcome inspect = Inspect(".");
+  EXPECT_EQ(inspect.status, 0) << inspect.all();
+  EXPECT_EQ(inspect.all().find("unknown scanner model"), std::string::npos) << inspect.all();
+  EXPECT_EQ(inspect.all().find("NOT enough data"), std::string::npos) << inspect.all();
+  const Outcome dump = Inspect(". --dump scans");
+  EXPECT_EQ(dump.status, 0) << dump.err;
+  // The provenance names the measured file.
+  const YAML::Node inputs = Offsets(session_ / "offsets.yaml")["source"]["inputs"];
+  bool found = false;
+  for (const YAML::Node& input : inputs) {
+    if (input["role"].as<std::string>() != "scanner_preset") continue;
+    found = true;
+    EXPECT_NE(input["path"].as<std::string>().find("scanners/sick_lms291_measured.yaml"),
+              std::string::npos);
+    EXPECT_EQ(input["sha256"].as<std::string>(),
+              Sha256OfFile((session_ / "scanners" / "sick_lms291_measured.yaml").string()));
+  }
+  EXPECT_TRUE(found);
+}
+
+}  // namespace
+}  // namespace wallcal
