@@ -145,10 +145,10 @@ void CheckSurveyNotMirrored(const std::vector<io::SurveyPoint>& survey,
   if (rotation_rms_m > 0.1 && reflection_rms_m < 0.25 * rotation_rms_m) {
     throw io::InputError(io::Where(
         session.file, session.control.front().line,
-        Format("the survey is mirrored against the control points' RTK positions: a reflected "
-               "fit matches them with RMS %.3f m, a rotation only with %.3f m; check whether "
-               "the survey's x and y (easting and northing) columns are swapped "
-               "(survey.columns) in ",
+        Format("mirrored survey: the survey is mirrored against the control points' RTK "
+               "positions: a reflected fit matches them with RMS %.3f m, a rotation only with "
+               "%.3f m; check whether the survey's x and y (easting and northing) columns are "
+               "swapped (survey.columns, or the header) in ",
                reflection_rms_m, rotation_rms_m) +
             session.survey_points));
   }

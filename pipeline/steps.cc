@@ -89,13 +89,16 @@ void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* r
   if (!request.compare_path.empty()) inputs->previous = io::ReadPreviousOffsets(request.compare_path);
 }
 
-void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs) {
+void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs, bool swap_survey_axes) {
   const io::SessionSpec& session = result->session;
   const solvers::SolverOptions& solver = result->options.solver;
   // Points measured more than once (both faces, two set-ups) are averaged (io/survey_reader.h).
   const io::SurveyCombination combined = io::CombineSurveyObservations(
       io::ReadSurvey(session.survey_points, session.survey_columns));
   inputs->survey = combined.points;
+  if (swap_survey_axes) {
+    for (io::SurveyPoint& p : inputs->survey) std::swap(p.x_m, p.y_m);
+  }
   for (const std::string& w : combined.warnings) result->warnings.push_back(w);
   const io::ControlPoint& first_control = session.control.front();
   try {

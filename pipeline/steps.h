@@ -54,8 +54,10 @@ void LoadSessionAndOptions(const CalibrateRequest& request, CalibrationResult* r
 // Starts the SHA-256 digests of the inputs (after LoadSessionAndOptions).
 void StartDigests(const CalibrateRequest& request, const CalibrationResult& result,
                   RunInputs* inputs);
-// The survey, its tie to UTM and the walls as lines in the local frame.
-void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs);
+// The survey, its tie to UTM and the walls as lines in the local frame. swap_survey_axes: the
+// survey's x and y exchanged first (the mirrored-survey probe of RunCalibration).
+void TieSurveyAndFitWalls(CalibrationResult* result, RunInputs* inputs,
+                          bool swap_survey_axes = false);
 // GNSS fixes and headings, the pose interpolator and the dwells.
 void ReadPoses(CalibrationResult* result, RunInputs* inputs);
 // How the detection passes read scans and which scans they use.

@@ -208,5 +208,49 @@ TEST_F(FieldTest, InspectFindsAMeasuredPresetInTheSessionAsCalibrateDoes) {
   EXPECT_TRUE(found);
 }
 
+// ---- survey mistakes named ----------------------------------------------------------------
+
+// The survey's x and y columns swapped (a PNEZD file read as PENZD): two control points fit
+// it by a rotation as well as the right one, the scans tell.
+TEST_F(FieldTest, MirroredSurveyIsNamedByCalibrateAndInspect) {
+  Replace(session_ / "survey.csv", "id,x,y,z,code", "id,y,x,z,code");
+  const Outcome calibrate = Calibrate(". --output offsets.yaml");
+  EXPECT_EQ(calibrate.status, 2) << calibrate.all();
+  EXPECT_NE(calibrate.err.find("mirrored survey"), std::string::npos) << calibrate.err;
+  EXPECT_NE(calibrate.err.find("session.yaml:15"), std::string::npos) << calibrate.err;
+  EXPECT_FALSE(fs::exists(session_ / "offsets.yaml"));
+  const Outcome inspect = Inspect(".");
+  EXPECT_EQ(inspect.status, 0) << inspect.all();
+  const std::string verdict = inspect.out.substr(inspect.out.find("\nverdict"));
+  EXPECT_NE(verdict.find("mirrored survey"), std::string::npos) << verdict;
+  EXPECT_EQ(verdict.find("stop at more places"), std::string::npos) << verdict;
+  EXPECT_EQ(verdict.find("too few stations"), std::string::npos) << verdict;
+}
+
+// C1's latitude typed 0.09° (10 km) off: with two control points either may be the wrong one.
+TEST_F(FieldTest, ControlPointTenKilometresOffNamesBothOfTwo) {
+  Replace(session_ / "session.yaml", "lat: 43.07129002690411", "lat: 43.16129002690411");
+  const Outcome run = Calibrate(". --output offsets.yaml");
+  EXPECT_EQ(run.status, 2) << run.all();
+  EXPECT_NE(run.err.find("C1 and C2"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("cannot be told"), std::string::npos) << run.err;
+  EXPECT_EQ(run.err.find("worst: C2"), std::string::npos) << run.err;
+}
+
+// `inspect --suggest-session` leaves lat: 0.0, lon: 0.0 for the control points.
+TEST_F(FieldTest, PlaceholderControlPointIsNamedWithItsLine) {
+  Replace(session_ / "session.yaml", "lat: 43.07128991302616, lon: 141.34006594797694",
+          "lat: 0.0, lon: 0.0");
+  const Outcome run = Calibrate(". --output offsets.yaml");
+  EXPECT_EQ(run.status, 2) << run.all();
+  EXPECT_NE(run.err.find("session.yaml:16"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("placeholder"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("C2"), std::string::npos) << run.err;
+  EXPECT_EQ(run.err.find("central meridian"), std::string::npos) << run.err;
+  const Outcome inspect = Inspect(".");
+  EXPECT_EQ(inspect.status, 2) << inspect.all();
+  EXPECT_NE(inspect.err.find("placeholder"), std::string::npos) << inspect.err;
+}
+
 }  // namespace
 }  // namespace wallcal
