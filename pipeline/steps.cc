@@ -248,8 +248,9 @@ void PreparePasses(const CalibrateRequest& request, CalibrationResult* result, R
   pass.poses = inputs->poses.get();
   // A preset that does not fit the scans (beams, step, range) misplaces every beam: refuse
   // before the detection passes, naming both, unless forced.
-  EnforcePresetFit(CheckPresetAgainstScans(pass.open_scans, result->preset), result->preset,
-                   result->session, request.force, &result->warnings);
+  const PresetFit fit = CheckPresetAgainstScans(pass.open_scans, result->preset);
+  EnforcePresetFit(fit, result->preset, result->session, request.force, &result->warnings);
+  result->scanner_from_data = fit.taken_from_data;
   pass.threads = options.solver.num_threads;
   // Moving scans: when asked for, or when the engineer drove continuously (too few dwells to
   // calibrate from stations alone). The solver then estimates the scanner clock offset too.

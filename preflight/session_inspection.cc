@@ -209,6 +209,10 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     }
   }
 
+  if (calibration && !calibration->scanner_from_data.empty()) {
+    out << "  scanner   " << calibration->preset.name << "'s range model; from the data: "
+        << calibration->scanner_from_data << "\n";
+  }
   out << "\nstations (stops of at least " << Fmt("%.1f", options.alignment.min_dwell_s)
       << " s): " << dwells.size() << "\n";
   std::vector<double> seen_headings_rad;

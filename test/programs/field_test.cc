@@ -252,5 +252,71 @@ TEST_F(FieldTest, PlaceholderControlPointIsNamedWithItsLine) {
   EXPECT_NE(inspect.err.find("placeholder"), std::string::npos) << inspect.err;
 }
 
+// ---- the scanner's geometry from the data -------------------------------------------------
+
+// Every RAWLASER1 line of `text` with its last beam dropped (the field one step narrower), as a
+// driver that reports one beam fewer writes it.
+std::string DropLastBeam(const std::string& text) {
+  std::istringstream in(text);
+  std::string out;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("RAWLASER1 ", 0) != 0) {
+      out += line + "\n";
+      continue;
+    }
+    std::vector<std::string> words;
+    std::istringstream fields(line);
+    for (std::string w; fields >> w;) words.push_back(w);
+    // RAWLASER1 type start fov step max accuracy remission n r_1..r_n ...
+    const int n = std::stoi(words[8]);
+    words[3] = std::to_string(std::stod(words[3]) - std::stod(words[4]));
+    words[8] = std::to_string(n - 1);
+    words.erase(words.begin() + 8 + n);
+    for (size_t i = 0; i < words.size(); ++i) out += (i ? " " : "") + words[i];
+    out += "\n";
+  }
+  return out;
+}
+
+TEST_F(FieldTest, DriverGeometryWithinTheFamilyIsTakenFromTheData) {
+  WriteText(session_ / "scans.clf", DropLastBeam(ReadText(session_ / "scans.clf")));
+  const Outcome run = Calibrate(". --output offsets.yaml");
+  EXPECT_EQ(run.status, 0) << run.all();
+  EXPECT_NE(run.out.find("from the data: 180 beams (preset 181)"), std::string::npos) << run.out;
+}
+
+TEST_F(FieldTest, AnotherScannerIsStillRefused) {
+  // 181 beams 1° apart (a SICK LMS) against the URG-04LX's 682 beams 0.35° apart.
+  Replace(session_ / "session.yaml", "model: sick_lms291", "model: hokuyo_urg04lx");
+  const Outcome run = Calibrate(". --output offsets.yaml");
+  EXPECT_EQ(run.status, 2) << run.all();
+  EXPECT_NE(run.err.find("another scanner"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("181 beams"), std::string::npos) << run.err;
+}
+
+const fs::path kUrgBag = kRealData / "ros1" / "scan_tools-demo.bag";
+
+TEST_F(FieldTest, RealUrgRecordingSuggestsAndFitsTheUrgPreset) {
+  if (!fs::exists(kUrgBag)) GTEST_SKIP() << "no real data at " << kUrgBag;
+  const Outcome suggest = Inspect(Quote(kUrgBag.string()) + " --suggest-session");
+  ASSERT_EQ(suggest.status, 0) << suggest.all();
+  EXPECT_NE(suggest.out.find("model: hokuyo_urg04lx"), std::string::npos) << suggest.out;
+  EXPECT_NE(suggest.out.find("681 beams (preset 682)"), std::string::npos) << suggest.out;
+
+  // The bag as the scan log of a session (its GNSS and heading from the sample): the preset
+  // is accepted; the run then stops at the logs' times (2010 against the sample's).
+  Replace(session_ / "session.yaml", "model: sick_lms291\n  log: scans.clf",
+          "model: hokuyo_urg04lx\n  log: " + kUrgBag.string() + "\n  topic: /scan");
+  const Outcome urg = Calibrate(". --output offsets.yaml");
+  EXPECT_EQ(urg.status, 2) << urg.all();
+  EXPECT_EQ(urg.err.find("682"), std::string::npos) << urg.err;
+  EXPECT_NE(urg.err.find("do not overlap"), std::string::npos) << urg.err;
+
+  Replace(session_ / "session.yaml", "model: hokuyo_urg04lx", "model: sick_lms291");
+  const Outcome lms = Calibrate(". --output offsets.yaml");
+  EXPECT_EQ(lms.status, 2) << lms.all();
+  EXPECT_NE(lms.err.find("another scanner"), std::string::npos) << lms.err;
+}
+
 }  // namespace
 }  // namespace wallcal
