@@ -25,8 +25,8 @@ The pre-flight check of a wall session: run it before leaving the site.
 
   PATH            a session (session.yaml or its folder), one log file: NMEA (GNSS,
                   heading) or CARMEN (scans, plain or gzip), a robot recording (ROS 1 .bag,
-                  MCAP, rosbag2 .db3 or folder), or a survey file (with --dump survey);
-                  recognised by content
+                  MCAP, rosbag2 .db3 or folder), or a survey file (CSV with a header, or
+                  Leica GSI); recognised by content
   --dump KIND     write the decoded records as CSV on stdout instead of the report:
                     gnss     time_s,lat_deg,lon_deg,height_m,quality,satellites,hdop,
                              sigma_lat_m,sigma_lon_m,line
@@ -45,7 +45,8 @@ On a session: each log's time span, rate, gaps and their overlap; GNSS fix quali
 RTK fixed; survey control residuals; stations and how well the wall was detected at each; the
 headings at which the wall was seen; and a verdict: enough data for a calibration, or what is
 missing. On one log: its time span, rate, gaps, counts and skipped lines. On a recording: every
-topic's type, count, rate, span and gaps, and the statistics of the types wallcal reads.
+topic's type, count, rate, span and gaps, and the statistics of the types wallcal reads. On a
+survey file: its format, observations and points, codes and extents.
 Exit status: 0 report or dump written (whatever the verdict); 2 unusable input or bad usage
 (one line on stderr naming the file, the line and what was expected).
 )";
@@ -127,6 +128,8 @@ Exit status: 0 report or dump written (whatever the verdict); 2 unusable input o
       out << wallcal::preflight::InspectRecording(path);
     } else if (wallcal::preflight::IsSessionPath(path)) {
       out << wallcal::preflight::InspectSession(path, config).report;
+    } else if (wallcal::io::SniffSurveyFile(path).format != wallcal::io::SurveyFormat::kNone) {
+      out << wallcal::preflight::InspectSurveyFile(path);
     } else {
       out << wallcal::preflight::InspectLogFile(path);
     }

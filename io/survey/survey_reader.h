@@ -52,6 +52,18 @@ std::vector<SurveyPoint> ReadSurvey(const std::string& path,
 std::vector<SurveyPoint> ParseSurvey(std::istream& in, const std::string& name,
                                      SurveyColumns columns = SurveyColumns::kHeader);
 
+// What a file is as a survey, from its first content line (`inspect FILE` picks its summary by
+// it): a GSI job, a CSV whose first row is a header the reader accepts, or neither (kNone; a
+// header-less CSV needs survey.columns and so is kNone here). delimiter: the CSV's (',', ';' or
+// a tab). Reads at most the first 64 KiB (inflated when gzip). Throws InputError only when the
+// path is no readable regular file.
+enum class SurveyFormat { kNone, kCsv, kGsi };
+struct SurveyFileKind {
+  SurveyFormat format = SurveyFormat::kNone;
+  char delimiter = ',';
+};
+SurveyFileKind SniffSurveyFile(const std::string& path);
+
 // One point per place, for the calibration (docs/survey-files.md, "Repeated observations").
 struct SurveyCombination {
   // One point per place, in the order of each place's first observation: the mean of its

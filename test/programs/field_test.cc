@@ -318,5 +318,145 @@ TEST_F(FieldTest, RealUrgRecordingSuggestsAndFitsTheUrgPreset) {
   EXPECT_NE(lms.err.find("another scanner"), std::string::npos) << lms.err;
 }
 
+// ---- survey files: inspect, line ends, exports --------------------------------------------
+
+// A small GSI-8 job: three points with coordinates (words 81, 82, 83) and a code (word 71).
+std::string SmallGsi() {
+  return "110001+0000C001 71....+0000CTRL 81..00+00100000 82..00+00200000 83..00+00001000 \n"
+         "110002+0000W001 71....+000WALL1 81..00+00110000 82..00+00205000 83..00+00001500 \n"
+         "110003+0000W002 71....+000WALL1 81..00+00120000 82..00+00205000 83..00+00002500 \n";
+}
+
+TEST_F(FieldTest, InspectSummarisesASurveyFile) {
+  const Outcome csv = Inspect("survey.csv");
+  EXPECT_EQ(csv.status, 0) << csv.all();
+  EXPECT_NE(csv.out.find("CSV, comma-separated"), std::string::npos) << csv.out;
+  EXPECT_NE(csv.out.find("64 observations"), std::string::npos) << csv.out;
+  EXPECT_NE(csv.out.find("CTRL: 2;"), std::string::npos) << csv.out;
+  EXPECT_NE(csv.out.find("WALL1: 62;"), std::string::npos) << csv.out;
+  EXPECT_NE(csv.out.find("x (east)"), std::string::npos) << csv.out;
+
+  WriteText(session_ / "job.gsi", SmallGsi());
+  const Outcome gsi = Inspect("job.gsi");
+  EXPECT_EQ(gsi.status, 0) << gsi.all();
+  EXPECT_NE(gsi.out.find("Leica GSI"), std::string::npos) << gsi.out;
+  EXPECT_NE(gsi.out.find("3 observations"), std::string::npos) << gsi.out;
+  EXPECT_NE(gsi.out.find("WALL1: 2;"), std::string::npos) << gsi.out;
+
+  const fs::path real = kRealData / "gsi" / "leica_gsi8_ertola.gsi";
+  if (fs::exists(real)) {
+    const Outcome job = Inspect(Quote(real.string()));
+    EXPECT_EQ(job.status, 0) << job.all();
+    EXPECT_NE(job.out.find("Leica GSI"), std::string::npos) << job.out;
+  }
+}
+
+// The mount of an offsets.yaml.
+struct Mount {
+  double x_m = 0, y_m = 0, yaw_deg = 0;
+};
+Mount MountOf(const fs::path& offsets) {
+  const YAML::Node doc = YAML::LoadFile(offsets.string());
+  const YAML::Node t = doc["scanner_mount"];
+  Mount m;
+  m.x_m = t["x"].as<double>();
+  m.y_m = t["y"].as<double>();
+  m.yaw_deg = t["yaw_deg"].as<double>();
+  return m;
+}
+
+TEST_F(FieldTest, EveryLineEndReadsToTheSameMount) {
+  const Outcome plain = Calibrate(". --output plain.yaml");
+  ASSERT_EQ(plain.status, 0) << plain.all();
+  const Mount reference = MountOf(session_ / "plain.yaml");
+  const std::string gsi = SmallGsi();
+  for (const std::string eol : {"\r\n", "\r"}) {
+    SCOPED_TRACE(eol == "\r" ? "CR" : "CRLF");
+    for (const char* name : {"scans.clf", "gnss.nmea", "heading.nmea", "survey.csv"}) {
+      WriteText(session_ / name, WithLineEnds(ReadText(kSample / name), eol));
+    }
+    const Outcome run = Calibrate(". --output offsets.yaml");
+    ASSERT_EQ(run.status, 0) << run.all();
+    const Mount mount = MountOf(session_ / "offsets.yaml");
+    // The same bytes of data: the same numbers, to round-off.
+    EXPECT_NEAR(mount.x_m, reference.x_m, 1e-9);
+    EXPECT_NEAR(mount.y_m, reference.y_m, 1e-9);
+    EXPECT_NEAR(mount.yaw_deg, reference.yaw_deg, 1e-9);
+    WriteText(session_ / "job.gsi", WithLineEnds(gsi, eol));
+    const Outcome job = Inspect("job.gsi");
+    EXPECT_EQ(job.status, 0) << job.all();
+    EXPECT_NE(job.out.find("Leica GSI"), std::string::npos) << job.out;
+    EXPECT_NE(job.out.find("3 observations"), std::string::npos) << job.out;
+  }
+}
+
+// The sample's survey.csv (id,x,y,z,code) rewritten as another export: `header` replaces the
+// header row; every data row's fields are joined by `delimiter`, with a decimal comma when
+// `decimal_comma`, and the codes lower-cased when `lower_codes`.
+std::string Export(const std::string& plain, const std::string& header, char delimiter,
+                   bool decimal_comma, bool lower_codes) {
+  std::istringstream in(plain);
+  std::string out, line;
+  std::getline(in, line);
+  out += header + "\n";
+  while (std::getline(in, line)) {
+    std::vector<std::string> fields;
+    std::istringstream row(line);
+    for (std::string f; std::getline(row, f, ',');) fields.push_back(f);
+    for (size_t i = 1; i <= 3 && decimal_comma; ++i) {
+      for (char& c : fields[i]) c = c == '.' ? ',' : c;
+    }
+    if (lower_codes) {
+      for (char& c : fields[4]) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    }
+    for (size_t i = 0; i < fields.size(); ++i) out += (i ? std::string(1, delimiter) : "") + fields[i];
+    out += "\n";
+  }
+  return out;
+}
+
+TEST_F(FieldTest, SurveyorExportsReadToTheSamePointsAndMount) {
+  const Outcome plain = Calibrate(". --output plain.yaml");
+  ASSERT_EQ(plain.status, 0) << plain.all();
+  const Mount reference = MountOf(session_ / "plain.yaml");
+  const Outcome plain_dump = Inspect("survey.csv --dump survey");
+  ASSERT_EQ(plain_dump.status, 0) << plain_dump.all();
+  const std::string csv = ReadText(kSample / "survey.csv");
+  struct Variant {
+    const char* name;
+    std::string text;
+  };
+  const Variant variants[] = {
+      {"units in the header", Export(csv, "Point,Easting (m),Northing (m),Elev [m],Code", ',', false, false)},
+      {"semicolons, decimal commas", Export(csv, "Point;Easting;Northing;Elevation;Code", ';', true, false)},
+      {"tabs", Export(csv, "Point\tE [m]\tN [m]\tZ [m]\tDescription", '\t', false, false)},
+      {"tabs, decimal commas", Export(csv, "Point\tEasting\tNorthing\tHeight\tCode", '\t', true, false)},
+      {"lower-case codes", Export(csv, "id,x,y,z,code", ',', false, true)},
+  };
+  for (const Variant& v : variants) {
+    SCOPED_TRACE(v.name);
+    WriteText(session_ / "survey.csv", v.text);
+    const Outcome dump = Inspect("survey.csv --dump survey");
+    ASSERT_EQ(dump.status, 0) << dump.all();
+    if (std::string(v.name) != "lower-case codes") {
+      EXPECT_EQ(dump.out, plain_dump.out);
+    }
+    const Outcome run = Calibrate(". --output offsets.yaml");
+    ASSERT_EQ(run.status, 0) << run.all();
+    const Mount mount = MountOf(session_ / "offsets.yaml");
+    EXPECT_NEAR(mount.x_m, reference.x_m, 1e-9);
+    EXPECT_NEAR(mount.y_m, reference.y_m, 1e-9);
+    EXPECT_NEAR(mount.yaw_deg, reference.yaw_deg, 1e-9);
+  }
+}
+
+TEST_F(FieldTest, AWallCodeNotInTheSurveyListsTheCodesFound) {
+  Replace(session_ / "session.yaml", "code: WALL1", "code: WALL9");
+  const Outcome run = Calibrate(". --output offsets.yaml");
+  EXPECT_EQ(run.status, 2) << run.all();
+  EXPECT_NE(run.err.find("WALL9"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("CTRL (2), WALL1 (62)"), std::string::npos) << run.err;
+}
+
 }  // namespace
 }  // namespace wallcal
