@@ -7,7 +7,10 @@
 // accepted: docs/survey-files.md; e.g. Point,Northing,Easting,Elevation,Description or
 // id,x,y,z,code, where x is east and y north), or no header with `survey.columns: PNEZD` or
 // `PENZD` (point, northing/easting, elevation, optional description). Fields may be quoted.
-// Lines starting with `#` and blank lines are skipped; CRLF line ends and a UTF-8 BOM accepted.
+// Header names may carry a unit in brackets (`Northing (m)`). Fields are separated by commas,
+// or by semicolons or tabs (from the first row), and then a number may have a decimal comma.
+// Lines starting with `#` and blank lines are skipped; LF, CRLF and CR-only line ends and a
+// UTF-8 BOM are accepted.
 //
 // GSI: io/leica_gsi.h. The survey frame is the file's own local one: x east, y north, z up
 // (right-handed), in metres.
