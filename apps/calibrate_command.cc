@@ -24,6 +24,7 @@
 #include "outputs/report.h"
 #include "outputs/summary.h"
 #include "pipeline/calibration.h"
+#include "pipeline/config_dirs.h"
 
 namespace wallcal::apps {
 
@@ -291,10 +292,13 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
     {
       const wallcal::io::SessionSpec session = wallcal::io::ReadSession(request.session_path);
       if (output.empty()) output = pipeline::DefaultOutputPath(session);
-      wallcal::io::CheckOutputPath("--output", output,
-                                   {session.file, session.scanner_log, session.gnss_log,
-                                    session.heading_log, session.survey_points,
-                                    request.config_path});
+      // Every file the run reads: the session's logs and survey, --config, --compare and the
+      // scanner preset calibrate resolves (in SESSION/scanners/ or the shipped folders).
+      wallcal::io::CheckOutputPath(
+          "--output", output,
+          {session.file, session.scanner_log, session.gnss_log, session.heading_log,
+           session.survey_points, request.config_path, request.compare_path,
+           pipeline::SessionPresetPath(session.scanner_model, session.dir)});
       if (!report_dir.empty()) wallcal::io::CheckOutputFolder("--report", report_dir);
     }
     request.collect_report_data = !report_dir.empty();

@@ -29,8 +29,8 @@ const CommandHelp& InspectHelp() {
           {"PATH", "", "", ValueKind::kPath, {},
            "a session (session.yaml or its folder), one log file: NMEA (GNSS,\n"
            "heading) or CARMEN (scans, plain or gzip), a robot recording (ROS 1 .bag,\n"
-           "MCAP, rosbag2 .db3 or folder), or a survey file (with --dump survey);\n"
-           "recognised by content"},
+           "MCAP, rosbag2 .db3 or folder), or a survey file (CSV with a header, or\n"
+           "Leica GSI); recognised by content"},
           {"--dump", "", "KIND", ValueKind::kChoice, {"gnss", "heading", "scans", "survey"},
            "write the decoded records as CSV on stdout instead of the report:\n"
            "  gnss     time_s,lat_deg,lon_deg,height_m,quality,satellites,hdop,\n"
@@ -53,7 +53,8 @@ const CommandHelp& InspectHelp() {
       "RTK fixed; survey control residuals; stations and how well the wall was detected at each; the\n"
       "headings at which the wall was seen; and a verdict: enough data for a calibration, or what is\n"
       "missing. On one log: its time span, rate, gaps, counts and skipped lines. On a recording: every\n"
-      "topic's type, count, rate, span and gaps, and the statistics of the types wallcal reads.\n",
+      "topic's type, count, rate, span and gaps, and the statistics of the types wallcal reads. On a\n"
+      "survey file: its format, observations and points, codes and extents.\n",
       "0 report or dump written (whatever the verdict); 2 unusable input or bad usage\n"
       "(one line on stderr naming the file, the line and what was expected).\n"};
   return help;
@@ -142,6 +143,8 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       out << wallcal::preflight::InspectRecording(path);
     } else if (wallcal::preflight::IsSessionPath(path)) {
       out << wallcal::preflight::InspectSession(path, config).report;
+    } else if (wallcal::io::SniffSurveyFile(path).format != wallcal::io::SurveyFormat::kNone) {
+      out << wallcal::preflight::InspectSurveyFile(path);
     } else {
       out << wallcal::preflight::InspectLogFile(path);
     }

@@ -11,6 +11,7 @@
 
 #include "calib/wall_detector.h"
 #include "calib/wall_geometry.h"
+#include "io/scanner_geometry.h"
 
 namespace wallcal::calib {
 
@@ -246,7 +247,7 @@ class BatchReader {
       }
       ++reading_->scans_examined;
       if (request_.tally != nullptr && !skim) Tally(scan, stamp_s);
-      if (static_cast<int>(scan.ranges_m.size()) != context_.preset->num_beams &&
+      if (!io::BeamCountFits(static_cast<int64_t>(scan.ranges_m.size()), *context_.preset) &&
           reading_->beam_count_mismatch++ == 0) {
         reading_->first_mismatch_beams = static_cast<int>(scan.ranges_m.size());
       }

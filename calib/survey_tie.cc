@@ -3,7 +3,9 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "calib/geodesy.h"
@@ -60,7 +62,102 @@ const io::SurveyPoint& FindControlInSurvey(const std::vector<io::SurveyPoint>& s
   return *found;
 }
 
+// The rigid 2-D fit of `from` onto `to` leaving out point `skip` (-1: none): the largest
+// residual norm of the points used, metres.
+double WorstResidualWithout(const std::vector<Eigen::Vector2d>& from,
+                            const std::vector<Eigen::Vector2d>& to, int skip) {
+  Eigen::Vector2d from_mean = Eigen::Vector2d::Zero(), to_mean = Eigen::Vector2d::Zero();
+  int used = 0;
+  for (size_t i = 0; i < from.size(); ++i) {
+    if (static_cast<int>(i) == skip) continue;
+    from_mean += from[i];
+    to_mean += to[i];
+    ++used;
+  }
+  from_mean /= used;
+  to_mean /= used;
+  double sum_dot = 0.0, sum_cross = 0.0;
+  for (size_t i = 0; i < from.size(); ++i) {
+    if (static_cast<int>(i) == skip) continue;
+    const Eigen::Vector2d a = from[i] - from_mean, b = to[i] - to_mean;
+    sum_dot += a.dot(b);
+    sum_cross += a.x() * b.y() - a.y() * b.x();
+  }
+  const Eigen::Matrix2d r = Rotation(std::atan2(sum_cross, sum_dot));
+  double worst_m = 0.0;
+  for (size_t i = 0; i < from.size(); ++i) {
+    if (static_cast<int>(i) == skip) continue;
+    worst_m = std::max(worst_m, (r * (from[i] - from_mean) + to_mean - to[i]).norm());
+  }
+  return worst_m;
+}
+
+// What a control point far off the fit means. Two points fit any rotation: only their distance
+// apart can disagree, and either may be the wrong one. With three or more, the one whose
+// removal leaves the others agreeing is named.
+std::string DescribeControlDisagreement(const std::vector<io::ControlPoint>& control,
+                                        const std::vector<Eigen::Vector2d>& p_survey,
+                                        const std::vector<Eigen::Vector2d>& p_local,
+                                        double worst_m) {
+  const int n = static_cast<int>(control.size());
+  if (n == 2) {
+    return "control points " + control[0].id + " and " + control[1].id + " are " +
+           Metres((p_survey[0] - p_survey[1]).norm()) + " m apart in the survey but " +
+           Metres((p_local[0] - p_local[1]).norm()) +
+           " m apart by their lat/lon: one of them has a wrong id or wrong coordinates, and "
+           "with two control points the wrong one cannot be told; check both (a digit of lat "
+           "or lon?), or add a third control point; expected agreement within " +
+           Metres(kAbsurdResidualM) + " m";
+  }
+  std::vector<int> culprits;
+  for (int i = 0; i < n; ++i) {
+    if (WorstResidualWithout(p_survey, p_local, i) <= kAbsurdResidualM) culprits.push_back(i);
+  }
+  if (culprits.size() == 1) {
+    const int bad = culprits.front();
+    std::string others;
+    for (int i = 0; i < n; ++i) {
+      if (i != bad) others += (others.empty() ? "" : ", ") + control[i].id;
+    }
+    return "control point " + control[bad].id + " disagrees with the survey by " +
+           Metres(worst_m) + " m or more, while " + others + " agree within " +
+           Metres(kAbsurdResidualM) + " m without it: check " + control[bad].id +
+           "'s id and lat/lon (a digit?) in session.yaml and its survey coordinates";
+  }
+  std::string ids;
+  for (const io::ControlPoint& c : control) ids += (ids.empty() ? "" : ", ") + c.id;
+  return "control points " + ids + " disagree with the survey by up to " + Metres(worst_m) +
+         " m and no one of them alone explains it: wrong ids or wrong coordinates in more than "
+         "one? expected agreement within " + Metres(kAbsurdResidualM) + " m";
+}
+
+// The distinct codes of the survey with their point counts ("CTRL (2), WALL1 (60)"), at most
+// 20 of them, for a wall whose code matches none.
+std::string CodesFound(const std::vector<io::SurveyPoint>& survey) {
+  std::map<std::string, int> counts;
+  for (const io::SurveyPoint& point : survey) ++counts[point.code];
+  std::string out;
+  int shown = 0;
+  for (const auto& [code, count] : counts) {
+    if (shown++ == 20) {
+      out += ", ...";
+      break;
+    }
+    out += (out.empty() ? "" : ", ") + (code.empty() ? std::string("(empty)") : code) + " (" +
+           std::to_string(count) + ")";
+  }
+  return out.empty() ? "none" : out;
+}
+
 }  // namespace
+
+bool SameSurveyCode(const std::string& a, const std::string& b) {
+  return a.size() == b.size() &&
+         std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+           return std::tolower(static_cast<unsigned char>(x)) ==
+                  std::tolower(static_cast<unsigned char>(y));
+         });
+}
 
 SurveyTie TieSurvey(const std::vector<io::SurveyPoint>& survey, const std::string& survey_file,
                     const io::SessionSpec& spec, const LocalFrame& frame,
@@ -151,11 +248,8 @@ SurveyTie TieSurvey(const std::vector<io::SurveyPoint>& survey, const std::strin
   }
   tie.control_rms_m = std::sqrt(sum_sq_m2 / n);
   if (worst_m > kAbsurdResidualM) {
-    throw io::InputError(io::Where(
-        spec.file, control[worst].line,
-        "control points disagree with the survey by " + Metres(worst_m) + " m (worst: " +
-            control[worst].id + "): wrong id or wrong coordinates? expected agreement within " +
-            Metres(kAbsurdResidualM) + " m"));
+    throw io::InputError(io::Where(spec.file, control[worst].line,
+                                   DescribeControlDisagreement(control, p_survey, p_local, worst_m)));
   }
   // A point at distance r_i from the centroid, displaced by σ across, turns the fit by σ/r_i;
   // least squares weights by r_i², hence σ_θ² = σ² / Σ r_i².
@@ -171,7 +265,7 @@ std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
   for (const io::WallSpec& wall_spec : spec.walls) {
     std::vector<Eigen::Vector2d> points;
     for (const io::SurveyPoint& point : survey) {
-      if (point.code != wall_spec.code) continue;
+      if (!SameSurveyCode(point.code, wall_spec.code)) continue;
       points.push_back(tie.local_R_survey * Eigen::Vector2d(point.x_m, point.y_m) +
                        tie.local_t_survey);
     }
@@ -180,7 +274,8 @@ std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
       const std::string found = n == 0 ? "no survey points" : "only 1 survey point";
       throw io::InputError(io::Where(survey_file, 0,
                                      "wall " + wall_spec.id + ": " + found + " with code " +
-                                         wall_spec.code + "; expected at least 2"));
+                                         wall_spec.code + " (in any case); the survey's codes are " +
+                                         CodesFound(survey) + "; expected at least 2"));
     }
 
     // Total least squares: the line through the centroid along the scatter's major axis.

@@ -61,8 +61,13 @@ SurveyTie TieSurvey(const std::vector<io::SurveyPoint>& survey, const std::strin
                     const io::SessionSpec& spec, const LocalFrame& frame,
                     const SurveySigmas& sigmas);
 
+// True when two survey codes are the same without regard to case (ASCII): instrument software
+// and a hand-typed session.yaml disagree on it (`wall1` for `WALL1`).
+bool SameSurveyCode(const std::string& a, const std::string& b);
+
 // The walls of spec.walls as lines in the local frame, in the same order: total least squares
-// on the x, y of each wall's surveyed points (those whose code is the wall's code) mapped by
+// on the x, y of each wall's surveyed points (those whose code is the wall's code, compared by
+// SameSurveyCode) mapped by
 // the tie. The line direction points from the wall's first surveyed point (file order) towards
 // its last; normal_local = direction rotated +90° (counter-clockwise); offset_m = normal · p.
 // end_a/end_b: the extreme projections of the points onto the line (end_a towards the first
@@ -70,8 +75,9 @@ SurveyTie TieSurvey(const std::vector<io::SurveyPoint>& survey, const std::strin
 // and sigma_angle_rad combine the fit (sigmas.total_station_sigma_m per point) and the tie
 // (translation σ, and rotation σ times the centre's distance along the wall from the control
 // centroid). rms_m: RMS of the points' distances to the fitted line.
-// Throws io::InputError (io::Where(survey_file, 0, ...)) naming the wall id and code when the
-// wall has fewer than 2 points or its points span less than 0.5 m.
+// Throws io::InputError (io::Where(survey_file, 0, ...)) naming the wall id and code (and the
+// codes the survey has) when the wall has fewer than 2 points, or when its points span less
+// than 0.5 m.
 std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
                                    const std::string& survey_file, const io::SessionSpec& spec,
                                    const SurveyTie& tie, const SurveySigmas& sigmas);

@@ -113,9 +113,28 @@ LineRead ReadLineBounded(std::istream& in, std::string* line, int64_t max_bytes)
       return line->empty() ? LineRead::kEnd : LineRead::kLastLineWithoutNewline;
     }
     if (c == '\n') return LineRead::kLine;
+    if (c == '\r') {
+      // CRLF is one line end; a CR alone ends the line too (old Mac and instrument downloads).
+      if (buffer->sgetc() == '\n') buffer->sbumpc();
+      return LineRead::kLine;
+    }
     if (static_cast<int64_t>(line->size()) >= max_bytes) return LineRead::kTooLong;
     line->push_back(static_cast<char>(c));
   }
+}
+
+std::string NormaliseLineEnds(std::string text) {
+  if (text.find('\r') == std::string::npos) return text;
+  std::string out;
+  out.reserve(text.size());
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '\r') {
+      out += text[i];
+    } else if (i + 1 >= text.size() || text[i + 1] != '\n') {
+      out += '\n';
+    }
+  }
+  return out;
 }
 
 bool StripUtf8Bom(std::string* text) {

@@ -49,10 +49,15 @@ std::string ReadInputFile(const std::string& path, const std::string& what, int6
 // How ReadLineBounded ended.
 enum class LineRead { kLine, kLastLineWithoutNewline, kEnd, kTooLong };
 
-// Reads one line (without its '\n') into *line, keeping at most max_bytes bytes: kTooLong when
+// Reads one line (without its end: LF, CRLF or a CR alone) into *line, keeping at most
+// max_bytes bytes: kTooLong when
 // the line is longer (the stream is then left inside the line; callers stop reading). NUL
 // bytes are kept (the caller decides). Never allocates more than max_bytes for the line.
 LineRead ReadLineBounded(std::istream& in, std::string* line, int64_t max_bytes);
+
+// `text` with every line end as LF: CRLF becomes LF and a CR alone (old Mac, some instrument
+// downloads) becomes LF, so each line keeps its number.
+std::string NormaliseLineEnds(std::string text);
 
 // Removes a UTF-8 byte-order mark (EF BB BF) from the start of `text`; true when there was one.
 bool StripUtf8Bom(std::string* text);

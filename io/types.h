@@ -250,6 +250,7 @@ struct ScannerPreset {
   double range_sigma_m = 0.005;
   double max_incidence_rad = 1.3;  // beyond this incidence the simulator drops returns
   std::string source;              // citation for the numbers
+  std::string file;                // the file it was read from (set by ReadScannerPreset)
 };
 
 // One input file of a calibration, for the provenance of offsets.yaml.

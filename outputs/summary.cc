@@ -20,6 +20,10 @@ std::string FormatSummary(const CalibrationResult& result) {
       << result.preset.name << ")\n";
   out << "  verdict    " << pipeline::VerdictName(result.decision.verdict) << "\n";
   for (const std::string& reason : result.decision.reasons) out << "             - " << reason << "\n";
+  if (!result.scanner_from_data.empty()) {
+    out << "  scanner    " << result.preset.name << "'s range model; from the data: "
+        << result.scanner_from_data << "\n";
+  }
   std::snprintf(line, sizeof(line), "  scans      %lld read, %lld used (%lld standing, %lld moving)",
                 static_cast<long long>(result.scans_total), static_cast<long long>(result.scans_used),
                 static_cast<long long>(result.scans_used - result.scans_used_moving),

@@ -58,9 +58,50 @@ void AddSkips(const std::map<calib::ScanSkip, int64_t>& more,
   for (const auto& [reason, count] : more) (*all)[reason] += count;
 }
 
-}  // namespace
+// The run's outcome when no scan sees the surveyed wall where the survey puts it: the first
+// pass found no wall at all, or its estimate put the wall where no scan sees it.
+bool SurveyDoesNotMatchSite(const CalibrationResult& result) {
+  const bool first_pass_found_nothing =
+      !result.first_pass.usable &&
+      result.first_pass.failure == solvers::EstimateFailure::kWallNotDetected;
+  return !result.estimate.usable && result.observations.empty() &&
+         (result.first_pass.usable || first_pass_found_nothing);
+}
 
-CalibrationResult RunCalibration(const CalibrateRequest& request, const ProgressFn& progress) {
+CalibrationResult Run(const CalibrateRequest& request, const ProgressFn& progress,
+                      bool swap_survey_axes);
+
+// Two control points fit a mirrored survey (x and y swapped) by a rotation as well as the right
+// one: their distance apart does not change. The scans tell: the walls reflected about the
+// control points' line are where the scanner sees them. So when the run found no wall where the
+// survey puts it, the same session is tried (as a preview) with the survey's axes swapped; a
+// mount determined there is a mirrored survey, named as such (exit 2) instead of "not
+// determined".
+void RefuseMirroredSurvey(const CalibrateRequest& request, const CalibrationResult& result) {
+  if (!SurveyDoesNotMatchSite(result) || result.num_control < 2) return;
+  CalibrateRequest probe = request;
+  probe.preview = true;
+  probe.collect_report_data = false;
+  CalibrationResult swapped;
+  try {
+    swapped = Run(probe, ProgressFn(), true);
+  } catch (const io::InputError&) {
+    return;  // the swapped survey fails too: not a mirror
+  }
+  if (!swapped.estimate.usable || swapped.observations.empty()) return;
+  const io::SessionSpec& session = result.session;
+  throw io::InputError(io::Where(
+      session.file, session.control.empty() ? 0 : session.control.front().line,
+      "mirrored survey: no scan sees the surveyed wall where the survey puts it, but with the "
+      "survey's x and y (easting and northing) exchanged " +
+          std::to_string(swapped.observations.size()) +
+          " wall observations determine the mount; check whether the x and y (easting and "
+          "northing) columns are swapped (survey.columns PNEZD against PENZD, or the header) in " +
+          session.survey_points));
+}
+
+CalibrationResult Run(const CalibrateRequest& request, const ProgressFn& progress,
+                      bool swap_survey_axes) {
   const auto start = std::chrono::steady_clock::now();
   CalibrationResult result;
   RunInputs inputs;
@@ -73,7 +114,8 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
   }
   if (!request.preview) StartDigests(request, result, &inputs);
   {
-    SurveyStep survey = TieSurveyAndFitWalls(result.session, result.options.solver);
+    SurveyStep survey =
+        TieSurveyAndFitWalls(result.session, result.options.solver, swap_survey_axes);
     result.frame = survey.frame;
     result.control_rms_m = survey.tie.control_rms_m;
     result.num_control = survey.tie.num_control;
@@ -101,6 +143,7 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
     PassSetup passes = PreparePasses(request, result, *inputs.poses);
     inputs.pass = std::move(passes.pass);
     inputs.moving_by_default = passes.moving_by_default;
+    result.scanner_from_data = std::move(passes.scanner_from_data);
     Append(&result.warnings, std::move(passes.warnings));
   }
   FirstPassStep first = FirstPass(request, progress, result, inputs);
@@ -162,6 +205,7 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
     result.wall_angle_min_deg = coverage.wall_angle_min_deg;
     result.wall_angle_max_deg = coverage.wall_angle_max_deg;
   }
+  if (!swap_survey_axes) RefuseMirroredSurvey(request, result);
   {
     DecideStep decided = Decide(request, result, inputs);
     result.change = std::move(decided.change);
@@ -176,6 +220,12 @@ CalibrationResult RunCalibration(const CalibrateRequest& request, const Progress
   result.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+}  // namespace
+
+CalibrationResult RunCalibration(const CalibrateRequest& request, const ProgressFn& progress) {
+  return Run(request, progress, false);
 }
 
 std::string DefaultOutputPath(const io::SessionSpec& session) {

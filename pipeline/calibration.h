@@ -138,6 +138,10 @@ struct CalibrationResult {
   std::optional<Change> change;      // since the --compare file, when given and usable
   Decision decision;                 // ACCEPT / REVIEW / REJECT with the reasons
   Provenance provenance;
+  // The scanner geometry taken from the scans where it differs from the preset's within the
+  // family's limits ("681 beams (preset 682), range_max 5.600 m (preset 4.095 m)"); empty when
+  // the scans have the preset's (io/scanner_geometry.h).
+  std::string scanner_from_data;
   Warnings warnings;  // collected from the steps, in step order (pipeline/run_warnings.h)
   ReportData report;                 // filled when the request asked for it
   double seconds = 0.0;  // wall-clock run time, for the summary

@@ -13,6 +13,7 @@
 #include "calib/geodesy.h"
 #include "common/angles.h"
 #include "common/format.h"
+#include "io/scanner_geometry.h"
 
 namespace wallcal::pipeline {
 namespace {
@@ -64,23 +65,30 @@ PresetFit CheckPresetAgainstScans(const std::function<std::unique_ptr<io::ScanSo
   std::unique_ptr<io::ScanSource> source = open_scans();
   std::map<int, int64_t> by_beams;
   std::map<int, double> step_by_beams;
+  std::map<int, double> range_max_by_beams;
   io::ScanRecord scan;
   // A reading counts as beyond the preset when it is clearly longer than the preset's maximum
-  // (1 % + 5 cm) and is not the log's own no-return value (a reading at the log's maximum).
+  // (1 % + 5 cm) and is not the log's own no-return value (a reading at the log's maximum). A
+  // scan whose own range limit lies within the family's (io/scanner_geometry.h) allows
+  // readings up to that limit.
   const double beyond_m = preset.max_range_m * 1.01 + 0.05;
   while (fit.scans_checked < max_scans && source->Next(&scan)) {
     ++fit.scans_checked;
     const int beams = static_cast<int>(scan.ranges_m.size());
     ++by_beams[beams];
     step_by_beams.emplace(beams, scan.angular_step_rad);
+    range_max_by_beams.emplace(beams, scan.max_range_m);
     const double no_return_m = scan.max_range_m > 0.0 ? scan.max_range_m - 0.005
                                                        : std::numeric_limits<double>::infinity();
+    const bool driver_limit = scan.max_range_m > preset.max_range_m &&
+                              scan.max_range_m <= io::kDriverRangeFactor * preset.max_range_m;
+    const double allowed_m = driver_limit ? scan.max_range_m * 1.01 + 0.05 : beyond_m;
     for (float r : scan.ranges_m) {
       const double range_m = r;
       if (!(range_m > preset.error_codes_below_m) || !(range_m < no_return_m)) continue;
       ++fit.readings;
       fit.longest_range_m = std::max(fit.longest_range_m, range_m);
-      if (range_m > beyond_m) ++fit.beyond_preset_max;
+      if (range_m > allowed_m) ++fit.beyond_preset_max;
     }
   }
   if (fit.scans_checked == 0) return fit;  // the detection pass reports an empty log
@@ -88,16 +96,15 @@ PresetFit CheckPresetAgainstScans(const std::function<std::unique_ptr<io::ScanSo
                                      [](const auto& a, const auto& b) { return a.second < b.second; });
   fit.beams_in_log = most->first;
   fit.step_in_log_rad = step_by_beams[most->first];
-  if (fit.beams_in_log != preset.num_beams) {
-    fit.problems.push_back("the scans have " + std::to_string(fit.beams_in_log) +
-                           " beams, the preset " + std::to_string(preset.num_beams));
-  }
-  if (fit.step_in_log_rad != 0.0 &&
-      std::abs(fit.step_in_log_rad - preset.angular_step_rad) >
-          0.01 * std::abs(preset.angular_step_rad)) {
-    fit.problems.push_back(Format("the scans step %.4f° between beams, the preset %.4f°",
-                                  fit.step_in_log_rad * kRadToDeg,
-                                  preset.angular_step_rad * kRadToDeg));
+  // The scans' geometry against the scanner family's limits: within them it is taken from the
+  // data (each scan's bearings come from its own start and step), outside them it is another
+  // scanner.
+  const io::GeometryCheck geometry = io::CheckScanGeometry(
+      fit.beams_in_log, fit.step_in_log_rad, range_max_by_beams[most->first], preset);
+  if (geometry.fit == io::GeometryFit::kOtherScanner) {
+    fit.problems.push_back("the scans have " + geometry.what);
+  } else if (geometry.fit == io::GeometryFit::kFromData) {
+    fit.taken_from_data = geometry.what;
   }
   // More than 1 % of the readings beyond the preset's maximum: not a stray reflection.
   if (fit.readings > 0 && fit.beyond_preset_max * 100 > fit.readings) {
@@ -146,10 +153,10 @@ void CheckSurveyNotMirrored(const std::vector<io::SurveyPoint>& survey,
   if (rotation_rms_m > 0.1 && reflection_rms_m < 0.25 * rotation_rms_m) {
     throw io::InputError(io::Where(
         session.file, session.control.front().line,
-        Format("the survey is mirrored against the control points' RTK positions: a reflected "
-               "fit matches them with RMS %.3f m, a rotation only with %.3f m; check whether "
-               "the survey's x and y (easting and northing) columns are swapped "
-               "(survey.columns) in ",
+        Format("mirrored survey: the survey is mirrored against the control points' RTK "
+               "positions: a reflected fit matches them with RMS %.3f m, a rotation only with "
+               "%.3f m; check whether the survey's x and y (easting and northing) columns are "
+               "swapped (survey.columns, or the header) in ",
                reflection_rms_m, rotation_rms_m) +
             session.survey_points));
   }

@@ -30,6 +30,9 @@ struct PresetFit {
   int64_t beyond_preset_max = 0;    // readings longer than the preset allows
   int64_t readings = 0;             // valid readings examined
   std::vector<std::string> problems;  // one line per mismatch, naming both sides
+  // The scanner geometry the scans carry where it differs from the preset's within the
+  // family's limits (io/scanner_geometry.h), for the summary; empty when as the preset.
+  std::string taken_from_data;
 };
 
 // Reads up to `max_scans` scans from `open_scans()`.

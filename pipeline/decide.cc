@@ -148,31 +148,24 @@ DecideStep Decide(const CalibrateRequest& request, const CalibrationResult& resu
   if (request.preview) return step;
   p.inputs = inputs.digests.valid()
                  ? inputs.digests.get()
-                 : DigestInputs(result.session, request.config_path,
-                                PresetPath(result.session.scanner_model));
+                 : DigestInputs(result.session, request.config_path, result.preset.file,
+                                request.compare_path);
   return step;
-}
-
-std::string PresetPath(const std::string& model) {
-  std::error_code ec;
-  for (const std::string& dir : PresetDirs()) {
-    const std::filesystem::path candidate = std::filesystem::path(dir) / (model + ".yaml");
-    if (std::filesystem::is_regular_file(candidate, ec)) return candidate.string();
-  }
-  return "";
 }
 
 void StartDigests(const CalibrateRequest& request, const CalibrationResult& result,
                   RunInputs* inputs) {
   const io::SessionSpec session = result.session;
   const std::string config_path = request.config_path;
-  const std::string preset_path = PresetPath(session.scanner_model);
+  const std::string preset_path = result.preset.file;  // the file actually read
+  const std::string compare_path = request.compare_path;
   const auto policy = result.options.solver.num_threads > 1 ? std::launch::async
                                                             : std::launch::deferred;
   const std::shared_ptr<std::atomic<bool>> cancel = inputs->cancel_digests.flag;
-  inputs->digests = std::async(policy, [session, config_path, preset_path, cancel]() {
-                      return DigestInputs(session, config_path, preset_path, cancel.get());
-                    }).share();
+  inputs->digests =
+      std::async(policy, [session, config_path, preset_path, compare_path, cancel]() {
+        return DigestInputs(session, config_path, preset_path, compare_path, cancel.get());
+      }).share();
 }
 
 }  // namespace wallcal::pipeline

@@ -98,10 +98,11 @@ void CollectSiteMap(const CalibrationResult& result, const RunInputs& inputs, Re
     track.swap(thin);
   }
   const calib::SurveyTie& tie = inputs.tie;
-  std::set<std::string> codes;
-  for (const io::WallSpec& w : result.session.walls) codes.insert(w.code);
   for (const io::SurveyPoint& p : inputs.survey) {
-    if (codes.count(p.code)) {
+    const bool on_a_wall =
+        std::any_of(result.session.walls.begin(), result.session.walls.end(),
+                    [&p](const io::WallSpec& w) { return calib::SameSurveyCode(p.code, w.code); });
+    if (on_a_wall) {
       data->wall_points_local_m.push_back(tie.local_R_survey * Eigen::Vector2d(p.x_m, p.y_m) +
                                           tie.local_t_survey);
     }

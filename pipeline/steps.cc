@@ -96,22 +96,23 @@ Setup LoadSessionAndOptions(const CalibrateRequest& request) {
       request.threads > 0 ? request.threads
                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   // A measured preset beside the session (characterise writes <session>/scanners/NAME.yaml)
-  // is found first, then the shipped ones.
-  std::vector<std::string> preset_dirs = PresetDirs();
-  preset_dirs.insert(preset_dirs.begin(), (fs::path(setup.session.dir) / "scanners").string());
-  setup.preset = io::LoadScannerPreset(setup.session.scanner_model, preset_dirs);
+  // is found first, then the shipped ones (config_dirs.h).
+  setup.preset = LoadSessionPreset(setup.session.scanner_model, setup.session.dir);
   // The previous calibration is read now: a bad --compare file fails before the work.
   if (!request.compare_path.empty()) setup.previous = io::ReadPreviousOffsets(request.compare_path);
   return setup;
 }
 
 SurveyStep TieSurveyAndFitWalls(const io::SessionSpec& session,
-                                const solvers::SolverOptions& solver) {
+                                const solvers::SolverOptions& solver, bool swap_survey_axes) {
   SurveyStep step;
   // Points measured more than once (both faces, two set-ups) are averaged (io/survey_reader.h).
   const io::SurveyCombination combined = io::CombineSurveyObservations(
       io::ReadSurvey(session.survey_points, session.survey_columns));
   step.survey = combined.points;
+  if (swap_survey_axes) {
+    for (io::SurveyPoint& p : step.survey) std::swap(p.x_m, p.y_m);
+  }
   for (const std::string& w : combined.warnings) {
     step.warnings.push_back({WarningKind::kSurveyPoints, w});
   }
@@ -256,8 +257,9 @@ PassSetup PreparePasses(const CalibrateRequest& request, const CalibrationResult
   pass.poses = &poses;
   // A preset that does not fit the scans (beams, step, range) misplaces every beam: refuse
   // before the detection passes, naming both, unless forced.
-  EnforcePresetFit(CheckPresetAgainstScans(pass.open_scans, result.preset), result.preset,
-                   result.session, request.force, &setup.warnings);
+  const PresetFit fit = CheckPresetAgainstScans(pass.open_scans, result.preset);
+  EnforcePresetFit(fit, result.preset, result.session, request.force, &setup.warnings);
+  setup.scanner_from_data = fit.taken_from_data;
   pass.threads = options.solver.num_threads;
   // Moving scans: when asked for, or when the engineer drove continuously (too few dwells to
   // calibrate from stations alone). The solver then estimates the scanner clock offset too.

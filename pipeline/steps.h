@@ -61,8 +61,6 @@ struct Setup {
   std::optional<io::PreviousOffsets> previous;
 };
 Setup LoadSessionAndOptions(const CalibrateRequest& request);
-// The scanner preset file calibrate would read for `model`, or "" (not found).
-std::string PresetPath(const std::string& model);
 // Starts the SHA-256 digests of the inputs (after LoadSessionAndOptions).
 void StartDigests(const CalibrateRequest& request, const CalibrationResult& result,
                   RunInputs* inputs);
@@ -75,8 +73,11 @@ struct SurveyStep {
   std::vector<calib::WallGeometry> walls;
   Warnings warnings;
 };
+// swap_survey_axes: the survey's x and y exchanged first (the mirrored-survey probe of
+// RunCalibration).
 SurveyStep TieSurveyAndFitWalls(const io::SessionSpec& session,
-                                const solvers::SolverOptions& solver);
+                                const solvers::SolverOptions& solver,
+                                bool swap_survey_axes = false);
 
 // GNSS fixes and headings, the pose interpolator and the dwells (needs the frame and walls).
 struct PoseStep {
@@ -97,6 +98,7 @@ PoseStep ReadPoses(const CalibrationResult& result);
 struct PassSetup {
   calib::PassContext pass;
   bool moving_by_default = false;  // RunInputs::moving_by_default
+  std::string scanner_from_data;   // CalibrationResult::scanner_from_data
   Warnings warnings;
 };
 PassSetup PreparePasses(const CalibrateRequest& request, const CalibrationResult& result,

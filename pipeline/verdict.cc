@@ -121,6 +121,7 @@ std::string NowUtcIso8601() {
 std::vector<io::InputFileDigest> DigestInputs(const io::SessionSpec& session,
                                               const std::string& config_path,
                                               const std::string& preset_path,
+                                              const std::string& compare_path,
                                               const std::atomic<bool>* cancel) {
   std::vector<io::InputFileDigest> out;
   std::set<std::string> seen;
@@ -135,6 +136,7 @@ std::vector<io::InputFileDigest> DigestInputs(const io::SessionSpec& session,
   add("survey", session.survey_points);
   add("options", config_path);
   add("scanner_preset", preset_path);
+  add("previous_offsets", compare_path);
   return out;
 }
 

@@ -66,12 +66,13 @@ struct Provenance {
 std::string NowUtcIso8601();
 
 // The SHA-256 of each input file of the session (session.yaml, scanner, GNSS and heading logs,
-// survey, options file when given, scanner preset file when found), in that order, one entry
-// per distinct path.
+// survey, options file when given, scanner preset file read, previous offsets of --compare when
+// given), in that order, one entry per distinct path.
 // cancel (may be null): stop early when it turns true (digests then empty).
 std::vector<io::InputFileDigest> DigestInputs(const io::SessionSpec& session,
                                               const std::string& config_path,
                                               const std::string& preset_path,
+                                              const std::string& compare_path,
                                               const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace wallcal::pipeline

@@ -26,7 +26,7 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out) {
     log_path = kind == DumpKind::kGnss      ? spec->gnss_log
                : kind == DumpKind::kHeading ? spec->heading_log
                                             : spec->scanner_log;
-    if (kind == DumpKind::kScans) preset = io::LoadScannerPreset(spec->scanner_model, pipeline::PresetDirs());
+    if (kind == DumpKind::kScans) preset = pipeline::LoadSessionPreset(spec->scanner_model, spec->dir);
   }
   if (io::IsRecording(log_path)) {
     if (!spec) return DumpRecording(log_path, kind, std::string(), out);

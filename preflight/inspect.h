@@ -70,6 +70,11 @@ SessionInspection InspectSession(const std::string& session_path,
 // cannot be opened or is neither NMEA nor CARMEN.
 std::string InspectLogFile(const std::string& path);
 
+// The report on one survey file (CSV or Leica GSI, io/survey_reader.h): its format, the number
+// of observations and points, the codes with their counts and the extents in x, y, z. Throws
+// io::InputError as io::ReadSurvey does.
+std::string InspectSurveyFile(const std::string& path);
+
 enum class DumpKind { kGnss, kHeading, kScans };
 
 // Writes the decoded records of one log as CSV with a header (columns: docs/inspect.md):

@@ -97,7 +97,7 @@ LogKind SniffLogKind(const std::string& path) {
   gzclose(file);
   head.resize(got > 0 ? static_cast<size_t>(got) : 0);
   if (head.empty()) throw io::InputError(io::Where(path, 0, "empty file; expected an NMEA or CARMEN log"));
-  std::istringstream lines(head);
+  std::istringstream lines(io::NormaliseLineEnds(std::move(head)));
   std::string line;
   int line_number = 0;
   int first_content_line = 0;

@@ -13,6 +13,7 @@
 #include "io/recording/recording.h"
 #include "io/recording/recording_streams.h"
 #include "io/config/session_reader.h"
+#include "io/scanner_geometry.h"
 #include "io/version.h"
 #include "pipeline/config_dirs.h"
 #include "preflight/inspect_internal.h"
@@ -155,26 +156,39 @@ std::string Why(const std::vector<const TopicSummary*>& candidates, const char* 
   return out.str();
 }
 
-// The preset whose beam count and increment match the scans, or "" when none does.
-std::string MatchingPreset(const TopicSummary& scans) {
+// The preset of the scanner family that recorded the scans (io/scanner_geometry.h): one whose
+// geometry is the scans' if there is one, else the first whose family limits hold them (then
+// `from_data` says what the scans carry themselves); "" when none fits.
+std::string MatchingPreset(const TopicSummary& scans, std::string* from_data) {
   if (scans.beams.empty()) return "";
+  std::string family;
   for (const std::string& dir : pipeline::PresetDirs()) {
     std::error_code error;
+    std::vector<fs::path> files;
     for (const auto& entry : fs::directory_iterator(dir, error)) {
-      if (entry.path().extension() != ".yaml") continue;
+      if (entry.path().extension() == ".yaml") files.push_back(entry.path());
+    }
+    std::sort(files.begin(), files.end());  // the same answer whatever the folder's order
+    for (const fs::path& file : files) {
       try {
-        const io::ScannerPreset preset = io::ReadScannerPreset(entry.path().string());
-        if (static_cast<size_t>(preset.num_beams) == scans.beams.begin()->first &&
-            std::abs(std::abs(double(scans.first_increment_rad)) - preset.angular_step_rad) <
-                1e-4 * preset.angular_step_rad + 1e-6) {
+        const io::ScannerPreset preset = io::ReadScannerPreset(file.string());
+        const io::GeometryCheck check = io::CheckScanGeometry(
+            static_cast<int64_t>(scans.beams.begin()->first), scans.first_increment_rad,
+            scans.first_range_max_m, preset);
+        if (check.fit == io::GeometryFit::kAsPreset) {
+          from_data->clear();
           return preset.name;
+        }
+        if (check.fit == io::GeometryFit::kFromData && family.empty()) {
+          family = preset.name;
+          *from_data = check.what;
         }
       } catch (const io::InputError&) {
         continue;  // a broken preset file is calibrate's business, not the suggestion's
       }
     }
   }
-  return "";
+  return family;
 }
 
 std::string FormatTopic(const TopicSummary& t, const std::string& path) {
@@ -247,9 +261,12 @@ std::string SuggestSession(const std::string& path) {
       << "\n# Put it next to the recording, check every line marked CHECK, add the survey.\n";
   out << "name: " << fs::path(path).stem().string() << "\n";
   out << "scanner:\n";
-  const std::string preset = scans.empty() ? "" : MatchingPreset(*scans.front());
-  out << "  model: " << (preset.empty() ? "sick_lms291  # CHECK: no preset matches the scans"
-                                        : preset + "  # matches the beam count and increment")
+  std::string from_data;
+  const std::string preset = scans.empty() ? "" : MatchingPreset(*scans.front(), &from_data);
+  out << "  model: "
+      << (preset.empty()       ? "sick_lms291  # CHECK: no preset matches the scans"
+          : from_data.empty() ? preset + "  # matches the beam count and increment"
+                              : preset + "  # its family; from the data: " + from_data)
       << "\n";
   out << "  log: " << log << "\n" << topic_line(scans, "sensor_msgs/LaserScan") << Why(scans, "scanner");
   out << "  stamp: header  # or receive: the recorder's time\n  time_offset_s: 0\n";

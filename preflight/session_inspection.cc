@@ -43,7 +43,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
   // --- Scanner preset ------------------------------------------------------------------
   std::optional<io::ScannerPreset> preset;
   try {
-    preset = io::LoadScannerPreset(spec.scanner_model, pipeline::PresetDirs());
+    preset = pipeline::LoadSessionPreset(spec.scanner_model, spec.dir);
     out << "  scanner   " << preset->name << ": " << preset->num_beams << " beams, "
         << Fmt("%.2f", preset->rate_hz) << " Hz, max range " << Fmt("%.1f", preset->max_range_m)
         << " m\n";
@@ -210,6 +210,10 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     }
   }
 
+  if (calibration && !calibration->scanner_from_data.empty()) {
+    out << "  scanner   " << calibration->preset.name << "'s range model; from the data: "
+        << calibration->scanner_from_data << "\n";
+  }
   out << "\nstations (stops of at least " << Fmt("%.1f", options.alignment.min_dwell_s)
       << " s): " << dwells.size() << "\n";
   std::vector<double> seen_headings_rad;

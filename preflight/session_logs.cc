@@ -3,6 +3,7 @@
 // their overlap in time.
 #include <sstream>
 
+#include "io/scanner_geometry.h"
 #include "io/text/nmea_reader.h"
 #include "preflight/inspect_internal.h"
 
@@ -34,7 +35,7 @@ SessionLogs InspectSessionLogs(
       out << "\n";
       if (preset) {
         for (const auto& [beams, count] : scans->beams) {
-          if (static_cast<int>(beams) != preset->num_beams) {
+          if (!io::BeamCountFits(static_cast<int64_t>(beams), *preset)) {
             warn(std::to_string(count) + " scans have " + std::to_string(beams) + " beams, preset " +
                  preset->name + " has " + std::to_string(preset->num_beams) + ": check scanner.model");
           }

@@ -22,7 +22,7 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
                                       const std::string& dir) {
   const sim::SimulationConfig config = WithDefaultWalls(input_config);
   config.Validate();
-  const io::ScannerPreset preset = io::LoadScannerPreset(config.scanner_model, pipeline::PresetDirs());
+  const io::ScannerPreset preset = pipeline::LoadSessionPreset(config.scanner_model, dir);
   std::error_code error;
   fs::create_directories(dir, error);
   if (error || !fs::is_directory(dir)) {

@@ -13,6 +13,7 @@ ScannerPreset ReadScannerPreset(const std::string& file) {
   MapReader top(root, file, "", 1);
   ScannerPreset preset;
   preset.name = fs::path(file).stem().string();
+  preset.file = file;
   top.Text("name", preset.name);
   top.Text("source", preset.source);
   preset.num_beams =

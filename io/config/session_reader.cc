@@ -70,6 +70,15 @@ ControlPoint ReadControlPoint(MapReader& survey, const YAML::Node& item, size_t 
   const YAML::Node lon = entry.Require("lon", "the WGS84 longitude in degrees");
   point.lon_deg = entry.ToNumber(lon, "lon");
   if (std::abs(point.lon_deg) > 180.0) entry.Bad(lon, "lon", "a longitude in [-180, 180] degrees");
+  // `inspect --suggest-session` writes lat 0, lon 0 for the user to fill in; no site is there
+  // (the Gulf of Guinea), so a zero pair is a placeholder left, not a position.
+  if (point.lat_deg == 0.0 && point.lon_deg == 0.0) {
+    throw InputError(Where(survey.file(), LineOf(lat),
+                           "survey.control: control point '" + point.id +
+                               "' still has the placeholder lat: 0.0, lon: 0.0 left by inspect "
+                               "--suggest-session; expected its RTK-measured WGS84 lat/lon in "
+                               "degrees"));
+  }
   point.h_m = entry.ToNumber(entry.Require("h", "the ellipsoidal height in metres"), "h");
   entry.Finish();
   return point;

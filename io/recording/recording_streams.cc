@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/angles.h"
+#include "io/scanner_geometry.h"
 #include "io/text/carmen_reader.h"
 #include "io/text/nmea_reader.h"
 
@@ -210,23 +211,13 @@ class ReplayedScans : public ScanSource {
   size_t next_ = 0;
 };
 
-// Differences between the preset and a LaserScan message; "" when they agree.
+// Why a LaserScan message comes from another scanner than the preset's; "" when its geometry
+// is the preset's or within the family's limits (io/scanner_geometry.h).
 std::string PresetMismatch(const LaserScanMsg& msg, const ScannerPreset& preset) {
-  std::ostringstream why;
-  if (static_cast<int64_t>(msg.ranges_m.size()) != preset.num_beams) {
-    why << msg.ranges_m.size() << " beams, preset " << preset.name << " has "
-        << preset.num_beams;
-  } else if (std::abs(std::abs(double(msg.angle_increment_rad)) - preset.angular_step_rad) >
-             1e-4 * std::max(1e-3, preset.angular_step_rad) + 1e-6) {
-    // Floats hold the increment to ~1e-7 relative; 1e-4 leaves room for a driver's rounding.
-    why << "angle_increment " << msg.angle_increment_rad * kRadToDeg << "°, preset "
-        << preset.name << " has " << preset.angular_step_rad * kRadToDeg << "°";
-  } else if (preset.max_range_m > 0 &&
-             std::abs(double(msg.range_max_m) - preset.max_range_m) > 1e-3 * preset.max_range_m) {
-    why << "range_max " << msg.range_max_m << " m, preset " << preset.name << " has "
-        << preset.max_range_m << " m";
-  }
-  return why.str();
+  const GeometryCheck check =
+      CheckScanGeometry(static_cast<int64_t>(msg.ranges_m.size()), msg.angle_increment_rad,
+                        msg.range_max_m, preset);
+  return check.fit == GeometryFit::kOtherScanner ? check.what : std::string();
 }
 
 std::vector<ScanRecord> ReadRecordedScans(const SessionSpec& spec, const ScannerPreset* preset) {

@@ -31,9 +31,17 @@ const std::array<std::vector<std::string>, kRoleCount> kAliases = {{
     {"code", "description", "desc", "pointcode", "feature", "featurecode"},
 }};
 
+// A unit in brackets is dropped too: "Northing (m)", "Elev [m]" and "Northing" are one name.
 std::string NormalName(const std::string& field) {
   std::string name;
+  int depth = 0;  // inside ( ) or [ ]
   for (char c : field) {
+    if (c == '(' || c == '[') ++depth;
+    if (c == ')' || c == ']') {
+      depth = std::max(0, depth - 1);
+      continue;
+    }
+    if (depth > 0) continue;
     if (c == ' ' || c == '\t' || c == '_' || c == '-' || c == '.') continue;
     name += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   }
@@ -91,9 +99,15 @@ void CheckPrintable(const std::string& text, const std::string& what, const std:
   }
 }
 
-double Number(const std::string& text, int column, Role role, const std::string& name, int line,
-              const std::string& hint) {
+// `decimal_comma`: the file separates fields with ';' or a tab, and "12,345" is 12.345 (as
+// European instrument software writes it).
+double Number(std::string text, int column, Role role, const std::string& name, int line,
+              const std::string& hint, bool decimal_comma) {
   const std::string label = Column(column) + " (" + kRoleNames[role] + ")";
+  if (decimal_comma && text.find('.') == std::string::npos &&
+      std::count(text.begin(), text.end(), ',') == 1) {
+    text[text.find(',')] = '.';
+  }
   if (text.empty()) {
     throw InputError(Where(name, line, label + " is empty; expected a number in metres" + hint));
   }
@@ -108,11 +122,38 @@ double Number(const std::string& text, int column, Role role, const std::string&
 
 }  // namespace
 
-bool SplitCsvRow(std::string_view row, std::vector<std::string>* fields) {
+bool IsSurveyCsvHeader(const std::vector<std::string>& fields) {
+  try {
+    MatchHeader(fields, "", 0);
+    return true;
+  } catch (const InputError&) {
+    return false;  // not a header this reader knows: the caller treats the file as no survey
+  }
+}
+
+char SurveyCsvDelimiter(std::string_view line) {
+  size_t commas = 0, semicolons = 0, tabs = 0;
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"') quoted = !quoted;
+    if (quoted) continue;
+    commas += c == ',';
+    semicolons += c == ';';
+    tabs += c == '\t';
+  }
+  if (semicolons > 0) return ';';
+  // A tab-separated row of decimal commas has as many tabs as commas or more.
+  if (tabs > 0 && tabs >= commas) return '\t';
+  return ',';
+}
+
+bool SplitCsvRow(std::string_view row, std::vector<std::string>* fields, char delimiter) {
   fields->clear();
   size_t i = 0;
+  // Blanks around a field are dropped, but never the delimiter itself (a tab).
+  auto blank = [delimiter](char c) { return c != delimiter && (c == ' ' || c == '\t'); };
   while (true) {
-    while (i < row.size() && (row[i] == ' ' || row[i] == '\t')) ++i;
+    while (i < row.size() && blank(row[i])) ++i;
     std::string field;
     size_t quoted = 0;  // characters of the field that came from inside quotes: never trimmed
     if (i < row.size() && row[i] == '"') {
@@ -131,16 +172,14 @@ bool SplitCsvRow(std::string_view row, std::vector<std::string>* fields) {
         field += row[i++];
       }
       quoted = field.size();
-      while (i < row.size() && row[i] != ',') field += row[i++];  // text after the quote
+      while (i < row.size() && row[i] != delimiter) field += row[i++];  // text after the quote
     } else {
-      while (i < row.size() && row[i] != ',') field += row[i++];
+      while (i < row.size() && row[i] != delimiter) field += row[i++];
     }
-    while (field.size() > quoted && (field.back() == ' ' || field.back() == '\t')) {
-      field.pop_back();
-    }
+    while (field.size() > quoted && blank(field.back())) field.pop_back();
     fields->push_back(std::move(field));
     if (i >= row.size()) return true;
-    ++i;  // the comma
+    ++i;  // the delimiter
   }
 }
 
@@ -156,6 +195,7 @@ std::vector<SurveyPoint> ParseSurveyCsv(std::string_view text, const std::string
   std::vector<SurveyPoint> points;
   std::vector<std::string> fields;
   bool first_row = true;
+  char delimiter = 0;  // from the first row (the header, or the first point of a PNEZD file)
   LineSplitter lines(text);
   std::string_view line;
   while (lines.Next(&line)) {
@@ -165,7 +205,8 @@ std::vector<SurveyPoint> ParseSurveyCsv(std::string_view text, const std::string
     while (first < line.size() && std::isspace(static_cast<unsigned char>(line[first]))) ++first;
     if (first == line.size() || line[first] == '#') continue;
 
-    if (!SplitCsvRow(line, &fields)) {
+    if (delimiter == 0) delimiter = SurveyCsvDelimiter(line.substr(first));
+    if (!SplitCsvRow(line, &fields, delimiter)) {
       throw InputError(Where(name, line_number,
                              "a quoted field is never closed; expected a closing \" on the same "
                              "line"));
@@ -205,11 +246,11 @@ std::vector<SurveyPoint> ParseSurveyCsv(std::string_view text, const std::string
     if (code_column < fields.size()) point.code = fields[code_column];
     CheckPrintable(point.code, "code", name, line_number);
     point.x_m = Number(fields[static_cast<size_t>(column_of[kEasting])], column_of[kEasting],
-                       kEasting, name, line_number, hint);
+                       kEasting, name, line_number, hint, delimiter != ',');
     point.y_m = Number(fields[static_cast<size_t>(column_of[kNorthing])], column_of[kNorthing],
-                       kNorthing, name, line_number, hint);
+                       kNorthing, name, line_number, hint, delimiter != ',');
     point.z_m = Number(fields[static_cast<size_t>(column_of[kElevation])], column_of[kElevation],
-                       kElevation, name, line_number, hint);
+                       kElevation, name, line_number, hint, delimiter != ',');
     points.push_back(std::move(point));
   }
   if (!have_columns) {

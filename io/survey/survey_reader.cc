@@ -26,7 +26,7 @@ std::string_view FirstContentLine(std::string_view text) {
   while (lines.Next(&line)) {
     while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
     while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.remove_suffix(1);
-    if (!line.empty()) return line;
+    if (!line.empty() && line.front() != '#') return line;
   }
   return {};
 }
@@ -95,6 +95,9 @@ std::vector<SurveyPoint> ParseSurvey(std::istream& in, const std::string& name,
     }
   }
   if (in.bad()) throw InputError(Where(name, 0, "read error"));
+  // One line end for the CSV and GSI parsers: CRLF and a CR alone (some instrument downloads)
+  // become LF, so every line keeps its number.
+  text = NormaliseLineEnds(std::move(text));
   std::vector<SurveyPoint> points = LooksLikeGsi(FirstContentLine(text))
                                         ? GsiSurveyPoints(ParseGsi(text, name))
                                         : ParseSurveyCsv(text, name, columns);
@@ -107,6 +110,38 @@ std::vector<SurveyPoint> ParseSurvey(std::istream& in, const std::string& name,
     }
   }
   return points;
+}
+
+SurveyFileKind SniffSurveyFile(const std::string& path) {
+  CheckInputFile(path, "the file");
+  constexpr size_t kHeadBytes = 64 * 1024;
+  std::string head(kHeadBytes, '\0');
+  size_t got = 0;
+  if (IsGzipFile(path)) {
+    GzipStreamBuf buffer(path, kMaxSurveyFileBytes);
+    std::istream in(&buffer);
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    got = static_cast<size_t>(in.gcount());
+  } else {
+    std::ifstream in(path, std::ios::binary);
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    got = static_cast<size_t>(in.gcount());
+  }
+  head.resize(got);
+  head = NormaliseLineEnds(std::move(head));
+  const std::string_view first = FirstContentLine(head);
+  SurveyFileKind kind;
+  if (first.empty()) return kind;
+  if (LooksLikeGsi(first)) {
+    kind.format = SurveyFormat::kGsi;
+    return kind;
+  }
+  kind.delimiter = SurveyCsvDelimiter(first);
+  std::vector<std::string> fields;
+  if (SplitCsvRow(first, &fields, kind.delimiter) && IsSurveyCsvHeader(fields)) {
+    kind.format = SurveyFormat::kCsv;
+  }
+  return kind;
 }
 
 SurveyCombination CombineSurveyObservations(const std::vector<SurveyPoint>& observations,

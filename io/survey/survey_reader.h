@@ -8,7 +8,10 @@
 // accepted: docs/survey-files.md; e.g. Point,Northing,Easting,Elevation,Description or
 // id,x,y,z,code, where x is east and y north), or no header with `survey.columns: PNEZD` or
 // `PENZD` (point, northing/easting, elevation, optional description). Fields may be quoted.
-// Lines starting with `#` and blank lines are skipped; CRLF line ends and a UTF-8 BOM accepted.
+// Header names may carry a unit in brackets (`Northing (m)`). Fields are separated by commas,
+// or by semicolons or tabs (from the first row), and then a number may have a decimal comma.
+// Lines starting with `#` and blank lines are skipped; LF, CRLF and CR-only line ends and a
+// UTF-8 BOM are accepted.
 //
 // GSI: io/leica_gsi.h. The survey frame is the file's own local one: x east, y north, z up
 // (right-handed), in metres.
@@ -52,6 +55,18 @@ std::vector<SurveyPoint> ReadSurvey(const std::string& path,
 // for the file in messages (the fuzz targets' entry).
 std::vector<SurveyPoint> ParseSurvey(std::istream& in, const std::string& name,
                                      SurveyColumns columns = SurveyColumns::kHeader);
+
+// What a file is as a survey, from its first content line (`inspect FILE` picks its summary by
+// it): a GSI job, a CSV whose first row is a header the reader accepts, or neither (kNone; a
+// header-less CSV needs survey.columns and so is kNone here). delimiter: the CSV's (',', ';' or
+// a tab). Reads at most the first 64 KiB (inflated when gzip). Throws InputError only when the
+// path is no readable regular file.
+enum class SurveyFormat { kNone, kCsv, kGsi };
+struct SurveyFileKind {
+  SurveyFormat format = SurveyFormat::kNone;
+  char delimiter = ',';
+};
+SurveyFileKind SniffSurveyFile(const std::string& path);
 
 // One point per place, for the calibration (docs/survey-files.md, "Repeated observations").
 struct SurveyCombination {

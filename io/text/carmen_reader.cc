@@ -140,16 +140,27 @@ bool CarmenReader::FillChunk() {
 bool CarmenReader::ReadLine() {
   line_.clear();
   line_has_newline_ = false;
-  // Lines are cut at '\n' only: a NUL byte inside a line stays in it (and the line is skipped
-  // whole by Next), it never ends the line early nor joins it to the next one.
+  // Lines end at LF, CRLF or a CR alone (old Mac and some instrument downloads). A NUL byte
+  // inside a line stays in it (and the line is skipped whole by Next), it never ends the line
+  // early nor joins it to the next one.
   while (true) {
     if (chunk_begin_ == chunk_end_ && !FillChunk()) return !line_.empty();
+    if (after_cr_) {
+      after_cr_ = false;
+      if (chunk_[chunk_begin_] == '\n') {
+        ++chunk_begin_;
+        continue;
+      }
+    }
     const char* begin = chunk_.data() + chunk_begin_;
     const size_t available = chunk_end_ - chunk_begin_;
     const void* newline = std::memchr(begin, '\n', available);
-    const size_t take =
-        newline != nullptr ? static_cast<size_t>(static_cast<const char*>(newline) - begin)
-                           : available;
+    size_t take = newline != nullptr
+                      ? static_cast<size_t>(static_cast<const char*>(newline) - begin)
+                      : available;
+    const void* cr = std::memchr(begin, '\r', take);
+    const bool ends_with_cr = cr != nullptr;
+    if (ends_with_cr) take = static_cast<size_t>(static_cast<const char*>(cr) - begin);
     if (static_cast<int64_t>(line_.size() + take) > max_line_bytes_) {
       throw InputError(Where(path_, static_cast<int>(lines_read_ + 1),
                              "line longer than " + std::to_string(max_line_bytes_) +
@@ -157,9 +168,10 @@ bool CarmenReader::ReadLine() {
                                  "the limit)"));
     }
     line_.append(begin, take);
-    if (newline != nullptr) {
+    if (newline != nullptr || ends_with_cr) {
       chunk_begin_ += take + 1;
       line_has_newline_ = true;
+      after_cr_ = ends_with_cr;
       return true;
     }
     chunk_begin_ = chunk_end_;

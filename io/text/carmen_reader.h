@@ -71,6 +71,7 @@ class CarmenReader : public ScanSource {
   void* gz_ = nullptr;  // gzFile (kept opaque: zlib stays out of this header)
   std::string line_;
   bool line_has_newline_ = false;
+  bool after_cr_ = false;  // the last line ended with a CR: a '\n' right after it is its CRLF
   bool gzip_cut_reported_ = false;
   std::vector<char> chunk_;
   size_t chunk_begin_ = 0, chunk_end_ = 0;  // unread bytes of chunk_

@@ -227,6 +227,35 @@ TEST(SurveyTieTest, RejectsCoincidentAndDisagreeingControl) {
   EXPECT_FALSE(ErrorOf(none, site).empty());
 }
 
+// A control point typed 10 km off: with three, the one whose removal leaves the others
+// agreeing is named; with two, either may be wrong and both are named.
+TEST(SurveyTieTest, AControlPointFarOffIsNamedWhenItCanBe) {
+  const Site site;
+  std::mt19937 rng(3);
+  Scenario three = MakeScenario(site, kThreeControls, kWallA, kWallB, 0.0, 0.0, &rng);
+  site.LatLon(kThreeControls[1] + Eigen::Vector2d(0.0, 10000.0), &three.spec.control[1].lat_deg,
+              &three.spec.control[1].lon_deg);
+  const std::string named = ErrorOf(three, site);
+  EXPECT_NE(named.find("control point C2 disagrees"), std::string::npos) << named;
+  EXPECT_NE(named.find("C1, C3 agree"), std::string::npos) << named;
+  EXPECT_NE(named.find("session.yaml:11"), std::string::npos) << named;
+
+  Scenario two = MakeScenario(site, {kThreeControls[0], kThreeControls[1]}, kWallA, kWallB, 0.0,
+                              0.0, &rng);
+  site.LatLon(kThreeControls[0] + Eigen::Vector2d(0.0, 10000.0), &two.spec.control[0].lat_deg,
+              &two.spec.control[0].lon_deg);
+  const std::string both = ErrorOf(two, site);
+  EXPECT_NE(both.find("control points C1 and C2"), std::string::npos) << both;
+  EXPECT_NE(both.find("cannot be told"), std::string::npos) << both;
+}
+
+TEST(SurveyTieTest, WallCodesMatchWithoutCase) {
+  EXPECT_TRUE(SameSurveyCode("wall1", "WALL1"));
+  EXPECT_TRUE(SameSurveyCode("Wall1", "wALL1"));
+  EXPECT_FALSE(SameSurveyCode("WALL1", "WALL12"));
+  EXPECT_FALSE(SameSurveyCode("WALL1", "WALL2"));
+}
+
 TEST(SurveyTieTest, FitWallsRecoversLineAndOrientation) {
   const Site site;
   std::mt19937 rng(11);
@@ -300,8 +329,9 @@ TEST(SurveyTieTest, WallWithoutPointsNamesWallAndCode) {
     FAIL() << "expected InputError";
   } catch (const io::InputError& e) {
     const std::string message = e.what();
-    EXPECT_NE(message.find("wall east_wall: no survey points with code WALL2; expected at least 2"),
-              std::string::npos)
+    EXPECT_NE(message.find("wall east_wall: no survey points with code WALL2"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("the survey's codes are CTRL (3), WALL1 ("), std::string::npos)
         << message;
     EXPECT_NE(message.find("survey.csv"), std::string::npos) << message;
   }

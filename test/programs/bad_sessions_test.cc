@@ -286,7 +286,8 @@ const std::vector<BadCase> kCases = {
      {"session.yaml:16:", "control point C9 is not in", "expected a survey point with id C9"}},
     {"wall_without_survey_points",
      [](const fs::path& d) { Replace(d / "session.yaml", "code: WALL1}", "code: WALL9}"); }, 2,
-     {"survey.csv: wall north_wall: no survey points with code WALL9; expected at least 2"}},
+     {"survey.csv: wall north_wall: no survey points with code WALL9",
+      "the survey's codes are CTRL (2), WALL1 (62); expected at least 2"}},
 
     // --- NMEA logs: nothing usable -------------------------------------------------------------
     {"gnss_all_bad", nullptr, 2,

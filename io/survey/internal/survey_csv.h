@@ -14,8 +14,18 @@ namespace wallcal::io {
 std::vector<SurveyPoint> ParseSurveyCsv(std::string_view text, const std::string& name,
                                         SurveyColumns columns);
 
-// Splits one CSV row at commas; a field may be quoted ("a, b", with "" for a quote inside).
-// Blanks around fields (outside quotes) are dropped. False on a quote that is never closed.
-bool SplitCsvRow(std::string_view row, std::vector<std::string>* fields);
+// Splits one CSV row at `delimiter` (',', ';' or a tab); a field may be quoted ("a, b", with ""
+// for a quote inside). Blanks around fields (outside quotes) are dropped. False on a quote that
+// is never closed.
+bool SplitCsvRow(std::string_view row, std::vector<std::string>* fields, char delimiter = ',');
+
+// True when `fields` (a first row, split) name every column a survey CSV needs, as the reader
+// accepts them (docs/survey-files.md).
+bool IsSurveyCsvHeader(const std::vector<std::string>& fields);
+
+// The field delimiter of a survey CSV, from its first row: ';' when the row has one (European
+// exports, with decimal commas), a tab when it has at least as many tabs as commas, else ','.
+// Quoted text is not counted.
+char SurveyCsvDelimiter(std::string_view line);
 
 }  // namespace wallcal::io

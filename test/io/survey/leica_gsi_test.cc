@@ -136,6 +136,25 @@ void ExpectGsiError(const std::string& text, const std::string& where, const std
   }
 }
 
+// A job downloaded with CR alone (or CRLF) at the line ends is still recognised as GSI.
+TEST(LeicaGsiTest, EveryLineEndIsRecognised) {
+  const std::string lines[] = {
+      "110001+0000C001 71....+0000CTRL 81..00+00100000 82..00+00200000 83..00+00001000 ",
+      "110002+0000W001 71....+000WALL1 81..00+00110000 82..00+00205000 83..00+00001500 ",
+  };
+  for (const std::string eol : {"\n", "\r\n", "\r"}) {
+    SCOPED_TRACE(eol == "\r" ? "CR" : eol == "\n" ? "LF" : "CRLF");
+    std::istringstream in(lines[0] + eol + lines[1] + eol);
+    const std::vector<SurveyPoint> points = ParseSurvey(in, "job.gsi");
+    ASSERT_EQ(points.size(), 2u);
+    EXPECT_EQ(points[1].id, "W001");
+    EXPECT_EQ(points[1].code, "WALL1");
+    EXPECT_DOUBLE_EQ(points[1].x_m, 110.0);
+    EXPECT_DOUBLE_EQ(points[1].y_m, 205.0);
+    EXPECT_EQ(points[1].line, 2);
+  }
+}
+
 TEST(LeicaGsiTest, RejectsBadWordsWithFileLineAndWhatWasExpected) {
   const std::string good = "110001+SECRET01 81..00+00097531 82..00+00097531 83..00+00097531\n";
   ExpectGsiError(good + "110002+SECRET01 81..09+00097531 82..00+00097531 83..00+00097531\n",

@@ -38,6 +38,50 @@ TEST(SurveyReaderTest, ReadsTheSessionExample) {
   EXPECT_EQ(points[1].observations, 1);
 }
 
+// LF, CRLF and a CR alone each end a line: the same points, with the same line numbers.
+TEST(SurveyReaderTest, ReadsEveryLineEnd) {
+  for (const std::string eol : {"\n", "\r\n", "\r"}) {
+    SCOPED_TRACE(eol == "\r" ? "CR" : eol == "\n" ? "LF" : "CRLF");
+    const std::vector<SurveyPoint> points = ReadSurvey(WriteFile(
+        "eol.csv", "# job" + eol + "id,x,y,z,code" + eol + "C1,0.000,0.000,0.000,CTRL" + eol +
+                       eol + "W001,1.002,10.013,0.512,WALL1" + eol));
+    ASSERT_EQ(points.size(), 2u);
+    EXPECT_EQ(points[1].id, "W001");
+    EXPECT_EQ(points[1].code, "WALL1");
+    EXPECT_DOUBLE_EQ(points[1].y_m, 10.013);
+    EXPECT_EQ(points[1].line, 5);
+  }
+}
+
+// Surveyors' exports: units in the header, semicolons with decimal commas, tabs.
+TEST(SurveyReaderTest, ReadsUnitsSemicolonsDecimalCommasAndTabs) {
+  const std::string variants[] = {
+      "Point,Easting (m),Northing (m),Elev [m],Code\nW001,1.002,10.013,0.512,WALL1\n",
+      "Point;Easting;Northing;Elevation;Code\nW001;1,002;10,013;0,512;WALL1\n",
+      "Point\tE [m]\tN [m]\tZ [m]\tDescription\nW001\t1.002\t10.013\t0.512\tWALL1\n",
+      "Point\tEasting\tNorthing\tHeight\tCode\nW001\t1,002\t10,013\t0,512\tWALL1\n",
+      "Point\tEasting\tNorthing\tHeight\tCode\nW001\t\t10,013\t0,512\tWALL1\n",
+  };
+  for (size_t i = 0; i < 4; ++i) {
+    SCOPED_TRACE(variants[i]);
+    const std::vector<SurveyPoint> points = ReadSurvey(WriteFile("variant.csv", variants[i]));
+    ASSERT_EQ(points.size(), 1u);
+    EXPECT_EQ(points[0].id, "W001");
+    EXPECT_EQ(points[0].code, "WALL1");
+    EXPECT_DOUBLE_EQ(points[0].x_m, 1.002);
+    EXPECT_DOUBLE_EQ(points[0].y_m, 10.013);
+    EXPECT_DOUBLE_EQ(points[0].z_m, 0.512);
+  }
+  // An empty field between two tabs stays a field of its own: the easting is missing.
+  try {
+    ReadSurvey(WriteFile("empty.csv", variants[4]));
+    ADD_FAILURE() << "an empty easting was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("column 2 (easting) is empty"), std::string::npos)
+        << e.what();
+  }
+}
+
 // W001 at easting 1.002, northing 10.013, elevation 0.512, code WALL1, in every variant:
 // x/E is east, y/N north, whatever the column order.
 TEST(SurveyReaderTest, AcceptsSurveyorHeadersInAnyOrderAndCase) {

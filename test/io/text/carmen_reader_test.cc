@@ -67,6 +67,24 @@ TEST(CarmenReaderTest, ReadsRawlaser1) {
   EXPECT_EQ(reader.skipped().Total(), 0);
 }
 
+// LF, CRLF and a CR alone each end a line: the same scans, with the same line numbers.
+TEST(CarmenReaderTest, ReadsEveryLineEnd) {
+  for (const std::string eol : {"\n", "\r\n", "\r"}) {
+    SCOPED_TRACE(eol == "\r" ? "CR" : eol == "\n" ? "LF" : "CRLF");
+    const std::string log = "# header" + eol + Rawlaser(181, 1000.5) + eol + eol +
+                            Rawlaser(181, 1000.6) + eol;
+    CarmenReader reader(WriteFile("eol.clf", log));
+    const std::vector<ScanRecord> scans = ReadAll(reader);
+    ASSERT_EQ(scans.size(), 2u);
+    EXPECT_EQ(scans[0].line, 2);
+    EXPECT_EQ(scans[1].line, 4);
+    EXPECT_DOUBLE_EQ(scans[1].stamp_s, 1000.6);
+    EXPECT_EQ(scans[1].ranges_m.size(), 181u);
+    EXPECT_EQ(reader.skipped().Total(), 2);  // the comment and the blank line
+    EXPECT_EQ(reader.skipped().Problems(), 0);
+  }
+}
+
 TEST(CarmenReaderTest, ReadsRawlaser1WithRemissions) {
   const std::string line = "RAWLASER1 0 -0.5 1.0 0.5 30 0.01 1 3 1.5 2.5 3.5 3 10 20 30 7.0 h 8.0";
   CarmenReader reader(WriteFile("rem.clf", line + "\n"));

@@ -70,6 +70,25 @@ TEST(NmeaReaderTest, ReadsLoggerTimePrefixedSentences) {
   EXPECT_EQ(nmea.lines_read, 4);
 }
 
+// LF, CRLF and a CR alone each end a line: the same records, with the same line numbers.
+TEST(NmeaReaderTest, ReadsEveryLineEnd) {
+  for (const std::string eol : {"\n", "\r\n", "\r"}) {
+    SCOPED_TRACE(eol == "\r" ? "CR" : eol == "\n" ? "LF" : "CRLF");
+    const std::string log =
+        "1747031522.113 $GNGGA,051202.10,4304.27407,N,14120.39259,E,4,14,0.7,53.10,M,19.21,M,"
+        "1.0,0000*64" + eol + "1747031522.150 $HEHDT,123.456,T*28" + eol +
+        "1747031522.200 " + S("INTHS,123.45,A") + eol;
+    const NmeaLog nmea = ReadNmea(WriteFile("eol.nmea", log));
+    ASSERT_EQ(nmea.fixes.size(), 1u);
+    EXPECT_EQ(nmea.fixes[0].quality, 4);
+    ASSERT_EQ(nmea.headings.size(), 2u);
+    EXPECT_EQ(nmea.headings[1].line, 3);
+    EXPECT_DOUBLE_EQ(nmea.headings[1].stamp_s, 1747031522.200);
+    EXPECT_EQ(nmea.skipped.Total(), 0);
+    EXPECT_EQ(nmea.lines_read, 3);
+  }
+}
+
 TEST(NmeaReaderTest, AttachesGstBeforeOrAfterItsGga) {
   const std::string log = "100.0 " + S("GPGST,120000.00,,,,,0.5,0.6,1.0") +
                           "\n"  // before its GGA
