@@ -6,9 +6,9 @@
 // ψ + ω·(dt + δh) had wrong over left_s (the path's curvature over it, a smoothed yaw rate),
 // which is the new left-over. That error shrinks with the shift: the round before measured by
 // how much (its contraction, this left-over over the one it moved; doubled for safety), so the
-// change the next round would make is predicted without its solve. The rounds stop when, for each delay they
-// move, that predicted change is below a fraction of the delay's own σ: then a further round
-// would only repeat the solve (a whole solve of the adjustment, the cost of a round).
+// change the next round would make is predicted without its solve. The rounds stop when, for
+// each delay they move, that predicted change is below a fraction of the delay's own σ: then a
+// further round would only repeat the solve (a whole solve of the adjustment, a round's cost).
 
 #include <limits>
 
