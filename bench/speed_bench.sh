@@ -8,6 +8,10 @@
 #   BUILD_DIR  the build with wallcal and bench/parse_floor (default build)
 #   MINUTES    session lengths (default: 5 15 60 240); one station a minute (59.5 s stops),
 #              75 scans/s, the scenario of configs/simulate/bench_lms291_hour.yaml
+# Then one more row, "60 + drives": the hour with car-like drives between the stations and the
+# logger's delays (configs/simulate/bench_lms291_hour_drives.yaml), whose drives determine the
+# scanner clock offset and the heading delay, so that calibrate makes clock rounds. DRIVES=0
+# leaves it out.
 # Environment: SPEED_BENCH_DIR, when set, holds the sessions and keeps them for the next run (a
 # 4-hour session is 1.4 GB, simulated once); unset, they go to a temporary folder removed at
 # exit. THREADS is passed to wallcal calibrate --threads (default: every core).
@@ -50,13 +54,13 @@ echo "bundled sample (samples/lms291-sapporo): calibrate ${sample_s} s, peak ${s
 echo
 echo "| minutes | scans | log MB | floor s | calibrate s | × floor | peak MB | inspect s | × floor | calibrate µs/scan |"
 echo "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
-for m in "${minutes[@]}"; do
-  session="$work/session-${m}min"
+# One row of the table: its label, the simulation config, the session folder (simulated once).
+row() {
+  local label="$1" config="$2" session="$3"
   if [ ! -f "$session/scans.clf" ]; then
-    sed -e "s/^num_stations: .*/num_stations: ${m}/" -e "s/^name: .*/name: speed-${m}min/" \
-      "$root/configs/simulate/bench_lms291_hour.yaml" > "$work/speed-${m}min.yaml"
-    "$build/wallcal" simulate --config "$work/speed-${m}min.yaml" --output "$session" > /dev/null
+    "$build/wallcal" simulate --config "$config" --output "$session" > /dev/null
   fi
+  local scans log_mb floor_s cal_s cal_mb ins_s
   scans=$(grep -c '^RAWLASER1' "$session/scans.clf")
   log_mb=$(( $(stat -c %s "$session/scans.clf") / 1000000 ))
   cat "$session/scans.clf" > /dev/null  # the page cache holds the log for every reader alike
@@ -64,7 +68,16 @@ for m in "${minutes[@]}"; do
   read -r cal_s cal_mb < <(measure "$build/wallcal" calibrate "$session" --output "$work/offsets.yaml" \
                            --force --quiet "${thread_args[@]}")
   read -r ins_s _ < <(measure "$build/wallcal" inspect "$session")
-  awk -v m="$m" -v n="$scans" -v mb="$log_mb" -v f="$floor_s" -v c="$cal_s" -v r="$cal_mb" \
-      -v i="$ins_s" 'BEGIN {printf "| %d | %d | %d | %.2f | %.2f | %.2f | %d | %.2f | %.2f | %.1f |\n",
+  awk -v m="$label" -v n="$scans" -v mb="$log_mb" -v f="$floor_s" -v c="$cal_s" -v r="$cal_mb" \
+      -v i="$ins_s" 'BEGIN {printf "| %s | %d | %d | %.2f | %.2f | %.2f | %d | %.2f | %.2f | %.1f |\n",
                      m, n, mb, f, c, c / f, r, i, i / f, 1e6 * c / n}'
+}
+
+for m in "${minutes[@]}"; do
+  sed -e "s/^num_stations: .*/num_stations: ${m}/" -e "s/^name: .*/name: speed-${m}min/" \
+    "$root/configs/simulate/bench_lms291_hour.yaml" > "$work/speed-${m}min.yaml"
+  row "$m" "$work/speed-${m}min.yaml" "$work/session-${m}min"
 done
+if [ "${DRIVES:-1}" != 0 ]; then
+  row "60 + drives" "$root/configs/simulate/bench_lms291_hour_drives.yaml" "$work/session-60min-drives"
+fi

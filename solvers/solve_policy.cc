@@ -3,25 +3,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "calib/detection_pass.h"
 #include "common/angles.h"
+#include "solvers/clock_rounds.h"
 #include "solvers/mount_problem.h"
 #include "solvers/time_block.h"
 
 namespace wallcal::solvers {
 namespace {
-
-// At most this many re-interpolations of the poses at the estimated scan times, stopping when
-// the offset left over is below the tolerance or below a quarter of its own σ. A round moves
-// the poses by speed × offset, which the solve already models to first order (the clock
-// offset's Jacobian is the velocity); what a round adds is the curvature of the path over the
-// offset, and the offset along the poorly determined split between clock offset and heading
-// delay, where the solve stops early because the cost hardly changes. A change below σ/4 adds
-// less than 6 % to the offset's variance: not worth a whole solve (2 s on an hour session).
-constexpr int kClockOffsetRounds = 3;
-constexpr double kClockOffsetToleranceS = 2e-4;
-constexpr double kClockOffsetSigmaFraction = 0.25;
 
 // How far moving the headings by shift_s would move the estimate of dt + δh (s), without a
 // solve: the moving scans' headings interpolated at the shifted times, less the linear model's
@@ -59,7 +50,7 @@ PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>
                               const solvers::SolverOptions& options, const Mount& initial, bool force,
                               const calib::PoseInterpolator& poses,
                               const std::function<void(double shift_s)>& on_round,
-                              double observation_weight) {
+                              double observation_weight, const ClockRoundRule& rule) {
   PolicyOutcome outcome;
   if (method == Method::kBarawid) {
     outcome.estimate = SolveMountBarawid(*observations, walls, options, force);
@@ -73,17 +64,16 @@ PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>
   if (!outcome.estimate.usable || !outcome.estimate.time_offset_estimated) return outcome;
   // A round moves the positions by the clock offset dt and the headings by what turns need,
   // dt + δh (the headings are stamped on the same clock, δh after the positions): each only when
-  // the data determine it and what is left of it is beyond the tolerance and a quarter of its σ.
-  // On drives along one wall only the sum is in the data: the headings move by it while dt, which
-  // only its prior holds, stays linear (moving it would start the next round's prior from
-  // there, and the rounds would creep along the split).
-  const auto worth_moving = [](double value_s, double sigma_s) {
-    return std::abs(value_s) >
-           std::max(kClockOffsetToleranceS, kClockOffsetSigmaFraction * sigma_s);
-  };
+  // the data determine it and the change the round would make to it is beyond the tolerance and
+  // a fraction of its σ (clock_rounds.h: the first round's is all of what is left, later ones'
+  // are predicted from the round before). On drives along one wall only the sum is in the data:
+  // the headings move by it while dt, which only its prior holds, stays linear (moving it would
+  // start the next round's prior from there, and the rounds would creep along the split).
   const double clock_prior_s = options.time_offset_sigma_s;
+  const double unmeasured = std::numeric_limits<double>::quiet_NaN();
   double shifted_s = 0.0, heading_shifted_s = 0.0;
-  while (outcome.clock_rounds < kClockOffsetRounds && outcome.estimate.usable) {
+  double clock_moved_s = unmeasured, turn_moved_s = unmeasured;  // by the round before
+  while (outcome.clock_rounds < rule.max_rounds && outcome.estimate.usable) {
     const MountEstimate& e = outcome.estimate;
     const Eigen::Matrix2d& c = e.time_covariance;  // [dt, δh], s²
     const double heading_prior_s = e.heading_delay_estimated ? e.heading_delay_prior_sigma_s : 0.0;
@@ -95,16 +85,25 @@ PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>
     const bool clock_determined = DelayDetermined(c, clock_prior_s, heading_prior_s, 0);
     const bool turn_determined = ShrinksPriorByHalf(turn_sigma_s, turn_prior_s);
     const double position_move_s =
-        clock_determined && worth_moving(e.time_offset_s, e.time_offset_sigma_s) ? e.time_offset_s
-                                                                                 : 0.0;
+        clock_determined &&
+                WorthARound(rule, PredictedRoundChange(e.time_offset_s, clock_moved_s),
+                            e.time_offset_sigma_s)
+            ? e.time_offset_s
+            : 0.0;
     // The headings move by the sum when that changes its estimate by more than the threshold
-    // (HeadingRoundChange; with the positions moved, the headings move with them anyway).
+    // (before any round, HeadingRoundChange says by how much without a solve), and whenever the
+    // positions move: they are re-interpolated then anyway, and at the sum they leave the least
+    // to the linear model (at dt alone, the heading delay's part of the sum would be left).
     const bool move_turn =
-        turn_determined && worth_moving(turn_s, turn_sigma_s) &&
+        turn_determined &&
         (position_move_s != 0.0 ||
-         worth_moving(HeadingRoundChange(poses, *observations, turn_s), turn_sigma_s));
+         (WorthARound(rule, PredictedRoundChange(turn_s, turn_moved_s), turn_sigma_s) &&
+          (std::isfinite(turn_moved_s) ||
+           WorthARound(rule, HeadingRoundChange(poses, *observations, turn_s), turn_sigma_s))));
     const double heading_move_s = move_turn ? turn_s : position_move_s;
     if (position_move_s == 0.0 && heading_move_s == 0.0) break;
+    clock_moved_s = position_move_s != 0.0 ? position_move_s : unmeasured;
+    turn_moved_s = move_turn ? turn_s : unmeasured;
     // The headings' shift beyond the positions' is the heading delay moved into the poses.
     const double delay_move_s = heading_move_s - position_move_s;
     ++outcome.clock_rounds;

@@ -16,6 +16,7 @@
 
 #include "calib/observation.h"
 #include "calib/time_alignment.h"
+#include "solvers/clock_rounds.h"
 #include "solvers/solver_options.h"
 #include "solvers/mount_solver.h"
 
@@ -29,18 +30,21 @@ struct PolicyOutcome {
 
 // Solves with `method` from `initial`; for ceres with an estimated clock offset, shifts the
 // positions of *observations to the estimated scan times (dt) and their headings by dt + δh, and
-// solves again (at most 3 rounds), and reports the totals; each round is warm-started where the
-// last ended (WarmStart). Each shift is made only when the data determine it
-// (solvers::DelayDetermined; for the sum, σ below half its prior's) and what is left of it is
-// above 0.2 ms and a quarter of its σ; the headings alone also only when re-interpolating them
-// would move the sum's estimate by that much (else the round would repeat the solve).
-// `on_round(shift_s)` (may be empty) is told before each round.
+// solves again (at most rule.max_rounds rounds), and reports the totals; each round is
+// warm-started where the last ended (WarmStart). Each shift is made only when the data
+// determine it (solvers::DelayDetermined; for the sum, σ below half its prior's) and the change
+// a round would make to it is beyond rule.tolerance_s and rule.sigma_fraction of its σ
+// (clock_rounds.h: before any round, all of what is left; after one, predicted from the
+// contraction that round showed); the headings alone, before any round, also only when
+// re-interpolating them would move the sum's estimate by that much (else the round would repeat
+// the solve). `on_round(shift_s)` (may be empty) is told before each round.
 // `observation_weight`: SolveMountCeres's (a thinned preview); barawid takes none.
 PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>* observations,
                               const std::vector<calib::WallGeometry>& walls,
                               const solvers::SolverOptions& options, const Mount& initial, bool force,
                               const calib::PoseInterpolator& poses,
                               const std::function<void(double shift_s)>& on_round = nullptr,
-                              double observation_weight = 1.0);
+                              double observation_weight = 1.0,
+                              const ClockRoundRule& rule = ClockRoundRule());
 
 }  // namespace wallcal::solvers

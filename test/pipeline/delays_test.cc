@@ -31,6 +31,7 @@
 #include "pipeline/stream_delays.h"
 #include "sim/simulated_session.h"
 #include "sim/simulator.h"
+#include "solvers/clock_rounds.h"
 #include "solvers/mount_problem.h"
 #include "test/support/scratch_dir.h"
 
@@ -196,6 +197,34 @@ TEST(DelaysTest, ClockRoundsMoveWhatTheDataDetermine) {
       SimulateAndCalibrate(Scenario("bench_lms291_stopgo.yaml"), 6, "plain", &rounds);
   ASSERT_TRUE(plain.estimate.usable) << plain.estimate.message;
   EXPECT_EQ(rounds, 0);
+}
+
+// A session whose offsets need several rounds: bench (d1)'s car-like drives, which determine
+// both delays, with the scanner clock a further 150 ms behind. Left linear, the first solve
+// misses dt by many of its σ (the path curves over 150 ms); the rounds bring both delays to the
+// truth, and stop by the rule (clock_rounds.h) before the cap: what the last round changed
+// predicts a further one below a quarter of σ.
+TEST(DelaysTest, ClockRoundsConvergeOnAFarScannerClock) {
+  sim::SimulationConfig config = Scenario("bench_lms291_delays_stopgo.yaml");
+  config.scanner_time_offset_s = 0.15;
+  int rounds = -1;
+  const pipeline::CalibrationResult result = SimulateAndCalibrate(config, 8, "far_clock", &rounds);
+  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
+  ASSERT_EQ(result.gnss_epochs.status, calib::EpochMappingStatus::kMapped);
+  const double mapped_s = result.gnss_epochs.offset_s;
+  const double dt_truth_s = mapped_s - config.scanner_latency_s + config.scanner_time_offset_s;
+  const double heading_truth_s = config.heading_latency_s - mapped_s;
+  ASSERT_EQ(result.scanner_offset.status, pipeline::DelayStatus::kDetermined);
+  ASSERT_EQ(result.heading_delay.status, pipeline::DelayStatus::kDetermined);
+  EXPECT_GE(rounds, 2);
+  EXPECT_LT(rounds, solvers::ClockRoundRule().max_rounds);
+  EXPECT_LT(std::abs(result.scanner_offset.value_s - dt_truth_s),
+            4.0 * result.scanner_offset.sigma_s)
+      << "dt " << result.scanner_offset.value_s << " ± " << result.scanner_offset.sigma_s
+      << " after " << rounds << " rounds";
+  EXPECT_LT(std::abs(result.heading_delay.value_s - heading_truth_s),
+            4.0 * result.heading_delay.sigma_s)
+      << "δh " << result.heading_delay.value_s << " ± " << result.heading_delay.sigma_s;
 }
 
 // DelayOwnSigma on made-up time blocks (s²): the data's information plus the priors', inverted
