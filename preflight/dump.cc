@@ -11,7 +11,7 @@
 #include "io/recording/recording_streams.h"
 #include "io/config/session_reader.h"
 #include "pipeline/config_dirs.h"
-#include "preflight/inspect_internal.h"
+#include "preflight/internal/inspect_internal.h"
 
 namespace wallcal::preflight {
 

@@ -9,7 +9,7 @@
 #include "io/text/carmen_reader.h"
 #include "io/recording/recording_streams.h"
 #include "io/version.h"
-#include "preflight/inspect_internal.h"
+#include "preflight/internal/inspect_internal.h"
 
 namespace wallcal::preflight {
 

@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "io/input_file.h"
-#include "preflight/inspect_internal.h"
+#include "preflight/internal/inspect_internal.h"
 
 namespace wallcal::preflight {
 

@@ -16,7 +16,7 @@
 #include "io/scanner_geometry.h"
 #include "io/version.h"
 #include "pipeline/config_dirs.h"
-#include "preflight/inspect_internal.h"
+#include "preflight/internal/inspect_internal.h"
 
 namespace wallcal::preflight {
 

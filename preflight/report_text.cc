@@ -11,7 +11,7 @@
 
 #include "common/angles.h"
 #include "common/circular.h"
-#include "preflight/inspect_internal.h"
+#include "preflight/internal/inspect_internal.h"
 
 namespace wallcal::preflight::internal {
 

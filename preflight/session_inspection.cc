@@ -21,7 +21,7 @@
 #include "io/version.h"
 #include "pipeline/calibration.h"
 #include "pipeline/config_dirs.h"
-#include "preflight/inspect_internal.h"
+#include "preflight/internal/inspect_internal.h"
 
 namespace wallcal::preflight {
 

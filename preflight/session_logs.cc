@@ -5,7 +5,7 @@
 
 #include "io/scanner_geometry.h"
 #include "io/text/nmea_reader.h"
-#include "preflight/inspect_internal.h"
+#include "preflight/internal/inspect_internal.h"
 
 namespace wallcal::preflight::internal {
 

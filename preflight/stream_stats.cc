@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "preflight/inspect_internal.h"
+#include "preflight/internal/inspect_internal.h"
 
 namespace wallcal::preflight {
 

@@ -9,7 +9,7 @@
 #include "io/survey/survey_reader.h"
 #include "io/version.h"
 #include "preflight/inspect.h"
-#include "preflight/inspect_internal.h"
+#include "preflight/internal/inspect_internal.h"
 
 namespace wallcal::preflight {
 

@@ -26,7 +26,7 @@
 #include "io/config/session_reader.h"
 #include "pipeline/calibration.h"
 #include "pipeline/config_dirs.h"
-#include "preflight/inspect_internal.h"
+#include "preflight/internal/inspect_internal.h"
 #include "sim/simulated_session.h"
 #include "test/support/scratch_dir.h"
 
