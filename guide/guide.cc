@@ -174,6 +174,13 @@ GuideReport AssessSession(const GuideRequest& request) {
     for (const StationSummary& s : report.stations) {
       evidence.station_angles_rad.push_back(s.vehicle_to_wall_rad);
     }
+    if (!report.stations.empty()) {
+      const StationSummary& last = report.stations.back();
+      evidence.has_last_station = true;
+      evidence.last_station.wall_index = last.wall_index;
+      evidence.last_station.vehicle_to_wall_rad = last.vehicle_to_wall_rad;
+      evidence.last_station.distance_m = last.distance_m;
+    }
     report.predicted = PredictMount(model, evidence);
   }
   if (!result.observations.empty()) {

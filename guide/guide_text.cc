@@ -19,7 +19,7 @@ std::string SigmaLine(const Prediction& p, const pipeline::AcceptanceOptions& a)
 
 std::string StopLine(const GuideReport& r, const StopSpec& s) {
   std::string wall = r.wall_ids.size() > 1 ? " at wall " + r.wall_ids[s.wall_index] : "";
-  return Format("vehicle-to-wall %+.0f deg, %.1f m from the wall%s, stand %.0f s, %.0f s after the previous stop",
+  return Format("vehicle-to-wall %+.0f deg, %.1f m from the wall%s, stand %.0f s; go %.0f s after the previous stop ended (stand on there until then)",
                 s.vehicle_to_wall_rad * kRadToDeg, s.distance_m, wall.c_str(), s.dwell_s, s.wait_s);
 }
 

@@ -95,6 +95,8 @@ std::vector<Advice> NextStops(const StopModel& model, const Evidence& evidence, 
   std::vector<double> chosen_weights;
   Prediction current = PredictMount(model, evidence);
   std::vector<double> angles = evidence.station_angles_rad;
+  StopSpec last = evidence.last_station;
+  const StopSpec* previous = evidence.has_last_station ? &last : nullptr;
   double time_s = now_s;
   int station_id = model.next_station_id;
   const double tau_s = model.solver.gnss_bias_tau_s > 0.0 ? model.solver.gnss_bias_tau_s : 60.0;
@@ -118,7 +120,8 @@ std::vector<Advice> NextStops(const StopModel& model, const Evidence& evidence, 
       std::vector<calib::WallObservation> obs = chosen;
       std::vector<double> w = chosen_weights;
       const size_t old_size = obs.size();
-      if (!AppendStopObservations(model, stop, time_s + stop.wait_s, station_id, &obs, &w)) return;
+      int ids = station_id;
+      if (!AppendWaitAndStop(model, previous, stop, time_s, &ids, &obs, &w)) return;
       const Prediction after = PredictMount(model, evidence, obs, w);
       std::vector<double> angles_after = angles;
       angles_after.push_back(stop.vehicle_to_wall_rad);
@@ -167,7 +170,9 @@ std::vector<Advice> NextStops(const StopModel& model, const Evidence& evidence, 
     current = best.after;
     angles.push_back(best.stop.vehicle_to_wall_rad);
     time_s += best.stop.wait_s + best.stop.dwell_s;
-    ++station_id;
+    station_id += 2;
+    last = best.stop;
+    previous = &last;
   }
   return advice;
 }
@@ -177,10 +182,11 @@ void AppendPlanObservations(const StopModel& model, const std::vector<StopSpec>&
                             std::vector<double>* weights) {
   double t = start_s;
   int station = model.next_station_id;
+  const StopSpec* previous = nullptr;
   for (const StopSpec& stop : stops) {
-    t += stop.wait_s;
-    AppendStopObservations(model, stop, t, station++, observations, weights);
-    t += stop.dwell_s;
+    AppendWaitAndStop(model, previous, stop, t, &station, observations, weights);
+    t += stop.wait_s + stop.dwell_s;
+    previous = &stop;
   }
 }
 

@@ -36,6 +36,9 @@ struct Evidence {
   // angles span less than solver.min_heading_spread_rad (modulo 180°) or that has fewer than
   // solver.min_stations stations, whatever its σ.
   std::vector<double> station_angles_rad;
+  // The last station, where a wait before the next stop is spent standing (none: no station).
+  bool has_last_station = false;
+  StopSpec last_station;
 };
 
 // The extent of `angles_rad` taken modulo 180° (rad): 180° less the largest gap between them.

@@ -158,4 +158,25 @@ bool AppendStopObservations(const StopModel& model, const StopSpec& stop, double
   return observations->size() > before;
 }
 
+bool AppendWaitAndStop(const StopModel& model, const StopSpec* previous, const StopSpec& stop,
+                       double wait_start_s, int* next_station_id,
+                       std::vector<calib::WallObservation>* observations,
+                       std::vector<double>* weights) {
+  std::vector<calib::WallObservation> added;
+  std::vector<double> added_weights;
+  if (!AppendStopObservations(model, stop, wait_start_s + stop.wait_s, *next_station_id + 1,
+                              &added, &added_weights)) {
+    return false;
+  }
+  if (previous != nullptr && stop.wait_s > kDriveS + 2.0 * model.dwell_guard_s) {
+    StopSpec standing = *previous;
+    standing.dwell_s = stop.wait_s - kDriveS;
+    AppendStopObservations(model, standing, wait_start_s, *next_station_id, observations, weights);
+  }
+  observations->insert(observations->end(), added.begin(), added.end());
+  weights->insert(weights->end(), added_weights.begin(), added_weights.end());
+  *next_station_id += 2;
+  return true;
+}
+
 }  // namespace wallcal::guide

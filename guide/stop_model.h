@@ -81,4 +81,16 @@ bool AppendStopObservations(const StopModel& model, const StopSpec& stop, double
                             int station_id, std::vector<calib::WallObservation>* observations,
                             std::vector<double>* weights);
 
+// The drive from one stop to the next (s). A wait longer than this is spent standing on at the
+// previous stop, as a stop-and-go crew does (the scanner keeps logging there).
+inline constexpr double kDriveS = 5.0;
+
+// `stop`, `wait_s` after wait_start_s, with the wait beyond kDriveS standing at `previous` (null:
+// no previous stop, the wait adds nothing). Each standing gets the next station id from
+// *next_station_id. False when the stop's wall would not be seen (nothing of it appended).
+bool AppendWaitAndStop(const StopModel& model, const StopSpec* previous, const StopSpec& stop,
+                       double wait_start_s, int* next_station_id,
+                       std::vector<calib::WallObservation>* observations,
+                       std::vector<double>* weights);
+
 }  // namespace wallcal::guide
