@@ -34,12 +34,14 @@ sim::SimulationConfig Scenario(const std::string& name) {
   return sim::ReadSimulationConfig(std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/" + name);
 }
 
-int Check(const std::vector<std::string>& scenarios, int seeds, const fs::path& scratch) {
+int Check(const std::vector<std::string>& scenarios, int seeds, int stations,
+          const fs::path& scratch) {
   const std::vector<double> cuts = {0.3, 0.6, 1.0};
   const char* axes[3] = {"x", "y", "yaw"};
   std::printf("scenario                         cut  axis  ratio min  median    max  in 0.8-1.25\n");
   for (const std::string& scenario : scenarios) {
-    const sim::SimulationConfig config = Scenario(scenario);
+    sim::SimulationConfig config = Scenario(scenario);
+    if (stations > 0) config.num_stations = stations;
     std::vector<std::vector<std::vector<double>>> ratios(cuts.size(),
                                                          std::vector<std::vector<double>>(3));
     std::vector<int> missing(cuts.size(), 0);
@@ -95,19 +97,28 @@ int Speed(const fs::path& scratch) {
 int main(int argc, char** argv) {
   std::string mode;
   int seeds = 20;
+  int stations = 0;
   std::vector<std::string> scenarios;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--check" || arg == "--crew" || arg == "--speed") {
       mode = arg;
-    } else if (arg == "--write-fixed" && i + 2 < argc) {
-      const int count = std::atoi(argv[i + 1]);
-      return bench::WriteFixed(count, argv[i + 2]);
+    } else if (arg == "--transcript" && i + 1 < argc) {
+      return bench::Transcript(argv[i + 1]);
     } else if (arg == "--seeds" && i + 1 < argc) {
       seeds = std::atoi(argv[++i]);
+    } else if (arg == "--stations" && i + 1 < argc) {
+      stations = std::atoi(argv[++i]);
     } else if (arg == "--help") {
-      std::cout << "usage: guide_bench --check [SCENARIO.yaml ...] | --crew | --speed "
-                   "[--seeds N (default 20)]\n";
+      std::cout << "usage: guide_bench --check [SCENARIO.yaml ...] [--stations N] | --crew | "
+                   "--speed [--seeds N (default 20)]\n"
+                   "  --check     the guide's σ over calibrate's on sessions cut after 30, 60 and "
+                   "100 % of their scans\n"
+                   "              (scenarios from configs/simulate/; --stations overrides their "
+                   "num_stations)\n"
+                   "  --crew      a crew following the guide against the field guide's pattern\n"
+                   "  --speed     one update on an hour-long session\n"
+                   "  --transcript DIR  one guided crew, the guide's report after each stop\n";
       return 0;
     } else {
       scenarios.push_back(arg);
@@ -118,7 +129,7 @@ int main(int argc, char** argv) {
   int status = 2;
   if (mode == "--check") {
     if (scenarios.empty()) scenarios = {"lms291_sapporo.yaml", "bench_lms291_two_walls.yaml"};
-    status = Check(scenarios, seeds, scratch);
+    status = Check(scenarios, seeds, stations, scratch);
   } else if (mode == "--crew") {
     status = bench::RunCrew(seeds, scratch);
   } else if (mode == "--speed") {

@@ -17,6 +17,7 @@
 
 #include "common/angles.h"
 #include "guide/guide.h"
+#include "guide/guide_text.h"
 #include "pipeline/calibration.h"
 #include "sim/simulated_session.h"
 #include "sim/simulation_config.h"
@@ -42,13 +43,19 @@ double SessionSeconds(const std::vector<sim::SimStop>& stops) {
   return t;
 }
 
-// calibrate on the stops so far: accepted when usable, not forced and within the σ tolerances.
-bool Calibrate(const sim::SimulationConfig& base, const std::vector<sim::SimStop>& stops,
-               uint64_t seed, const fs::path& dir, Outcome* outcome) {
+// Simulates the stops so far into `dir`.
+void Simulate(const sim::SimulationConfig& base, const std::vector<sim::SimStop>& stops,
+              uint64_t seed, const fs::path& dir) {
   sim::SimulationConfig config = base;
   config.stops = stops;
   fs::remove_all(dir);
   sim::WriteSimulatedSession(config, seed, dir.string());
+}
+
+// calibrate on the stops so far: accepted when usable, not forced and within the σ tolerances.
+bool Calibrate(const sim::SimulationConfig& base, const std::vector<sim::SimStop>& stops,
+               uint64_t seed, const fs::path& dir, Outcome* outcome) {
+  Simulate(base, stops, seed, dir);
   pipeline::CalibrateRequest request;
   request.session_path = dir.string();
   request.threads = 2;
@@ -101,7 +108,7 @@ Outcome FixedCrew(const sim::SimulationConfig& config, uint64_t seed, const fs::
 // guide advises, until it says enough (checked by calibrate) or the budget ends. `config_path`:
 // the options the guide uses (tighter tolerances keep it advising, for the σ in a given time).
 Outcome GuidedCrew(const sim::SimulationConfig& config, uint64_t seed, const fs::path& dir,
-                   const std::string& config_path, double until_s) {
+                   const std::string& config_path, double until_s, bool print = false) {
   std::vector<sim::SimStop> stops;
   for (double deg : {-30.0, 30.0, 0.0}) {
     sim::SimStop s;
@@ -112,15 +119,20 @@ Outcome GuidedCrew(const sim::SimulationConfig& config, uint64_t seed, const fs:
   }
   Outcome outcome;
   while (static_cast<int>(stops.size()) <= kMaxStops) {
-    const bool accepted = Calibrate(config, stops, seed, dir, &outcome);
-    if (until_s <= 0.0 && accepted) return outcome;
+    // To the given time, calibrate runs once at the end (below); to acceptance, after each stop.
+    if (until_s > 0.0) {
+      Simulate(config, stops, seed, dir);
+    } else if (Calibrate(config, stops, seed, dir, &outcome)) {
+      return outcome;
+    }
     guide::GuideRequest request;
     request.session_path = dir.string();
     request.config_path = config_path;
     request.threads = 2;
     request.max_next = 1;
     const guide::GuideReport report = guide::AssessSession(request);
-    if (report.next.empty()) return outcome;
+    if (print) std::printf("$ guide SESSION\n%s\n", guide::GuideText(report).c_str());
+    if (report.next.empty()) break;
     const guide::StopSpec& next = report.next.front().stop;
     sim::SimStop s;
     s.vehicle_to_wall_rad = next.vehicle_to_wall_rad;
@@ -130,8 +142,11 @@ Outcome GuidedCrew(const sim::SimulationConfig& config, uint64_t seed, const fs:
     std::vector<sim::SimStop> more = stops;
     more.push_back(s);
     const double limit = until_s > 0.0 ? until_s : kBudgetS;
-    if (SessionSeconds(more) > limit) return outcome;
+    if (SessionSeconds(more) > limit) break;
     stops = more;
+  }
+  if (until_s > 0.0 || outcome.stations != static_cast<int>(stops.size())) {
+    Calibrate(config, stops, seed, dir, &outcome);
   }
   return outcome;
 }
@@ -164,11 +179,13 @@ void PrintRow(const char* name, const std::vector<Outcome>& outcomes) {
 
 }  // namespace
 
-int WriteFixed(int count, const fs::path& dir) {
-  sim::SimulationConfig config = sim::ReadSimulationConfig(
+int Transcript(const fs::path& dir) {
+  const sim::SimulationConfig config = sim::ReadSimulationConfig(
       std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_guide_crew.yaml");
-  config.stops = FixedPattern(count);
-  sim::WriteSimulatedSession(config, 2000, dir.string());
+  const Outcome outcome = GuidedCrew(config, 2000, dir, "", 0.0, true);
+  std::printf("calibrate: %d stations, %.1f min, σ x %.4f m y %.4f m yaw %.3f deg, %s\n",
+              outcome.stations, outcome.seconds / 60.0, outcome.sigma[0], outcome.sigma[1],
+              outcome.sigma[2] * kRadToDeg, outcome.accepted ? "accepted" : "not accepted");
   return 0;
 }
 

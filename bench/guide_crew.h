@@ -11,7 +11,8 @@ namespace wallcal::bench {
 // acceptance and the σ each reaches in a given time (median and worst). 0 on success.
 int RunCrew(int seeds, const std::filesystem::path& scratch);
 
-// Writes the fixed pattern's first `count` stations (seed 2000) as a session into `dir`.
-int WriteFixed(int count, const std::filesystem::path& dir);
+// One guided crew (seed 2000), printing the guide's report after each stop; the session is left
+// in `dir`.
+int Transcript(const std::filesystem::path& dir);
 
 }  // namespace wallcal::bench
