@@ -17,6 +17,7 @@ cd "$work"
 unset WALLCAL_CONFIG_DIR
 "$work/prefix/bin/calibrate" --version
 "$work/prefix/bin/characterise" --version
+"$work/prefix/bin/guide" --version
 "$work/prefix/bin/calibrate" session --output "$work/offsets.yaml" --quiet > "$work/summary.txt"
 grep -q "x = 2.5422" "$work/summary.txt" || { cat "$work/summary.txt"; echo "install_test: installed calibrate gave another mount" >&2; exit 1; }
 test -s "$work/offsets.yaml"

@@ -10,6 +10,8 @@
 // simulator's (its own places along the wall, drive times from the distance and turn).
 
 #include <cmath>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,7 @@
 #include "common/angles.h"
 #include "guide/guide.h"
 #include "guide/prediction.h"
+#include "guide/run_guide.h"
 #include "guide/stop_model.h"
 #include "pipeline/calibration.h"
 #include "sim/simulated_session.h"
@@ -103,6 +106,35 @@ TEST(GuideAdviceTest, LineFitModelSeesTheWallSquareOnAndNotFromBehind) {
   EXPECT_NEAR(fit.range_min_m, 8.0, 0.01);
   // Facing away: no beam reaches it.
   EXPECT_FALSE(guide::ModelLineFit(model, wall, Eigen::Vector2d(0, 2), -kPi / 2, &fit));
+}
+
+TEST(GuideAdviceTest, JsonIsOneObjectWithTheDocumentedKeys) {
+  const std::string sample = std::string(WALLCAL_SOURCE_DIR) + "/samples/lms291-sapporo";
+  const std::string number = R"((-?[0-9.]+|null))";
+  const std::regex object(R"(\{"stations": [0-9]+, "predicted_sigma": \{"x_m": )" + number +
+                          R"(, "y_m": )" + number + R"(, "yaw_deg": )" + number +
+                          R"(\}, "enough": (true|false), "next": \[(\{"vehicle_to_wall_deg": )"
+                          R"(-?[0-9.]+, "distance_m": [0-9.]+, "dwell_s": [0-9]+, "wait_s": )"
+                          R"([0-9]+\}(, )?)*\]\}\n)");
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{sample, "--json"},
+        std::vector<std::string>{sample, "--plan", "5", "--json"}}) {
+    std::ostringstream out, err;
+    ASSERT_EQ(guide::RunGuide(args, out, err), 0) << err.str();
+    EXPECT_TRUE(std::regex_match(out.str(), object)) << out.str();
+  }
+}
+
+TEST(GuideAdviceTest, UsageErrorsExitTwo) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{}, std::vector<std::string>{"a", "b"},
+        std::vector<std::string>{"a", "--plan", "0"}, std::vector<std::string>{"a", "--next", "4"},
+        std::vector<std::string>{"a", "--bogus"},
+        std::vector<std::string>{"/nonexistent/session.yaml"}}) {
+    std::ostringstream out, err;
+    EXPECT_EQ(guide::RunGuide(args, out, err), 2) << (args.empty() ? "" : args[0]);
+    EXPECT_FALSE(err.str().empty());
+  }
 }
 
 }  // namespace
