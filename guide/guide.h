@@ -18,7 +18,7 @@ namespace wallcal::guide {
 struct GuideRequest {
   std::string session_path;  // session.yaml or its folder
   std::string config_path;   // calibrate options (as calibrate's --config); empty: defaults
-  int threads = 1;           // 0: every core
+  int threads = 0;           // 0: every core
   int max_next = 3;          // stops to advise (1..3)
 };
 

@@ -42,7 +42,7 @@ that would lower the largest σ most.
                   plan for that time budget and its predicted σ
   --config FILE   calibrate options (acceptance tolerances, noise model), as calibrate's
   --next N        how many stops to advise, 1..3 (default 3)
-  --threads N     threads (default 1; 0: every core)
+  --threads N     threads (default 0: every core)
   --help          this text;  --version  the tool version
 
 Exit status: 0 printed (with --follow: enough, or stopped); 2 bad input or usage; 3 an
