@@ -23,6 +23,9 @@ int RunSimulate(int argc, char** argv);
 const CommandHelp& CharacteriseHelp();
 int RunCharacterise(int argc, char** argv);
 
+const CommandHelp& GuideHelp();
+int RunGuideCommand(int argc, char** argv);
+
 struct Command {
   const CommandHelp& (*help)();
   int (*run)(int argc, char** argv);

@@ -19,6 +19,7 @@ const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
       {&CalibrateHelp, &RunCalibrate},
       {&InspectHelp, &RunInspect},
+      {&GuideHelp, &RunGuideCommand},
       {&SimulateHelp, &RunSimulate},
       {&CharacteriseHelp, &RunCharacterise},
   };

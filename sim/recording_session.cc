@@ -2,6 +2,7 @@
 #include "sim/recording_session.h"
 
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -169,12 +170,61 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
   const int scan_id = sink->Add("/scan", io::RosType::kLaserScan);
   const int fix_id = sink->Add("/fix", io::RosType::kNavSatFix);
   const int heading_id = sink->Add("/heading", io::RosType::kQuaternionStamped);
+  // The messages in time order, as a recorder writes them: a recording cut short (still being
+  // written) then holds every stream up to its cut, not the scans alone.
+  const io::NmeaLog gnss = io::ReadNmea(gnss_path);
+  const io::NmeaLog headings = io::ReadNmea(heading_path);
+  size_t next_fix = 0, next_heading = 0;
+  io::NavSatFixMsg fix_msg;
+  fix_msg.header.frame_id = "gps";
+  fix_msg.service = 1;
+  fix_msg.position_covariance_type = 2;  // diagonal known
+  io::QuaternionMsg heading_msg;
+  heading_msg.header.frame_id = "base_link";
+  // Writes the fixes and headings stamped before `until_s`.
+  auto write_until = [&](double until_s) {
+    while (true) {
+      const bool fix_left = next_fix < gnss.fixes.size();
+      const bool heading_left = next_heading < headings.headings.size();
+      const double fix_s = fix_left ? gnss.fixes[next_fix].stamp_s : until_s;
+      const double heading_s = heading_left ? headings.headings[next_heading].stamp_s : until_s;
+      if (fix_left && fix_s < until_s && fix_s <= heading_s) {
+        const io::GnssFix& fix = gnss.fixes[next_fix++];
+        fix_msg.header.stamp_s = fix.stamp_s;
+        ++fix_msg.header.seq;
+        fix_msg.status = fix.quality >= 1 ? 2 : -1;
+        fix_msg.latitude_deg = fix.lat_deg;
+        fix_msg.longitude_deg = fix.lon_deg;
+        fix_msg.altitude_m = fix.height_m;
+        const double fallback = FallbackSigma(fix.quality);
+        const double s_lat = std::isfinite(fix.sigma_lat_m) ? fix.sigma_lat_m : fallback;
+        const double s_lon = std::isfinite(fix.sigma_lon_m) ? fix.sigma_lon_m : fallback;
+        for (double& c : fix_msg.position_covariance) c = 0.0;
+        fix_msg.position_covariance[0] = s_lon * s_lon;
+        fix_msg.position_covariance[4] = s_lat * s_lat;
+        fix_msg.position_covariance[8] = 4.0 * std::max(s_lat * s_lat, s_lon * s_lon);
+        sink->Write(fix_id, fix.stamp_s, io::EncodeNavSatFix(fix_msg, wire));
+      } else if (heading_left && heading_s < until_s) {
+        const io::HeadingSample& h = headings.headings[next_heading++];
+        heading_msg.header.stamp_s = h.stamp_s;
+        ++heading_msg.header.seq;
+        const double yaw = kPi / 2.0 - h.heading_rad;  // ENU yaw (REP 103)
+        heading_msg.x = heading_msg.y = 0.0;
+        heading_msg.z = std::sin(yaw / 2.0);
+        heading_msg.w = std::cos(yaw / 2.0);
+        sink->Write(heading_id, h.stamp_s, io::EncodeQuaternionStamped(heading_msg, wire));
+      } else {
+        return;
+      }
+    }
+  };
   {
     io::CarmenReader reader(scans_path);
     io::ScanRecord scan;
     io::LaserScanMsg msg;
     msg.header.frame_id = "laser";
     while (reader.Next(&scan)) {
+      write_until(scan.stamp_s);
       msg.header.stamp_s = scan.stamp_s;
       ++msg.header.seq;
       msg.angle_min_rad = static_cast<float>(scan.start_angle_rad);
@@ -188,43 +238,7 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
       sink->Write(scan_id, scan.stamp_s, io::EncodeLaserScan(msg, wire));
     }
   }
-  {
-    const io::NmeaLog gnss = io::ReadNmea(gnss_path);
-    io::NavSatFixMsg msg;
-    msg.header.frame_id = "gps";
-    msg.service = 1;
-    msg.position_covariance_type = 2;  // diagonal known
-    for (const io::GnssFix& fix : gnss.fixes) {
-      msg.header.stamp_s = fix.stamp_s;
-      ++msg.header.seq;
-      msg.status = fix.quality >= 1 ? 2 : -1;
-      msg.latitude_deg = fix.lat_deg;
-      msg.longitude_deg = fix.lon_deg;
-      msg.altitude_m = fix.height_m;
-      const double fallback = FallbackSigma(fix.quality);
-      const double s_lat = std::isfinite(fix.sigma_lat_m) ? fix.sigma_lat_m : fallback;
-      const double s_lon = std::isfinite(fix.sigma_lon_m) ? fix.sigma_lon_m : fallback;
-      for (double& c : msg.position_covariance) c = 0.0;
-      msg.position_covariance[0] = s_lon * s_lon;
-      msg.position_covariance[4] = s_lat * s_lat;
-      msg.position_covariance[8] = 4.0 * std::max(s_lat * s_lat, s_lon * s_lon);
-      sink->Write(fix_id, fix.stamp_s, io::EncodeNavSatFix(msg, wire));
-    }
-  }
-  {
-    const io::NmeaLog headings = io::ReadNmea(heading_path);
-    io::QuaternionMsg msg;
-    msg.header.frame_id = "base_link";
-    for (const io::HeadingSample& h : headings.headings) {
-      msg.header.stamp_s = h.stamp_s;
-      ++msg.header.seq;
-      const double yaw = kPi / 2.0 - h.heading_rad;  // ENU yaw (REP 103)
-      msg.x = msg.y = 0.0;
-      msg.z = std::sin(yaw / 2.0);
-      msg.w = std::cos(yaw / 2.0);
-      sink->Write(heading_id, h.stamp_s, io::EncodeQuaternionStamped(msg, wire));
-    }
-  }
+  write_until(std::numeric_limits<double>::infinity());
   sink->Close();
   RewriteSessionYaml((fs::path(dir) / "session.yaml").string(), name);
   std::error_code ignored;

@@ -33,6 +33,18 @@ struct SimObstacle {
   double radius_m = 0.2;
 };
 
+// One stop of an explicit stop-and-go plan (SimulationConfig::stops): the vehicle turned to the
+// vehicle-to-wall angle φ (the wall's normal towards the wall in the vehicle frame, Barawid et
+// al. 2007 Eq. 8), its antenna distance_m from the wall, standing dwell_s, starting wait_s after
+// the previous stop ended (ignored for the first). The wait is the drive (as long as the even
+// plan's drives) and, beyond it, standing on at the previous stop.
+struct SimStop {
+  double vehicle_to_wall_rad = 0.0;
+  double distance_m = 8.0;
+  double dwell_s = 4.0;
+  double wait_s = 0.0;
+};
+
 struct SimulationConfig {
   // Site
   double site_lat_deg = 43.07;
@@ -124,6 +136,11 @@ struct SimulationConfig {
   // > 0: the stations' antenna distances spread from station_distance_m to this (metres), in a
   // shuffled order so that distance and heading are not tied; 0: all at station_distance_m.
   double station_distance_far_m = 0.0;
+  // Not empty: these stops instead of num_stations, station_distance_m, heading_spread_rad and
+  // dwell_s (stop and go only; the lateral place follows the heading as in the even plan,
+  // lateral_spread_m over heading_spread_rad). Set by programs (the guide's crew benchmark),
+  // not read from a scenario file nor written to truth.yaml.
+  std::vector<SimStop> stops;
   bool HasScannerTruth() const {
     return !std::isnan(truth_scale_n) || !std::isnan(truth_offset_c_m) ||
            !std::isnan(truth_sigma_m) || !std::isnan(truth_resolution_m) ||

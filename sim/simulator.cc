@@ -199,6 +199,12 @@ const sim::SimWall& CheckTrajectoryConfig(const sim::SimulationConfig& config) {
   Require(config.station_distance_far_m == 0.0 || config.station_distance_far_m > reach_m,
           "simulation.station_distance_far_m must be 0 or exceed the mount's distance from the "
           "antenna + 0.1 m, got " + std::to_string(config.station_distance_far_m));
+  for (const sim::SimStop& stop : config.stops) {
+    Require(stop.distance_m > reach_m && stop.dwell_s >= 0.0 && stop.wait_s >= 0.0 &&
+                !config.continuous,
+            "simulation stops: each distance must exceed the mount's reach + 0.1 m, dwell and "
+            "wait must be >= 0, and the plan stop and go");
+  }
   if (config.continuous) {
     Require(std::isfinite(config.weave_amplitude_m) && config.weave_amplitude_m >= 0.0,
             "simulation.weave_amplitude_m must be >= 0, got " +

@@ -216,6 +216,52 @@ inline Trajectory PlanTrajectory(const sim::SimulationConfig& config, const sim:
   const double facing_yaw_rad = std::atan2(facing.y(), facing.x());
   const Eigen::Vector2d middle = 0.5 * (a + b);
 
+  if (!config.stops.empty()) {
+    std::vector<Segment> segments;
+    double t = 0.0;
+    auto add = [&](const Eigen::Vector2d& p0, double yaw0, const Eigen::Vector2d& p1, double yaw1,
+                   double duration_s, bool stationary) {
+      Segment s;
+      s.t0_s = t;
+      s.t1_s = t + duration_s;
+      s.p0_enu_m = p0;
+      s.p1_enu_m = p1;
+      s.yaw0_rad = yaw0;
+      s.yaw1_rad = yaw1;
+      s.stationary = stationary;
+      segments.push_back(s);
+      t = s.t1_s;
+    };
+    // As the even plan's drives: the turn counts as the path of a point 2 m from the antenna.
+    auto drive_time = [&](const Eigen::Vector2d& p0, double yaw0, const Eigen::Vector2d& p1,
+                          double yaw1) {
+      return std::max(0.5, std::max((p1 - p0).norm(), 2.0 * std::abs(yaw1 - yaw0)) /
+                               config.drive_speed_mps);
+    };
+    bool first = true;
+    Eigen::Vector2d at = Eigen::Vector2d::Zero();
+    double yaw = facing_yaw_rad;
+    for (const sim::SimStop& stop : config.stops) {
+      const double stop_yaw = facing_yaw_rad - stop.vehicle_to_wall_rad;
+      const double lateral_m = config.heading_spread_rad > 0.0
+                                   ? config.lateral_spread_m * (stop_yaw - facing_yaw_rad) /
+                                         config.heading_spread_rad
+                                   : 0.0;
+      const Eigen::Vector2d place = middle + stop.distance_m * out_normal + lateral_m * right;
+      if (!first) {
+        // The wait beyond the drive is spent standing where the vehicle is.
+        const double drive_s = drive_time(at, yaw, place, stop_yaw);
+        if (stop.wait_s > drive_s) add(at, yaw, at, yaw, stop.wait_s - drive_s, true);
+        add(at, yaw, place, stop_yaw, drive_s, false);
+      }
+      add(place, stop_yaw, place, stop_yaw, stop.dwell_s, true);
+      at = place;
+      yaw = stop_yaw;
+      first = false;
+    }
+    return Trajectory(std::move(segments));
+  }
+
   const int n = config.num_stations;
   // station_distance_far_m > 0: distances from near to far in the order i·p mod n (p the first
   // of 3, 5, 7, 11 prime to n), so that distance does not follow heading.

@@ -52,6 +52,7 @@ grep -q "^  calibrate " <<< "$help" || fail "wallcal --help lists no calibrate"
 "$prefix/bin/wallcal" characterise --version
 "$prefix/bin/wallcal" calibrate session --output "$work/offsets.yaml" --quiet > "$work/summary.txt"
 grep -q "x = 2.5422" "$work/summary.txt" || { cat "$work/summary.txt"; fail "installed wallcal calibrate gave another mount"; }
+"$prefix/bin/wallcal" guide --version
 test -s "$work/offsets.yaml"
 cmake -S "$src/test/downstream" -B "$work/downstream" -DCMAKE_PREFIX_PATH="$prefix" \
   -DCMAKE_BUILD_TYPE=Release >/dev/null

@@ -116,7 +116,7 @@ std::string Complete(const std::string& words) {
 }
 
 TEST(WallcalCommandTest, CompletionOffersCommandsOptionsAndValues) {
-  EXPECT_EQ(Complete("wallcal ''"), "calibrate inspect simulate characterise help --help --version\n");
+  EXPECT_EQ(Complete("wallcal ''"), "calibrate inspect guide simulate characterise help --help --version\n");
   EXPECT_EQ(Complete("wallcal calibrate s --emit ''"), "ros2-static-tf urdf json\n");
   EXPECT_EQ(Complete("wallcal calibrate s --me"), "--method\n");
   EXPECT_EQ(Complete("wallcal inspect x --dump s"), "scans survey\n");

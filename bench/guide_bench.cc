@@ -1,0 +1,142 @@
+// SPDX-License-Identifier: Apache-2.0
+// guide_bench: the guide's prediction against calibrate on cut sessions (--check), a crew that
+// follows the guide stop by stop against the field guide's fixed pattern (--crew), and the time
+// of one update on an hour-long session (--speed). Figures in docs/results.md, "The guide".
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "common/angles.h"
+#include "guide/guide.h"
+#include "guide_crew.h"
+#include "sim/simulation_config.h"
+#include "test/support/guide_check.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace wallcal;
+
+double Quantile(std::vector<double> v, double q) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  return v[static_cast<size_t>(std::lround(q * (v.size() - 1)))];
+}
+
+sim::SimulationConfig Scenario(const std::string& name) {
+  return sim::ReadSimulationConfig(std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/" + name);
+}
+
+int Check(const std::vector<std::string>& scenarios, int seeds, int stations,
+          const fs::path& scratch) {
+  const std::vector<double> cuts = {0.3, 0.6, 1.0};
+  const char* axes[3] = {"x", "y", "yaw"};
+  std::printf("scenario                         cut  axis  ratio min  median    max  in 0.8-1.25\n");
+  for (const std::string& scenario : scenarios) {
+    sim::SimulationConfig config = Scenario(scenario);
+    if (stations > 0) config.num_stations = stations;
+    std::vector<std::vector<std::vector<double>>> ratios(cuts.size(),
+                                                         std::vector<std::vector<double>>(3));
+    std::vector<int> missing(cuts.size(), 0);
+    for (int s = 0; s < seeds; ++s) {
+      const auto checks =
+          testing_support::CheckGuideOnCuts(config, 1000 + s, scratch / "check", cuts, 2);
+      for (size_t k = 0; k < checks.size(); ++k) {
+        if (!checks[k].calibrated || !checks[k].predicted) {
+          ++missing[k];
+          continue;
+        }
+        for (int a = 0; a < 3; ++a) ratios[k][a].push_back(checks[k].ratio(a));
+      }
+    }
+    for (size_t k = 0; k < cuts.size(); ++k) {
+      for (int a = 0; a < 3; ++a) {
+        const std::vector<double>& r = ratios[k][a];
+        const auto in_band = std::count_if(r.begin(), r.end(),
+                                           [](double x) { return x >= 0.8 && x <= 1.25; });
+        std::printf("%-32s %3.0f%%  %-4s  %9.3f  %6.3f  %6.3f  %zd/%zu%s\n", scenario.c_str(),
+                    cuts[k] * 100, axes[a], Quantile(r, 0.0), Quantile(r, 0.5), Quantile(r, 1.0),
+                    static_cast<std::ptrdiff_t>(in_band), r.size(),
+                    missing[k] ? (" (" + std::to_string(missing[k]) + " without σ)").c_str() : "");
+      }
+    }
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+int Speed(const fs::path& scratch) {
+  sim::SimulationConfig config = Scenario("bench_lms291_hour.yaml");
+  const fs::path dir = scratch / "hour";
+  sim::WriteSimulatedSession(config, 7, dir.string());
+  guide::GuideRequest request;
+  request.session_path = dir.string();
+  request.threads = 2;
+  for (int run = 0; run < 3; ++run) {
+    const auto start = std::chrono::steady_clock::now();
+    const guide::GuideReport report = guide::AssessSession(request);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("hour session: %zu stations, σ x %.4f m y %.4f m yaw %.3f deg, %zu stops advised: "
+                "%.2f s\n",
+                report.stations.size(), report.predicted.sigma_x_m(), report.predicted.sigma_y_m(),
+                report.predicted.sigma_yaw_rad() * kRadToDeg, report.next.size(), s);
+  }
+  fs::remove_all(dir);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string mode;
+  int seeds = 20;
+  int stations = 0;
+  std::vector<std::string> scenarios;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--check" || arg == "--crew" || arg == "--speed") {
+      mode = arg;
+    } else if (arg == "--transcript" && i + 1 < argc) {
+      return bench::Transcript(argv[i + 1]);
+    } else if (arg == "--seeds" && i + 1 < argc) {
+      seeds = std::atoi(argv[++i]);
+    } else if (arg == "--stations" && i + 1 < argc) {
+      stations = std::atoi(argv[++i]);
+    } else if (arg == "--help") {
+      std::cout << "usage: guide_bench --check [SCENARIO.yaml ...] [--stations N] | --crew | "
+                   "--speed [--seeds N (default 20)]\n"
+                   "  --check     the guide's σ over calibrate's on sessions cut after 30, 60 and "
+                   "100 % of their scans\n"
+                   "              (scenarios from configs/simulate/; --stations overrides their "
+                   "num_stations)\n"
+                   "  --crew      a crew following the guide against the field guide's pattern\n"
+                   "  --speed     one update on an hour-long session\n"
+                   "  --transcript DIR  one guided crew, the guide's report after each stop\n";
+      return 0;
+    } else {
+      scenarios.push_back(arg);
+    }
+  }
+  const fs::path scratch = fs::temp_directory_path() / ("wallcal_guide_bench_" + std::to_string(getpid()));
+  fs::create_directories(scratch);
+  int status = 2;
+  if (mode == "--check") {
+    if (scenarios.empty()) scenarios = {"lms291_sapporo.yaml", "bench_lms291_two_walls.yaml"};
+    status = Check(scenarios, seeds, stations, scratch);
+  } else if (mode == "--crew") {
+    status = bench::RunCrew(seeds, scratch);
+  } else if (mode == "--speed") {
+    status = Speed(scratch);
+  } else {
+    std::cerr << "guide_bench: give --check, --crew or --speed\n";
+  }
+  fs::remove_all(scratch);
+  return status;
+}

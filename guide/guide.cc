@@ -1,0 +1,251 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "guide/guide.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "analysis/repeatability.h"
+#include "common/angles.h"
+#include "pipeline/calibration.h"
+#include "pipeline/steps.h"
+
+namespace wallcal::guide {
+namespace {
+
+double Median(std::vector<double> values, double fallback) {
+  if (values.empty()) return fallback;
+  const size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + static_cast<long>(mid), values.end());
+  return values[mid];
+}
+
+Eigen::Vector2d Lever(const calib::Mount& mount, double yaw_rad) {
+  return Eigen::Vector2d(std::cos(yaw_rad) * mount.x_m - std::sin(yaw_rad) * mount.y_m,
+                         std::sin(yaw_rad) * mount.x_m + std::cos(yaw_rad) * mount.y_m);
+}
+
+// The side of each wall the vehicle stood on (+1: n·p < d), by the observations' majority.
+std::vector<double> Sides(const std::vector<calib::WallGeometry>& walls,
+                          const std::vector<calib::WallObservation>& observations) {
+  std::vector<double> votes(walls.size(), 0.0);
+  for (const calib::WallObservation& o : observations) {
+    const calib::WallGeometry& wall = walls[o.wall_index];
+    votes[o.wall_index] += (wall.offset_m - wall.normal_local.dot(o.pose.antenna_local_m)) >= 0 ? 1 : -1;
+  }
+  std::vector<double> sides;
+  for (double v : votes) sides.push_back(v >= 0.0 ? 1.0 : -1.0);
+  return sides;
+}
+
+StopModel BaseModel(const pipeline::CalibrationResult& result) {
+  StopModel model;
+  model.walls = result.walls;
+  model.preset = result.preset;
+  model.solver = result.options.solver;
+  model.slice_s = result.options.alignment.segment_max_s;
+  model.dwell_guard_s = result.options.alignment.dwell_guard_s;
+  if (result.session.mount_guess) {
+    model.mount = calib::Mount{result.session.mount_guess->x_m, result.session.mount_guess->y_m,
+                               result.session.mount_guess->yaw_rad};
+  }
+  model.side.assign(model.walls.size(), 1.0);
+  return model;
+}
+
+// The stations in the observations, and what the stop model learns from them.
+std::vector<StationSummary> SummariseStations(const pipeline::CalibrationResult& result,
+                                              double first_s, StopModel* model) {
+  struct Accumulator {
+    double start_s = 1e300, end_s = -1e300;
+    int wall_index = 0;
+    double sin_sum = 0.0, cos_sum = 0.0, distance_sum = 0.0;
+    int count = 0;
+    int heading_samples = 0;
+    std::set<int> scans;
+  };
+  std::map<int, Accumulator> by_station;
+  for (const calib::WallObservation& o : result.observations) {
+    if (!o.pose.stationary || o.pose.segment < 0) continue;
+    Accumulator& a = by_station[o.pose.segment];
+    const calib::WallGeometry& wall = result.walls[o.wall_index];
+    const double signed_distance = wall.offset_m - wall.normal_local.dot(o.pose.antenna_local_m);
+    const double side = signed_distance >= 0 ? 1.0 : -1.0;
+    const double angle = WrapAngle(
+        std::atan2(side * wall.normal_local.y(), side * wall.normal_local.x()) - o.pose.yaw_rad);
+    a.start_s = std::min(a.start_s, o.pose.stamp_s);
+    a.end_s = std::max(a.end_s, o.pose.stamp_s);
+    a.wall_index = o.wall_index;
+    a.sin_sum += std::sin(angle);
+    a.cos_sum += std::cos(angle);
+    a.distance_sum += std::abs(signed_distance);
+    ++a.count;
+    a.heading_samples = std::max(a.heading_samples, o.pose.dwell_yaw_samples);
+    a.scans.insert(o.scan_index);
+  }
+  std::vector<StationSummary> stations;
+  std::vector<double> rates, heading_rates, distances;
+  for (const auto& [id, a] : by_station) {
+    StationSummary s;
+    s.start_s = a.start_s - first_s;
+    s.end_s = a.end_s - first_s;
+    s.wall_index = a.wall_index;
+    s.vehicle_to_wall_rad = std::atan2(a.sin_sum, a.cos_sum);
+    s.distance_m = a.distance_sum / a.count;
+    s.scans = static_cast<int64_t>(a.scans.size());
+    stations.push_back(s);
+    distances.push_back(s.distance_m);
+    const double span = a.end_s - a.start_s;
+    if (span > 1.0 && a.scans.size() > 1) {
+      rates.push_back((a.scans.size() - 1.0) / span);
+      if (a.heading_samples > 0) {
+        heading_rates.push_back(a.heading_samples / (span + 2.0 * model->dwell_guard_s));
+      }
+    }
+    model->next_station_id = std::max(model->next_station_id, id + 1);
+  }
+  std::sort(stations.begin(), stations.end(),
+            [](const StationSummary& a, const StationSummary& b) { return a.start_s < b.start_s; });
+  model->scan_rate_hz = Median(rates, model->preset.rate_hz);
+  model->heading_rate_hz = Median(heading_rates, 20.0);
+  model->typical_distance_m = Median(distances, 8.0);
+  return stations;
+}
+
+// The line fits' σ of the recorded standing scans over the beam model's (a sample of them).
+double FitScale(const StopModel& model, const std::vector<calib::WallObservation>& observations) {
+  std::vector<double> ratios;
+  const size_t step = std::max<size_t>(1, observations.size() / 200);
+  for (size_t i = 0; i < observations.size(); i += step) {
+    const calib::WallObservation& o = observations[i];
+    if (!o.pose.stationary || !(o.sigma_rho_m > 0.0)) continue;
+    const Eigen::Vector2d scanner =
+        o.pose.antenna_local_m + Lever(model.mount, o.pose.yaw_rad);
+    LineFitModel fit;
+    if (!ModelLineFit(model, model.walls[o.wall_index], scanner,
+                      o.pose.yaw_rad + model.mount.yaw_rad, &fit)) {
+      continue;
+    }
+    ratios.push_back(o.sigma_rho_m / fit.sigma_rho_m);
+  }
+  return Median(ratios, 1.0);
+}
+
+}  // namespace
+
+GuideReport AssessSession(const GuideRequest& request) {
+  pipeline::CalibrateRequest calibrate;
+  calibrate.session_path = request.session_path;
+  calibrate.config_path = request.config_path;
+  calibrate.preview = true;
+  calibrate.force = true;  // the σ along a weak direction, not a refusal
+  calibrate.threads = request.threads;
+  const pipeline::CalibrationResult result = pipeline::RunCalibration(calibrate);
+
+  GuideReport report;
+  report.session_name = result.session.name;
+  for (const calib::WallGeometry& wall : result.walls) report.wall_ids.push_back(wall.id);
+  report.acceptance = result.options.acceptance;
+  StopModel model = BaseModel(result);
+  double first_s = 1e300, last_s = -1e300;
+  for (const calib::WallObservation& o : result.observations) {
+    first_s = std::min(first_s, o.pose.stamp_s);
+    last_s = std::max(last_s, o.pose.stamp_s);
+    if (!o.pose.stationary) ++report.moving_scans;
+  }
+  if (result.observations.empty()) first_s = last_s = 0.0;
+  report.logged_s = last_s - first_s;
+  report.stations = SummariseStations(result, first_s, &model);
+  model.side = Sides(model.walls, result.observations);
+
+  const solvers::MountEstimate& estimate = result.estimate;
+  const solvers::WarmStart* warm = estimate.solution_state.get();
+  Evidence evidence;
+  if (estimate.usable && warm != nullptr) {
+    model.mount = estimate.mount;
+    model.wall_deltas = warm->wall_deltas;
+    model.heading_drift_rad_per_s = warm->heading_drift_rad_per_s;
+    model.heading_reference_s = estimate.heading_reference_s;
+    analysis::ThinnedObservations thin = analysis::ThinForRefits(result.observations);
+    evidence.observations = std::move(thin.observations);
+    evidence.weights.assign(evidence.observations.size(), thin.stride);
+    evidence.warm = warm;
+    for (const StationSummary& s : report.stations) {
+      evidence.station_angles_rad.push_back(s.vehicle_to_wall_rad);
+    }
+    if (!report.stations.empty()) {
+      const StationSummary& last = report.stations.back();
+      evidence.has_last_station = true;
+      evidence.last_station.wall_index = last.wall_index;
+      evidence.last_station.vehicle_to_wall_rad = last.vehicle_to_wall_rad;
+      evidence.last_station.distance_m = last.distance_m;
+    }
+    report.predicted = PredictMount(model, evidence);
+  }
+  if (!result.observations.empty()) {
+    const calib::WallObservation& o = result.observations.front();
+    const int slice = calib::GnssSegment(o);
+    model.slice_start_s = o.pose.stamp_s - (slice + 0.5) * model.slice_s;
+    model.gnss_sigma_m = result.observations.back().pose.gnss_sigma_m;
+    model.gnss_period_s = result.observations.back().pose.gnss_period_s;
+    model.fit_scale = FitScale(model, result.observations);
+    for (const calib::WallObservation& ob : result.observations) {
+      model.next_station_id = std::max(model.next_station_id, ob.pose.segment + 1);
+    }
+  }
+
+  if (!report.predicted.known) {
+    report.not_yet = result.observations.empty() ? NotYet::kNoScans : NotYet::kNotDetermined;
+    report.message = estimate.message.empty() ? "the data do not determine the mount yet"
+                                              : estimate.message;
+  } else if (!estimate.usable || estimate.forced) {
+    report.message = estimate.message;
+    if (report.message.empty() && !estimate.warnings.empty()) report.message = estimate.warnings.front();
+  }
+  report.enough = report.predicted.known && estimate.usable && !estimate.forced &&
+                  WorstSigmaRatio(report.predicted, report.acceptance) <= 1.0;
+  if (!report.enough) {
+    const int count = std::clamp(request.max_next, 1, 3);
+    if (report.predicted.known) {
+      report.next = NextStops(model, evidence, last_s, report.acceptance, count);
+    } else {
+      // Nothing determined yet: the start of the plan for twenty minutes.
+      model.mount = estimate.usable ? estimate.mount : model.mount;
+      const Plan plan = BestPlan(model, report.acceptance, 20.0 * 60.0);
+      std::vector<calib::WallObservation> obs;
+      std::vector<double> w;
+      for (size_t i = 0; i < plan.stops.size() && static_cast<int>(i) < count; ++i) {
+        report.next.push_back(Advice{plan.stops[i], Prediction{}});
+      }
+    }
+  }
+  return report;
+}
+
+GuideReport PlanSession(const GuideRequest& request, double budget_s) {
+  pipeline::CalibrateRequest calibrate;
+  calibrate.session_path = request.session_path;
+  calibrate.config_path = request.config_path;
+  calibrate.threads = request.threads;
+  pipeline::CalibrationResult result;
+  {
+    pipeline::Setup setup = pipeline::LoadSessionAndOptions(calibrate);
+    result.session = std::move(setup.session);
+    result.options = std::move(setup.options);
+    result.preset = std::move(setup.preset);
+  }
+  result.walls = pipeline::TieSurveyAndFitWalls(result.session, result.options.solver).walls;
+  GuideReport report;
+  report.session_name = result.session.name;
+  for (const calib::WallGeometry& wall : result.walls) report.wall_ids.push_back(wall.id);
+  report.acceptance = result.options.acceptance;
+  const StopModel model = BaseModel(result);
+  report.plan = BestPlan(model, report.acceptance, budget_s);
+  report.plan_budget_s = budget_s;
+  report.predicted = report.plan->predicted;
+  report.enough = WorstSigmaRatio(report.predicted, report.acceptance) <= 1.0;
+  return report;
+}
+
+}  // namespace wallcal::guide

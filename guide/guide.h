@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// The guide at the wall: what a session's logs hold now (they may still be growing), the σ of the
+// mount if it were calibrated now, whether the acceptance tolerances are met, and the next stops
+// that would lower the largest σ most; or, before any log exists, the best plan for a time
+// budget. Computed once into a GuideReport; guide_text.cc renders it.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "guide/prediction.h"
+#include "pipeline/calibrate_options.h"
+
+namespace wallcal::guide {
+
+struct GuideRequest {
+  std::string session_path;  // session.yaml or its folder
+  std::string config_path;   // calibrate options (as calibrate's --config); empty: defaults
+  int threads = 0;           // 0: every core
+  int max_next = 3;          // stops to advise (1..3)
+};
+
+// A station recorded so far (a dwell with the wall detected).
+struct StationSummary {
+  double start_s = 0.0;  // from the session's first scan used
+  double end_s = 0.0;
+  int wall_index = 0;
+  double vehicle_to_wall_rad = 0.0;  // φ, Barawid et al. 2007 Eq. 8
+  double distance_m = 0.0;           // the antenna from the wall
+  int64_t scans = 0;                 // scans with the wall detected
+};
+
+// Why no σ can be predicted yet (typed; the message says it for people).
+enum class NotYet { kNone, kNoScans, kNotDetermined };
+
+struct GuideReport {
+  std::string session_name;
+  std::vector<std::string> wall_ids;
+  std::vector<StationSummary> stations;
+  int64_t moving_scans = 0;  // scans taken while driving that the prediction uses
+  double logged_s = 0.0;     // first to last scan used (s)
+  Prediction predicted;      // if calibrated now
+  NotYet not_yet = NotYet::kNone;
+  std::string message;  // for people: why not yet, or calibrate's refusal
+  bool enough = false;  // the acceptance's σ tolerances met and calibrate would not refuse
+  std::vector<Advice> next;
+  pipeline::AcceptanceOptions acceptance;
+  // --plan: the best plan for the budget (no logs read).
+  std::optional<Plan> plan;
+  double plan_budget_s = 0.0;
+};
+
+// Reads the session's logs as they are now (a text log's unfinished last line, a recording
+// without its index or summary: what is complete) and predicts. Throws io::InputError for bad
+// input (a session.yaml, survey or option file at fault).
+GuideReport AssessSession(const GuideRequest& request);
+
+// The best plan for `budget_s` from session.yaml, the survey and the options only.
+GuideReport PlanSession(const GuideRequest& request, double budget_s);
+
+}  // namespace wallcal::guide

@@ -1,0 +1,234 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "guide/prediction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "common/angles.h"
+#include "solvers/information.h"
+
+namespace wallcal::guide {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// The candidate stops: angles every 10° over ±40° (those from which the wall is seen), a near,
+// the usual and a far distance, short and long dwells, a quick move or a wait for the RTK error
+// to decorrelate (its correlation time τ and twice it).
+std::vector<double> CandidateAngles() {
+  std::vector<double> angles;
+  for (int deg = -40; deg <= 40; deg += 10) angles.push_back(deg * kDegToRad);
+  return angles;
+}
+
+}  // namespace
+
+double Prediction::sigma_x_m() const { return known ? std::sqrt(covariance(0, 0)) : kInfinity; }
+double Prediction::sigma_y_m() const { return known ? std::sqrt(covariance(1, 1)) : kInfinity; }
+double Prediction::sigma_yaw_rad() const {
+  return known ? std::sqrt(covariance(2, 2)) : kInfinity;
+}
+
+Prediction PredictMount(const StopModel& model, const Evidence& evidence,
+                        const std::vector<calib::WallObservation>& extra,
+                        const std::vector<double>& extra_weights) {
+  Prediction prediction;
+  std::vector<calib::WallObservation> observations = evidence.observations;
+  std::vector<double> weights = evidence.weights;
+  weights.resize(observations.size(), 1.0);
+  observations.insert(observations.end(), extra.begin(), extra.end());
+  weights.insert(weights.end(), extra_weights.begin(), extra_weights.end());
+  weights.resize(observations.size(), 1.0);
+  if (observations.empty()) return prediction;
+  std::string error;
+  std::unique_ptr<solvers::MountProblem> problem = solvers::BuildMountProblem(
+      observations, model.walls, model.solver, model.mount, model.mount, &error, weights);
+  if (!problem) return prediction;
+  if (evidence.warm != nullptr) solvers::ApplyWarmStart(*evidence.warm, problem.get());
+  const Eigen::Matrix3d information =
+      solvers::MountInformation(*problem, std::max(1, model.solver.num_threads));
+  Eigen::MatrixXd covariance;
+  if (!solvers::CovarianceOfKept(information, &covariance)) return prediction;
+  prediction.known = true;
+  prediction.covariance = covariance;
+  return prediction;
+}
+
+double WorstSigmaRatio(const Prediction& prediction,
+                       const pipeline::AcceptanceOptions& acceptance) {
+  if (!prediction.known) return kInfinity;
+  return std::max({prediction.sigma_x_m() / acceptance.max_sigma_xy_m,
+                   prediction.sigma_y_m() / acceptance.max_sigma_xy_m,
+                   prediction.sigma_yaw_rad() / acceptance.max_sigma_yaw_rad});
+}
+
+double AngleSpread(const std::vector<double>& angles_rad) {
+  if (angles_rad.empty()) return 0.0;
+  std::vector<double> folded;
+  for (double a : angles_rad) folded.push_back(a - kPi * std::floor(a / kPi));  // [0, π)
+  std::sort(folded.begin(), folded.end());
+  double largest_gap = folded.front() + kPi - folded.back();
+  for (size_t i = 1; i < folded.size(); ++i) {
+    largest_gap = std::max(largest_gap, folded[i] - folded[i - 1]);
+  }
+  return kPi - largest_gap;
+}
+
+double Shortfall(const Prediction& prediction, const std::vector<double>& station_angles_rad,
+                 const solvers::SolverOptions& solver,
+                 const pipeline::AcceptanceOptions& acceptance) {
+  double shortfall = WorstSigmaRatio(prediction, acceptance);
+  const double spread = AngleSpread(station_angles_rad);
+  if (spread < solver.min_heading_spread_rad) {
+    shortfall += 1.0 + (solver.min_heading_spread_rad - spread) / solver.min_heading_spread_rad;
+  }
+  if (static_cast<int>(station_angles_rad.size()) < solver.min_stations) shortfall += 1.0;
+  return shortfall;
+}
+
+std::vector<Advice> NextStops(const StopModel& model, const Evidence& evidence, double now_s,
+                              const pipeline::AcceptanceOptions& acceptance, int count) {
+  std::vector<Advice> advice;
+  std::vector<calib::WallObservation> chosen;
+  std::vector<double> chosen_weights;
+  Prediction current = PredictMount(model, evidence);
+  std::vector<double> angles = evidence.station_angles_rad;
+  StopSpec last = evidence.last_station;
+  const StopSpec* previous = evidence.has_last_station ? &last : nullptr;
+  double time_s = now_s;
+  int station_id = model.next_station_id;
+  const double tau_s = model.solver.gnss_bias_tau_s > 0.0 ? model.solver.gnss_bias_tau_s : 60.0;
+  const std::vector<double> waits = {15.0, tau_s, 2.0 * tau_s};
+  const std::vector<double> dwells = {20.0, 60.0};
+  std::vector<double> distances;
+  for (double d : {0.75, 1.0, 1.25}) distances.push_back(d * model.typical_distance_m);
+  for (int n = 0; n < count; ++n) {
+    const double before = Shortfall(current, angles, model.solver, acceptance);
+    if (before <= 1.0) break;
+    // Scores a candidate: the largest σ over its tolerance after it, and the drop per second.
+    struct Scored {
+      StopSpec stop;
+      Prediction after;
+      double ratio = kInfinity;
+      double rate = -kInfinity;
+      std::vector<calib::WallObservation> observations;
+      std::vector<double> weights;
+    };
+    auto evaluate = [&](const StopSpec& stop, Scored* best) {
+      std::vector<calib::WallObservation> obs = chosen;
+      std::vector<double> w = chosen_weights;
+      const size_t old_size = obs.size();
+      int ids = station_id;
+      if (!AppendWaitAndStop(model, previous, stop, time_s, &ids, &obs, &w)) return;
+      const Prediction after = PredictMount(model, evidence, obs, w);
+      std::vector<double> angles_after = angles;
+      angles_after.push_back(stop.vehicle_to_wall_rad);
+      const double ratio = Shortfall(after, angles_after, model.solver, acceptance);
+      const double spent = stop.wait_s + stop.dwell_s;
+      // Before the σ is known at all, the stop that makes it smallest; after, the steepest drop.
+      const double rate = std::isfinite(before) ? (before - ratio) / spent : -ratio;
+      if (rate > best->rate) {
+        best->stop = stop;
+        best->after = after;
+        best->ratio = ratio;
+        best->rate = rate;
+        best->observations.assign(obs.begin() + static_cast<long>(old_size), obs.end());
+        best->weights.assign(w.begin() + static_cast<long>(old_size), w.end());
+      }
+    };
+    // First the place (wall, angle, distance) at a middle dwell and wait, then how long to stand
+    // and to wait there.
+    Scored best;
+    for (int wall = 0; wall < static_cast<int>(model.walls.size()); ++wall) {
+      for (double angle : CandidateAngles()) {
+        for (double distance : distances) {
+          StopSpec stop;
+          stop.wall_index = wall;
+          stop.vehicle_to_wall_rad = angle;
+          stop.distance_m = distance;
+          stop.dwell_s = 30.0;
+          stop.wait_s = tau_s;
+          evaluate(stop, &best);
+        }
+      }
+    }
+    if (!std::isfinite(best.rate) && !best.after.known) break;
+    const StopSpec place = best.stop;
+    for (double dwell : dwells) {
+      for (double wait : waits) {
+        StopSpec stop = place;
+        stop.dwell_s = dwell;
+        stop.wait_s = wait;
+        evaluate(stop, &best);
+      }
+    }
+    chosen.insert(chosen.end(), best.observations.begin(), best.observations.end());
+    chosen_weights.insert(chosen_weights.end(), best.weights.begin(), best.weights.end());
+    advice.push_back(Advice{best.stop, best.after});
+    current = best.after;
+    angles.push_back(best.stop.vehicle_to_wall_rad);
+    time_s += best.stop.wait_s + best.stop.dwell_s;
+    station_id += 2;
+    last = best.stop;
+    previous = &last;
+  }
+  return advice;
+}
+
+void AppendPlanObservations(const StopModel& model, const std::vector<StopSpec>& stops,
+                            double start_s, std::vector<calib::WallObservation>* observations,
+                            std::vector<double>* weights) {
+  double t = start_s;
+  int station = model.next_station_id;
+  const StopSpec* previous = nullptr;
+  for (const StopSpec& stop : stops) {
+    AppendWaitAndStop(model, previous, stop, t, &station, observations, weights);
+    t += stop.wait_s + stop.dwell_s;
+    previous = &stop;
+  }
+}
+
+Plan BestPlan(const StopModel& model, const pipeline::AcceptanceOptions& acceptance,
+              double budget_s) {
+  Plan best;
+  double best_ratio = kInfinity;
+  const double tau_s = model.solver.gnss_bias_tau_s > 0.0 ? model.solver.gnss_bias_tau_s : 60.0;
+  for (int wall = 0; wall < static_cast<int>(model.walls.size()); ++wall) {
+    for (double spread_deg : {20.0, 30.0, 40.0}) {
+      for (double dwell : {10.0, 30.0, 60.0}) {
+        for (double wait : {15.0, 0.5 * tau_s, tau_s, 2.0 * tau_s}) {
+          const int n = static_cast<int>(std::floor(budget_s / (dwell + wait)));
+          if (n < 3) continue;
+          Plan plan;
+          for (int i = 0; i < n; ++i) {
+            // Alternate the sides so that each part of the spread is seen early and late.
+            const int j = (i % 2 == 0) ? i / 2 : n - 1 - i / 2;
+            const double v = n == 1 ? 0.0 : -1.0 + 2.0 * j / (n - 1.0);
+            StopSpec stop;
+            stop.wall_index = wall;
+            stop.vehicle_to_wall_rad = v * spread_deg * kDegToRad;
+            stop.distance_m = model.typical_distance_m;
+            stop.dwell_s = dwell;
+            stop.wait_s = wait;
+            plan.stops.push_back(stop);
+          }
+          std::vector<calib::WallObservation> obs;
+          std::vector<double> w;
+          AppendPlanObservations(model, plan.stops, 0.0, &obs, &w);
+          plan.predicted = PredictMount(model, Evidence{}, obs, w);
+          plan.seconds = n * (dwell + wait);
+          const double ratio = WorstSigmaRatio(plan.predicted, acceptance);
+          if (ratio < best_ratio) {
+            best_ratio = ratio;
+            best = plan;
+          }
+        }
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace wallcal::guide

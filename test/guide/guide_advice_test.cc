@@ -1,0 +1,141 @@
+// SPDX-License-Identifier: Apache-2.0
+// The guide's advice against what the advised stops give when driven: a session of three stops
+// (simulator, explicit stops), the stops the guide advises on it appended, and calibrate's σ on
+// the longer session against the σ the guide predicted for it. And the small parts: the spread
+// of vehicle-to-wall angles as calibrate's check takes it, the beam model of a stop's line fit.
+//
+// Tolerance 0.8–1.25, the band the guide's σ is held to: the advised stops' observations are a
+// model (the scanner abreast of the wall's centre, the preset's beams on the surveyed extent,
+// the wait spent standing at the previous stop after a 5 s drive), the driven ones the
+// simulator's (its own places along the wall, drive times from the distance and turn).
+
+#include <cmath>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "common/angles.h"
+#include "guide/guide.h"
+#include "guide/prediction.h"
+#include "guide/run_guide.h"
+#include "guide/stop_model.h"
+#include "pipeline/calibration.h"
+#include "sim/simulated_session.h"
+#include "sim/simulation_config.h"
+#include "test/support/scratch_dir.h"
+#include "test/support/shipped_presets.h"
+
+namespace wallcal {
+namespace {
+
+sim::SimStop Stop(double deg, double dwell_s, double wait_s, double distance_m = 8.0) {
+  sim::SimStop s;
+  s.vehicle_to_wall_rad = deg * kDegToRad;
+  s.dwell_s = dwell_s;
+  s.wait_s = wait_s;
+  s.distance_m = distance_m;
+  return s;
+}
+
+TEST(GuideAdviceTest, AdvisedStopsGiveTheSigmaTheGuidePredicts) {
+  sim::SimulationConfig config = sim::ReadSimulationConfig(
+      std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_guide_crew.yaml");
+  config.stops = {Stop(-30, 4, 0), Stop(30, 4, 10), Stop(0, 4, 10)};
+  const testing_support::ScratchDir scratch("wallcal_guide_advice_");
+  const std::string first = (scratch.path() / "first").string();
+  sim::WriteSimulatedSession(config, 31, first);
+  guide::GuideRequest request;
+  request.session_path = first;
+  const guide::GuideReport report = guide::AssessSession(request);
+  ASSERT_TRUE(report.predicted.known);
+  ASSERT_EQ(report.stations.size(), 3u);
+  ASSERT_FALSE(report.next.empty());
+  ASSERT_FALSE(report.enough);
+
+  for (const guide::Advice& a : report.next) {
+    config.stops.push_back(Stop(a.stop.vehicle_to_wall_rad * kRadToDeg, a.stop.dwell_s,
+                                a.stop.wait_s, a.stop.distance_m));
+  }
+  const std::string longer = (scratch.path() / "longer").string();
+  sim::WriteSimulatedSession(config, 31, longer);
+  pipeline::CalibrateRequest calibrate;
+  calibrate.session_path = longer;
+  const pipeline::CalibrationResult result = pipeline::RunCalibration(calibrate);
+  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
+  const guide::Prediction& predicted = report.next.back().after;
+  ASSERT_TRUE(predicted.known);
+  const double reported[3] = {std::sqrt(result.estimate.covariance(0, 0)),
+                              std::sqrt(result.estimate.covariance(1, 1)),
+                              std::sqrt(result.estimate.covariance(2, 2))};
+  const double guided[3] = {predicted.sigma_x_m(), predicted.sigma_y_m(),
+                            predicted.sigma_yaw_rad()};
+  for (int axis = 0; axis < 3; ++axis) {
+    RecordProperty("ratio_axis_" + std::to_string(axis), std::to_string(guided[axis] / reported[axis]));
+    EXPECT_GE(guided[axis] / reported[axis], 0.8) << "axis " << axis;
+    EXPECT_LE(guided[axis] / reported[axis], 1.25) << "axis " << axis;
+  }
+  // And the advice helped: the largest σ over its tolerance went down.
+  EXPECT_LT(guide::WorstSigmaRatio(predicted, report.acceptance),
+            guide::WorstSigmaRatio(report.predicted, report.acceptance));
+}
+
+TEST(GuideAdviceTest, AngleSpreadIsTakenModuloHalfATurn) {
+  EXPECT_NEAR(guide::AngleSpread({-0.3, 0.3}), 0.6, 1e-12);
+  EXPECT_NEAR(guide::AngleSpread({0.1}), 0.0, 1e-12);
+  // A wall at a right angle: 80° and −80° are 20° apart modulo 180°.
+  EXPECT_NEAR(guide::AngleSpread({80 * kDegToRad, -80 * kDegToRad}), 20 * kDegToRad, 1e-12);
+  EXPECT_EQ(guide::AngleSpread({}), 0.0);
+}
+
+TEST(GuideAdviceTest, LineFitModelSeesTheWallSquareOnAndNotFromBehind) {
+  guide::StopModel model;
+  model.preset = testing_support::ShippedPreset("sick_lms291");
+  calib::WallGeometry wall;
+  wall.normal_local = Eigen::Vector2d(0, 1);
+  wall.offset_m = 10.0;
+  wall.end_a_local = Eigen::Vector2d(-15, 10);
+  wall.end_b_local = Eigen::Vector2d(15, 10);
+  guide::LineFitModel fit;
+  ASSERT_TRUE(guide::ModelLineFit(model, wall, Eigen::Vector2d(0, 2), kPi / 2, &fit));
+  // 30 m of wall 8 m away: the beams over ±62° hit it, one every degree.
+  EXPECT_GT(fit.beams, 100);
+  EXPECT_LT(fit.sigma_rho_m, model.preset.range_sigma_m);
+  EXPECT_NEAR(fit.range_min_m, 8.0, 0.01);
+  // Facing away: no beam reaches it.
+  EXPECT_FALSE(guide::ModelLineFit(model, wall, Eigen::Vector2d(0, 2), -kPi / 2, &fit));
+}
+
+TEST(GuideAdviceTest, JsonIsOneObjectWithTheDocumentedKeys) {
+  const std::string sample = std::string(WALLCAL_SOURCE_DIR) + "/samples/lms291-sapporo";
+  const std::string number = R"((-?[0-9.]+|null))";
+  const std::regex object(R"(\{"stations": [0-9]+, "predicted_sigma": \{"x_m": )" + number +
+                          R"(, "y_m": )" + number + R"(, "yaw_deg": )" + number +
+                          R"(\}, "enough": (true|false), "next": \[(\{"vehicle_to_wall_deg": )"
+                          R"(-?[0-9.]+, "distance_m": [0-9.]+, "dwell_s": [0-9]+, "wait_s": )"
+                          R"([0-9]+\}(, )?)*\]\}\n)");
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{sample, "--json"},
+        std::vector<std::string>{sample, "--plan", "5", "--json"}}) {
+    std::ostringstream out, err;
+    ASSERT_EQ(guide::RunGuide(args, out, err), 0) << err.str();
+    EXPECT_TRUE(std::regex_match(out.str(), object)) << out.str();
+  }
+}
+
+TEST(GuideAdviceTest, UsageErrorsExitTwo) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{}, std::vector<std::string>{"a", "b"},
+        std::vector<std::string>{"a", "--plan", "0"}, std::vector<std::string>{"a", "--next", "4"},
+        std::vector<std::string>{"a", "--bogus"},
+        std::vector<std::string>{"/nonexistent/session.yaml"}}) {
+    std::ostringstream out, err;
+    EXPECT_EQ(guide::RunGuide(args, out, err), 2) << (args.empty() ? "" : args[0]);
+    EXPECT_FALSE(err.str().empty());
+  }
+}
+
+}  // namespace
+}  // namespace wallcal
