@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "test/support/program_runner.h"
+#include "test/support/sample_session.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -69,20 +70,8 @@ struct Outcome {
   std::string all() const { return out + err; }
 };
 
-class FieldTest : public ::testing::Test {
+class FieldTest : public testing_support::SampleSessionTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::temp_directory_path() /
-            ("wallcal_field_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(root_);
-    session_ = root_ / "S";
-    fs::create_directories(session_);
-    for (const char* name : {"session.yaml", "scans.clf", "gnss.nmea", "heading.nmea", "survey.csv"}) {
-      fs::copy_file(kSample / name, session_ / name);
-    }
-  }
-  void TearDown() override { fs::remove_all(root_); }
 
   // Runs `wallcal subcommand args` (args already shell-quoted) in the session folder, with
   // `env` ("NAME=value ...") in front, through the shared runner.
@@ -108,7 +97,6 @@ class FieldTest : public ::testing::Test {
   // The mount (x, y, yaw) and the whole document of an offsets.yaml.
   static YAML::Node Offsets(const fs::path& path) { return YAML::LoadFile(path.string()); }
 
-  fs::path root_, session_;
 };
 
 // ---- outputs never replace an input -------------------------------------------------------

@@ -27,13 +27,13 @@
 #include "io/output_file.h"
 #include "io/config/config_writer.h"
 #include "test/support/program_runner.h"
+#include "test/support/sample_session.h"
 
 namespace wallcal {
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kSample = fs::path(WALLCAL_SOURCE_DIR) / "samples" / "lms291-sapporo";
 // The program under test (test/support/program_runner.h: WALLCAL_PROGRAMS_DIR runs the same
 // tests against another build, e.g. an older main, to see each test fail there).
 const std::string kWallcal = testing_support::WallcalPath();
@@ -79,20 +79,8 @@ Outcome RunIn(const fs::path& dir, const std::string& program, const std::string
   return outcome;
 }
 
-class HostileInputTest : public ::testing::Test {
+class HostileInputTest : public testing_support::SampleSessionTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::temp_directory_path() /
-            ("wallcal_hostile_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(root_);
-    session_ = root_ / "S";
-    fs::create_directories(session_);
-    for (const char* name : {"session.yaml", "scans.clf", "gnss.nmea", "heading.nmea", "survey.csv"}) {
-      fs::copy_file(kSample / name, session_ / name);
-    }
-  }
-  void TearDown() override { fs::remove_all(root_); }
   Outcome Calibrate(const std::string& args, const std::string& env = "") {
     return RunIn(session_, kWallcal, "calibrate " + args, env);
   }
@@ -120,7 +108,6 @@ class HostileInputTest : public ::testing::Test {
     return line.substr(0, dollar) + "$" + text + "*" + io::NmeaChecksum(text);
   }
 
-  fs::path root_, session_;
 };
 
 // ---- 1. outputs that are devices, FIFOs or inputs ---------------------------------------
