@@ -8,9 +8,11 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "apps/commands.h"
 #include "io/input_file.h"
@@ -20,11 +22,13 @@
 #include "io/config/config_writer.h"
 #include "io/output_file.h"
 #include "outputs/emit.h"
+#include "outputs/multi_offsets.h"
 #include "outputs/offsets_document.h"
 #include "outputs/report.h"
 #include "outputs/summary.h"
 #include "pipeline/calibration.h"
 #include "pipeline/config_dirs.h"
+#include "pipeline/multi_scanner.h"
 
 namespace wallcal::apps {
 
@@ -34,7 +38,8 @@ const CommandHelp& CalibrateHelp() {
       "estimate the scanner mount from a wall session and write offsets.yaml",
       {"SESSION [--output FILE] [--method ceres|barawid] [--config FILE] [--report DIR] "
        "[--emit ros2-static-tf|urdf|json] [--parent-frame NAME] [--child-frame NAME] "
-       "[--base-frame NAME] [--compare PREVIOUS.yaml] [--force] [--quiet] [--threads N]"},
+       "[--base-frame NAME] [--compare PREVIOUS.yaml] [--force] [--quiet] [--threads N] "
+       "[--allow-partial]"},
       "Estimates where a 2-D laser scanner sits on a vehicle (x, y, yaw of the scanner in the GNSS\n"
       "antenna's frame: x forward, y left, yaw counter-clockwise) from a logged session in front of a\n"
       "surveyed wall, and writes offsets.yaml.\n",
@@ -78,6 +83,9 @@ const CommandHelp& CalibrateHelp() {
            "an earlier offsets.yaml: the change since then (mm, degrees and combined\n"
            "sigma) in the summary, offsets.yaml and the report; the verdict says\n"
            "REVIEW when it is beyond the acceptance tolerances"},
+          {"--allow-partial", "", "", ValueKind::kNone, {},
+           "with several scanners (session.yaml scanners:), write the others when\n"
+           "one is refused (by default the run fails, exit 1)"},
           {"--force", "", "", ValueKind::kNone, {},
            "write an estimate a check refuses (observability, scanner preset against\n"
            "the data, scanner.mount_guess tolerance), with a warning"},
@@ -173,6 +181,71 @@ class ProgressLine {
   bool open_ = false;
 };
 
+
+// A session with `scanners:`: every scanner's run, the joint adjustment, offsets.yaml with
+// scanner_mounts and relative_mounts, --emit as one tree. Exit 1 when a scanner is refused
+// (without --allow-partial) or none is calibrated.
+int CalibrateSeveral(wallcal::pipeline::CalibrateRequest request, bool allow_partial,
+                     const std::string& output, const std::string& report_dir,
+                     const std::optional<wallcal::outputs::EmitFormat>& emit,
+                     const wallcal::outputs::EmitFrames& frames, std::ostream& summary_out,
+                     const wallcal::pipeline::ProgressFn& progress, ProgressLine* progress_line) {
+  namespace pipeline = wallcal::pipeline;
+  namespace outputs = wallcal::outputs;
+  if (request.method != wallcal::solvers::Method::kCeres) {
+    return Usage("--method barawid calibrates one scanner; a session with scanners: needs ceres");
+  }
+  // Each scanner's frame is a child frame in the emitted tree and in offsets.yaml.
+  const wallcal::io::SessionSpec session = wallcal::io::ReadSession(request.session_path);
+  for (const wallcal::io::ScannerSpec& scanner : session.scanners) {
+    std::string problem = outputs::FrameNameProblem(scanner.frame);
+    if (problem.empty() && (scanner.frame == frames.parent || scanner.frame == frames.base)) {
+      problem = "it is the name of the antenna or base frame";
+    }
+    if (!problem.empty()) {
+      throw wallcal::io::InputError(wallcal::io::Where(
+          session.file, scanner.line,
+          "scanner '" + scanner.id + "': frame '" + scanner.frame + "' is not usable: " +
+              problem + "; expected a tf2 frame id of letters, digits, '_', '.', '/', '-' (give "
+              "frame: when the id is not one)"));
+    }
+  }
+  request.collect_report_data = !report_dir.empty();
+  const pipeline::SeveralScannersResult several =
+      pipeline::RunSeveralScanners(request, allow_partial, progress);
+  progress_line->Close();
+  summary_out << wallcal::io::EscapeControl(outputs::FormatSeveralSummary(several), true);
+  // One report per scanner, in REPORT/ID/ (its own run; the joint mount and σ).
+  for (const pipeline::ScannerRun& run : several.scanners) {
+    if (report_dir.empty()) break;
+    try {
+      const std::string path = outputs::WriteReport(
+          run.result, (std::filesystem::path(report_dir) / run.spec.id).string());
+      summary_out << "  report     " << wallcal::io::EscapeControl(path) << "\n";
+    } catch (const std::exception& error) {
+      std::cerr << "calibrate: warning: report of scanner '" << run.spec.id
+                << "' not written: " << wallcal::io::EscapeControl(error.what()) << "\n";
+    }
+  }
+  if (several.outcome == pipeline::SeveralOutcome::kFailed) {
+    std::cerr << "calibrate: "
+              << wallcal::io::EscapeControl(several.session.file + ": " + several.message) << "\n";
+    return 1;
+  }
+  const std::string offsets_yaml = outputs::FormatSeveralOffsetsYaml(several, frames);
+  if (wallcal::io::IsStdoutPath(output)) {
+    std::cout << offsets_yaml << std::flush;
+  } else {
+    wallcal::io::WriteFileAtomically(output, offsets_yaml);
+    summary_out << "  wrote      " << wallcal::io::EscapeControl(output) << "\n";
+  }
+  if (emit) {
+    summary_out << std::flush;
+    std::cout << outputs::FormatSeveralEmit(*emit, several, frames) << std::flush;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int wallcal::apps::RunCalibrate(int argc, char** argv) {
@@ -183,6 +256,7 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
   std::optional<outputs::EmitFormat> emit;
   outputs::EmitFrames frames;
   bool quiet = false;
+  bool allow_partial = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     auto value = [&]() -> const char* {
@@ -258,6 +332,8 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
       request.threads = static_cast<int>(n);
     } else if (arg == "--force") {
       request.force = true;
+    } else if (arg == "--allow-partial") {
+      allow_partial = true;
     } else if (arg == "--quiet" || arg == "-q") {
       quiet = true;
     } else if (!arg.empty() && arg[0] == '-') {
@@ -281,6 +357,7 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
   // With --emit or --output -, stdout is reserved for that text so it can be piped.
   std::ostream& summary_out = emit || wallcal::io::IsStdoutPath(output) ? std::cerr : std::cout;
   ProgressLine progress_line;
+  bool several = false;
   try {
     const bool show_progress = !quiet && isatty(STDERR_FILENO);
     pipeline::ProgressFn progress;
@@ -293,13 +370,23 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
       const wallcal::io::SessionSpec session = wallcal::io::ReadSession(request.session_path);
       if (output.empty()) output = pipeline::DefaultOutputPath(session);
       // Every file the run reads: the session's logs and survey, --config, --compare and the
-      // scanner preset calibrate resolves (in SESSION/scanners/ or the shipped folders).
-      wallcal::io::CheckOutputPath(
-          "--output", output,
-          {session.file, session.scanner_log, session.gnss_log, session.heading_log,
-           session.survey_points, request.config_path, request.compare_path,
-           pipeline::SessionPresetPath(session.scanner_model, session.dir)});
+      // scanner preset calibrate resolves (in SESSION/scanners/ or the shipped folders); with
+      // scanners:, each scanner's log and preset.
+      std::vector<std::string> inputs = {
+          session.file, session.scanner_log, session.gnss_log, session.heading_log,
+          session.survey_points, request.config_path, request.compare_path,
+          pipeline::SessionPresetPath(session.scanner_model, session.dir)};
+      for (const wallcal::io::ScannerSpec& scanner : session.scanners) {
+        inputs.push_back(scanner.log);
+        inputs.push_back(pipeline::SessionPresetPath(scanner.model, session.dir));
+      }
+      wallcal::io::CheckOutputPath("--output", output, inputs);
       if (!report_dir.empty()) wallcal::io::CheckOutputFolder("--report", report_dir);
+      several = !session.scanners.empty();
+    }
+    if (several) {
+      return CalibrateSeveral(request, allow_partial, output, report_dir, emit, frames, summary_out,
+                              progress, &progress_line);
     }
     request.collect_report_data = !report_dir.empty();
     const pipeline::CalibrationResult result = pipeline::RunCalibration(request, progress);

@@ -42,7 +42,10 @@ const CommandHelp& SimulateHelp() {
            "  db3        session.db3, rosbag2 sqlite3 (Iron layout)\n"
            "recordings hold /scan (sensor_msgs/LaserScan), /fix (sensor_msgs/NavSatFix\n"
            "with the simulated σ as covariance) and /heading\n"
-           "(geometry_msgs/QuaternionStamped); session.yaml names them"},
+           "(geometry_msgs/QuaternionStamped); session.yaml names them.\n"
+           "A config with `scanners:` (several scanners, e.g.\n"
+           "configs/simulate/two_corner_scanners.yaml) writes one scan log per scanner,\n"
+           "scans_ID.clf, or topic /ID/scan in a recording, and a scanners: session"},
           {"--help", "-h", "", ValueKind::kNone, {}, "this text"},
           {"--version", "", "", ValueKind::kNone, {}, "the tool version"},
       },

@@ -170,6 +170,7 @@ double Overlap(const Interp& a, const Interp& b) {
 
 // Everything per observation that C and J need.
 struct Row {
+  int scanner = 0;
   double t_s = 0.0;
   int wall = 0;  // surveyed wall index
   Eigen::Vector2d n = Eigen::Vector2d::Zero();  // oriented normal (scanner -> wall), ENU
@@ -196,6 +197,15 @@ struct Row {
 CrbResult ComputeCrb(const sim::SimulationConfig& config, const io::ScannerPreset& preset,
                      const std::vector<CrbObservation>& observations, unsigned sources,
                      const CrbDelays& delays, int max_observations) {
+  return ComputeJointCrb({config}, preset, observations, sources, delays, max_observations);
+}
+
+CrbResult ComputeJointCrb(const std::vector<sim::SimulationConfig>& scanner_configs,
+                          const io::ScannerPreset& preset,
+                          const std::vector<CrbObservation>& observations, unsigned sources,
+                          const CrbDelays& delays, int max_observations) {
+  const sim::SimulationConfig& config = scanner_configs.front();  // the vehicle's noise
+  const int scanners = static_cast<int>(scanner_configs.size());
   CrbResult result;
   result.observations_given = static_cast<int>(observations.size());
   if (observations.empty()) {
@@ -204,7 +214,9 @@ CrbResult ComputeCrb(const sim::SimulationConfig& config, const io::ScannerPrese
   }
   std::vector<CrbObservation> obs = observations;
   std::sort(obs.begin(), obs.end(), [](const CrbObservation& a, const CrbObservation& b) {
-    return a.t_s < b.t_s || (a.t_s == b.t_s && a.surveyed_wall < b.surveyed_wall);
+    return a.t_s < b.t_s || (a.t_s == b.t_s && (a.scanner < b.scanner ||
+                                                 (a.scanner == b.scanner &&
+                                                  a.surveyed_wall < b.surveyed_wall)));
   });
   if (max_observations > 0 && static_cast<int>(obs.size()) > max_observations) {
     // Evenly by scan: every wall line of a kept scan time is kept (a stride over the lines
@@ -253,11 +265,13 @@ CrbResult ComputeCrb(const sim::SimulationConfig& config, const io::ScannerPrese
   const auto poses = sim::TruePosesAt(config, times);
   const auto poses_before = sim::TruePosesAt(config, before);
   const auto poses_after = sim::TruePosesAt(config, after);
-  const Eigen::Vector2d lever(config.mount_x_m, config.mount_y_m);
-
   std::vector<Row> rows;
   for (size_t i = 0; i < obs.size(); ++i) {
+    if (obs[i].scanner < 0 || obs[i].scanner >= scanners) continue;
+    const sim::SimulationConfig& own = scanner_configs[static_cast<size_t>(obs[i].scanner)];
+    const Eigen::Vector2d lever(own.mount_x_m, own.mount_y_m);
     Row row;
+    row.scanner = obs[i].scanner;
     row.t_s = obs[i].t_s;
     row.wall = obs[i].surveyed_wall;
     if (row.wall < 0 || row.wall >= static_cast<int>(config_wall_of.size())) continue;
@@ -268,10 +282,10 @@ CrbResult ComputeCrb(const sim::SimulationConfig& config, const io::ScannerPrese
     row.scanner_enu_m = poses[i].antenna_enu_m + R * lever;
     row.sign = offset - n_wall.dot(row.scanner_enu_m) >= 0.0 ? 1.0 : -1.0;
     row.n = row.sign * n_wall;
-    const double theta = std::atan2(row.n.y(), row.n.x()) - psi - config.mount_yaw_rad;
+    const double theta = std::atan2(row.n.y(), row.n.x()) - psi - own.mount_yaw_rad;
 
     // Line fit information from the beams on this wall.
-    const auto hits = sim::TrueBeamHits(config, preset, poses[i]);
+    const auto hits = sim::TrueBeamHits(own, preset, poses[i]);
     Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
     int beams = 0;
     const Eigen::Vector2d n_s(std::cos(theta), std::sin(theta));
@@ -354,25 +368,31 @@ CrbResult ComputeCrb(const sim::SimulationConfig& config, const io::ScannerPrese
       C.block<2, 2>(2 * b, 2 * a) = block.transpose();
     }
   }
-  // Unknowns: the mount, then each delay with a prior (its information on the diagonal of P).
+  // Unknowns: the mounts, then each delay with a prior (its information on the diagonal of
+  // P): one scanner offset per scanner, the GNSS and heading delays shared.
   std::vector<double> prior_information;
-  std::vector<int> delay_kind;  // 0 scanner offset, 1 GNSS delay, 2 heading delay
+  std::vector<int> delay_kind;     // 0 scanner offset, 1 GNSS delay, 2 heading delay
+  std::vector<int> delay_scanner;  // the scanner of a scanner offset (-1: shared)
   const double prior_sigma[3] = {delays.scanner_offset_prior_sigma_s,
                                  delays.gnss_delay_prior_sigma_s,
                                  delays.heading_delay_prior_sigma_s};
   for (int kind = 0; kind < 3; ++kind) {
-    if (prior_sigma[kind] > 0.0) {
+    if (!(prior_sigma[kind] > 0.0)) continue;
+    for (int k = 0; k < (kind == 0 ? scanners : 1); ++k) {
       delay_kind.push_back(kind);
+      delay_scanner.push_back(kind == 0 ? k : -1);
       prior_information.push_back(1.0 / (prior_sigma[kind] * prior_sigma[kind]));
     }
   }
-  const int p = 3 + static_cast<int>(delay_kind.size());
-  Eigen::MatrixXd J(2 * n, p);
+  const int m = 3 * scanners;
+  const int p = m + static_cast<int>(delay_kind.size());
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(2 * n, p);
   for (int a = 0; a < n; ++a) {
-    J.block(2 * a, 0, 2, 3) = rows[a].J;
+    const Row& r = rows[a];
+    J.block(2 * a, 3 * r.scanner, 2, 3) = r.J;
     for (size_t d = 0; d < delay_kind.size(); ++d) {
-      const Row& r = rows[a];
-      J.block(2 * a, 3 + static_cast<int>(d), 2, 1) =
+      if (delay_scanner[d] >= 0 && delay_scanner[d] != r.scanner) continue;
+      J.block(2 * a, m + static_cast<int>(d), 2, 1) =
           delay_kind[d] == 0   ? Eigen::Vector2d(r.J_position_time + r.J_heading_time)
           : delay_kind[d] == 1 ? Eigen::Vector2d(-r.J_position_time)
                                : Eigen::Vector2d(-r.J_heading_time);
@@ -384,7 +404,7 @@ CrbResult ComputeCrb(const sim::SimulationConfig& config, const io::ScannerPrese
     return result;
   }
   Eigen::MatrixXd fisher = J.transpose() * llt.solve(J);
-  for (size_t d = 0; d < prior_information.size(); ++d) fisher(3 + d, 3 + d) += prior_information[d];
+  for (size_t d = 0; d < prior_information.size(); ++d) fisher(m + d, m + d) += prior_information[d];
   const Eigen::FullPivLU<Eigen::MatrixXd> lu(fisher);
   if (!lu.isInvertible()) {
     result.message = "the Fisher information is singular (the mount is not observable)";
@@ -392,11 +412,12 @@ CrbResult ComputeCrb(const sim::SimulationConfig& config, const io::ScannerPrese
   }
   const Eigen::MatrixXd bound = lu.inverse();
   result.crb = bound.topLeftCorner<3, 3>();
+  result.joint_crb = bound.topLeftCorner(m, m);
   result.ok = true;
   // The timing calibrate reports, as combinations of the unknown delays (kind -> column).
   int column_of[3] = {-1, -1, -1};
-  for (size_t d = 0; d < delay_kind.size(); ++d) column_of[delay_kind[d]] = 3 + static_cast<int>(d);
-  if (column_of[0] >= 0 && column_of[2] >= 0) {
+  for (size_t d = 0; d < delay_kind.size(); ++d) column_of[delay_kind[d]] = m + static_cast<int>(d);
+  if (scanners == 1 && column_of[0] >= 0 && column_of[2] >= 0) {
     const auto sigma_of = [&](double scanner, double gnss, double heading) {
       Eigen::VectorXd c = Eigen::VectorXd::Zero(p);
       c[column_of[0]] = scanner;
@@ -414,7 +435,7 @@ CrbResult ComputeCrb(const sim::SimulationConfig& config, const io::ScannerPrese
     for (int a = 0; a < n; ++a) r.segment<2>(2 * a) = rows[a].residual;
     // r ≈ J δm + ε, J = ∂(rho, theta)/∂m as above (the delays' priors are centred on the
     // truth, so they add nothing to the right-hand side).
-    result.oracle_error = (bound * (J.transpose() * llt.solve(r))).head<3>();
+    result.oracle_error = (bound * (J.transpose() * llt.solve(r))).head<3>();  // scanner 0
     result.has_oracle = true;
   }
   return result;

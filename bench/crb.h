@@ -57,12 +57,17 @@ struct CrbObservation {
   // mount from the measured pose and surveyed wall (calib::PredictRho/PredictTheta).
   bool has_residual = false;
   Eigen::Vector2d residual = Eigen::Vector2d::Zero();
+  // Which scanner took it (ComputeJointCrb's scanner_configs index; 0 for ComputeCrb).
+  int scanner = 0;
 };
 
 struct CrbResult {
   bool ok = false;
   std::string message;          // why not ok
   Eigen::Matrix3d crb = Eigen::Matrix3d::Zero();  // x, y, yaw covariance bound (m, m, rad)
+  // ComputeJointCrb: the bound of every scanner's mount, [x_0, y_0, yaw_0, x_1, ...] (crb is
+  // its top-left block).
+  Eigen::MatrixXd joint_crb;
   int observations_used = 0;    // after subsampling and dropping lines with < 2 wall beams
   int observations_given = 0;
   bool subsampled = false;
@@ -102,6 +107,16 @@ inline constexpr double kFlatDelayPriorS = 10.0;
 CrbResult ComputeCrb(const sim::SimulationConfig& config, const io::ScannerPreset& preset,
                      const std::vector<CrbObservation>& observations, unsigned sources,
                      const CrbDelays& delays, int max_observations);
+
+// The joint bound of several scanners on one vehicle: scanner_configs[k] is the session's
+// configuration with scanner k's mount and clock (sim::ForScanner); every observation names its
+// scanner. The vehicle's errors (GNSS, heading, survey) are common to all scanners' lines; each
+// scanner has its own mount and, with a scanner-offset prior, its own clock offset; the GNSS and
+// heading delays are shared. The delay bounds are filled for one scanner only.
+CrbResult ComputeJointCrb(const std::vector<sim::SimulationConfig>& scanner_configs,
+                          const io::ScannerPreset& preset,
+                          const std::vector<CrbObservation>& observations, unsigned sources,
+                          const CrbDelays& delays, int max_observations);
 
 // Every scan the simulated session holds (each log_every_n-th scan of the preset's rate over the
 // run, at its true time; lost scans are random and left in) paired with every surveyed wall it

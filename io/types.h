@@ -189,6 +189,21 @@ enum class StampSource { kHeader, kReceive };
 // (1-2 cm) and drops float (typically 0.1-1 m).
 inline constexpr double kDefaultGnssMaxSigmaM = 0.05;
 
+// One scanner of a session that lists several (session.yaml `scanners:`): the keys of
+// `scanner:` plus its id and the frame its transform is published under.
+struct ScannerSpec {
+  std::string id;     // unique in the session
+  std::string frame;  // the child frame of its transform; the id unless `frame:` is given
+  int line = 0;       // the list item's line in session.yaml
+  std::string model;
+  std::string log;    // resolved path
+  double time_offset_s = 0.0;
+  std::string topic;  // the LaserScan topic when log is a recording
+  StampSource stamp = StampSource::kHeader;
+  std::optional<MountGuess> mount_guess;
+  std::optional<double> z_m;
+};
+
 struct SessionSpec {
   std::string file;  // path of session.yaml
   std::string dir;   // its folder
@@ -227,6 +242,11 @@ struct SessionSpec {
 
   std::vector<WallSpec> walls;
   std::optional<AntennaInBase> antenna_in_base;
+
+  // `scanners:` (several scanners on the vehicle), in the order listed; empty for a session
+  // with one `scanner:` (the scanner_* fields above). io::SessionForScanner gives the
+  // one-scanner session of each.
+  std::vector<ScannerSpec> scanners;
 };
 
 // A scanner preset from configs/scanners/NAME.yaml.

@@ -102,6 +102,12 @@ std::string UrdfDocument(const std::vector<PlanarTransform>& joints, bool z_know
 
 }  // namespace
 
+std::string Ros2StaticTfLine(const PlanarTransform& transform) { return Ros2Line(transform); }
+
+std::string UrdfTree(const std::vector<PlanarTransform>& joints, bool z_known) {
+  return UrdfDocument(joints, z_known);
+}
+
 bool ParseEmitFormat(const std::string& name, EmitFormat* format) {
   if (name == "ros2-static-tf") {
     *format = EmitFormat::kRos2StaticTf;

@@ -17,6 +17,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "io/types.h"
 #include "solvers/mount_solver.h"
@@ -58,6 +59,12 @@ PlanarTransform BaseToAntenna(const io::AntennaInBase& antenna, const EmitFrames
 // z = antenna z, yaw = mount yaw.
 PlanarTransform BaseToLaser(const solvers::Mount& mount, const io::AntennaInBase& antenna,
                             const EmitFrames& frames);
+
+// One `ros2 run tf2_ros static_transform_publisher ...` line (ends with a newline).
+std::string Ros2StaticTfLine(const PlanarTransform& transform);
+// A whole URDF document with one <link> per frame and one fixed <joint> per transform; z_known
+// false adds the note that z is 0 because the height is not known.
+std::string UrdfTree(const std::vector<PlanarTransform>& joints, bool z_known);
 
 // The emitted text (ends with a newline). One tree: with antenna_in_base the transforms are
 // base -> parent (base_T_antenna) and parent -> child (the mount); a frame never has two

@@ -45,6 +45,9 @@ struct CalibrateRequest {
   // repeatability re-solves, no error budget, no input digests. The result's observations are
   // still all the second pass detected.
   bool preview = false;
+  // A session with `scanners:`: the index of the scanner this run calibrates alone
+  // (io::SessionForScanner); -1 for a one-scanner session. RunSeveralScanners sets it.
+  int scanner_index = -1;
 };
 
 // The stages of a run, in order.

@@ -90,6 +90,14 @@ calib::Gates TightGates(const CalibrationResult& result) {
 Setup LoadSessionAndOptions(const CalibrateRequest& request) {
   Setup setup;
   setup.session = io::ReadSession(request.session_path);
+  if (request.scanner_index >= 0) {
+    setup.session = io::SessionForScanner(setup.session, request.scanner_index);
+  } else if (!setup.session.scanners.empty()) {
+    throw io::InputError(io::Where(setup.session.file, setup.session.scanners.front().line,
+                                   "scanners: lists several scanners; expected scanner: (one) "
+                                   "for this command, or wallcal calibrate, which takes "
+                                   "scanners:"));
+  }
   if (!request.config_path.empty()) setup.options = ReadCalibrateOptions(request.config_path);
   setup.options.Validate();
   setup.options.solver.num_threads =

@@ -2,6 +2,7 @@
 // inspect on a robot recording: every topic's type, count, rate, span and gaps, the statistics
 // of the supported types, the suggested session.yaml, and the dumps of one topic.
 #include <algorithm>
+#include <cctype>
 #include <climits>
 #include <cmath>
 #include <filesystem>
@@ -191,6 +192,30 @@ std::string MatchingPreset(const TopicSummary& scans, std::string* from_data) {
   return family;
 }
 
+// A scanner id (and frame name) from a scan topic: "/front_left/scan" -> "front_left",
+// "/scan_rear" -> "scan_rear"; letters, digits and '_' only, unique among *taken.
+std::string SuggestedScannerId(const std::string& topic, std::set<std::string>* taken) {
+  std::string name = topic;
+  const std::string tail = "/scan";
+  if (name.size() > tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0) {
+    name.resize(name.size() - tail.size());
+  }
+  std::string id;
+  for (const char c : name) {
+    const bool plain = std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_';
+    if (plain) {
+      id += c;
+    } else if (!id.empty() && id.back() != '_') {
+      id += '_';
+    }
+  }
+  while (!id.empty() && id.back() == '_') id.pop_back();
+  if (id.empty()) id = "scanner";
+  std::string unique = id;
+  for (int k = 2; !taken->insert(unique).second; ++k) unique = id + "_" + std::to_string(k);
+  return unique;
+}
+
 std::string FormatTopic(const TopicSummary& t, const std::string& path) {
   std::ostringstream out;
   StreamStats stats = ComputeStreamStats(t.info->name + " [" + t.info->type + "]", path,
@@ -260,16 +285,36 @@ std::string SuggestSession(const std::string& path) {
   out << "# session.yaml suggested by wallcal inspect " << io::kToolVersion << " from " << log
       << "\n# Put it next to the recording, check every line marked CHECK, add the survey.\n";
   out << "name: " << fs::path(path).stem().string() << "\n";
-  out << "scanner:\n";
-  std::string from_data;
-  const std::string preset = scans.empty() ? "" : MatchingPreset(*scans.front(), &from_data);
-  out << "  model: "
-      << (preset.empty()       ? "sick_lms291  # CHECK: no preset matches the scans"
-          : from_data.empty() ? preset + "  # matches the beam count and increment"
-                              : preset + "  # its family; from the data: " + from_data)
-      << "\n";
-  out << "  log: " << log << "\n" << topic_line(scans, "sensor_msgs/LaserScan") << Why(scans, "scanner");
-  out << "  stamp: header  # or receive: the recorder's time\n  time_offset_s: 0\n";
+  const auto model_line = [](const TopicSummary& topic) {
+    std::string from_data;
+    const std::string preset = MatchingPreset(topic, &from_data);
+    return preset.empty()      ? std::string("sick_lms291  # CHECK: no preset matches the scans")
+           : from_data.empty() ? preset + "  # matches the beam count and increment"
+                               : preset + "  # its family; from the data: " + from_data;
+  };
+  if (scans.size() >= 2) {
+    // Several scan topics: every one is proposed as a scanner of its own (scanners:), its id
+    // (and frame) made from the topic name.
+    out << "scanners:  # CHECK: one entry per scanner on the vehicle; remove the others\n";
+    std::set<std::string> ids;
+    for (const TopicSummary* topic : scans) {
+      out << "  - id: " << SuggestedScannerId(topic->info->name, &ids) << "\n";
+      out << "    model: " << model_line(*topic) << "\n";
+      out << "    log: " << log << "\n";
+      out << "    topic: " << topic->info->name << "  # " << topic->info->type << ", "
+          << topic->info->count << " messages\n";
+      out << "    stamp: header\n    time_offset_s: 0\n";
+    }
+  } else {
+    out << "scanner:\n";
+    out << "  model: "
+        << (scans.empty() ? std::string("sick_lms291  # CHECK: no preset matches the scans")
+                          : model_line(*scans.front()))
+        << "\n";
+    out << "  log: " << log << "\n"
+        << topic_line(scans, "sensor_msgs/LaserScan") << Why(scans, "scanner");
+    out << "  stamp: header  # or receive: the recorder's time\n  time_offset_s: 0\n";
+  }
   out << "gnss:\n  log: " << log << "\n" << topic_line(gnss, "sensor_msgs/NavSatFix or GGA sentence")
       << Why(gnss, "GNSS");
   if (!gnss.empty() && gnss.front()->type == io::RosType::kNavSatFix) {

@@ -27,9 +27,16 @@ namespace wallcal::preflight {
 
 using namespace internal;  // the helpers shared by the inspect files
 
-SessionInspection InspectSession(const std::string& session_path, const std::string& config_path) {
+namespace {
+
+// One scanner's inspection: the session itself (scanner_index -1) or its scanners[index].
+SessionInspection InspectOneScanner(const std::string& session_path,
+                                    const std::string& config_path, int scanner_index) {
   SessionInspection result;
-  const io::SessionSpec spec = io::ReadSession(session_path);
+  const io::SessionSpec spec =
+      scanner_index < 0 ? io::ReadSession(session_path)
+                        : io::SessionForScanner(io::ReadSession(session_path),
+                                                static_cast<size_t>(scanner_index));
   pipeline::CalibrateOptions options;
   if (!config_path.empty()) options = pipeline::ReadCalibrateOptions(config_path);
   options.Validate();
@@ -62,6 +69,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     request.session_path = session_path;
     request.config_path = config_path;
     request.preview = true;
+    request.scanner_index = scanner_index;
     preview = std::async(std::launch::async,
                          [request]() { return pipeline::RunCalibration(request); });
   }
@@ -429,6 +437,32 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
   }
   result.report = out.str();
   return result;
+}
+
+}  // namespace
+
+SessionInspection InspectSession(const std::string& session_path, const std::string& config_path) {
+  const io::SessionSpec spec = io::ReadSession(session_path);
+  if (spec.scanners.empty()) return InspectOneScanner(session_path, config_path, -1);
+  // Several scanners: each inspected as its own session (its scan log, its stations and
+  // headings, whether it sees the wall); the GNSS, heading and survey sections repeat for each.
+  SessionInspection all;
+  all.enough = true;
+  for (size_t k = 0; k < spec.scanners.size(); ++k) {
+    const std::string& id = spec.scanners[k].id;
+    const SessionInspection one =
+        InspectOneScanner(session_path, config_path, static_cast<int>(k));
+    all.report += "=== scanner '" + id + "' (" + std::to_string(k + 1) + " of " +
+                  std::to_string(spec.scanners.size()) + ")\n" + one.report;
+    all.enough = all.enough && one.enough;
+    for (const std::string& b : one.blockers) all.blockers.push_back("scanner '" + id + "': " + b);
+    for (const std::string& w : one.warnings) all.warnings.push_back("scanner '" + id + "': " + w);
+  }
+  all.report += all.blockers.empty()
+                    ? "every scanner: enough to calibrate (calibrate adjusts them jointly)\n"
+                    : "not every scanner can be calibrated (calibrate fails unless "
+                      "--allow-partial): " + std::to_string(all.blockers.size()) + " blocker(s)\n";
+  return all;
 }
 
 }  // namespace wallcal::preflight

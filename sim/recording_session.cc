@@ -5,6 +5,7 @@
 #include <limits>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "io/writers/rosbag2_sqlite_writer.h"
 #include "io/output_file.h"
 #include "io/types.h"
+#include "io/config/session_reader.h"
 #include "common/angles.h"
 
 namespace wallcal::sim {
@@ -122,13 +124,23 @@ std::unique_ptr<Sink> MakeSink(const std::string& dir, SessionFormat format, std
 double FallbackSigma(int quality) { return quality == 4 ? 0.02 : quality == 5 ? 0.3 : 3.0; }
 
 // session.yaml with each stream's `log:` pointing at the recording and its `topic:` added.
-void RewriteSessionYaml(const std::string& path, const std::string& recording) {
+// Several scanners: each `    log: <its scan log>` line of the scanners: list becomes the
+// recording and its topic (scan_topics: the log's file name -> topic).
+void RewriteSessionYaml(const std::string& path, const std::string& recording,
+                        const std::map<std::string, std::string>& scan_topics = {}) {
   std::ifstream in(path);
   if (!in) throw io::InputError(io::Where(path, 0, "cannot read the session written before"));
   std::ostringstream out;
   std::string line, section;
   while (std::getline(in, line)) {
     if (!line.empty() && line[0] != ' ') section = line.substr(0, line.find(':'));
+    if (section == "scanners" && line.rfind("    log: ", 0) == 0) {
+      const auto found = scan_topics.find(line.substr(9));
+      if (found != scan_topics.end()) {
+        out << "    log: " << recording << "\n    topic: " << found->second << "\n";
+        continue;
+      }
+    }
     const bool is_log = line.rfind("  log:", 0) == 0;
     const char* topic = section == "scanner" ? "/scan"
                         : section == "gnss"  ? "/fix"
@@ -167,7 +179,25 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
   std::string name;
   std::unique_ptr<Sink> sink = MakeSink(dir, format, &name);
   const io::WireFormat wire = sink->wire();
-  const int scan_id = sink->Add("/scan", io::RosType::kLaserScan);
+  // The scan streams: /scan from scans.clf, or /<id>/scan from each scanner's scans_<id>.clf.
+  struct ScanStream {
+    std::string log, topic, frame;
+  };
+  std::vector<ScanStream> streams;
+  const io::SessionSpec session = io::ReadSession(dir);
+  std::map<std::string, std::string> scan_topics;
+  if (session.scanners.empty()) {
+    streams.push_back({scans_path, "/scan", "laser"});
+  } else {
+    for (const io::ScannerSpec& scanner : session.scanners) {
+      streams.push_back({scanner.log, "/" + scanner.id + "/scan", scanner.frame});
+      scan_topics[fs::path(scanner.log).filename().string()] = streams.back().topic;
+    }
+  }
+  std::vector<int> scan_ids;
+  for (const ScanStream& stream : streams) {
+    scan_ids.push_back(sink->Add(stream.topic, io::RosType::kLaserScan));
+  }
   const int fix_id = sink->Add("/fix", io::RosType::kNavSatFix);
   const int heading_id = sink->Add("/heading", io::RosType::kQuaternionStamped);
   // The messages in time order, as a recorder writes them: a recording cut short (still being
@@ -218,31 +248,46 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
       }
     }
   };
-  {
-    io::CarmenReader reader(scans_path);
-    io::ScanRecord scan;
-    io::LaserScanMsg msg;
-    msg.header.frame_id = "laser";
-    while (reader.Next(&scan)) {
-      write_until(scan.stamp_s);
-      msg.header.stamp_s = scan.stamp_s;
-      ++msg.header.seq;
-      msg.angle_min_rad = static_cast<float>(scan.start_angle_rad);
-      msg.angle_increment_rad = static_cast<float>(scan.angular_step_rad);
-      msg.angle_max_rad = static_cast<float>(
-          scan.start_angle_rad +
-          scan.angular_step_rad * static_cast<double>(scan.ranges_m.size() > 0 ? scan.ranges_m.size() - 1 : 0));
-      msg.range_min_m = 0.0f;
-      msg.range_max_m = static_cast<float>(scan.max_range_m);
-      msg.ranges_m = scan.ranges_m;
-      sink->Write(scan_id, scan.stamp_s, io::EncodeLaserScan(msg, wire));
+  // Every scan stream's next scan, the earliest written first (with the fixes and headings
+  // before it), so that several scanners' scans interleave as a recorder writes them.
+  std::vector<std::unique_ptr<io::CarmenReader>> readers;
+  std::vector<io::ScanRecord> pending(streams.size());
+  std::vector<bool> left(streams.size(), false);
+  for (size_t k = 0; k < streams.size(); ++k) {
+    readers.push_back(std::make_unique<io::CarmenReader>(streams[k].log));
+    left[k] = readers[k]->Next(&pending[k]);
+  }
+  io::LaserScanMsg msg;
+  std::vector<uint32_t> seq(streams.size(), 0);
+  while (true) {
+    size_t k = streams.size();
+    for (size_t j = 0; j < streams.size(); ++j) {
+      if (left[j] && (k == streams.size() || pending[j].stamp_s < pending[k].stamp_s)) k = j;
     }
+    if (k == streams.size()) break;
+    const io::ScanRecord& scan = pending[k];
+    write_until(scan.stamp_s);
+    msg.header.frame_id = streams[k].frame;
+    msg.header.stamp_s = scan.stamp_s;
+    msg.header.seq = ++seq[k];
+    msg.angle_min_rad = static_cast<float>(scan.start_angle_rad);
+    msg.angle_increment_rad = static_cast<float>(scan.angular_step_rad);
+    msg.angle_max_rad = static_cast<float>(
+        scan.start_angle_rad +
+        scan.angular_step_rad *
+            static_cast<double>(scan.ranges_m.size() > 0 ? scan.ranges_m.size() - 1 : 0));
+    msg.range_min_m = 0.0f;
+    msg.range_max_m = static_cast<float>(scan.max_range_m);
+    msg.ranges_m = scan.ranges_m;
+    sink->Write(scan_ids[k], scan.stamp_s, io::EncodeLaserScan(msg, wire));
+    left[k] = readers[k]->Next(&pending[k]);
   }
   write_until(std::numeric_limits<double>::infinity());
   sink->Close();
-  RewriteSessionYaml((fs::path(dir) / "session.yaml").string(), name);
+  RewriteSessionYaml((fs::path(dir) / "session.yaml").string(), name, scan_topics);
   std::error_code ignored;
-  for (const std::string& p : {scans_path, gnss_path, heading_path}) fs::remove(p, ignored);
+  for (const ScanStream& stream : streams) fs::remove(stream.log, ignored);
+  for (const std::string& p : {gnss_path, heading_path}) fs::remove(p, ignored);
 }
 
 SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& config, uint64_t seed,

@@ -3,10 +3,14 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "common/angles.h"
 #include "io/config/session_reader.h"
 #include "io/writers/writers.h"
 #include "io/output_file.h"
@@ -29,24 +33,51 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
     throw io::InputError(dir + ": cannot create the output folder (" + error.message() + ")");
   }
   const fs::path folder(dir);
-  const std::string scans_path = (folder / "scans.clf").string();
-  const std::string scans_tmp = scans_path + ".tmp-" + std::to_string(::getpid());
-  std::ofstream scans(scans_tmp, std::ios::binary | std::ios::trunc);
-  if (!scans) throw io::InputError(scans_tmp + ": cannot write");
-  scans << "# wallcal simulate: scanner " << preset.name << ", seed " << seed << "\n";
-  SimulatedSession sim;
-  try {
-    sim = Simulate(config, preset, seed, [&scans](const io::ScanRecord& scan) {
-      scans << io::FormatCarmenRawlaser(scan) << '\n';
-    });
-    scans.flush();
-    if (!scans) throw io::InputError(scans_tmp + ": write failed (disk full?)");
-    scans.close();
-  } catch (...) {
-    scans.close();
-    fs::remove(scans_tmp, error);
-    throw;
+  // One scan log per scanner: scans.clf for one scanner, scans_<id>.clf for each of several
+  // (each run shares the seed, hence the GNSS, heading and survey draws, and draws its own
+  // range noise: SimulationConfig::scanner_noise_stream).
+  std::vector<std::pair<sim::SimulationConfig, std::string>> runs;
+  if (config.scanners.empty()) {
+    runs.emplace_back(config, (folder / "scans.clf").string());
+  } else {
+    for (size_t k = 0; k < config.scanners.size(); ++k) {
+      runs.emplace_back(ForScanner(config, k),
+                        (folder / ("scans_" + config.scanners[k].id + ".clf")).string());
+    }
   }
+  std::vector<std::string> written;  // temporary scan logs, renamed at the end
+  const auto remove_written = [&written] {
+    std::error_code ignored;
+    for (const std::string& tmp : written) fs::remove(tmp, ignored);
+  };
+  SimulatedSession sim;
+  int64_t scans_written = 0, scans_lost = 0;
+  for (size_t k = 0; k < runs.size(); ++k) {
+    const std::string scans_tmp = runs[k].second + ".tmp-" + std::to_string(::getpid());
+    std::ofstream scans(scans_tmp, std::ios::binary | std::ios::trunc);
+    if (!scans) {
+      remove_written();
+      throw io::InputError(scans_tmp + ": cannot write");
+    }
+    written.push_back(scans_tmp);
+    scans << "# wallcal simulate: scanner " << preset.name << ", seed " << seed << "\n";
+    try {
+      SimulatedSession one = Simulate(runs[k].first, preset, seed, [&scans](const io::ScanRecord& scan) {
+        scans << io::FormatCarmenRawlaser(scan) << '\n';
+      });
+      scans.flush();
+      if (!scans) throw io::InputError(scans_tmp + ": write failed (disk full?)");
+      scans.close();
+      scans_written += one.scans_written;
+      scans_lost += one.scans_lost;
+      if (k == 0) sim = std::move(one);
+    } catch (...) {
+      scans.close();
+      remove_written();
+      throw;
+    }
+  }
+  const std::string scans_path = runs.front().second;
 
   std::string gnss_text;
   for (const io::GnssFix& fix : sim.fixes) {
@@ -63,6 +94,21 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
   spec.name = config.name;
   spec.scanner_model = preset.name;
   spec.scanner_log = scans_path;
+  for (const SimScanner& scanner : config.scanners) {
+    io::ScannerSpec entry;
+    entry.id = scanner.id;
+    entry.frame = scanner.id;
+    entry.model = preset.name;
+    entry.log = (folder / ("scans_" + scanner.id + ".clf")).string();
+    // The mount as a drawing gives it (the truth to 0.1 m and 5°): a scanner angled well away
+    // from the vehicle's axis needs it to centre the first detection pass.
+    io::MountGuess guess;
+    guess.x_m = std::round(scanner.mount_x_m * 10.0) / 10.0;
+    guess.y_m = std::round(scanner.mount_y_m * 10.0) / 10.0;
+    guess.yaw_rad = std::round(scanner.mount_yaw_rad * kRadToDeg / 5.0) * 5.0 / kRadToDeg;
+    entry.mount_guess = guess;
+    spec.scanners.push_back(entry);
+  }
   spec.gnss_log = (folder / "gnss.nmea").string();
   spec.heading_log = (folder / "heading.nmea").string();
   spec.survey_points = (folder / "survey.csv").string();
@@ -73,16 +119,16 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
     io::WriteFileAtomically(spec.heading_log, heading_text);
     io::WriteFileAtomically(spec.survey_points, io::FormatSurveyCsv(sim.survey));
     io::WriteFileAtomically((folder / "truth.yaml").string(), sim::FormatTruthYaml(config, seed));
-    fs::rename(scans_tmp, scans_path);
+    for (size_t k = 0; k < runs.size(); ++k) fs::rename(written[k], runs[k].second);
     // session.yaml last: a folder with a session.yaml is a complete session.
     io::WriteFileAtomically(spec.file, io::FormatSessionYaml(spec));
   } catch (...) {
-    fs::remove(scans_tmp, error);
+    remove_written();
     throw;
   }
   SimulateSummary summary;
-  summary.scans_written = sim.scans_written;
-  summary.scans_lost = sim.scans_lost;
+  summary.scans_written = scans_written;
+  summary.scans_lost = scans_lost;
   summary.fixes = static_cast<int64_t>(sim.fixes.size());
   summary.headings = static_cast<int64_t>(sim.headings.size());
   summary.survey_points = static_cast<int64_t>(sim.survey.size());

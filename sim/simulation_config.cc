@@ -21,6 +21,14 @@ void ReadOptionalKeys(io::OptionsMap& section, SimulationConfig& config) {
   section.Number("station_distance_far_m", config.station_distance_far_m);
   section.Number("drive_reverse_m", config.drive_reverse_m);
   section.Scaled("weave_turn_deg", config.weave_turn_rad, kRadToDeg);
+  section.List("scanners", config.scanners, [](io::OptionsMap& item, SimScanner& scanner) {
+    item.Text("id", scanner.id);
+    item.Number("mount_x_m", scanner.mount_x_m);
+    item.Number("mount_y_m", scanner.mount_y_m);
+    item.Scaled("mount_yaw_deg", scanner.mount_yaw_rad, kRadToDeg);
+    item.Number("scanner_time_offset_s", scanner.scanner_time_offset_s);
+    item.Number("scanner_latency_s", scanner.scanner_latency_s);
+  });
   section.Section("scanner_truth", [&config](io::OptionsMap& truth) {
     truth.Number("n", config.truth_scale_n);
     truth.Number("c_m", config.truth_offset_c_m);
@@ -111,6 +119,32 @@ void SimulationConfig::Validate() const {
   CheckNonNegative(s + "station_distance_far_m", station_distance_far_m);
   CheckRange(s + "drive_reverse_m", drive_reverse_m, 0.0, 100.0);
   CheckRange(s + "weave_turn_deg", weave_turn_rad * kRadToDeg, 0.0, 90.0);
+  for (size_t i = 0; i < scanners.size(); ++i) {
+    const SimScanner& scanner = scanners[i];
+    const std::string k = s + "scanners[" + std::to_string(i) + "].";
+    if (scanner.id.empty()) Fail(k + "id", "non-empty", "\"\"");
+    for (size_t j = 0; j < i; ++j) {
+      if (scanners[j].id == scanner.id) Fail(k + "id", "unique", "'" + scanner.id + "' twice");
+    }
+    CheckFinite(k + "mount_x_m", scanner.mount_x_m);
+    CheckFinite(k + "mount_y_m", scanner.mount_y_m);
+    CheckRange(k + "mount_yaw_deg", scanner.mount_yaw_rad * kRadToDeg, -180.0, 180.0);
+    CheckFinite(k + "scanner_time_offset_s", scanner.scanner_time_offset_s);
+    CheckRange(k + "scanner_latency_s", scanner.scanner_latency_s, 0.0, 10.0);
+  }
+}
+
+SimulationConfig ForScanner(const SimulationConfig& config, size_t index) {
+  SimulationConfig one = config;
+  const SimScanner& scanner = config.scanners.at(index);
+  one.mount_x_m = scanner.mount_x_m;
+  one.mount_y_m = scanner.mount_y_m;
+  one.mount_yaw_rad = scanner.mount_yaw_rad;
+  one.scanner_time_offset_s = scanner.scanner_time_offset_s;
+  one.scanner_latency_s = scanner.scanner_latency_s;
+  one.scanner_noise_stream = static_cast<uint32_t>(index);
+  one.scanners.clear();
+  return one;
 }
 
 SimulationConfig ReadSimulationConfig(const std::string& file) {
@@ -179,6 +213,17 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
   }
   if (config.weave_turn_rad != 0.0) {
     out += "  weave_turn_deg: " + io::ShortestNumber(config.weave_turn_rad * kRadToDeg) + "\n";
+  }
+  if (!config.scanners.empty()) {
+    out += "  scanners:\n";
+    for (const SimScanner& scanner : config.scanners) {
+      out += "    - {id: " + io::YamlText(scanner.id) +
+             ", mount_x_m: " + io::ShortestNumber(scanner.mount_x_m) +
+             ", mount_y_m: " + io::ShortestNumber(scanner.mount_y_m) +
+             ", mount_yaw_deg: " + io::ShortestNumber(scanner.mount_yaw_rad * kRadToDeg) +
+             ", scanner_time_offset_s: " + io::ShortestNumber(scanner.scanner_time_offset_s) +
+             ", scanner_latency_s: " + io::ShortestNumber(scanner.scanner_latency_s) + "}\n";
+    }
   }
   if (config.HasScannerTruth()) {
     std::string truth;

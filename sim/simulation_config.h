@@ -45,6 +45,18 @@ struct SimStop {
   double wait_s = 0.0;
 };
 
+// One more scanner on the simulated vehicle (a session with `scanners:`): its id (the
+// session's scanner id and frame), its true mount and its own clock (the keys as the
+// one-scanner settings of SimulationConfig name them).
+struct SimScanner {
+  std::string id;
+  double mount_x_m = 0.0;
+  double mount_y_m = 0.0;
+  double mount_yaw_rad = 0.0;
+  double scanner_time_offset_s = 0.0;
+  double scanner_latency_s = 0.0;
+};
+
 struct SimulationConfig {
   // Site
   double site_lat_deg = 43.07;
@@ -141,6 +153,15 @@ struct SimulationConfig {
   // lateral_spread_m over heading_spread_rad). Set by programs (the guide's crew benchmark),
   // not read from a scenario file nor written to truth.yaml.
   std::vector<SimStop> stops;
+  // Several scanners (written only when set): each with its own mount and clock; the session
+  // then lists them under `scanners:` with one scan log (or topic) each, and the single
+  // scanner's mount_* and delays above are not used. Empty: one scanner, as above.
+  std::vector<SimScanner> scanners;
+  // Which scanner's noise streams (range noise, mixed pixels, lost scans) a run draws from:
+  // 0 for the first (and only) scanner, k for the k-th of `scanners`, so that two scanners'
+  // range noise is independent while the GNSS, heading and survey draws are shared. Set by the
+  // session writer, not a key.
+  uint32_t scanner_noise_stream = 0;
   bool HasScannerTruth() const {
     return !std::isnan(truth_scale_n) || !std::isnan(truth_offset_c_m) ||
            !std::isnan(truth_sigma_m) || !std::isnan(truth_resolution_m) ||
@@ -218,6 +239,10 @@ void VisitSimulationConfig(V& v, SimulationConfig& c) {
 // A simulation configuration: the SimulationConfig keys at the top level, `walls:` a list of
 // maps. Throws io::InputError "file:line: ..." for a bad or unknown key.
 SimulationConfig ReadSimulationConfig(const std::string& file);
+
+// The one-scanner configuration of config.scanners[index]: its mount and clock in the
+// single scanner's fields, its own noise streams (scanner_noise_stream = index), no list.
+SimulationConfig ForScanner(const SimulationConfig& config, size_t index);
 
 // truth.yaml as written by FormatTruthYaml: the settings under `simulation:`, the exact mount
 // under `truth:`.

@@ -366,8 +366,12 @@ SimulatedSession Simulate(const sim::SimulationConfig& config, const io::Scanner
   // Scans: k/rate true time; the logger stamps them scanner_time_offset_s early. The scanner
   // measures with the scenario's scanner_truth where it overrides the preset.
   const io::ScannerPreset true_preset = TrueScannerPreset(config, preset);
-  ScannerModel scanner(config, true_preset, seed);
-  Noise lost_noise(seed, Stream::kLostScan);
+  // The scanner's own draws: the k-th scanner of a multi-scanner session draws from streams of
+  // its own (k = 0 leaves the seed as it is: a one-scanner session is unchanged).
+  const uint64_t scanner_seed =
+      seed ^ (static_cast<uint64_t>(config.scanner_noise_stream) * 0x9E3779B97F4A7C15ull);
+  ScannerModel scanner(config, true_preset, scanner_seed);
+  Noise lost_noise(scanner_seed, Stream::kLostScan);
   const int64_t log_every = std::max<int64_t>(1, std::llround(config.log_every_n));
   const int64_t scan_count =
       static_cast<int64_t>(std::floor(duration_s * preset.rate_hz + 1e-9)) + 1;

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "io/config/session_reader.h"
 
+#include <map>
+#include <utility>
+
 #include "io/config/internal/yaml_map_reader.h"
 
 namespace wallcal::io {
@@ -84,6 +87,103 @@ ControlPoint ReadControlPoint(MapReader& survey, const YAML::Node& item, size_t 
   return point;
 }
 
+
+// The keys of `scanner:` (or of one `scanners:` item), read into *out.
+void ReadScannerKeys(MapReader& scanner, const std::string& dir, ScannerSpec* out) {
+  scanner.Allow({"model", "log", "time_offset_s", "mount_guess", "z_m", "topic", "stamp"});
+  scanner.Finish();
+  out->model = scanner.ToText(
+      scanner.Require("model", "a scanner preset name (configs/scanners/NAME.yaml)"), "model");
+  out->log = ResolvePath(
+      dir, scanner.ToText(scanner.Require("log", "the CARMEN scan log's path"), "log"));
+  scanner.Number("time_offset_s", out->time_offset_s);
+  // Up to about 300 years: enough to move a scanner clock counting from 0 to UNIX time, and
+  // small enough that stamps keep sub-microsecond resolution in a double.
+  if (std::abs(out->time_offset_s) > 1e10) {
+    scanner.Bad(scanner.Find("time_offset_s"), "time_offset_s",
+                "seconds within ±1e10 (added to every scan stamp)");
+  }
+  ReadTopicKeys(scanner, &out->topic, &out->stamp);
+  if (const YAML::Node guess = scanner.Find("mount_guess"); guess.IsDefined()) {
+    MapReader g = scanner.Child("mount_guess", guess);
+    MountGuess mount;
+    g.Number("x", mount.x_m);
+    g.Number("y", mount.y_m);
+    g.Scaled("yaw_deg", mount.yaw_rad, kRadToDeg);
+    if (const YAML::Node t = g.Find("tolerance_m"); t.IsDefined()) {
+      const double tolerance_m = g.ToNumber(t, "tolerance_m");
+      if (!(tolerance_m > 0.0)) g.Bad(t, "tolerance_m", "a distance > 0 in metres");
+      mount.tolerance_m = tolerance_m;
+    }
+    if (const YAML::Node t = g.Find("tolerance_yaw_deg"); t.IsDefined()) {
+      const double tolerance_deg = g.ToNumber(t, "tolerance_yaw_deg");
+      if (!(tolerance_deg > 0.0 && tolerance_deg <= 180.0)) {
+        g.Bad(t, "tolerance_yaw_deg", "an angle in (0, 180] degrees");
+      }
+      mount.tolerance_yaw_rad = tolerance_deg / kRadToDeg;
+    }
+    g.Finish();
+    out->mount_guess = mount;
+  }
+  if (const YAML::Node z = scanner.Find("z_m"); z.IsDefined()) {
+    out->z_m = scanner.ToNumber(z, "z_m");
+  }
+  scanner.Finish();
+}
+
+// `scanners:`, a list of scanner maps, each with an `id:` (named in every message about it)
+// and optionally `frame:`. Refused: an empty list, a duplicate id or frame, two scanners
+// reading the same topic of the same recording (or the same text log).
+void ReadScannerList(MapReader& top, const YAML::Node& list, SessionSpec& spec) {
+  if (top.Find("scanner").IsDefined()) {
+    top.Bad(top.Find("scanner"), "scanner",
+            "either scanner: (one scanner) or scanners: (a list), not both");
+  }
+  if (!list.IsSequence() || list.size() == 0) {
+    top.Bad(list, "scanners", "a list of at least one {id, model, log, ...}");
+  }
+  const std::string& f = top.file();
+  std::map<std::string, int> id_lines, frame_lines;
+  std::map<std::pair<std::string, std::string>, std::string> stream_owner;
+  for (size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node item = list[i];
+    const std::string index_name = "scanners[" + std::to_string(i) + "]";
+    if (!item.IsMap()) top.Bad(item, index_name, "{id, model, log, ...}");
+    MapReader head(item, f, index_name + ".", LineOf(item));
+    ScannerSpec scanner;
+    scanner.line = LineOf(item);
+    scanner.id = head.ToText(head.Require("id", "the scanner's name (also its frame)"), "id");
+    MapReader entry(item, f, "scanner '" + scanner.id + "'.", LineOf(item));
+    entry.Allow({"id", "frame"});
+    scanner.frame = scanner.id;
+    if (const YAML::Node frame = entry.Find("frame"); frame.IsDefined()) {
+      scanner.frame = entry.ToText(frame, "frame");
+    }
+    ReadScannerKeys(entry, spec.dir, &scanner);
+    if (const auto [it, added] = id_lines.emplace(scanner.id, scanner.line); !added) {
+      throw InputError(Where(f, scanner.line,
+                             "scanner '" + scanner.id + "' given twice (also line " +
+                                 std::to_string(it->second) + "); expected unique scanner ids"));
+    }
+    if (const auto [it, added] = frame_lines.emplace(scanner.frame, scanner.line); !added) {
+      throw InputError(Where(f, scanner.line,
+                             "scanner '" + scanner.id + "': frame '" + scanner.frame +
+                                 "' is another scanner's too (line " +
+                                 std::to_string(it->second) + "); expected one frame each"));
+    }
+    const auto stream = std::make_pair(scanner.log, scanner.topic);
+    if (const auto [it, added] = stream_owner.emplace(stream, scanner.id); !added) {
+      const std::string what =
+          scanner.topic.empty() ? "log " + scanner.log : "topic " + scanner.topic;
+      throw InputError(Where(f, scanner.line,
+                             "scanner '" + scanner.id + "' reads the same " + what +
+                                 " as scanner '" + it->second +
+                                 "'; expected each scanner its own log or topic"));
+    }
+    spec.scanners.push_back(std::move(scanner));
+  }
+}
+
 }  // namespace
 
 SessionSpec ReadSession(const std::string& path) {
@@ -106,7 +206,8 @@ SessionSpec ReadSession(const std::string& path) {
     throw InputError(Where(f, 0, "empty session; expected the keys of docs/session-format.md"));
 
   top.Allow(
-      {"name", "utm_zone", "scanner", "gnss", "heading", "survey", "walls", "antenna_in_base"});
+      {"name", "utm_zone", "scanner", "scanners", "gnss", "heading", "survey", "walls",
+       "antenna_in_base"});
   top.Finish();
   top.Text("name", spec.name);
   if (spec.name.empty())
@@ -115,48 +216,20 @@ SessionSpec ReadSession(const std::string& path) {
     spec.utm_zone = ParseUtmZone(top, zone);
   }
 
-  {
-    const YAML::Node node = top.Require("scanner", "a map with model and log");
+  if (const YAML::Node list = top.Find("scanners"); list.IsDefined()) {
+    ReadScannerList(top, list, spec);
+  } else {
+    const YAML::Node node = top.Require("scanner", "a map with model and log (or a scanners: list)");
     MapReader scanner = top.Child("scanner", node);
-    scanner.Allow({"model", "log", "time_offset_s", "mount_guess", "z_m", "topic", "stamp"});
-    scanner.Finish();
-    spec.scanner_model = scanner.ToText(
-        scanner.Require("model", "a scanner preset name (configs/scanners/NAME.yaml)"), "model");
-    spec.scanner_log = ResolvePath(
-        spec.dir, scanner.ToText(scanner.Require("log", "the CARMEN scan log's path"), "log"));
-    scanner.Number("time_offset_s", spec.scanner_time_offset_s);
-    // Up to about 300 years: enough to move a scanner clock counting from 0 to UNIX time, and
-    // small enough that stamps keep sub-microsecond resolution in a double.
-    if (std::abs(spec.scanner_time_offset_s) > 1e10) {
-      scanner.Bad(scanner.Find("time_offset_s"), "time_offset_s",
-                  "seconds within ±1e10 (added to every scan stamp)");
-    }
-    ReadTopicKeys(scanner, &spec.scanner_topic, &spec.scanner_stamp);
-    if (const YAML::Node guess = scanner.Find("mount_guess"); guess.IsDefined()) {
-      MapReader g = scanner.Child("mount_guess", guess);
-      MountGuess mount;
-      g.Number("x", mount.x_m);
-      g.Number("y", mount.y_m);
-      g.Scaled("yaw_deg", mount.yaw_rad, kRadToDeg);
-      if (const YAML::Node t = g.Find("tolerance_m"); t.IsDefined()) {
-        const double tolerance_m = g.ToNumber(t, "tolerance_m");
-        if (!(tolerance_m > 0.0)) g.Bad(t, "tolerance_m", "a distance > 0 in metres");
-        mount.tolerance_m = tolerance_m;
-      }
-      if (const YAML::Node t = g.Find("tolerance_yaw_deg"); t.IsDefined()) {
-        const double tolerance_deg = g.ToNumber(t, "tolerance_yaw_deg");
-        if (!(tolerance_deg > 0.0 && tolerance_deg <= 180.0)) {
-          g.Bad(t, "tolerance_yaw_deg", "an angle in (0, 180] degrees");
-        }
-        mount.tolerance_yaw_rad = tolerance_deg / kRadToDeg;
-      }
-      g.Finish();
-      spec.mount_guess = mount;
-    }
-    if (const YAML::Node z = scanner.Find("z_m"); z.IsDefined()) {
-      spec.scanner_z_m = scanner.ToNumber(z, "z_m");
-    }
-    scanner.Finish();
+    ScannerSpec one;
+    ReadScannerKeys(scanner, spec.dir, &one);
+    spec.scanner_model = one.model;
+    spec.scanner_log = one.log;
+    spec.scanner_time_offset_s = one.time_offset_s;
+    spec.scanner_topic = one.topic;
+    spec.scanner_stamp = one.stamp;
+    spec.mount_guess = one.mount_guess;
+    spec.scanner_z_m = one.z_m;
   }
   {
     const YAML::Node node = top.Require("gnss", "a map with log");
@@ -282,6 +355,20 @@ SessionSpec ReadSession(const std::string& path) {
   }
   top.Finish();
   return spec;
+}
+
+SessionSpec SessionForScanner(const SessionSpec& session, size_t index) {
+  SessionSpec one = session;
+  const ScannerSpec& scanner = session.scanners.at(index);
+  one.scanner_model = scanner.model;
+  one.scanner_log = scanner.log;
+  one.scanner_time_offset_s = scanner.time_offset_s;
+  one.scanner_topic = scanner.topic;
+  one.scanner_stamp = scanner.stamp;
+  one.mount_guess = scanner.mount_guess;
+  one.scanner_z_m = scanner.z_m;
+  one.scanners.clear();
+  return one;
 }
 
 }  // namespace wallcal::io

@@ -22,7 +22,14 @@ namespace wallcal::io {
 // `path` is the session.yaml itself or the folder holding it. The log and survey paths are
 // resolved against the folder of session.yaml; the files themselves are not opened here (their
 // readers report a missing file).
+// A session may list several scanners (`scanners:`, each with an id); a duplicate id or frame,
+// a scanner without a log and two scanners reading the same log or topic are refused, naming
+// the scanner.
 SessionSpec ReadSession(const std::string& path);
+
+// The one-scanner session of session.scanners[index]: the scanner_* fields set from it,
+// `scanners` empty; everything else (GNSS, heading, survey, walls) shared.
+SessionSpec SessionForScanner(const SessionSpec& session, size_t index);
 
 // Reads one scanner preset file (configs/scanners/NAME.yaml). `name` defaults to the file stem.
 ScannerPreset ReadScannerPreset(const std::string& file);

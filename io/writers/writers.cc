@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <utility>
 
 #include "io/config/yaml_text.h"
@@ -127,14 +128,32 @@ std::string FormatSessionYaml(const SessionSpec& spec) {
     out += "utm_zone: " + std::to_string(spec.utm_zone->zone) + (spec.utm_zone->north ? "N" : "S") +
            "\n";
   }
-  out += "scanner:\n";
-  out += "  model: " + YamlText(spec.scanner_model) + "\n";
-  out += "  log: " + YamlText(RelativeTo(spec.dir, spec.scanner_log)) + "\n";
-  out += "  time_offset_s: " + ShortestNumber(spec.scanner_time_offset_s) + "\n";
-  if (spec.mount_guess) {
-    out += "  mount_guess: {x: " + ShortestNumber(spec.mount_guess->x_m) +
-           ", y: " + ShortestNumber(spec.mount_guess->y_m) +
-           ", yaw_deg: " + ShortestNumber(spec.mount_guess->yaw_rad * kRadToDeg) + "}\n";
+  const auto scanner_keys = [&spec, &out](const std::string& indent, const std::string& model,
+                                          const std::string& log, const std::string& topic,
+                                          double time_offset_s,
+                                          const std::optional<MountGuess>& guess) {
+    out += indent + "model: " + YamlText(model) + "\n";
+    out += indent + "log: " + YamlText(RelativeTo(spec.dir, log)) + "\n";
+    if (!topic.empty()) out += indent + "topic: " + YamlText(topic) + "\n";
+    out += indent + "time_offset_s: " + ShortestNumber(time_offset_s) + "\n";
+    if (guess) {
+      out += indent + "mount_guess: {x: " + ShortestNumber(guess->x_m) +
+             ", y: " + ShortestNumber(guess->y_m) +
+             ", yaw_deg: " + ShortestNumber(guess->yaw_rad * kRadToDeg) + "}\n";
+    }
+  };
+  if (spec.scanners.empty()) {
+    out += "scanner:\n";
+    scanner_keys("  ", spec.scanner_model, spec.scanner_log, "", spec.scanner_time_offset_s,
+                 spec.mount_guess);
+  } else {
+    out += "scanners:\n";
+    for (const ScannerSpec& scanner : spec.scanners) {
+      out += "  - id: " + YamlText(scanner.id) + "\n";
+      if (scanner.frame != scanner.id) out += "    frame: " + YamlText(scanner.frame) + "\n";
+      scanner_keys("    ", scanner.model, scanner.log, scanner.topic, scanner.time_offset_s,
+                   scanner.mount_guess);
+    }
   }
   out += "gnss:\n";
   out += "  log: " + YamlText(RelativeTo(spec.dir, spec.gnss_log)) + "\n";

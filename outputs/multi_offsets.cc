@@ -1,0 +1,278 @@
+// SPDX-License-Identifier: Apache-2.0
+// offsets.yaml, the summary and --emit for several scanners (outputs/multi_offsets.h).
+
+#include "outputs/multi_offsets.h"
+
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <stdexcept>
+#include <vector>
+
+#include "common/angles.h"
+#include "common/format.h"
+#include "io/config/yaml_text.h"
+#include "io/version.h"
+#include "outputs/offsets_document.h"
+
+namespace wallcal::outputs {
+namespace {
+
+using io::YamlNumber;
+using io::YamlQuoted;
+using io::YamlText;
+
+double Sigma(const Eigen::Matrix3d& covariance, int i) {
+  return std::sqrt(std::max(0.0, covariance(i, i)));
+}
+
+std::string MountKeys(const std::string& indent, const solvers::Mount& mount,
+                      const Eigen::Matrix3d& covariance) {
+  std::string out;
+  out += indent + "x: " + YamlNumber("%.6f", mount.x_m) + "  # m\n";
+  out += indent + "y: " + YamlNumber("%.6f", mount.y_m) + "  # m\n";
+  out += indent + "yaw: " + YamlNumber("%.8f", mount.yaw_rad) + "  # rad\n";
+  out += indent + "yaw_deg: " + YamlNumber("%.4f", mount.yaw_rad * kRadToDeg) + "\n";
+  out += indent + "stddev: {x: " + YamlNumber("%.6f", Sigma(covariance, 0)) +
+         ", y: " + YamlNumber("%.6f", Sigma(covariance, 1)) +
+         ", yaw_deg: " + YamlNumber("%.4f", Sigma(covariance, 2) * kRadToDeg) + "}\n";
+  out += indent + "covariance: [";
+  for (int i = 0; i < 9; ++i) {
+    out += (i > 0 ? ", " : "") + YamlNumber("%.6e", covariance(i / 3, i % 3));
+  }
+  out += "]  # 3x3 row-major, order x, y, yaw (m, m, rad)\n";
+  return out;
+}
+
+std::string Num(double value) {
+  if (value == 0.0) value = 0.0;
+  char buffer[40];
+  std::snprintf(buffer, sizeof(buffer), "%.9g", value);
+  return std::isfinite(value) ? buffer : "null";
+}
+
+std::string JsonString(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
+      out += buffer;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+const char* kHeightNote =
+    "z = 0: the scanner's height relative to the GNSS antenna is not known (give it as z_m of "
+    "the scanner in session.yaml); the 2-D calibration does not measure it";
+
+}  // namespace
+
+std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& several,
+                                     const EmitFrames& frames) {
+  std::string out;
+  out += "# Mounts of the scanners in the vehicle (GNSS antenna) frame: x forward, y left, yaw "
+         "ccw.\n";
+  out += "scanner_mounts:\n";
+  std::vector<std::string> order;
+  for (const pipeline::ScannerRun& run : several.scanners) {
+    if (run.joint_index < 0) continue;
+    const pipeline::CalibrationResult& r = run.result;
+    out += "  - id: " + YamlText(run.spec.id) + "\n";
+    out += "    parent_frame: " + YamlText(frames.parent) + "\n";
+    out += "    child_frame: " + YamlText(run.spec.frame) + "\n";
+    out += MountKeys("    ", r.estimate.mount, r.estimate.covariance);
+    out += "    time_offset_s: " + YamlNumber("%.4f", r.time_offset_s) + "\n";
+    out += "    quality: {scans_total: " + std::to_string(r.scans_total) +
+           ", scans_used: " + std::to_string(r.scans_used) +
+           ", observations: " + std::to_string(r.estimate.observations_used) +
+           ", outliers: " + std::to_string(r.estimate.observations_rejected) +
+           ", residual_rms_m: " + YamlNumber("%.6f", r.estimate.residual_rms_m) +
+           ", stations: " + std::to_string(r.num_dwells) +
+           ", headings_deg: {min: " + YamlNumber("%.4f", r.heading_min_deg) +
+           ", max: " + YamlNumber("%.4f", r.heading_max_deg) + "}}\n";
+    out += "    verdict: " + VerdictYaml(r) + "\n";
+    for (const char* axis : {".x", ".y", ".yaw"}) order.push_back(run.spec.id + axis);
+  }
+  out += "# Pose of `to` in the frame of `from` (from = the scanner listed earlier).\n";
+  if (several.relative.empty()) {
+    out += "relative_mounts: []\n";
+  } else {
+    out += "relative_mounts:\n";
+    for (const pipeline::RelativeMountResult& relative : several.relative) {
+      out += "  - from: " + YamlText(relative.from_id) + "\n";
+      out += "    to: " + YamlText(relative.to_id) + "\n";
+      out += MountKeys("    ", relative.mount.from_T_to, relative.mount.covariance);
+    }
+  }
+  out += "joint_covariance:\n";
+  out += "  order: [";
+  for (size_t i = 0; i < order.size(); ++i) out += (i > 0 ? ", " : "") + YamlQuoted(order[i]);
+  out += "]  # m, m, rad per scanner\n";
+  out += "  matrix:\n";
+  const Eigen::MatrixXd& c = several.joint.covariance;
+  for (int r = 0; r < c.rows(); ++r) {
+    out += "    - [";
+    for (int col = 0; col < c.cols(); ++col) {
+      out += (col > 0 ? ", " : "") + YamlNumber("%.6e", c(r, col));
+    }
+    out += "]\n";
+  }
+  std::string refused;
+  for (const pipeline::ScannerRun& run : several.scanners) {
+    if (run.joint_index >= 0) continue;
+    refused += "  - {id: " + YamlText(run.spec.id) +
+               ", reason: " + YamlQuoted(run.result.estimate.message) + "}\n";
+  }
+  out += refused.empty() ? "refused: []\n" : "refused:\n" + refused;
+  out += "method: ceres\n";
+  out += "source:\n";
+  out += "  session: " + YamlQuoted(several.session.file) + "\n";
+  out += "  tool_version: " + YamlQuoted(io::kToolVersion) + "\n";
+  const pipeline::Provenance& first = several.scanners.front().result.provenance;
+  if (!first.created_utc.empty()) out += "  created_utc: " + YamlQuoted(first.created_utc) + "\n";
+  if (!first.command_line.empty()) {
+    out += "  command_line: [";
+    for (size_t i = 0; i < first.command_line.size(); ++i) {
+      out += (i ? ", " : "") + YamlQuoted(first.command_line[i]);
+    }
+    out += "]\n";
+  }
+  std::set<std::string> seen;
+  std::string inputs;
+  for (const pipeline::ScannerRun& run : several.scanners) {
+    for (const io::InputFileDigest& input : run.result.provenance.inputs) {
+      if (!seen.insert(input.role + "\n" + input.path).second) continue;
+      inputs += "    - {role: " + YamlQuoted(input.role) + ", path: " + YamlQuoted(input.path) +
+                ", sha256: " + (input.sha256.empty() ? std::string("null") : input.sha256) +
+                "}\n";
+    }
+  }
+  if (!inputs.empty()) out += "  inputs:\n" + inputs;
+  return out;
+}
+
+std::string FormatSeveralSummary(const pipeline::SeveralScannersResult& several) {
+  std::string out = "calibrate: " + several.session.name + ": " +
+                    std::to_string(several.scanners.size()) + " scanners\n";
+  for (const pipeline::ScannerRun& run : several.scanners) {
+    const pipeline::CalibrationResult& r = run.result;
+    if (run.joint_index < 0) {
+      out += "  " + run.spec.id + ": REFUSED: " + r.estimate.message + "\n";
+      continue;
+    }
+    const Eigen::Matrix3d& c = r.estimate.covariance;
+    out += "  " + run.spec.id + " (" + pipeline::VerdictName(r.decision.verdict) + "): " +
+           Format("x %.4f ± %.4f m, y %.4f ± %.4f m, yaw %.3f ± %.3f deg", r.estimate.mount.x_m,
+                  Sigma(c, 0), r.estimate.mount.y_m, Sigma(c, 1),
+                  r.estimate.mount.yaw_rad * kRadToDeg, Sigma(c, 2) * kRadToDeg) +
+           Format(", clock offset %.4f s, %d observations, %lld scans used", r.time_offset_s,
+                  r.estimate.observations_used, static_cast<long long>(r.scans_used)) +
+           "\n";
+  }
+  for (const pipeline::RelativeMountResult& relative : several.relative) {
+    const solvers::Mount& m = relative.mount.from_T_to;
+    const Eigen::Matrix3d& c = relative.mount.covariance;
+    out += "  " + relative.to_id + " in " + relative.from_id + ": " +
+           Format("x %.4f ± %.4f m, y %.4f ± %.4f m, yaw %.3f ± %.3f deg", m.x_m, Sigma(c, 0),
+                  m.y_m, Sigma(c, 1), m.yaw_rad * kRadToDeg, Sigma(c, 2) * kRadToDeg) +
+           "\n";
+  }
+  if (!several.message.empty()) out += "  " + several.message + "\n";
+  out += Format("  time       %.1f s\n", several.seconds);
+  return out;
+}
+
+std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScannersResult& several,
+                              const EmitFrames& frames) {
+  std::vector<const pipeline::ScannerRun*> runs;
+  for (const pipeline::ScannerRun& run : several.scanners) {
+    if (run.joint_index < 0) continue;
+    if (!IsValidFrameName(run.spec.frame) || run.spec.frame == frames.parent ||
+        run.spec.frame == frames.base) {
+      throw std::invalid_argument("scanner '" + run.spec.id + "': frame '" + run.spec.frame +
+                                  "' is not a tf2 frame name of its own");
+    }
+    runs.push_back(&run);
+  }
+  std::vector<PlanarTransform> joints;
+  const std::optional<io::AntennaInBase>& antenna = several.session.antenna_in_base;
+  if (antenna) joints.push_back(BaseToAntenna(*antenna, frames));
+  bool z_known = true;
+  for (const pipeline::ScannerRun* run : runs) {
+    EmitFrames own = frames;
+    own.child = run->spec.frame;
+    joints.push_back(AntennaToLaser(run->result.estimate.mount, own, run->spec.z_m.value_or(0.0)));
+    z_known = z_known && run->spec.z_m.has_value();
+  }
+  std::string out;
+  switch (format) {
+    case EmitFormat::kRos2StaticTf:
+      for (size_t i = 0; i < joints.size(); ++i) {
+        const bool scanner = !antenna || i > 0;
+        if (scanner && !runs[antenna ? i - 1 : i]->spec.z_m) {
+          out += "# " + joints[i].parent + " -> " + joints[i].child + ": " + kHeightNote + "\n";
+        }
+        out += Ros2StaticTfLine(joints[i]);
+      }
+      break;
+    case EmitFormat::kUrdf:
+      out += UrdfTree(joints, z_known);
+      break;
+    case EmitFormat::kJson: {
+      out += "{\n  \"method\": \"ceres\",\n  \"parent_frame\": \"" + frames.parent + "\",\n";
+      out += "  \"scanners\": [";
+      for (size_t i = 0; i < runs.size(); ++i) {
+        const pipeline::ScannerRun& run = *runs[i];
+        const PlanarTransform& t = joints[antenna ? i + 1 : i];
+        const Eigen::Matrix3d& c = run.result.estimate.covariance;
+        out += std::string(i ? ",\n" : "\n") + "    {\"id\": " + JsonString(run.spec.id) +
+               ", \"child_frame\": \"" + t.child + "\", \"mount\": {\"x_m\": " + Num(t.x_m) +
+               ", \"y_m\": " + Num(t.y_m) + ", \"z_m\": " + Num(t.z_m) + ", \"yaw_rad\": " +
+               Num(t.yaw_rad) + ", \"yaw_deg\": " + Num(t.yaw_rad * kRadToDeg) +
+               "}, \"z_known\": " + (run.spec.z_m ? "true" : "false") + ", \"sigma\": {\"x_m\": " +
+               Num(Sigma(c, 0)) + ", \"y_m\": " + Num(Sigma(c, 1)) + ", \"yaw_rad\": " +
+               Num(Sigma(c, 2)) + ", \"yaw_deg\": " + Num(Sigma(c, 2) * kRadToDeg) +
+               "}, \"covariance\": {\"order\": [\"x_m\", \"y_m\", \"yaw_rad\"], \"matrix\": [";
+        for (int r = 0; r < 3; ++r) {
+          out += r ? ", [" : "[";
+          for (int col = 0; col < 3; ++col) out += (col ? ", " : "") + Num(c(r, col));
+          out += "]";
+        }
+        out += "]}}";
+      }
+      out += "\n  ],\n  \"relative\": [";
+      for (size_t i = 0; i < several.relative.size(); ++i) {
+        const pipeline::RelativeMountResult& relative = several.relative[i];
+        const solvers::Mount& m = relative.mount.from_T_to;
+        const Eigen::Matrix3d& c = relative.mount.covariance;
+        out += std::string(i ? ",\n" : "\n") + "    {\"from\": " + JsonString(relative.from_id) +
+               ", \"to\": " + JsonString(relative.to_id) + ", \"x_m\": " + Num(m.x_m) +
+               ", \"y_m\": " + Num(m.y_m) + ", \"yaw_rad\": " + Num(m.yaw_rad) +
+               ", \"yaw_deg\": " + Num(m.yaw_rad * kRadToDeg) + ", \"sigma\": {\"x_m\": " +
+               Num(Sigma(c, 0)) + ", \"y_m\": " + Num(Sigma(c, 1)) + ", \"yaw_rad\": " +
+               Num(Sigma(c, 2)) + ", \"yaw_deg\": " + Num(Sigma(c, 2) * kRadToDeg) + "}}";
+      }
+      out += "\n  ],\n";
+      if (antenna) {
+        const PlanarTransform& b = joints.front();
+        out += "  \"base_link\": {\"parent_frame\": \"" + b.parent + "\", \"child_frame\": \"" +
+               b.child + "\", \"x_m\": " + Num(b.x_m) + ", \"y_m\": " + Num(b.y_m) +
+               ", \"z_m\": " + Num(b.z_m) + ", \"yaw_rad\": 0, \"yaw_deg\": 0}\n";
+      } else {
+        out += "  \"base_link\": null\n";
+      }
+      out += "}\n";
+      break;
+    }
+  }
+  return out;
+}
+
+}  // namespace wallcal::outputs

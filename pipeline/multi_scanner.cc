@@ -1,0 +1,113 @@
+// SPDX-License-Identifier: Apache-2.0
+// Several scanners: their own runs, then one joint adjustment (pipeline/multi_scanner.h).
+
+#include "pipeline/multi_scanner.h"
+
+#include <chrono>
+#include <memory>
+
+#include "io/config/session_reader.h"
+
+namespace wallcal::pipeline {
+
+SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool allow_partial,
+                                         const ProgressFn& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  SeveralScannersResult several;
+  several.session = io::ReadSession(request.session_path);
+  if (several.session.scanners.empty()) {
+    throw io::InputError(io::Where(several.session.file, 1,
+                                   "no scanners: list; expected scanners: [{id, model, log}, ...]"));
+  }
+  std::vector<std::string> refused;
+  for (size_t s = 0; s < several.session.scanners.size(); ++s) {
+    ScannerRun run;
+    run.spec = several.session.scanners[s];
+    CalibrateRequest one = request;
+    one.scanner_index = static_cast<int>(s);
+    const std::string prefix = "scanner '" + run.spec.id + "': ";
+    ProgressFn named;
+    if (progress) {
+      named = [&progress, &prefix](const Progress& p) {
+        Progress q = p;
+        q.text = prefix + p.text;
+        progress(q);
+      };
+    }
+    try {
+      run.result = RunCalibration(one, named);
+    } catch (const io::InputError& error) {
+      throw io::InputError(prefix + error.what());
+    }
+    run.own_estimate = run.result.estimate;
+    run.refused = !run.result.estimate.usable;
+    if (run.refused) refused.push_back("'" + run.spec.id + "' (" + run.result.estimate.message + ")");
+    several.scanners.push_back(std::move(run));
+  }
+
+  std::vector<solvers::ScannerObservations> parts;
+  for (ScannerRun& run : several.scanners) {
+    if (run.refused) continue;
+    run.joint_index = static_cast<int>(parts.size());
+    solvers::ScannerObservations part;
+    part.id = run.spec.id;
+    part.observations = &run.result.observations;
+    part.initial = run.result.estimate.mount;
+    part.warm = run.result.estimate.solution_state;
+    parts.push_back(part);
+  }
+  std::string refused_text;
+  for (size_t i = 0; i < refused.size(); ++i) refused_text += (i > 0 ? ", " : "") + refused[i];
+  if (parts.empty() || (!refused.empty() && !allow_partial)) {
+    several.outcome = SeveralOutcome::kFailed;
+    several.message = "mount not determined for scanner " + refused_text +
+                      (parts.empty() ? "" : "; the others are not written without --allow-partial");
+    several.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return several;
+  }
+  if (progress) {
+    Progress p;
+    p.stage = Stage::kSolving;
+    p.text = "joint adjustment of " + std::to_string(parts.size()) + " scanners";
+    progress(p);
+  }
+  const solvers::SolverOptions& options = several.scanners.front().result.options.solver;
+  several.joint = solvers::SolveJointMounts(parts, several.scanners.front().result.walls, options);
+  if (!several.joint.usable) {
+    several.outcome = SeveralOutcome::kFailed;
+    several.message = "the joint adjustment failed: " + several.joint.message;
+    return several;
+  }
+  for (ScannerRun& run : several.scanners) {
+    if (run.joint_index < 0) continue;
+    const int k = run.joint_index;
+    run.result.estimate.mount = several.joint.mounts[k];
+    run.result.estimate.covariance = several.joint.covariance.block<3, 3>(3 * k, 3 * k);
+    run.result.time_offset_s = several.joint.time_offset_s[k];
+  }
+  for (size_t a = 0; a < several.scanners.size(); ++a) {
+    for (size_t b = a + 1; b < several.scanners.size(); ++b) {
+      const ScannerRun& from = several.scanners[a];
+      const ScannerRun& to = several.scanners[b];
+      if (from.joint_index < 0 || to.joint_index < 0) continue;
+      Eigen::Matrix<double, 6, 6> pair;
+      const int i = 3 * from.joint_index, j = 3 * to.joint_index;
+      pair.block<3, 3>(0, 0) = several.joint.covariance.block<3, 3>(i, i);
+      pair.block<3, 3>(0, 3) = several.joint.covariance.block<3, 3>(i, j);
+      pair.block<3, 3>(3, 0) = several.joint.covariance.block<3, 3>(j, i);
+      pair.block<3, 3>(3, 3) = several.joint.covariance.block<3, 3>(j, j);
+      RelativeMountResult relative;
+      relative.from_id = from.spec.id;
+      relative.to_id = to.spec.id;
+      relative.mount = solvers::RelativeMountOf(from.result.estimate.mount,
+                                                to.result.estimate.mount, pair);
+      several.relative.push_back(relative);
+    }
+  }
+  several.outcome = refused.empty() ? SeveralOutcome::kAll : SeveralOutcome::kPartial;
+  if (!refused.empty()) several.message = "left out (--allow-partial): scanner " + refused_text;
+  several.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return several;
+}
+
+}  // namespace wallcal::pipeline

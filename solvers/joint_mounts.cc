@@ -1,0 +1,370 @@
+// SPDX-License-Identifier: Apache-2.0
+// The joint adjustment of several scanners (solvers/joint_mounts.h). Each scanner's part is
+// built by BuildMountProblem as for one scanner (its noise model, its dwell headings, its time
+// prior); the joint problem then takes every scanner's observation rows with their blocks
+// mapped onto one set of shared blocks, and states each shared prior once: the walls' joint
+// prior, one Gauss–Markov chain over the union of the GNSS-error slices, one prior per dwell's
+// heading offset, one drift prior.
+
+#include "solvers/joint_mounts.h"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <utility>
+
+#include "common/angles.h"
+#include "solvers/information.h"
+#include "solvers/mount_problem.h"
+#include "solvers/prior_cost.h"
+#include "solvers/wall_slice_cost.h"
+
+namespace wallcal::solvers {
+namespace {
+
+// As in mount_problem.cc: slices closer in time than ~τ/10⁵ are one GNSS error, and a residual
+// block holds at most this many scans.
+constexpr double kMaxSegmentCorrelation = 0.99999;
+constexpr size_t kScansPerResidualBlock = 32;
+
+// Everything the joint problem points into. Destroyed in reverse order: the joint problem
+// (which owns only the costs it made) first, the scanners' own problems (whose measurement
+// vectors the joint costs read) last.
+struct JointProblem {
+  std::vector<std::unique_ptr<MountProblem>> parts;
+  std::vector<std::array<double, 3>> mounts;
+  std::vector<std::array<double, 2>> times;
+  std::vector<std::array<double, 2>> walls;
+  std::map<int, std::array<double, 2>> biases;     // by GNSS slice id
+  std::map<int, std::array<double, 1>> headings;   // by station id
+  std::array<double, 1> drift{};
+  std::array<double, 1> no_heading{};
+  std::array<double, 2> no_bias{};
+  MountProblem joint;  // only its ceres::Problem is used (for solvers/information.h)
+};
+
+void AddWallPrior(const std::vector<calib::WallGeometry>& walls, const std::set<int>& used,
+                  JointProblem* jp) {
+  ceres::Problem& problem = jp->joint.problem;
+  std::vector<int> prior_walls;
+  std::vector<std::pair<int, int>> coordinates;
+  for (int w : used) {
+    double* block = jp->walls[w].data();
+    const bool offset_free = walls[w].sigma_offset_m > 0.0;
+    const bool angle_free = walls[w].sigma_angle_rad > 0.0;
+    if (!offset_free && !angle_free) {
+      problem.SetParameterBlockConstant(block);
+      continue;
+    }
+    if (!offset_free || !angle_free) {
+      problem.SetManifold(block, new ceres::SubsetManifold(2, {offset_free ? 1 : 0}));
+    }
+    const int index = static_cast<int>(prior_walls.size());
+    prior_walls.push_back(w);
+    if (offset_free) coordinates.emplace_back(index, 0);
+    if (angle_free) coordinates.emplace_back(index, 1);
+  }
+  if (coordinates.empty()) return;
+  const Eigen::MatrixXd full = WallPriorCovariance(walls, prior_walls);
+  const int k = static_cast<int>(coordinates.size());
+  Eigen::MatrixXd covariance(k, k);
+  for (int r = 0; r < k; ++r) {
+    for (int c = 0; c < k; ++c) {
+      covariance(r, c) = full(2 * coordinates[r].first + coordinates[r].second,
+                              2 * coordinates[c].first + coordinates[c].second);
+    }
+  }
+  Eigen::LLT<Eigen::MatrixXd> llt(covariance);
+  if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().minCoeff() > 0.0)) {
+    covariance = Eigen::MatrixXd(covariance.diagonal().asDiagonal());
+    llt.compute(covariance);
+  }
+  const Eigen::MatrixXd whitening = llt.matrixL().solve(Eigen::MatrixXd::Identity(k, k));
+  std::vector<double*> blocks;
+  for (int w : prior_walls) blocks.push_back(jp->walls[w].data());
+  problem.AddResidualBlock(
+      new JointPriorCost(whitening, coordinates, std::vector<int>(blocks.size(), 2)), nullptr,
+      blocks);
+}
+
+// One Gauss–Markov chain over the union of every scanner's GNSS-error slices (mount_problem.cc
+// states it per scanner): the slices are one time grid of the one GNSS stream.
+void AddBiasChain(const SolverOptions& options, JointProblem* jp) {
+  struct Slice {
+    double sigma_m = 0.0;
+    double mid_sum_s = 0.0;
+    int parts = 0;
+  };
+  std::map<int, Slice> slices;
+  for (const auto& part : jp->parts) {
+    for (size_t k = 0; k < part->segment_ids.size(); ++k) {
+      Slice& slice = slices[part->segment_ids[k]];
+      slice.sigma_m = std::max(slice.sigma_m, part->bias_sigma_m[k]);
+      slice.mid_sum_s += part->segment_mid_s[k];
+      slice.parts += 1;
+    }
+  }
+  std::vector<std::pair<double, int>> order;  // (mid time, slice id)
+  for (const auto& [id, slice] : slices) order.emplace_back(slice.mid_sum_s / slice.parts, id);
+  std::stable_sort(order.begin(), order.end());
+  ceres::Problem& problem = jp->joint.problem;
+  int previous = -1;
+  double previous_mid_s = 0.0;
+  for (const auto& [mid_s, id] : order) {
+    const double sigma_m = slices[id].sigma_m;
+    double* block = jp->biases[id].data();
+    if (!(sigma_m > 0.0) || !problem.HasParameterBlock(block)) {
+      previous = -1;
+      continue;
+    }
+    const double rho =
+        previous >= 0 && options.gnss_bias_tau_s > 0.0
+            ? std::min(kMaxSegmentCorrelation,
+                       std::exp(-std::max(0.0, mid_s - previous_mid_s) / options.gnss_bias_tau_s))
+            : 0.0;
+    if (previous < 0 || !(rho > 0.0)) {
+      problem.AddResidualBlock(GaussianPriorCost::Create(Eigen::Vector2d(sigma_m, sigma_m)),
+                               nullptr, block);
+    } else {
+      const double a = rho * sigma_m / slices[previous].sigma_m;
+      problem.AddResidualBlock(GaussMarkovStepCost::Create(a, sigma_m * std::sqrt(1.0 - rho * rho)),
+                               nullptr, jp->biases[previous].data(), block);
+    }
+    previous = id;
+    previous_mid_s = mid_s;
+  }
+}
+
+// Scanner s's observation rows, grouped as BuildMountProblem groups them, on the joint blocks.
+// Returns the walls they use.
+std::set<int> AddObservations(size_t s, const SolverOptions& options, JointProblem* jp) {
+  MountProblem& part = *jp->parts[s];
+  std::map<const double*, double*> joint_block;
+  joint_block[part.mount.data()] = jp->mounts[s].data();
+  joint_block[part.time_offset.data()] = jp->times[s].data();
+  joint_block[part.no_bias.data()] = jp->no_bias.data();
+  joint_block[part.no_heading_offset.data()] = jp->no_heading.data();
+  joint_block[part.heading_drift.data()] = jp->drift.data();
+  std::set<int> walls_used;
+  for (size_t w = 0; w < part.wall_deltas.size(); ++w) {
+    joint_block[part.wall_deltas[w].data()] = jp->walls[w].data();
+  }
+  for (size_t k = 0; k < part.segment_ids.size(); ++k) {
+    joint_block[part.biases[k].data()] = jp->biases[part.segment_ids[k]].data();
+  }
+  for (size_t k = 0; k < part.heading_station_ids.size(); ++k) {
+    joint_block[part.heading_offsets[k].data()] =
+        jp->headings[part.heading_station_ids[k]].data();
+  }
+  std::map<std::array<const double*, 3>, size_t> open_group;
+  std::vector<std::vector<int>> groups;
+  for (size_t i = 0; i < part.measurements.size(); ++i) {
+    if (!(part.weights[i] > 0.0)) continue;
+    const std::array<const double*, 3> key = {part.wall_block[i], part.bias_block[i],
+                                              part.heading_block[i]};
+    auto found = open_group.find(key);
+    if (found == open_group.end() || groups[found->second].size() >= kScansPerResidualBlock) {
+      found = open_group.insert_or_assign(key, groups.size()).first;
+      groups.emplace_back();
+    }
+    groups[found->second].push_back(static_cast<int>(i));
+  }
+  for (size_t w = 0; w < part.wall_deltas.size(); ++w) {
+    for (size_t i = 0; i < part.measurements.size(); ++i) {
+      if (part.weights[i] > 0.0 && part.wall_block[i] == part.wall_deltas[w].data()) {
+        walls_used.insert(static_cast<int>(w));
+        break;
+      }
+    }
+  }
+  for (std::vector<int>& group : groups) {
+    const int first = group.front();
+    jp->joint.problem.AddResidualBlock(
+        new WallSliceCost(part.measurements, std::move(group), options.huber_scale), nullptr,
+        jp->mounts[s].data(), joint_block.at(part.wall_block[first]),
+        joint_block.at(part.bias_block[first]), jp->times[s].data(),
+        joint_block.at(part.heading_block[first]), jp->drift.data());
+  }
+  return walls_used;
+}
+
+// Scanner s's time block as its own problem has it: its prior (centred on what its poses
+// already carry), or held constant.
+void AddTimeBlock(size_t s, const ScannerObservations& scanner, const SolverOptions& options,
+                  JointProblem* jp) {
+  const MountProblem& part = *jp->parts[s];
+  ceres::Problem& problem = jp->joint.problem;
+  double* block = jp->times[s].data();
+  if (!problem.HasParameterBlock(block)) return;
+  if (!part.time_offset_estimated) {
+    problem.SetParameterBlockConstant(block);
+    return;
+  }
+  const calib::VehiclePose& carried = scanner.observations->front().pose;
+  const bool delay = part.heading_delay_estimated;
+  problem.AddResidualBlock(
+      GaussianPriorCost::Create(
+          Eigen::Vector2d(options.time_offset_sigma_s, delay ? options.heading_delay_sigma_s : 1.0),
+          Eigen::Vector2d(-carried.clock_shift_s, delay ? -carried.heading_shift_s : 0.0)),
+      nullptr, block);
+  if (!delay) problem.SetManifold(block, new ceres::SubsetManifold(2, {1}));
+}
+
+}  // namespace
+
+JointMountEstimate SolveJointMounts(const std::vector<ScannerObservations>& scanners,
+                                    const std::vector<calib::WallGeometry>& walls,
+                                    const SolverOptions& options) {
+  JointMountEstimate estimate;
+  const size_t n = scanners.size();
+  auto jp = std::make_unique<JointProblem>();
+  jp->mounts.resize(n);
+  jp->times.assign(n, {0.0, 0.0});
+  jp->walls.assign(walls.size(), {0.0, 0.0});
+  // The drift's reference time: the earliest observation of any scanner (each part counts its
+  // drift times from its own earliest; they are moved onto the joint reference below).
+  double reference_s = std::numeric_limits<double>::infinity();
+  for (size_t s = 0; s < n; ++s) {
+    const ScannerObservations& scanner = scanners[s];
+    if (scanner.observations == nullptr || scanner.observations->empty()) {
+      estimate.message = "scanner '" + scanner.id + "' has no wall observation";
+      return estimate;
+    }
+    std::string error;
+    std::unique_ptr<MountProblem> part = BuildMountProblem(
+        *scanner.observations, walls, options, scanner.initial, scanner.initial, &error);
+    if (part == nullptr) {
+      estimate.message = "scanner '" + scanner.id + "': " + error;
+      return estimate;
+    }
+    if (scanner.warm != nullptr) ApplyWarmStart(*scanner.warm, part.get());
+    reference_s = std::min(reference_s, part->heading_reference_s);
+    jp->mounts[s] = {scanner.initial.x_m, scanner.initial.y_m, scanner.initial.yaw_rad};
+    jp->times[s] = part->time_offset;
+    jp->parts.push_back(std::move(part));
+  }
+  // Shared blocks start where the first scanner's own adjustment ended.
+  const MountProblem& first = *jp->parts.front();
+  for (size_t w = 0; w < walls.size(); ++w) jp->walls[w] = first.wall_deltas[w];
+  jp->drift = first.heading_drift;
+  for (const auto& part : jp->parts) {
+    for (auto& m : part->measurements) m.drift_time_s += part->heading_reference_s - reference_s;
+    for (size_t k = 0; k < part->segment_ids.size(); ++k) {
+      jp->biases.emplace(part->segment_ids[k], part->biases[k]);
+    }
+    for (size_t k = 0; k < part->heading_station_ids.size(); ++k) {
+      jp->headings.emplace(part->heading_station_ids[k], part->heading_offsets[k]);
+    }
+  }
+
+  std::set<int> walls_used;
+  for (size_t s = 0; s < n; ++s) {
+    const std::set<int> used = AddObservations(s, options, jp.get());
+    walls_used.insert(used.begin(), used.end());
+    AddTimeBlock(s, scanners[s], options, jp.get());
+    for (size_t i = 0; i < jp->parts[s]->weights.size(); ++i) {
+      if (jp->parts[s]->weights[i] > 0.0) ++estimate.observations_used;
+    }
+  }
+  ceres::Problem& problem = jp->joint.problem;
+  AddWallPrior(walls, walls_used, jp.get());
+  AddBiasChain(options, jp.get());
+  // Heading offsets: one prior per dwell, σ as the first scanner that saw the dwell has it.
+  std::set<int> stated;
+  for (const auto& part : jp->parts) {
+    for (size_t k = 0; k < part->heading_station_ids.size(); ++k) {
+      const int station = part->heading_station_ids[k];
+      double* block = jp->headings[station].data();
+      if (!(part->heading_offset_sigma_rad[k] > 0.0) || !problem.HasParameterBlock(block) ||
+          !stated.insert(station).second) {
+        continue;
+      }
+      problem.AddResidualBlock(ScalarPriorCost::Create(part->heading_offset_sigma_rad[k]),
+                               nullptr, block);
+    }
+  }
+  if (problem.HasParameterBlock(jp->no_heading.data())) {
+    problem.SetParameterBlockConstant(jp->no_heading.data());
+  }
+  if (problem.HasParameterBlock(jp->no_bias.data())) {
+    problem.SetParameterBlockConstant(jp->no_bias.data());
+  }
+  if (problem.HasParameterBlock(jp->drift.data())) {
+    if (options.heading_drift_sigma_rad_per_s > 0.0) {
+      problem.AddResidualBlock(ScalarPriorCost::Create(options.heading_drift_sigma_rad_per_s),
+                               nullptr, jp->drift.data());
+    } else {
+      problem.SetParameterBlockConstant(jp->drift.data());
+    }
+  }
+
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  solver_options.max_num_iterations = options.max_iterations;
+  // Stops about 0.01 σ from the minimum along the weakest direction (as ceres_solver.cc).
+  solver_options.function_tolerance =
+      std::min(1e-6, 0.02 / std::max(1, problem.NumResiduals()));
+  solver_options.num_threads = std::max(1, options.num_threads);
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  estimate.solver_report = summary.BriefReport();
+  if (!summary.IsSolutionUsable()) {
+    estimate.message = "the joint adjustment did not solve: " + summary.message;
+    return estimate;
+  }
+
+  std::vector<double*> kept;
+  for (auto& mount : jp->mounts) kept.push_back(mount.data());
+  const Eigen::MatrixXd information = MarginalInformation(jp->joint, kept, options.num_threads);
+  Eigen::MatrixXd covariance;
+  if (information.rows() != static_cast<int>(3 * n) || !CovarianceOfKept(information, &covariance)) {
+    estimate.message = "the joint covariance of the mounts could not be computed (a mount "
+                       "direction the data do not determine)";
+    return estimate;
+  }
+  estimate.covariance = covariance;
+  for (size_t s = 0; s < n; ++s) {
+    Mount mount;
+    mount.x_m = jp->mounts[s][0];
+    mount.y_m = jp->mounts[s][1];
+    mount.yaw_rad = WrapAngle(jp->mounts[s][2]);
+    estimate.mounts.push_back(mount);
+    const bool estimated = jp->parts[s]->time_offset_estimated;
+    estimate.time_offset_estimated.push_back(estimated);
+    estimate.time_offset_s.push_back(scanners[s].observations->front().pose.clock_shift_s +
+                                     (estimated ? jp->times[s][0] : 0.0));
+  }
+  estimate.usable = true;
+  return estimate;
+}
+
+RelativeMount RelativeMountOf(const Mount& from, const Mount& to,
+                              const Eigen::Matrix<double, 6, 6>& joint_covariance) {
+  // from_T_to: t = R(−ψ_f)(p_t − p_f), yaw = ψ_t − ψ_f.
+  const double c = std::cos(from.yaw_rad), s = std::sin(from.yaw_rad);
+  const double dx = to.x_m - from.x_m, dy = to.y_m - from.y_m;
+  RelativeMount relative;
+  relative.from_T_to.x_m = c * dx + s * dy;
+  relative.from_T_to.y_m = -s * dx + c * dy;
+  relative.from_T_to.yaw_rad = WrapAngle(to.yaw_rad - from.yaw_rad);
+  Eigen::Matrix<double, 3, 6> jacobian = Eigen::Matrix<double, 3, 6>::Zero();
+  // d/d(from): −R(−ψ_f) on the position, and d/dψ_f of R(−ψ_f)(p_t − p_f) = (y, −x).
+  jacobian.block<2, 2>(0, 0) << -c, -s, s, -c;
+  jacobian(0, 2) = relative.from_T_to.y_m;
+  jacobian(1, 2) = -relative.from_T_to.x_m;
+  jacobian(2, 2) = -1.0;
+  jacobian.block<2, 2>(0, 3) << c, s, -s, c;
+  jacobian(2, 5) = 1.0;
+  relative.covariance = jacobian * joint_covariance * jacobian.transpose();
+  relative.covariance = 0.5 * (relative.covariance + relative.covariance.transpose());
+  return relative;
+}
+
+}  // namespace wallcal::solvers

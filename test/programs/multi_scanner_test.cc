@@ -1,0 +1,293 @@
+// SPDX-License-Identifier: Apache-2.0
+// Sessions with several scanners (session.yaml `scanners:`), end to end: one simulated
+// two-scanner session in text, ROS 1 and MCAP form calibrates to the same mounts; the emitted
+// URDF and static TF form one tree; bad input names the scanner; a scanner that never sees the
+// wall fails the run unless --allow-partial.
+//
+// Tolerances: the three forms carry the same numbers (rounding only, nanometres), so their
+// mounts agree within 0.1 σ; the mounts lie within 4.5 σ of the truth on every axis (a test that
+// fails by chance once in ~10⁵ runs per axis), σ from the joint covariance.
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include "common/angles.h"
+#include "io/config/session_reader.h"
+#include "pipeline/multi_scanner.h"
+#include "sim/recording_session.h"
+#include "sim/simulated_session.h"
+#include "test/support/program_runner.h"
+#include "test/support/scratch_dir.h"
+
+namespace wallcal {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path FreshDir(const std::string& name) {
+  static const testing_support::ScratchDir scratch("wallcal_multi_");
+  const fs::path dir = scratch.path() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// The two corner scanners of configs/simulate/two_corner_scanners.yaml, on a short stop-and-go
+// run (8 stations of 3 s).
+sim::SimulationConfig TwoScanners() {
+  sim::SimulationConfig config = sim::ReadSimulationConfig(
+      std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/two_corner_scanners.yaml");
+  config.num_stations = 8;
+  config.dwell_s = 3.0;
+  return config;
+}
+
+const fs::path& TextSession() {
+  static const fs::path dir = [] {
+    const fs::path d = FreshDir("text");
+    sim::WriteSimulatedSession(TwoScanners(), 7, d.string());
+    return d;
+  }();
+  return dir;
+}
+
+fs::path SessionAs(const std::string& format) {
+  const fs::path dir = FreshDir(format);
+  fs::copy(TextSession(), dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  sim::ConvertSessionToRecording(dir.string(), *sim::ParseSessionFormat(format));
+  return dir;
+}
+
+pipeline::SeveralScannersResult Calibrate(const fs::path& dir, bool allow_partial = false) {
+  pipeline::CalibrateRequest request;
+  request.session_path = dir.string();
+  return pipeline::RunSeveralScanners(request, allow_partial);
+}
+
+double Sigma(const pipeline::ScannerRun& run, int axis) {
+  return std::sqrt(run.result.estimate.covariance(axis, axis));
+}
+
+double Axis(const solvers::Mount& m, int axis) {
+  return axis == 0 ? m.x_m : axis == 1 ? m.y_m : m.yaw_rad;
+}
+
+TEST(MultiScannerTest, SessionListsEveryScannerWithItsOwnLog) {
+  const io::SessionSpec session = io::ReadSession(TextSession().string());
+  ASSERT_EQ(session.scanners.size(), 2u);
+  EXPECT_EQ(session.scanners[0].id, "front_left");
+  EXPECT_EQ(session.scanners[0].frame, "front_left");
+  EXPECT_NE(session.scanners[0].log, session.scanners[1].log);
+  const io::SessionSpec one = io::SessionForScanner(session, 1);
+  EXPECT_EQ(one.scanner_log, session.scanners[1].log);
+  EXPECT_TRUE(one.scanners.empty());
+}
+
+TEST(MultiScannerTest, TextRos1AndMcapGiveTheSameMountsNearTheTruth) {
+  const sim::SimulationConfig truth = TwoScanners();
+  const pipeline::SeveralScannersResult text = Calibrate(TextSession());
+  ASSERT_EQ(text.outcome, pipeline::SeveralOutcome::kAll) << text.message;
+  ASSERT_EQ(text.scanners.size(), 2u);
+  ASSERT_EQ(text.relative.size(), 1u);
+  for (size_t k = 0; k < 2; ++k) {
+    const pipeline::ScannerRun& run = text.scanners[k];
+    const solvers::Mount true_mount{truth.scanners[k].mount_x_m, truth.scanners[k].mount_y_m,
+                                    truth.scanners[k].mount_yaw_rad};
+    for (int axis = 0; axis < 3; ++axis) {
+      const double error = Axis(run.result.estimate.mount, axis) - Axis(true_mount, axis);
+      EXPECT_LT(std::abs(error), 4.5 * Sigma(run, axis)) << run.spec.id << " axis " << axis;
+    }
+  }
+  for (const std::string format : {"ros1", "mcap"}) {
+    const pipeline::SeveralScannersResult other = Calibrate(SessionAs(format));
+    ASSERT_EQ(other.outcome, pipeline::SeveralOutcome::kAll) << format << ": " << other.message;
+    for (size_t k = 0; k < 2; ++k) {
+      for (int axis = 0; axis < 3; ++axis) {
+        EXPECT_NEAR(Axis(other.scanners[k].result.estimate.mount, axis),
+                    Axis(text.scanners[k].result.estimate.mount, axis),
+                    0.1 * Sigma(text.scanners[k], axis))
+            << format << " " << text.scanners[k].spec.id << " axis " << axis;
+      }
+    }
+  }
+}
+
+TEST(MultiScannerTest, RelativeTransformIsTheDifferenceOfTheMounts) {
+  const pipeline::SeveralScannersResult result = Calibrate(TextSession());
+  ASSERT_EQ(result.outcome, pipeline::SeveralOutcome::kAll) << result.message;
+  const solvers::Mount& a = result.scanners[0].result.estimate.mount;
+  const solvers::Mount& b = result.scanners[1].result.estimate.mount;
+  const solvers::Mount& rel = result.relative[0].mount.from_T_to;
+  // Back to b: a ∘ rel.
+  EXPECT_NEAR(a.x_m + std::cos(a.yaw_rad) * rel.x_m - std::sin(a.yaw_rad) * rel.y_m, b.x_m, 1e-9);
+  EXPECT_NEAR(a.y_m + std::sin(a.yaw_rad) * rel.x_m + std::cos(a.yaw_rad) * rel.y_m, b.y_m, 1e-9);
+  EXPECT_NEAR(a.yaw_rad + rel.yaw_rad, b.yaw_rad, 1e-9);
+  // The joint covariance is a covariance: symmetric, positive definite.
+  const Eigen::MatrixXd& c = result.joint.covariance;
+  ASSERT_EQ(c.rows(), 6);
+  EXPECT_LT((c - c.transpose()).norm(), 1e-12 * c.norm());
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(c).eigenvalues().minCoeff(), 0.0);
+}
+
+// ---- The program ----------------------------------------------------------------------------
+
+// stdout only, so that --emit's text can be parsed.
+testing_support::ProgramRun RunCalibrate(const fs::path& dir, std::vector<std::string> options) {
+  options.insert(options.begin(), {"calibrate", dir.string()});
+  return testing_support::RunWallcal(options);
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The text session with antenna_in_base, so that --emit gives base_link too.
+fs::path SessionWithBase() {
+  const fs::path dir = FreshDir("with_base");
+  fs::copy(TextSession(), dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  std::ofstream(dir / "session.yaml", std::ios::app) << "antenna_in_base: {x: -0.4, y: 0, z: 2.1}\n";
+  return dir;
+}
+
+// parent -> child pairs form one tree: every child one parent, one root, every frame reached.
+void ExpectOneTree(const std::multimap<std::string, std::string>& child_to_parent,
+                   const std::set<std::string>& expected_children) {
+  std::set<std::string> frames, children;
+  for (const auto& [child, parent] : child_to_parent) {
+    EXPECT_EQ(child_to_parent.count(child), 1u) << child << " has two parents";
+    children.insert(child);
+    frames.insert(child);
+    frames.insert(parent);
+  }
+  int roots = 0;
+  for (const std::string& frame : frames) roots += children.count(frame) == 0 ? 1 : 0;
+  EXPECT_EQ(roots, 1);
+  for (const std::string& child : expected_children) EXPECT_EQ(children.count(child), 1u) << child;
+}
+
+TEST(MultiScannerTest, EmittedStaticTfAndUrdfFormOneTree) {
+  const fs::path dir = SessionWithBase();
+  const fs::path out = dir / "offsets.yaml";
+  const std::set<std::string> expected = {"gnss_antenna", "front_left", "front_right"};
+  {
+    const testing_support::ProgramRun run =
+        RunCalibrate(dir, {"--quiet", "--emit", "ros2-static-tf"});
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    std::multimap<std::string, std::string> edges;
+    std::istringstream lines(run.out);
+    std::string line;
+    while (std::getline(lines, line)) {
+      const size_t f = line.find("--frame-id "), c = line.find("--child-frame-id ");
+      if (f == std::string::npos || c == std::string::npos) continue;
+      const std::string parent = line.substr(f + 11, line.find(' ', f + 11) - f - 11);
+      edges.emplace(line.substr(c + 17), parent);
+    }
+    EXPECT_EQ(edges.size(), 3u);
+    ExpectOneTree(edges, expected);
+  }
+  {
+    const testing_support::ProgramRun run = RunCalibrate(dir, {"--quiet", "--emit", "urdf"});
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    std::multimap<std::string, std::string> edges;
+    size_t at = 0;
+    while ((at = run.out.find("<parent link=\"", at)) != std::string::npos) {
+      const size_t p = at + 14;
+      const std::string parent = run.out.substr(p, run.out.find('"', p) - p);
+      const size_t c = run.out.find("<child link=\"", p) + 13;
+      edges.emplace(run.out.substr(c, run.out.find('"', c) - c), parent);
+      at = c;
+    }
+    EXPECT_EQ(edges.size(), 3u);
+    ExpectOneTree(edges, expected);
+  }
+  const std::string offsets = ReadText(out);
+  EXPECT_NE(offsets.find("scanner_mounts:\n  - id: front_left\n"), std::string::npos) << offsets;
+  EXPECT_NE(offsets.find("  - id: front_right\n"), std::string::npos);
+  EXPECT_NE(offsets.find("relative_mounts:\n  - from: front_left\n    to: front_right\n"),
+            std::string::npos);
+  EXPECT_NE(offsets.find("joint_covariance:\n"), std::string::npos);
+  EXPECT_EQ(offsets.find("\nscanner_mount:"), std::string::npos);
+}
+
+// ---- Bad input and refused scanners -----------------------------------------------------------
+
+// session.yaml of the text session with its scanners: block replaced by `scanners`.
+fs::path SessionWithScanners(const std::string& name, const std::string& scanners) {
+  const fs::path dir = FreshDir(name);
+  fs::copy(TextSession(), dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  const std::string text = ReadText(dir / "session.yaml");
+  const size_t start = text.find("scanners:\n");
+  const size_t end = text.find("gnss:\n");
+  std::ofstream(dir / "session.yaml", std::ios::trunc)
+      << text.substr(0, start) << scanners << text.substr(end);
+  return dir;
+}
+
+std::string ReadError(const fs::path& dir) {
+  try {
+    io::ReadSession(dir.string());
+  } catch (const io::InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(MultiScannerTest, BadScannerListsAreRefusedNamingTheScanner) {
+  const std::string left = "  - {id: left, model: sick_lms291, log: scans_front_left.clf}\n";
+  std::string error = ReadError(SessionWithScanners(
+      "duplicate", "scanners:\n" + left +
+                       "  - {id: left, model: sick_lms291, log: scans_front_right.clf}\n"));
+  EXPECT_NE(error.find("scanner 'left' given twice"), std::string::npos) << error;
+  error = ReadError(SessionWithScanners("no_log", "scanners:\n" + left +
+                                                      "  - {id: rear, model: sick_lms291}\n"));
+  EXPECT_NE(error.find("scanner 'rear'.log is missing"), std::string::npos) << error;
+  error = ReadError(SessionWithScanners(
+      "same_topic", "scanners:\n  - {id: a, model: sick_lms291, log: run.bag, topic: /scan}\n"
+                    "  - {id: b, model: sick_lms291, log: run.bag, topic: /scan}\n"));
+  EXPECT_NE(error.find("scanner 'b' reads the same topic /scan as scanner 'a'"), std::string::npos)
+      << error;
+  error = ReadError(SessionWithScanners(
+      "both", "scanner: {model: sick_lms291, log: scans_front_left.clf}\nscanners:\n" + left));
+  EXPECT_NE(error.find("either scanner:"), std::string::npos) << error;
+}
+
+TEST(MultiScannerTest, ScannerThatNeverSeesTheWallFailsTheRunUnlessPartialIsAllowed) {
+  // A third scanner looking backwards (the wall is always ahead): its log is the simulated
+  // rear scanner's.
+  sim::SimulationConfig config = TwoScanners();
+  config.num_stations = 6;
+  sim::SimScanner rear;
+  rear.id = "rear";
+  rear.mount_x_m = -1.0;
+  rear.mount_yaw_rad = 179.0 / kRadToDeg;
+  config.scanners.push_back(rear);
+  const fs::path dir = FreshDir("rear");
+  sim::WriteSimulatedSession(config, 3, dir.string());
+  const testing_support::ProgramRun failed = RunCalibrate(dir, {"--quiet"});
+  EXPECT_EQ(failed.exit_code, 1) << failed.err;
+  EXPECT_NE(failed.err.find("'rear'"), std::string::npos) << failed.err;
+  EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
+  const testing_support::ProgramRun partial = RunCalibrate(dir, {"--quiet", "--allow-partial"});
+  EXPECT_EQ(partial.exit_code, 0) << partial.err;
+  const std::string offsets = ReadText(dir / "offsets.yaml");
+  EXPECT_NE(offsets.find("refused:\n  - {id: rear"), std::string::npos) << offsets;
+  EXPECT_NE(offsets.find("  - id: front_left\n"), std::string::npos);
+  const pipeline::SeveralScannersResult result = Calibrate(dir, true);
+  EXPECT_EQ(result.outcome, pipeline::SeveralOutcome::kPartial);
+  EXPECT_NE(result.message.find("'rear'"), std::string::npos) << result.message;
+}
+
+}  // namespace
+}  // namespace wallcal
