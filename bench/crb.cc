@@ -378,9 +378,9 @@ CrbResult ComputeJointCrb(const std::vector<sim::SimulationConfig>& scanner_conf
                                  delays.heading_delay_prior_sigma_s};
   for (int kind = 0; kind < 3; ++kind) {
     if (!(prior_sigma[kind] > 0.0)) continue;
-    for (int k = 0; k < (kind == 0 ? scanners : 1); ++k) {
+    for (int s = 0; s < (kind == 0 ? scanners : 1); ++s) {
       delay_kind.push_back(kind);
-      delay_scanner.push_back(kind == 0 ? k : -1);
+      delay_scanner.push_back(kind == 0 ? s : -1);
       prior_information.push_back(1.0 / (prior_sigma[kind] * prior_sigma[kind]));
     }
   }
