@@ -74,7 +74,9 @@ const CommandHelp& CalibrateHelp() {
            "without it z = 0 and the emitted text says so."},
           {"--parent-frame", "", "NAME", ValueKind::kWord, {},
            "the antenna frame's name (default gnss_antenna)"},
-          {"--child-frame", "", "NAME", ValueKind::kWord, {}, "the scanner frame's name (default laser)"},
+          {"--child-frame", "", "NAME", ValueKind::kWord, {},
+           "the scanner frame's name (default laser; with scanners: in session.yaml\n"
+           "each scanner's frame: or id)"},
           {"--base-frame", "", "NAME", ValueKind::kWord, {},
            "the vehicle frame's name (default base_link). Frame names as tf2 takes\n"
            "them: letters, digits, '_', '.', '/', '-', no leading '/'. The names are\n"

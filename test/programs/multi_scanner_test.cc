@@ -23,6 +23,7 @@
 #include "common/angles.h"
 #include "io/config/session_reader.h"
 #include "pipeline/multi_scanner.h"
+#include "preflight/inspect.h"
 #include "sim/recording_session.h"
 #include "sim/simulated_session.h"
 #include "test/support/program_runner.h"
@@ -136,6 +137,19 @@ TEST(MultiScannerTest, RelativeTransformIsTheDifferenceOfTheMounts) {
   ASSERT_EQ(c.rows(), 6);
   EXPECT_LT((c - c.transpose()).norm(), 1e-12 * c.norm());
   EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(c).eigenvalues().minCoeff(), 0.0);
+}
+
+TEST(MultiScannerTest, InspectChecksEachScannerAndSuggestsEveryScanTopic) {
+  const preflight::SessionInspection inspection =
+      preflight::InspectSession(TextSession().string());
+  EXPECT_NE(inspection.report.find("=== scanner 'front_left' (1 of 2)"), std::string::npos);
+  EXPECT_NE(inspection.report.find("=== scanner 'front_right' (2 of 2)"), std::string::npos);
+  EXPECT_TRUE(inspection.enough) << inspection.report;
+  const fs::path mcap = SessionAs("mcap_suggest");
+  const std::string suggested = preflight::SuggestSession((mcap / "session.mcap").string());
+  EXPECT_NE(suggested.find("scanners:"), std::string::npos) << suggested;
+  EXPECT_NE(suggested.find("  - id: front_left\n"), std::string::npos) << suggested;
+  EXPECT_NE(suggested.find("    topic: /front_right/scan"), std::string::npos) << suggested;
 }
 
 // ---- The program ----------------------------------------------------------------------------
