@@ -61,8 +61,9 @@ const fs::path& TextSession() {
   return dir;
 }
 
-fs::path SessionAs(const std::string& format) {
-  const fs::path dir = FreshDir(format);
+// The text session converted to `format`, in the folder `name` (default: the format's name).
+fs::path SessionAs(const std::string& format, const std::string& name = "") {
+  const fs::path dir = FreshDir(name.empty() ? format : name);
   fs::copy(TextSession(), dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
   sim::ConvertSessionToRecording(dir.string(), *sim::ParseSessionFormat(format));
   return dir;
@@ -145,7 +146,7 @@ TEST(MultiScannerTest, InspectChecksEachScannerAndSuggestsEveryScanTopic) {
   EXPECT_NE(inspection.report.find("=== scanner 'front_left' (1 of 2)"), std::string::npos);
   EXPECT_NE(inspection.report.find("=== scanner 'front_right' (2 of 2)"), std::string::npos);
   EXPECT_TRUE(inspection.enough) << inspection.report;
-  const fs::path mcap = SessionAs("mcap_suggest");
+  const fs::path mcap = SessionAs("mcap", "mcap_suggest");
   const std::string suggested = preflight::SuggestSession((mcap / "session.mcap").string());
   EXPECT_NE(suggested.find("scanners:"), std::string::npos) << suggested;
   EXPECT_NE(suggested.find("  - id: front_left\n"), std::string::npos) << suggested;
