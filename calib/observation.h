@@ -86,14 +86,6 @@ struct VehiclePose {
   // The median GNSS sample period of the stream the position was interpolated from (s; 0:
   // unknown): a moving scan's interpolation error and how many scans share one fix's noise.
   double gnss_period_s = 0.0;
-  // The GNSS fixes and heading samples the pose was interpolated between: the index of the one
-  // at or before its time in the interpolator's stream (-1: unknown) and the fraction of the
-  // way to the next, in [0, 1]. Scans of several scanners at the same instant share those
-  // samples' noise (solvers/joint_mounts.cc). A moving pose from cubics counts as linear here.
-  int gnss_fix = -1;
-  double gnss_fix_fraction = 0.0;
-  int heading_sample = -1;
-  double heading_sample_fraction = 0.0;
   // Inside a dwell (stationary): the circular mean of the heading samples over the whole dwell
   // (rad, same frame as yaw_rad), how many samples it averages, and the dwell's middle time (s).
   // The vehicle's true yaw is constant over a dwell, so the solver uses this mean instead of the

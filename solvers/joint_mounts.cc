@@ -1,13 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // The joint adjustment of several scanners (solvers/joint_mounts.h). Each scanner's part is
 // built by BuildMountProblem as for one scanner (its noise model, its dwell headings, its time
-// prior); the joint problem then takes every scanner's observations with their blocks mapped
-// onto one set of shared blocks, and states each shared prior once: the walls' joint prior,
-// one Gauss–Markov chain over the union of the GNSS-error slices, one prior per dwell's heading
-// offset, one drift prior. The white noise of each GNSS fix and heading sample is a parameter
-// of its own (EpochNoiseCost), not part of each scan's covariance: two scanners' scans of one
-// instant are interpolated from the same fixes and samples, so their pose errors are one error,
-// which cancels in the transform between the scanners.
+// prior); the joint problem then takes every scanner's observation rows with their blocks
+// mapped onto one set of shared blocks, and states each shared prior once: the walls' joint
+// prior, one Gauss–Markov chain over the union of the GNSS-error slices, one prior per dwell's
+// heading offset, one drift prior.
 
 #include "solvers/joint_mounts.h"
 
@@ -19,13 +16,10 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <memory>
 #include <set>
 #include <utility>
-#include <vector>
 
 #include "common/angles.h"
-#include "solvers/epoch_noise_cost.h"
 #include "solvers/information.h"
 #include "solvers/mount_problem.h"
 #include "solvers/prior_cost.h"
@@ -34,8 +28,10 @@
 namespace wallcal::solvers {
 namespace {
 
-// As in mount_problem.cc: slices closer in time than ~τ/10⁵ are one GNSS error.
+// As in mount_problem.cc: slices closer in time than ~τ/10⁵ are one GNSS error, and a residual
+// block holds at most this many scans.
 constexpr double kMaxSegmentCorrelation = 0.99999;
+constexpr size_t kScansPerResidualBlock = 32;
 
 // Everything the joint problem points into. Destroyed in reverse order: the joint problem
 // (which owns only the costs it made) first, the scanners' own problems (whose measurement
@@ -50,13 +46,6 @@ struct JointProblem {
   std::array<double, 1> drift{};
   std::array<double, 1> no_heading{};
   std::array<double, 2> no_bias{};
-  // The white noise of the GNSS fixes [east_m, north_m] and heading samples [rad] by their index
-  // in the streams (solvers/epoch_noise_cost.h), and the zero stand-ins.
-  std::map<int, std::array<double, 2>> fix_noise;
-  std::map<int, std::array<double, 1>> heading_noise;
-  // (two of each: Ceres takes a block once per residual block).
-  std::array<std::array<double, 2>, 2> no_fix_noise{};
-  std::array<std::array<double, 1>, 2> no_heading_noise{};
   MountProblem joint;  // only its ceres::Problem is used (for solvers/information.h)
 };
 
@@ -152,18 +141,17 @@ void AddBiasChain(const SolverOptions& options, JointProblem* jp) {
   }
 }
 
-// Scanner s's observations on the joint blocks, one residual block each (EpochNoiseCost): the
-// white noise of the GNSS fixes and heading samples a scan's pose was interpolated from is
-// there as the shared per-fix and per-sample parameters, so each scan's W is made again from
-// its covariance without that noise. Returns the walls they use.
-std::set<int> AddObservations(size_t s, const ScannerObservations& scanner,
-                              const std::vector<calib::WallGeometry>& walls,
-                              const SolverOptions& options, JointProblem* jp) {
+// Scanner s's observation rows, grouped as BuildMountProblem groups them, on the joint blocks.
+// Returns the walls they use.
+std::set<int> AddObservations(size_t s, const SolverOptions& options, JointProblem* jp) {
   MountProblem& part = *jp->parts[s];
-  const std::vector<calib::WallObservation>& observations = *scanner.observations;
   std::map<const double*, double*> joint_block;
+  joint_block[part.mount.data()] = jp->mounts[s].data();
+  joint_block[part.time_offset.data()] = jp->times[s].data();
   joint_block[part.no_bias.data()] = jp->no_bias.data();
   joint_block[part.no_heading_offset.data()] = jp->no_heading.data();
+  joint_block[part.heading_drift.data()] = jp->drift.data();
+  std::set<int> walls_used;
   for (size_t w = 0; w < part.wall_deltas.size(); ++w) {
     joint_block[part.wall_deltas[w].data()] = jp->walls[w].data();
   }
@@ -174,63 +162,36 @@ std::set<int> AddObservations(size_t s, const ScannerObservations& scanner,
     joint_block[part.heading_offsets[k].data()] =
         jp->headings[part.heading_station_ids[k]].data();
   }
-  const double scans_per_fix = MovingScansPerGnssFix(observations);
-  std::set<int> walls_used;
+  std::map<std::array<const double*, 3>, size_t> open_group;
+  std::vector<std::vector<int>> groups;
   for (size_t i = 0; i < part.measurements.size(); ++i) {
     if (!(part.weights[i] > 0.0)) continue;
-    const calib::WallObservation& observation = observations[i];
-    walls_used.insert(observation.wall_index);
-    const Eigen::Matrix2d covariance = ObservationCovariance(
-        observation, walls[observation.wall_index], options, scanner.initial,
-        PoseBiasSigma(observation.pose, options), scans_per_fix, EpochNoise::kAsParameters);
-    const Eigen::LLT<Eigen::Matrix2d> llt(covariance);
-    if (llt.info() == Eigen::Success && llt.matrixLLT().diagonal().minCoeff() > 0.0) {
-      part.measurements[i].sqrt_information =
-          std::sqrt(part.weights[i]) *
-          Eigen::Matrix2d(llt.matrixL().solve(Eigen::Matrix2d::Identity()));
+    const std::array<const double*, 3> key = {part.wall_block[i], part.bias_block[i],
+                                              part.heading_block[i]};
+    auto found = open_group.find(key);
+    if (found == open_group.end() || groups[found->second].size() >= kScansPerResidualBlock) {
+      found = open_group.insert_or_assign(key, groups.size()).first;
+      groups.emplace_back();
     }
-    const calib::VehiclePose& pose = observation.pose;
-    const bool fix = pose.gnss_fix >= 0;
-    // A dwell's scans use the dwell's mean heading, whose error is the dwell's offset.
-    const bool sample = pose.heading_sample >= 0 && !UsesDwellHeading(observation);
-    double* fix_a = fix ? jp->fix_noise[pose.gnss_fix].data() : jp->no_fix_noise[0].data();
-    double* fix_b = fix ? jp->fix_noise[pose.gnss_fix + 1].data() : jp->no_fix_noise[1].data();
-    double* sample_a =
-        sample ? jp->heading_noise[pose.heading_sample].data() : jp->no_heading_noise[0].data();
-    double* sample_b = sample ? jp->heading_noise[pose.heading_sample + 1].data()
-                              : jp->no_heading_noise[1].data();
-    auto scan = std::make_unique<WallSliceCost>(part.measurements, std::vector<int>{static_cast<int>(i)},
-                                                options.huber_scale);
+    groups[found->second].push_back(static_cast<int>(i));
+  }
+  for (size_t w = 0; w < part.wall_deltas.size(); ++w) {
+    for (size_t i = 0; i < part.measurements.size(); ++i) {
+      if (part.weights[i] > 0.0 && part.wall_block[i] == part.wall_deltas[w].data()) {
+        walls_used.insert(static_cast<int>(w));
+        break;
+      }
+    }
+  }
+  for (std::vector<int>& group : groups) {
+    const int first = group.front();
     jp->joint.problem.AddResidualBlock(
-        new EpochNoiseCost(std::move(scan), fix ? pose.gnss_fix_fraction : 0.0,
-                           sample ? pose.heading_sample_fraction : 0.0),
-        nullptr,
-        std::vector<double*>{jp->mounts[s].data(), joint_block.at(part.wall_block[i]),
-                             joint_block.at(part.bias_block[i]), jp->times[s].data(),
-                             joint_block.at(part.heading_block[i]), jp->drift.data(), fix_a,
-                             fix_b, sample_a, sample_b});
+        new WallSliceCost(part.measurements, std::move(group), options.huber_scale), nullptr,
+        jp->mounts[s].data(), joint_block.at(part.wall_block[first]),
+        joint_block.at(part.bias_block[first]), jp->times[s].data(),
+        joint_block.at(part.heading_block[first]), jp->drift.data());
   }
   return walls_used;
-}
-
-// The white noise of every GNSS fix and heading sample some scan was interpolated from: a
-// zero-mean prior of the options' σ on each (the noise ObservationCovariance otherwise puts in
-// every scan's covariance); the stand-ins for scans without one held at 0.
-void AddEpochNoisePriors(const SolverOptions& options, JointProblem* jp) {
-  ceres::Problem& problem = jp->joint.problem;
-  for (auto& [fix, noise] : jp->fix_noise) {
-    problem.AddResidualBlock(
-        GaussianPriorCost::Create(Eigen::Vector2d::Constant(options.gnss_white_sigma_m)), nullptr,
-        noise.data());
-  }
-  for (auto& [sample, noise] : jp->heading_noise) {
-    problem.AddResidualBlock(ScalarPriorCost::Create(options.heading_sigma_rad), nullptr,
-                             noise.data());
-  }
-  for (double* block : {jp->no_fix_noise[0].data(), jp->no_fix_noise[1].data(),
-                        jp->no_heading_noise[0].data(), jp->no_heading_noise[1].data()}) {
-    if (problem.HasParameterBlock(block)) problem.SetParameterBlockConstant(block);
-  }
 }
 
 // Scanner s's time block as its own problem has it: its prior (centred on what its poses
@@ -304,7 +265,7 @@ JointMountEstimate SolveJointMounts(const std::vector<ScannerObservations>& scan
 
   std::set<int> walls_used;
   for (size_t s = 0; s < n; ++s) {
-    const std::set<int> used = AddObservations(s, scanners[s], walls, options, jp.get());
+    const std::set<int> used = AddObservations(s, options, jp.get());
     walls_used.insert(used.begin(), used.end());
     AddTimeBlock(s, scanners[s], options, jp.get());
     for (size_t i = 0; i < jp->parts[s]->weights.size(); ++i) {
@@ -314,7 +275,6 @@ JointMountEstimate SolveJointMounts(const std::vector<ScannerObservations>& scan
   ceres::Problem& problem = jp->joint.problem;
   AddWallPrior(walls, walls_used, jp.get());
   AddBiasChain(options, jp.get());
-  AddEpochNoisePriors(options, jp.get());
   // Heading offsets: one prior per dwell, σ as the first scanner that saw the dwell has it.
   std::set<int> stated;
   for (const auto& part : jp->parts) {

@@ -4,9 +4,7 @@
 // vehicle's error states (the GNSS-error slices with their Gauss–Markov chain, the dwells'
 // heading offsets, the heading drift), the walls and their survey tie; each scanner has its own
 // mount vehicle_T_scanner = [x_m, y_m, yaw_rad] and its own time block [clock offset, heading
-// delay]. The white noise of every GNSS fix and heading sample is a shared parameter too
-// (solvers/epoch_noise_cost.h): scans of two scanners at one instant come from the same fixes.
-// The joint covariance of all mounts comes from the one information path
+// delay]. The joint covariance of all mounts comes from the one information path
 // (solvers/information.h): the shared errors show in it as the correlation between the mounts,
 // and cancel in the relative transform between two scanners (RelativeMount).
 

@@ -33,13 +33,14 @@ constexpr double kMaxSegmentCorrelation = 0.99999;
 // has 19; the cap bounds a block's Jacobian when slices are long.
 constexpr size_t kScansPerResidualBlock = 32;
 
-}  // namespace
-
-// The GST σ when the log has one and the options allow it, the configured bias σ otherwise.
+// The σ of the correlated GNSS error for one observation's position: the GST σ when the log has
+// one and the options allow it, the configured bias σ otherwise.
 double PoseBiasSigma(const calib::VehiclePose& pose, const solvers::SolverOptions& options) {
   if (options.use_gst_sigma && pose.gnss_sigma_m > 0.0) return pose.gnss_sigma_m;
   return options.gnss_bias_sigma_m;
 }
+
+}  // namespace
 
 double MovingScansPerGnssFix(const std::vector<calib::WallObservation>& observations) {
   std::vector<double> stamps;
@@ -123,8 +124,7 @@ double DrivesTimingSigma(const std::vector<calib::WallObservation>& observations
 Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       const calib::WallGeometry& wall,
                                       const solvers::SolverOptions& options, const Mount& lever_mount,
-                                      double bias_sigma_m, double scans_per_gnss_fix,
-                                      EpochNoise epoch_noise) {
+                                      double bias_sigma_m, double scans_per_gnss_fix) {
   const calib::OrientedWall oriented = calib::OrientWall(wall, observation.pose.antenna_local_m);
   Eigen::Matrix2d covariance;
   covariance << observation.sigma_rho_m * observation.sigma_rho_m, observation.cov_rho_theta,
@@ -134,12 +134,7 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
   // segment there is no bias block, so the correlated part is counted here as if it were white
   // (optimistic for that observation, but such observations are rare: moving scans outside
   // any segment).
-  const bool fix_as_parameters =
-      epoch_noise == EpochNoise::kAsParameters && observation.pose.gnss_fix >= 0;
-  const bool heading_as_parameters =
-      epoch_noise == EpochNoise::kAsParameters && observation.pose.heading_sample >= 0;
-  double position_variance_m2 =
-      fix_as_parameters ? 0.0 : options.gnss_white_sigma_m * options.gnss_white_sigma_m;
+  double position_variance_m2 = options.gnss_white_sigma_m * options.gnss_white_sigma_m;
   // A moving scan: the scans between the same two fixes share their white noise (the bias
   // slices, tied by the Gauss–Markov chain, do not take it up). Counted as white at the
   // variance times the scans per fix, the mean over those scans gets the fix's variance.
@@ -156,7 +151,7 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
   // A dwell's scans use the dwell's mean heading: its error is common to the dwell and lives
   // in the segment's heading-offset parameter (which turns the lever arm in the cost itself),
   // not in each scan's covariance.
-  const double heading_variance = UsesDwellHeading(observation) || heading_as_parameters
+  const double heading_variance = UsesDwellHeading(observation)
                                       ? 0.0
                                       : options.heading_sigma_rad * options.heading_sigma_rad;
 

@@ -143,21 +143,10 @@ WarmStart WarmStartFrom(const MountProblem& mp);
 // A moving observation (one that does not use its dwell's heading) also gets
 // MovingPoseCovariance, and its GNSS white variance times scans_per_gnss_fix (>= 1; the scans
 // between two fixes share their noise: MovingScansPerGnssFix).
-//
-// EpochNoise::kAsParameters leaves out the white noise of the GNSS fixes (an observation whose
-// pose names its fix, pose.gnss_fix >= 0) and of the heading samples (a moving observation whose
-// pose names its sample): the joint adjustment of several scanners carries those as parameters
-// shared by every scan interpolated from the same samples (solvers/epoch_noise_cost.h).
-enum class EpochNoise { kInCovariance, kAsParameters };
 Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       const calib::WallGeometry& wall,
                                       const solvers::SolverOptions& options, const Mount& lever_mount,
-                                      double bias_sigma_m, double scans_per_gnss_fix = 1.0,
-                                      EpochNoise epoch_noise = EpochNoise::kInCovariance);
-
-// The σ of the correlated GNSS error an observation without a GNSS-error slice carries in its
-// own covariance (m): the `bias_sigma_m` BuildMountProblem gives ObservationCovariance.
-double PoseBiasSigma(const calib::VehiclePose& pose, const solvers::SolverOptions& options);
+                                      double bias_sigma_m, double scans_per_gnss_fix = 1.0);
 
 // The pose uncertainty of a moving scan in its [rho; theta] (m², m·rad, rad²); zero for a scan
 // that uses its dwell's heading. The position and the heading samples each off in time by
