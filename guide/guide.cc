@@ -8,18 +8,12 @@
 
 #include "analysis/repeatability.h"
 #include "common/angles.h"
+#include "common/statistics.h"
 #include "pipeline/calibration.h"
 #include "pipeline/steps.h"
 
 namespace wallcal::guide {
 namespace {
-
-double Median(std::vector<double> values, double fallback) {
-  if (values.empty()) return fallback;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<long>(mid), values.end());
-  return values[mid];
-}
 
 Eigen::Vector2d Lever(const calib::Mount& mount, double yaw_rad) {
   return Eigen::Vector2d(std::cos(yaw_rad) * mount.x_m - std::sin(yaw_rad) * mount.y_m,
@@ -107,9 +101,9 @@ std::vector<StationSummary> SummariseStations(const pipeline::CalibrationResult&
   }
   std::sort(stations.begin(), stations.end(),
             [](const StationSummary& a, const StationSummary& b) { return a.start_s < b.start_s; });
-  model->scan_rate_hz = Median(rates, model->preset.rate_hz);
-  model->heading_rate_hz = Median(heading_rates, 20.0);
-  model->typical_distance_m = Median(distances, 8.0);
+  model->scan_rate_hz = UpperMedian(rates, model->preset.rate_hz);
+  model->heading_rate_hz = UpperMedian(heading_rates, 20.0);
+  model->typical_distance_m = UpperMedian(distances, 8.0);
   return stations;
 }
 
@@ -129,7 +123,7 @@ double FitScale(const StopModel& model, const std::vector<calib::WallObservation
     }
     ratios.push_back(o.sigma_rho_m / fit.sigma_rho_m);
   }
-  return Median(ratios, 1.0);
+  return UpperMedian(ratios, 1.0);
 }
 
 }  // namespace

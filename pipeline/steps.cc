@@ -35,31 +35,12 @@ namespace fs = std::filesystem;
 
 std::string FileName(const std::string& path) { return fs::path(path).filename().string(); }
 
-// "reason: n, first at line L; ..." for the reasons `skips` counts (its problems only when
-// `problems_only`), at most `max_reasons` of them and then "; ...".
-std::string ListReasons(const io::SkipCounts& skips, bool problems_only,
-                        size_t max_reasons = std::numeric_limits<size_t>::max()) {
-  std::ostringstream out;
-  size_t shown = 0;
-  for (const auto& [reason, count] : skips.by_reason) {
-    if (problems_only && skips.IsInformational(reason)) continue;
-    if (shown == max_reasons) {
-      out << "; ...";
-      break;
-    }
-    out << (shown++ > 0 ? "; " : "") << reason << ": " << count;
-    const auto line = skips.first_line.find(reason);
-    if (line != skips.first_line.end() && line->second > 0) out << ", first at line " << line->second;
-  }
-  return out.str();
-}
-
 // "file: N lines skipped (reason: n, first at line L; ...)" for the problem reasons; empty
 // when there are none.
 std::string DescribeSkips(const std::string& file, const io::SkipCounts& skips) {
   if (skips.Problems() == 0) return std::string();
   return FileName(file) + ": " + std::to_string(skips.Problems()) + " lines skipped (" +
-         ListReasons(skips, true) + ")";
+         skips.ListReasons(true) + ")";
 }
 
 // Stops the run after the first pass: the estimate says why.
@@ -199,7 +180,7 @@ PoseStep ReadPoses(const CalibrationResult& result) {
     }
     // Why the lines were not fixes, with the first line of each reason: the user can open the
     // log there (a missing checksum, a latitude of 91°, a misspelt sentence type).
-    const std::string reasons = ListReasons(step.gnss.skipped, false, 6);
+    const std::string reasons = step.gnss.skipped.ListReasons(false, 6);
     throw io::InputError(io::Where(
         session.gnss_log, 0,
         "fewer than 2 GGA fixes of accepted quality (gnss.min_fix_quality " +
@@ -549,7 +530,7 @@ Coverage CountCoverage(const CalibrationResult& result) {
     used_scans.insert(o.scan_index);
     if (!o.pose.stationary) moving_scans.insert(o.scan_index);
     used_segments.insert(calib::GnssSegment(o));
-    grid_headings.push_back(calib::GridHeadingFromYaw(o.pose.yaw_rad));
+    grid_headings.push_back(HeadingFromYaw(o.pose.yaw_rad));
     const calib::WallGeometry& wall = result.walls[o.wall_index];
     // φ of Barawid 2007, Eq. 8: the wall normal (towards the wall) in the vehicle frame.
     const double side =

@@ -4,14 +4,15 @@
 #include <zlib.h>
 
 #include <cctype>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstring>
 #include <limits>
+
 #include "common/angles.h"
 #include "io/internal/decimal.h"
 #include "io/input_file.h"
+#include "io/text/internal/gzip_input.h"
 
 namespace wallcal::io {
 namespace {
@@ -89,15 +90,7 @@ CarmenReader::CarmenReader(const std::string& path) : path_(path), chunk_(kChunk
   const InputLimits limits = CurrentInputLimits();
   max_line_bytes_ = limits.max_line_bytes;
   max_total_bytes_ = limits.max_file_bytes;
-  errno = 0;
-  gzFile file = gzopen(path.c_str(), "rb");
-  if (file == nullptr) {
-    throw InputError(Where(path, 0,
-                           std::string("cannot open the scan log: ") +
-                               (errno != 0 ? std::strerror(errno) : "unknown error")));
-  }
-  gzbuffer(file, 1 << 18);
-  gz_ = file;
+  gz_ = OpenGzip(path, "the scan log", 1 << 18);
   tokens_.reserve(1024);
 }
 
