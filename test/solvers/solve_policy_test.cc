@@ -24,18 +24,6 @@ using sim::SimData;
 using sim::SimSettings;
 using testing_support::OptionsFor;
 
-// Moving stations as in the solver's clock-offset test: 1 m/s, 3°/s, the scanner's stamps
-// 80 ms early, every other station backwards.
-SimSettings Moving() {
-  SimSettings s;
-  s.speed_mps = 1.0;
-  s.yaw_rate_rps = 3.0 * kDegToRad;
-  s.time_offset_s = 0.08;
-  s.scans_per_station = 40;
-  s.alternate_direction = true;
-  return s;
-}
-
 // The recorded track of each station (the noise-free fixture's poses: position and heading
 // linear in time), sampled every 0.1 s from 1 s before a station's first scan to 1 s after its
 // last, so that a shift of the poses by the clock offset stays inside the logs.
@@ -61,7 +49,7 @@ calib::PoseInterpolator TrackOf(SimSettings settings) {
 }
 
 TEST(SolveWithPolicyTest, MovesThePosesToTheEstimatedScanTimesAndReportsTheWholeOffset) {
-  const SimSettings settings = Moving();
+  const SimSettings settings = testing_support::MovingStations();
   const calib::PoseInterpolator poses = TrackOf(settings);
   std::mt19937 rng(9);
   SimData data = sim::SimulateObservations(settings, rng);
@@ -101,7 +89,7 @@ TEST(SolveWithPolicyTest, MovesThePosesToTheEstimatedScanTimesAndReportsTheWhole
 }
 
 TEST(SolveWithPolicyTest, WithoutRoundsItIsTheCeresSolveAlone) {
-  const SimSettings settings = Moving();
+  const SimSettings settings = testing_support::MovingStations();
   const calib::PoseInterpolator poses = TrackOf(settings);
   std::mt19937 rng(9);
   SimData data = sim::SimulateObservations(settings, rng);
@@ -126,7 +114,7 @@ TEST(SolveWithPolicyTest, WithoutRoundsItIsTheCeresSolveAlone) {
 
 TEST(SolveWithPolicyTest, StandingScansEstimateNoOffsetAndGetNoRound) {
   const SimSettings still;
-  const calib::PoseInterpolator poses = TrackOf(Moving());
+  const calib::PoseInterpolator poses = TrackOf(testing_support::MovingStations());
   for (const Method method : {Method::kCeres, Method::kBarawid}) {
     std::mt19937 rng(3);
     SimData data = sim::SimulateObservations(still, rng);
