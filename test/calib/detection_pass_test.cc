@@ -8,7 +8,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -86,8 +85,8 @@ io::ScanRecord RayCast(double stamp_s, int line, const io::ScannerPreset& preset
   std::normal_distribution<double> noise(0.0, preset.range_sigma_m);
   const WallGeometry wall = testing_support::NorthWall();
   const double yaw_rad = 0.5 * kPi;
-  const Eigen::Vector2d scanner = TrueAntenna(stamp_s) +
-                                  Eigen::Rotation2Dd(yaw_rad) * Eigen::Vector2d(kTruth.x_m, kTruth.y_m);
+  const Eigen::Vector2d scanner =
+      TrueAntenna(stamp_s) + Eigen::Rotation2Dd(yaw_rad) * Eigen::Vector2d(kTruth.x_m, kTruth.y_m);
   io::ScanRecord scan;
   scan.stamp_s = stamp_s;
   scan.line = line;
@@ -95,13 +94,17 @@ io::ScanRecord RayCast(double stamp_s, int line, const io::ScannerPreset& preset
   scan.angular_step_rad = preset.angular_step_rad;
   scan.max_range_m = preset.max_range_m;
   for (int i = 0; i < preset.num_beams; ++i) {
-    const double bearing = yaw_rad + kTruth.yaw_rad + preset.start_angle_rad + i * preset.angular_step_rad;
+    const double bearing =
+        yaw_rad + kTruth.yaw_rad + preset.start_angle_rad + i * preset.angular_step_rad;
     const Eigen::Vector2d direction(std::cos(bearing), std::sin(bearing));
     const double along = wall.normal_local.dot(direction);
-    const double range_m = along > 1e-6 ? (wall.offset_m - wall.normal_local.dot(scanner)) / along : -1.0;
+    const double range_m =
+        along > 1e-6 ? (wall.offset_m - wall.normal_local.dot(scanner)) / along : -1.0;
     const Eigen::Vector2d hit = scanner + range_m * direction;
-    const bool on_wall = range_m > 0.0 && hit.x() >= wall.end_a_local.x() && hit.x() <= wall.end_b_local.x();
-    scan.ranges_m.push_back(static_cast<float>(on_wall ? range_m + noise(*rng) : preset.max_range_m));
+    const bool on_wall =
+        range_m > 0.0 && hit.x() >= wall.end_a_local.x() && hit.x() <= wall.end_b_local.x();
+    scan.ranges_m.push_back(
+        static_cast<float>(on_wall ? range_m + noise(*rng) : preset.max_range_m));
   }
   return scan;
 }
@@ -128,10 +131,10 @@ struct Session {
 
   Session() {
     std::mt19937 rng(17);
-    AddScans(kLogStart - 4.0, kLogStart, preset, &rng, &scans);  // kBefore
-    AddScans(102.0, 117.0, preset, &rng, &scans);                 // kStill
-    AddScans(123.0, 137.0, preset, &rng, &scans);                 // kMoving
-    AddScans(kLogEnd + 1.0, kLogEnd + 5.0, preset, &rng, &scans); // kAfter
+    AddScans(kLogStart - 4.0, kLogStart, preset, &rng, &scans);    // kBefore
+    AddScans(102.0, 117.0, preset, &rng, &scans);                  // kStill
+    AddScans(123.0, 137.0, preset, &rng, &scans);                  // kMoving
+    AddScans(kLogEnd + 1.0, kLogEnd + 5.0, preset, &rng, &scans);  // kAfter
   }
 
   PassContext Context(bool use_moving = false, int threads = 1) const {
@@ -167,7 +170,8 @@ std::pair<double, double> NormalisedRms(const Session& session, const PassOutcom
   for (const WallObservation& o : outcome.observations) {
     const WallGeometry& wall = session.walls[o.wall_index];
     sum_rho += std::pow((o.rho_m - PredictRho(o, wall, kTruth)) / o.sigma_rho_m, 2);
-    sum_theta += std::pow(WrapAngle(o.theta_rad - PredictTheta(o, wall, kTruth)) / o.sigma_theta_rad, 2);
+    sum_theta +=
+        std::pow(WrapAngle(o.theta_rad - PredictTheta(o, wall, kTruth)) / o.sigma_theta_rad, 2);
   }
   const double n = static_cast<double>(outcome.observations.size());
   return {std::sqrt(sum_rho / n), std::sqrt(sum_theta / n)};
@@ -221,7 +225,8 @@ TEST(DetectionPassTest, TheOutcomeIsTheSameWhateverTheThreadCount) {
   const Session session;
   ASSERT_GT(session.scans.size(), 256u);
   const PassOutcome one = DetectionPass(session.Context(true, 1), Tight(kTruth, session.detector));
-  const PassOutcome three = DetectionPass(session.Context(true, 3), Tight(kTruth, session.detector));
+  const PassOutcome three =
+      DetectionPass(session.Context(true, 3), Tight(kTruth, session.detector));
   ASSERT_EQ(one.observations.size(), three.observations.size());
   for (size_t i = 0; i < one.observations.size(); ++i) {
     EXPECT_EQ(one.observations[i].scan_index, three.observations[i].scan_index);
@@ -245,7 +250,8 @@ TEST(DetectionPassTest, GatesDecideWhatIsFound) {
   EXPECT_EQ(Skipped(tight, ScanSkip::kWallNotDetected), kStill);
   PassRequest wide = Tight(off, detector);
   wide.gates = {detector.wide_angle_gate_rad, detector.wide_offset_gate_m, false, 0};
-  EXPECT_EQ(DetectionPass(session.Context(), wide).observations.size(), static_cast<size_t>(kStill));
+  EXPECT_EQ(DetectionPass(session.Context(), wide).observations.size(),
+            static_cast<size_t>(kStill));
   // A mount that puts the scanner beyond the wall: no detection is tried.
   Mount beyond = kTruth;
   beyond.x_m = 20.0;
@@ -299,7 +305,8 @@ TEST(ShiftObservationsTest, MovesEachPoseToItsShiftedTimeAndDropsThoseWithNone) 
     beyond += o.pose.stamp_s + dt_s + heading_shift_s > kLogEnd ? 1 : 0;
   }
   ASSERT_GT(beyond, 0);
-  const int dropped = ShiftObservations(session.poses, dt_s, heading_shift_s, &outcome.observations);
+  const int dropped =
+      ShiftObservations(session.poses, dt_s, heading_shift_s, &outcome.observations);
   EXPECT_EQ(dropped, beyond);
   ASSERT_EQ(outcome.observations.size(), before.size() - beyond);
   for (size_t i = 0; i < outcome.observations.size(); ++i) {
@@ -321,9 +328,9 @@ TEST(ShiftObservationsTest, MovesEachPoseToItsShiftedTimeAndDropsThoseWithNone) 
 
 TEST(ScanSkipTest, EveryReasonHasItsOwnNameAndPoseStatusesMapToThem) {
   const std::vector<ScanSkip> reasons = {
-      ScanSkip::kNoPoseBeforeLogs,  ScanSkip::kNoPoseAfterLogs, ScanSkip::kNoPoseGnssGap,
-      ScanSkip::kNoPoseHeadingGap,  ScanSkip::kVehicleMoving,   ScanSkip::kScannerBehindWall,
-      ScanSkip::kWallNotDetected,   ScanSkip::kMalformedLine,   ScanSkip::kNoPoseAtShiftedTime};
+      ScanSkip::kNoPoseBeforeLogs, ScanSkip::kNoPoseAfterLogs, ScanSkip::kNoPoseGnssGap,
+      ScanSkip::kNoPoseHeadingGap, ScanSkip::kVehicleMoving,   ScanSkip::kScannerBehindWall,
+      ScanSkip::kWallNotDetected,  ScanSkip::kMalformedLine,   ScanSkip::kNoPoseAtShiftedTime};
   for (size_t i = 0; i < reasons.size(); ++i) {
     for (size_t j = i + 1; j < reasons.size(); ++j) {
       EXPECT_STRNE(ScanSkipName(reasons[i]), ScanSkipName(reasons[j]));
@@ -348,10 +355,10 @@ TEST(GateForTest, CentresOnThePredictedLineAndCarriesTheWallEndsInTheScannerFram
   EXPECT_EQ(gate.theta_halfwidth_rad, 0.1);
   EXPECT_EQ(gate.rho_halfwidth_m, 0.2);
   ASSERT_TRUE(gate.has_segment);
-  const Eigen::Vector2d end_b =
-      Eigen::Rotation2Dd(-kTruth.yaw_rad) * Eigen::Vector2d(7.0, -10.2);
+  const Eigen::Vector2d end_b = Eigen::Rotation2Dd(-kTruth.yaw_rad) * Eigen::Vector2d(7.0, -10.2);
   EXPECT_NEAR((gate.segment_b_scanner - end_b).norm(), 0.0, 1e-12);
-  EXPECT_FALSE(GateFor(at, testing_support::NorthWall(), kTruth, Gates{0.1, 0.2, false, 0}).has_segment);
+  EXPECT_FALSE(
+      GateFor(at, testing_support::NorthWall(), kTruth, Gates{0.1, 0.2, false, 0}).has_segment);
 }
 
 }  // namespace

@@ -32,7 +32,8 @@ calib::PoseInterpolator TrackOf(SimSettings settings) {
   std::mt19937 rng(1);
   const SimData exact = sim::SimulateObservations(settings, rng);
   std::map<int, std::vector<const calib::WallObservation*>> by_station;
-  for (const calib::WallObservation& o : exact.observations) by_station[o.pose.segment].push_back(&o);
+  for (const calib::WallObservation& o : exact.observations)
+    by_station[o.pose.segment].push_back(&o);
   std::vector<calib::PositionSample> positions;
   std::vector<calib::YawSample> yaws;
   for (const auto& [station, scans] : by_station) {
@@ -40,7 +41,8 @@ calib::PoseInterpolator TrackOf(SimSettings settings) {
     const double last_s = scans.back()->pose.stamp_s;
     for (int i = -10; first.stamp_s + 0.1 * i <= last_s + 1.0 + 1e-9; ++i) {
       const double dt = 0.1 * i;
-      positions.push_back({first.stamp_s + dt, first.antenna_local_m + dt * first.velocity_local_mps,
+      positions.push_back({first.stamp_s + dt,
+                           first.antenna_local_m + dt * first.velocity_local_mps,
                            settings.gnss_white_sigma_m});
       yaws.push_back({first.stamp_s + dt, first.yaw_rad + dt * first.yaw_rate_rps});
     }
@@ -97,9 +99,9 @@ TEST(SolveWithPolicyTest, WithoutRoundsItIsTheCeresSolveAlone) {
   ClockRoundRule none;
   none.max_rounds = 0;
   int told = 0;
-  const PolicyOutcome outcome =
-      SolveWithPolicy(Method::kCeres, &data.observations, data.walls, OptionsFor(settings),
-                      settings.truth, false, poses, [&told](double) { ++told; }, 1.0, none);
+  const PolicyOutcome outcome = SolveWithPolicy(
+      Method::kCeres, &data.observations, data.walls, OptionsFor(settings), settings.truth, false,
+      poses, [&told](double) { ++told; }, 1.0, none);
   const MountEstimate alone =
       SolveMountCeres(before, data.walls, OptionsFor(settings), settings.truth);
   ASSERT_TRUE(outcome.estimate.usable) << outcome.estimate.message;

@@ -28,7 +28,9 @@ inline const std::filesystem::path& ScratchRoot(const std::string& prefix) {
 }
 
 // The prefix of this test program's own scratch folder: its name.
-inline std::string ProgramScratchPrefix() { return std::string(program_invocation_short_name) + "_"; }
+inline std::string ProgramScratchPrefix() {
+  return std::string(program_invocation_short_name) + "_";
+}
 inline const std::filesystem::path& ScratchRoot() { return ScratchRoot(ProgramScratchPrefix()); }
 
 // <scratch folder for `prefix`>/<name>, made if missing.

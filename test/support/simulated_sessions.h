@@ -25,7 +25,8 @@ inline sim::SimulationConfig ShippedScenario(const std::string& name) {
 // The two-wall benchmark (bench_lms291_two_walls) with the GNSS, heading and survey noise off:
 // the only errors left are the line fits'.
 inline sim::SimulationConfig TwoWallsWithOnlyLineFitErrors() {
-  sim::SimulationConfig config = sim::ReadSimulationConfig(ShippedScenarioPath("bench_lms291_two_walls"));
+  sim::SimulationConfig config =
+      sim::ReadSimulationConfig(ShippedScenarioPath("bench_lms291_two_walls"));
   config.gnss_bias_sigma_m = config.gnss_white_sigma_m = 0.0;
   config.heading_white_sigma_rad = config.heading_drift_rad_per_s = 0.0;
   config.total_station_sigma_m = config.control_sigma_m = 0.0;
