@@ -177,6 +177,17 @@ GuideReport GuideSession::Refresh() {
   const std::string scan_log = result.session.scanner_log;
   std::error_code size_error;
   last_read_.scan_log_bytes = static_cast<int64_t>(fs::file_size(scan_log, size_error));
+  if (!size_error && last_read_.scan_log_bytes < s.resume_byte) {
+    // A log shorter than what was read (a new recording under the same name): from the start.
+    s.first_pass_done = false;
+    s.solved_once = false;
+    s.detected.clear();
+    s.resume_byte = 0;
+    s.resume_line = 1;
+    s.scans_before = 0;
+    s.poses_end_s = -1e300;
+    s.dwells.clear();
+  }
 
   if (!s.first_pass_done) {
     // The first pass (a subsample, wide gates) over the whole log, until it gives a start.

@@ -197,6 +197,15 @@ TEST(GuideSessionTest, ReadsATextScanLogOnFromWhereItStopped) {
   for (size_t i = 0; i < whole.stations.size(); ++i) {
     EXPECT_NEAR(grown.stations[i].scans, whole.stations[i].scans, 2) << "station " << i;
   }
+
+  // A scan log shorter than what was read (a new recording under the same name) is read from
+  // its start.
+  std::ofstream(files[0].first, std::ios::binary | std::ios::trunc)
+      .write(scans.data(), static_cast<std::streamsize>(cut));
+  const guide::GuideReport again = session.Refresh();
+  EXPECT_FALSE(session.last_read().incremental);
+  EXPECT_EQ(session.last_read().scans_kept, 0);
+  EXPECT_LT(again.stations.size(), whole.stations.size());
 }
 
 }  // namespace
