@@ -174,6 +174,14 @@ GuideReport GuideSession::Refresh() {
     s.passes_prepared = true;
   }
   inputs.pass.poses = inputs.poses.get();
+  {
+    // As a fresh read would choose for the dwells found so far. The scans read before keep the
+    // detections they got: a drive's scans detected while the passes used them stay.
+    const pipeline::MovingScans moving =
+        pipeline::ChooseMovingScans(result.options, result.num_dwells);
+    inputs.pass.use_moving = moving.use_moving;
+    inputs.moving_by_default = moving.moving_by_default;
+  }
   const std::string scan_log = result.session.scanner_log;
   std::error_code size_error;
   last_read_.scan_log_bytes = static_cast<int64_t>(fs::file_size(scan_log, size_error));
