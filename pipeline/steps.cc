@@ -224,6 +224,19 @@ PoseStep ReadPoses(const CalibrationResult& result) {
   return step;
 }
 
+MovingScans ChooseMovingScans(const CalibrateOptions& options, int num_dwells) {
+  MovingScans moving;
+  // Moving scans: when asked for, or when the engineer drove continuously (too few dwells to
+  // calibrate from stations alone). The solver then estimates the scanner clock offset too.
+  moving.use_moving = options.alignment.use_moving_scans ||
+                      (options.alignment.moving_scans_if_few_stations &&
+                       num_dwells < options.solver.min_stations);
+  // Stop-and-go: the drives between the stops too, kept if the clock offset is determined.
+  moving.moving_by_default = !moving.use_moving && options.alignment.moving_scans_in_stop_and_go;
+  moving.use_moving = moving.use_moving || moving.moving_by_default;
+  return moving;
+}
+
 PassSetup PreparePasses(const CalibrateRequest& request, const CalibrationResult& result,
                         const calib::PoseInterpolator& poses) {
   PassSetup setup;
@@ -242,14 +255,9 @@ PassSetup PreparePasses(const CalibrateRequest& request, const CalibrationResult
   EnforcePresetFit(fit, result.preset, result.session, request.force, &setup.warnings);
   setup.scanner_from_data = fit.taken_from_data;
   pass.threads = options.solver.num_threads;
-  // Moving scans: when asked for, or when the engineer drove continuously (too few dwells to
-  // calibrate from stations alone). The solver then estimates the scanner clock offset too.
-  pass.use_moving = options.alignment.use_moving_scans ||
-                    (options.alignment.moving_scans_if_few_stations &&
-                     result.num_dwells < options.solver.min_stations);
-  // Stop-and-go: the drives between the stops too, kept if the clock offset is determined.
-  setup.moving_by_default = !pass.use_moving && options.alignment.moving_scans_in_stop_and_go;
-  pass.use_moving = pass.use_moving || setup.moving_by_default;
+  const MovingScans moving = ChooseMovingScans(options, result.num_dwells);
+  pass.use_moving = moving.use_moving;
+  setup.moving_by_default = moving.moving_by_default;
   if (pass.use_moving && !options.alignment.use_moving_scans && !setup.moving_by_default) {
     setup.warnings.push_back({WarningKind::kMovingScansUsed, "only " + std::to_string(result.num_dwells) +
                                " stations (dwells) found: scans taken while moving are used, with "

@@ -59,6 +59,33 @@ TEST(CarmenReaderTest, ReadsRawlaser1) {
   EXPECT_EQ(reader.skipped().Total(), 0);
 }
 
+// A log being appended: a reader opened at the line start an earlier one reported reads the
+// rest with the same line numbers, the line that was cut off at the first read included.
+TEST(CarmenReaderTest, ReadsOnFromWhereAnEarlierReaderStopped) {
+  const std::string first = "PARAM x 1\n" + Rawlaser(181, 10.0) + "\r\n" + Rawlaser(181, 10.1) + "\n";
+  const std::string third = Rawlaser(181, 10.2) + "\n";
+  const std::string path = WriteFile("growing.clf", first + third.substr(0, 40));
+  int64_t third_byte = 0;
+  int64_t second_line = 0;
+  {
+    CarmenReader reader(path);
+    const std::vector<ScanRecord> scans = ReadAll(reader);
+    ASSERT_EQ(scans.size(), 2u);
+    EXPECT_EQ(reader.skipped().Problems(), 1);  // the cut-off line
+    second_line = scans[1].line;
+    third_byte = reader.line_start_byte();  // the cut-off line's start
+  }
+  EXPECT_EQ(third_byte, static_cast<int64_t>(first.size()));
+  std::ofstream(path, std::ios::binary | std::ios::app) << third.substr(40);
+  CarmenReader reader(path, third_byte, second_line + 1);
+  const std::vector<ScanRecord> scans = ReadAll(reader);
+  ASSERT_EQ(scans.size(), 1u);
+  EXPECT_DOUBLE_EQ(scans[0].stamp_s, 10.2);
+  EXPECT_EQ(scans[0].line, 4);
+  EXPECT_EQ(reader.line_start_byte(), third_byte);
+  EXPECT_EQ(reader.skipped().Total(), 0);
+}
+
 // LF, CRLF and a CR alone each end a line: the same scans, with the same line numbers.
 TEST(CarmenReaderTest, ReadsEveryLineEnd) {
   for (const std::string eol : {"\n", "\r\n", "\r"}) {
