@@ -58,7 +58,8 @@ PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>
     return outcome;
   }
   // Each round starts where the last one ended (warm) and takes ClockRoundStep's steps, with
-  // the first solve's checks and σ's: the geometry is the one that solve checked.
+  // the solve before's checks and σ's (the geometry is the one that solve checked); a round
+  // that moves the poses by more than rule.max_step_shift_s solves in full.
   WarmStart warm;
   outcome.estimate = SolveMountCeres(*observations, walls, options, initial, force, nullptr, &warm,
                                      observation_weight);
@@ -117,8 +118,14 @@ PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>
     from.time_offset_s -= position_move_s;  // what is left of each once the poses carry it
     from.heading_delay_s -= delay_move_s;
     const MountEstimate before = std::move(outcome.estimate);  // e refers to it: not used below
-    outcome.estimate =
-        ClockRoundStep(*observations, walls, options, before, from, &warm, observation_weight);
+    if (std::max(std::abs(position_move_s), std::abs(heading_move_s)) > rule.max_step_shift_s) {
+      from.checked = !before.forced;
+      outcome.estimate = SolveMountCeres(*observations, walls, options, before.mount, force, &from,
+                                         &warm, observation_weight);
+    } else {
+      outcome.estimate =
+          ClockRoundStep(*observations, walls, options, before, from, &warm, observation_weight);
+    }
   }
   outcome.estimate.time_offset_s += shifted_s;
   outcome.estimate.heading_delay_s += heading_shifted_s;
