@@ -28,6 +28,7 @@ const Eigen::Matrix2d kQuarterTurn = Rotation(0.5 * 3.14159265358979323846);
 // per wall), so that the numerical Jacobian of the lines with respect to the noise is the
 // linear propagation of the survey's errors.
 struct SurveyModel {
+  bool rover = false;  // survey_mode rover: the points in the GNSS frame, no control, no tie
   Eigen::Vector2d frame_origin_enu_m;
   double frame_rotation_rad = 0.0;
   std::vector<Eigen::Vector2d> control_enu_m;              // true positions
@@ -43,8 +44,13 @@ struct SurveyModel {
 
 SurveyModel MakeSurveyModel(const sim::SimulationConfig& config) {
   SurveyModel model;
+  model.rover = config.survey_mode == sim::SurveyMode::kRover;
   model.frame_origin_enu_m = {config.survey_origin_x_m, config.survey_origin_y_m};
   model.frame_rotation_rad = config.survey_rotation_rad;
+  if (model.rover) {
+    model.frame_origin_enu_m.setZero();
+    model.frame_rotation_rad = 0.0;
+  }
   const sim::SimWall* first = nullptr;
   for (const auto& w : config.walls) {
     if (w.code.empty()) continue;
@@ -57,10 +63,11 @@ SurveyModel MakeSurveyModel(const sim::SimulationConfig& config) {
     for (int k = 0; k <= steps; ++k) {
       const Eigen::Vector2d p = w0 + (k * spacing_m / length_m) * (w1 - w0);
       points.push_back(p);  // two heights: two independent measurements of the same x, y
-      points.push_back(p);
+      if (!model.rover) points.push_back(p);  // a rover: one, at the foot of the wall
     }
     model.wall_points_enu_m.push_back(points);
   }
+  if (model.rover) return model;
   const Eigen::Vector2d a(first->x0_m, first->y0_m), b(first->x1_m, first->y1_m);
   const Eigen::Vector2d along = (b - a).normalized();
   Eigen::Vector2d out(-along.y(), along.x());
@@ -92,8 +99,9 @@ Eigen::VectorXd WallLines(const SurveyModel& model, const Eigen::VectorXd& noise
     sum_dot += u.dot(v);
     sum_cross += u.x() * v.y() - u.y() * v.x();
   }
-  const Eigen::Matrix2d R = Rotation(std::atan2(sum_cross, sum_dot));
-  const Eigen::Vector2d t = b_mean - R * a_mean;
+  const Eigen::Matrix2d R =
+      nc > 0 ? Rotation(std::atan2(sum_cross, sum_dot)) : Eigen::Matrix2d::Identity();
+  const Eigen::Vector2d t = nc > 0 ? Eigen::Vector2d(b_mean - R * a_mean) : Eigen::Vector2d::Zero();
 
   Eigen::VectorXd lines(2 * model.wall_points_enu_m.size());
   for (size_t w = 0; w < model.wall_points_enu_m.size(); ++w) {
@@ -124,7 +132,7 @@ Eigen::MatrixXd WallLineCovariance(const SurveyModel& model, const sim::Simulati
   const int n = model.NoiseSize();
   const int nc = static_cast<int>(model.control_enu_m.size());
   Eigen::VectorXd sigma(n);
-  sigma.setConstant(config.total_station_sigma_m);
+  sigma.setConstant(model.rover ? config.rover_sigma_m : config.total_station_sigma_m);
   sigma.segment(2 * nc, 2 * nc).setConstant(config.control_sigma_m);
   *truth = WallLines(model, Eigen::VectorXd::Zero(n));
   const int m = static_cast<int>(truth->size());

@@ -45,12 +45,18 @@ std::string FormatSummary(const CalibrationResult& result) {
                   static_cast<long long>(g.fixes));
     out << line;
   }
+  const bool rover = !result.walls.empty() && result.walls.front().from_rover;
+  char tie[96];
+  if (rover) {
+    std::snprintf(tie, sizeof(tie), "rover points (no tie)");
+  } else {
+    std::snprintf(tie, sizeof(tie), "%d control points (RMS %.4f m)", result.num_control,
+                  result.control_rms_m);
+  }
   std::snprintf(line, sizeof(line),
-                "  survey     %d control points (RMS %.4f m), %zu wall(s), UTM zone %d%s, "
-                "convergence %.3f deg, scale %.6f\n",
-                result.num_control, result.control_rms_m, result.walls.size(), result.frame.zone,
-                result.frame.north ? "N" : "S", result.frame.convergence_rad * kRadToDeg,
-                result.frame.scale_k0);
+                "  survey     %s, %zu wall(s), UTM zone %d%s, convergence %.3f deg, scale %.6f\n",
+                tie, result.walls.size(), result.frame.zone, result.frame.north ? "N" : "S",
+                result.frame.convergence_rad * kRadToDeg, result.frame.scale_k0);
   out << line;
   std::snprintf(line, sizeof(line),
                 "  geometry   %d stations, %d GNSS-error slices, grid headings %.1f..%.1f deg, "

@@ -12,6 +12,7 @@
 #include "calib/geodesy.h"
 #include "calib/gnss_epoch_time.h"
 #include "calib/pose_samples.h"
+#include "calib/rover_survey.h"
 #include "common/angles.h"
 #include "common/circular.h"
 #include "common/format.h"
@@ -106,9 +107,41 @@ Setup LoadSessionAndOptions(const CalibrateRequest& request) {
 SurveyStep TieSurveyAndFitWalls(const io::SessionSpec& session,
                                 const solvers::SolverOptions& solver, bool swap_survey_axes) {
   SurveyStep step;
+  std::vector<io::SurveyPoint> observations =
+      io::ReadSurvey(session.survey_points, session.survey_columns);
+  if (calib::IsRoverSurvey(observations)) {
+    // A rover's points are where the GNSS is: no tie, the frame at the first point.
+    if (!session.control.empty()) {
+      throw io::InputError(io::Where(
+          session.file, session.control.front().line,
+          "survey.control given, but " + session.survey_points +
+              " holds rover points (latitude, longitude): they need no tie; expected no "
+              "survey.control with a rover survey"));
+    }
+    step.frame = calib::RoverSurveyFrame(observations, session.survey_points, session.utm_zone);
+    observations = calib::PlaceRoverPoints(
+        observations, session.survey_points, step.frame,
+        session.survey_point_sigma_m.value_or(io::kDefaultRoverPointSigmaM));
+    // Points measured more than once are averaged (io/survey_reader.h).
+    const io::SurveyCombination combined = io::CombineSurveyObservations(observations);
+    step.survey = combined.points;
+    for (const std::string& w : combined.warnings) {
+      step.warnings.push_back({WarningKind::kSurveyPoints, w});
+    }
+    step.tie = calib::RoverTie();
+    step.walls =
+        calib::FitWalls(step.survey, session.survey_points, session, step.tie, solver.survey());
+    return step;
+  }
+  if (session.control.empty()) {
+    throw io::InputError(io::Where(
+        session.file, 0,
+        "no survey.control, but " + session.survey_points +
+            " holds total-station coordinates; expected control points tying them to the GNSS "
+            "(survey.control), or a rover survey in latitude and longitude"));
+  }
   // Points measured more than once (both faces, two set-ups) are averaged (io/survey_reader.h).
-  const io::SurveyCombination combined = io::CombineSurveyObservations(
-      io::ReadSurvey(session.survey_points, session.survey_columns));
+  const io::SurveyCombination combined = io::CombineSurveyObservations(observations);
   step.survey = combined.points;
   if (swap_survey_axes) {
     for (io::SurveyPoint& p : step.survey) std::swap(p.x_m, p.y_m);
