@@ -190,9 +190,11 @@ TEST(MovingPoseTest, DrivesAtASecondWallLeaveNoBias) {
   const testing_support::ScratchDir scratch("wallcal_moving_pose_two_walls_");
   const fs::path dir = scratch.path() / "session";
   sim::WriteSimulatedSession(config, 5, dir.string());
-  // The solver's GNSS model left at an RTK receiver's (its slices free to follow a pattern).
+  // The solver's GNSS model left at an RTK receiver's (its slices free to follow a pattern),
+  // its white noise too (the stops of this noiseless session would measure none).
   const pipeline::CalibrationResult result =
       Calibrate(dir, "  use_gst_sigma: false\n  gnss_bias_sigma_m: 0.03\n"
+                     "  use_measured_white_noise: false\n"
                      "alignment:\n  moving_scans_in_stop_and_go: true\n");
   ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
   EXPECT_GT(result.scans_used_moving, 100);
