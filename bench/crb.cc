@@ -42,15 +42,29 @@ struct SurveyModel {
   }
 };
 
-SurveyModel MakeSurveyModel(const sim::SimulationConfig& config) {
+// A rover's wall points: one at the foot of the wall every survey_spacing_m, in the GNSS frame.
+SurveyModel MakeRoverSurveyModel(const sim::SimulationConfig& config) {
   SurveyModel model;
-  model.rover = config.survey_mode == sim::SurveyMode::kRover;
+  model.rover = true;
+  model.frame_origin_enu_m.setZero();
+  for (const auto& w : config.walls) {
+    if (w.code.empty()) continue;
+    const Eigen::Vector2d w0(w.x0_m, w.y0_m), w1(w.x1_m, w.y1_m);
+    const double length_m = (w1 - w0).norm();
+    const double spacing_m = w.survey_spacing_m > 0.0 ? w.survey_spacing_m : 1.0;
+    const int steps = static_cast<int>(std::floor(length_m / spacing_m + 1e-9));
+    std::vector<Eigen::Vector2d> points;
+    for (int k = 0; k <= steps; ++k) points.push_back(w0 + (k * spacing_m / length_m) * (w1 - w0));
+    model.wall_points_enu_m.push_back(points);
+  }
+  return model;
+}
+
+SurveyModel MakeSurveyModel(const sim::SimulationConfig& config) {
+  if (config.survey_mode == sim::SurveyMode::kRover) return MakeRoverSurveyModel(config);
+  SurveyModel model;
   model.frame_origin_enu_m = {config.survey_origin_x_m, config.survey_origin_y_m};
   model.frame_rotation_rad = config.survey_rotation_rad;
-  if (model.rover) {
-    model.frame_origin_enu_m.setZero();
-    model.frame_rotation_rad = 0.0;
-  }
   const sim::SimWall* first = nullptr;
   for (const auto& w : config.walls) {
     if (w.code.empty()) continue;
@@ -63,11 +77,10 @@ SurveyModel MakeSurveyModel(const sim::SimulationConfig& config) {
     for (int k = 0; k <= steps; ++k) {
       const Eigen::Vector2d p = w0 + (k * spacing_m / length_m) * (w1 - w0);
       points.push_back(p);  // two heights: two independent measurements of the same x, y
-      if (!model.rover) points.push_back(p);  // a rover: one, at the foot of the wall
+      points.push_back(p);
     }
     model.wall_points_enu_m.push_back(points);
   }
-  if (model.rover) return model;
   const Eigen::Vector2d a(first->x0_m, first->y0_m), b(first->x1_m, first->y1_m);
   const Eigen::Vector2d along = (b - a).normalized();
   Eigen::Vector2d out(-along.y(), along.x());
@@ -99,9 +112,12 @@ Eigen::VectorXd WallLines(const SurveyModel& model, const Eigen::VectorXd& noise
     sum_dot += u.dot(v);
     sum_cross += u.x() * v.y() - u.y() * v.x();
   }
-  const Eigen::Matrix2d R =
-      nc > 0 ? Rotation(std::atan2(sum_cross, sum_dot)) : Eigen::Matrix2d::Identity();
-  const Eigen::Vector2d t = nc > 0 ? Eigen::Vector2d(b_mean - R * a_mean) : Eigen::Vector2d::Zero();
+  Eigen::Matrix2d R = Rotation(std::atan2(sum_cross, sum_dot));
+  Eigen::Vector2d t = b_mean - R * a_mean;
+  if (model.rover) {  // no tie: the points are in the GNSS frame
+    R.setIdentity();
+    t.setZero();
+  }
 
   Eigen::VectorXd lines(2 * model.wall_points_enu_m.size());
   for (size_t w = 0; w < model.wall_points_enu_m.size(); ++w) {
