@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "analysis/repeatability.h"
+#include "common/enum_text.h"
 #include "common/parallel_for.h"
 #include "solvers/mount_solver.h"
 
@@ -22,39 +23,20 @@ Eigen::Vector3d Diagonal(const Eigen::Matrix3d& covariance) {
 }  // namespace
 
 const char* ErrorSourceName(ErrorSource source) {
-  switch (source) {
-    case ErrorSource::kSurvey:
-      return "survey points";
-    case ErrorSource::kControl:
-      return "control points (survey tie)";
-    case ErrorSource::kGnss:
-      return "GNSS position";
-    case ErrorSource::kHeading:
-      return "heading";
-    case ErrorSource::kScanner:
-      return "scanner noise";
-    case ErrorSource::kRover:
-      return "rover points";
-  }
-  return "";
+  static const EnumText<ErrorSource> kTexts[] = {
+      {ErrorSource::kSurvey, "survey points"},
+      {ErrorSource::kControl, "control points (survey tie)"},
+      {ErrorSource::kGnss, "GNSS position"}, {ErrorSource::kHeading, "heading"},
+      {ErrorSource::kScanner, "scanner noise"}, {ErrorSource::kRover, "rover points"}};
+  return TextOf(kTexts, source, "");
 }
 
 const char* ErrorSourceKey(ErrorSource source) {
-  switch (source) {
-    case ErrorSource::kSurvey:
-      return "survey_points";
-    case ErrorSource::kControl:
-      return "control_points";
-    case ErrorSource::kGnss:
-      return "gnss";
-    case ErrorSource::kHeading:
-      return "heading";
-    case ErrorSource::kScanner:
-      return "scanner_noise";
-    case ErrorSource::kRover:
-      return "rover_points";
-  }
-  return "";
+  static const EnumText<ErrorSource> kTexts[] = {
+      {ErrorSource::kSurvey, "survey_points"}, {ErrorSource::kControl, "control_points"},
+      {ErrorSource::kGnss, "gnss"}, {ErrorSource::kHeading, "heading"},
+      {ErrorSource::kScanner, "scanner_noise"}, {ErrorSource::kRover, "rover_points"}};
+  return TextOf(kTexts, source, "");
 }
 
 ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observations,

@@ -137,8 +137,8 @@ ResidualAnalysis AnalyseResiduals(const std::vector<calib::WallObservation>& obs
   // The quantities. Heading unwrapped about its circular mean.
   double sx = 0.0, sy = 0.0;
   for (const auto& o : observations) {
-    sx += std::cos(0.5 * kPi - o.pose.yaw_rad);
-    sy += std::sin(0.5 * kPi - o.pose.yaw_rad);
+    sx += std::cos(HeadingFromYaw(o.pose.yaw_rad));
+    sy += std::sin(HeadingFromYaw(o.pose.yaw_rad));
   }
   const double mean_heading = std::atan2(sy, sx);
   std::vector<double> range(n), incidence(n), bearing(n), heading(n), station(n), time(n);
@@ -165,7 +165,7 @@ ResidualAnalysis AnalyseResiduals(const std::vector<calib::WallObservation>& obs
     range[i] = std::max(mid_m, o.rho_m);
     incidence[i] = std::acos(std::clamp(o.rho_m / range[i], -1.0, 1.0)) * kRadToDeg;
     bearing[i] = o.theta_rad * kRadToDeg;
-    const double h = 0.5 * kPi - o.pose.yaw_rad - mean_heading;
+    const double h = HeadingFromYaw(o.pose.yaw_rad) - mean_heading;
     heading[i] = std::remainder(h, 2.0 * kPi) * kRadToDeg;
     station[i] = rank[o.pose.segment];
     time[i] = o.pose.stamp_s - t0;

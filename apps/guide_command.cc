@@ -1,13 +1,23 @@
 // SPDX-License-Identifier: Apache-2.0
-// wallcal guide: at the wall, the σ the session's logs hold now and the next stops
-// (guide/run_guide.h parses the rest of the command line and runs it).
+// wallcal guide: at the wall, the σ the session's logs hold now and the next stops.
+// Argument parsing and error reporting only; the work is in guide/.
 
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <exception>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "apps/commands.h"
-#include "guide/run_guide.h"
+#include "guide/follow.h"
+#include "guide/guide.h"
+#include "guide/guide_session.h"
+#include "guide/guide_text.h"
+#include "io/types.h"
+#include "io/version.h"
 
 namespace wallcal::apps {
 
@@ -32,7 +42,9 @@ const CommandHelp& GuideHelp() {
            "\"distance_m\", \"dwell_s\", \"wait_s\"}, ...]} (σ not yet known: null)"},
           {"--follow", "", "", ValueKind::kNone, {},
            "check the logs once a second and print again when they grew, until\n"
-           "enough or Ctrl-C (with --json: one object per line)"},
+           "enough or Ctrl-C (with --json: one object per line); a CARMEN scan log\n"
+           "is read on from where the last read stopped, a recording or a gzip log\n"
+           "whole each time"},
           {"--max-seconds", "", "S", ValueKind::kWord, {},
            "with --follow: stop after S seconds (default: no limit)"},
           {"--plan", "", "MINUTES", ValueKind::kWord, {},
@@ -51,15 +63,123 @@ const CommandHelp& GuideHelp() {
   return help;
 }
 
+namespace {
+
+int Usage(const std::string& message) {
+  std::cerr << "guide: " << message << "\n(run 'wallcal guide --help' for usage)\n";
+  return 2;
+}
+
+bool ParseNumber(const std::string& text, double* value) {
+  char* end = nullptr;
+  *value = std::strtod(text.c_str(), &end);
+  return !text.empty() && *end == '\0' && std::isfinite(*value);
+}
+
+// What the command line asks for.
+struct GuideCommandLine {
+  guide::GuideOptions options;
+  bool json = false;
+  bool follow = false;
+  double plan_minutes = -1.0;  // > 0: --plan
+  guide::FollowOptions follow_options;
+};
+
+// Parses the arguments after `guide` into *line: 0, or the exit status of a usage error (2).
+int Parse(const std::vector<std::string>& args, GuideCommandLine* line) {
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    if (arg == "--json") {
+      line->json = true;
+    } else if (arg == "--follow") {
+      line->follow = true;
+    } else if (arg == "--plan" || arg == "--config" || arg == "--next" || arg == "--threads" ||
+               arg == "--max-seconds") {
+      if (i + 1 >= args.size()) return Usage(arg + " needs a value");
+      const std::string& v = args[++i];
+      double number = 0.0;
+      if (arg == "--config") {
+        line->options.config_path = v;
+      } else if (!ParseNumber(v, &number) || number < 0.0) {
+        return Usage(arg + ": '" + v + "' is not a non-negative number");
+      } else if (arg == "--plan") {
+        if (number <= 0.0) return Usage("--plan: the budget must be more than 0 minutes");
+        line->plan_minutes = number;
+      } else if (arg == "--next") {
+        if (number != 1.0 && number != 2.0 && number != 3.0) {
+          return Usage("--next: expected 1, 2 or 3");
+        }
+        line->options.max_next = static_cast<int>(number);
+      } else if (arg == "--threads") {
+        line->options.threads = static_cast<int>(number);
+      } else {
+        line->follow_options.max_seconds = number;
+      }
+    } else if (!arg.empty() && arg[0] == '-') {
+      return Usage("unknown option '" + arg + "'");
+    } else if (line->options.session_path.empty()) {
+      line->options.session_path = arg;
+    } else {
+      return Usage("one session only ('" + arg + "' is extra)");
+    }
+  }
+  if (line->options.session_path.empty()) return Usage("no session given");
+  if (line->follow && line->plan_minutes > 0.0) {
+    return Usage("--follow and --plan do not go together");
+  }
+  return 0;
+}
+
+std::string Render(const guide::GuideReport& report, bool json) {
+  return json ? guide::GuideJson(report) : guide::GuideText(report);
+}
+
+}  // namespace
+
 int RunGuideCommand(int argc, char** argv) {
-  std::vector<std::string> args(argv + 1, argv + argc);
+  const std::vector<std::string> args(argv + 1, argv + argc);
   for (const std::string& arg : args) {
     if (arg == "--help" || arg == "-h") {
       std::cout << FormatHelp(GuideHelp());
       return 0;
     }
+    if (arg == "--version") {
+      std::cout << "wallcal guide " << io::kToolVersion << "\n";
+      return 0;
+    }
   }
-  return guide::RunGuide(args, std::cout, std::cerr);
+  GuideCommandLine line;
+  if (const int status = Parse(args, &line); status != 0) return status;
+  try {
+    if (line.plan_minutes > 0.0) {
+      std::cout << Render(guide::PlanSession(line.options, line.plan_minutes * 60.0), line.json);
+      return 0;
+    }
+    guide::GuideSession session(line.options);
+    if (!line.follow) {
+      std::cout << Render(session.Refresh(), line.json);
+      return 0;
+    }
+    // On a terminal each report replaces the last; with --json, one object a line.
+    const bool terminal = !line.json && isatty(STDOUT_FILENO);
+    guide::Follow(
+        &session, line.follow_options,
+        [&](const guide::GuideReport& report) {
+          if (terminal) std::cout << "\033[H\033[2J";
+          std::cout << Render(report, line.json) << std::flush;
+        },
+        [&](const std::string& message) {
+          // Logs that hold too little yet (no fix, no scan) say so until they grow.
+          if (!line.json) std::cout << "guide: waiting for the logs: " << message << "\n" << std::flush;
+        });
+    return 0;
+  } catch (const io::InputError& e) {
+    std::cerr << "guide: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "guide: internal error: " << e.what() << "\n";
+    return 3;
+  }
 }
 
 }  // namespace wallcal::apps

@@ -6,15 +6,19 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "common/angles.h"
 #include "guide/guide.h"
+#include "guide/guide_session.h"
 #include "guide_crew.h"
 #include "sim/simulation_config.h"
 #include "test/support/guide_check.h"
@@ -72,23 +76,122 @@ int Check(const std::vector<std::string>& scenarios, int seeds, int stations,
   return 0;
 }
 
-int Speed(const fs::path& scratch) {
-  sim::SimulationConfig config = Scenario("bench_lms291_hour.yaml");
-  const fs::path dir = scratch / "hour";
-  sim::WriteSimulatedSession(config, 7, dir.string());
-  guide::GuideRequest request;
-  request.session_path = dir.string();
-  request.threads = 2;
-  for (int run = 0; run < 3; ++run) {
-    const auto start = std::chrono::steady_clock::now();
-    const guide::GuideReport report = guide::AssessSession(request);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("hour session: %zu stations, σ x %.4f m y %.4f m yaw %.3f deg, %zu stops advised: "
-                "%.2f s\n",
-                report.stations.size(), report.predicted.sigma_x_m(), report.predicted.sigma_y_m(),
-                report.predicted.sigma_yaw_rad() * kRadToDeg, report.next.size(), s);
+std::string ReadAll(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The byte after the last line of `text` from `from` on stamped at or before t_s (the stamp: a
+// scan line's last field, an NMEA line's logger prefix).
+size_t EndOfLinesUpTo(const std::string& text, size_t from, double t_s, bool stamp_last) {
+  size_t end = from;
+  for (size_t at = from; at < text.size();) {
+    size_t next = text.find('\n', at);
+    next = next == std::string::npos ? text.size() : next + 1;
+    size_t field = at;
+    if (stamp_last) {
+      const size_t space = text.rfind(' ', next - 2);
+      field = space == std::string::npos || space < at ? at : space + 1;
+    }
+    if (std::strtod(text.c_str() + field, nullptr) > t_s) break;
+    end = next;
+    at = next;
   }
-  fs::remove_all(dir);
+  return end;
+}
+
+// One log of the session, written up to a time.
+struct GrowingLog {
+  fs::path path;
+  std::string text;
+  bool stamp_last = false;
+  size_t written = 0;
+  void WriteUpTo(double t_s) {
+    const size_t upto = EndOfLinesUpTo(text, written, t_s, stamp_last);
+    std::ofstream out(path, std::ios::binary | std::ios::app);
+    out.write(text.data() + written, static_cast<std::streamsize>(upto - written));
+    written = upto;
+  }
+};
+
+double Seconds(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// CPU seconds of this process so far (every thread).
+double CpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+void PrintReport(const char* what, const guide::GuideReport& report, double s, double cpu_s) {
+  std::printf("%-26s %2zu stations, σ x %.4f m y %.4f m yaw %.3f deg, %zu stops advised: "
+              "%.2f s (CPU %.2f s)\n",
+              what, report.stations.size(), report.predicted.sigma_x_m(),
+              report.predicted.sigma_y_m(), report.predicted.sigma_yaw_rad() * kRadToDeg,
+              report.next.size(), s, cpu_s);
+}
+
+// The hour-long session recorded while the guide follows it: the logs up to a minute before
+// the end (the first read), then grown a second at a time (the updates). Twice: with the default
+// tolerances (the session is enough: no stops advised) and with tolerances of 1 mm and 0.01°
+// (three stops advised at each update).
+int Speed(const fs::path& scratch, int updates) {
+  sim::SimulationConfig config = Scenario("bench_lms291_hour.yaml");
+  const fs::path whole = scratch / "hour";
+  sim::WriteSimulatedSession(config, 7, whole.string());
+  std::vector<GrowingLog> original;
+  for (const auto& [name, stamp_last] : {std::pair<const char*, bool>{"scans.clf", true},
+                                         {"gnss.nmea", false}, {"heading.nmea", false}}) {
+    original.push_back(GrowingLog{fs::path(name), ReadAll(whole / name), stamp_last, 0});
+  }
+  const std::string& gnss = original[1].text;
+  const double first_s = std::strtod(gnss.c_str(), nullptr);
+  const double last_s =
+      std::strtod(gnss.c_str() + gnss.rfind('\n', gnss.size() - 2) + 1, nullptr);
+  for (const bool tight : {false, true}) {
+    const fs::path dir = scratch / "growing";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    for (const char* name : {"session.yaml", "survey.csv"}) fs::copy_file(whole / name, dir / name);
+    std::vector<GrowingLog> logs = original;
+    for (GrowingLog& log : logs) log.path = dir / log.path;
+    double t_s = last_s - 60.0;
+    for (GrowingLog& log : logs) log.WriteUpTo(t_s);
+    guide::GuideOptions options;
+    options.session_path = dir.string();
+    options.threads = 2;
+    if (tight) {
+      options.config_path = (dir / "tight.yaml").string();
+      std::ofstream(options.config_path)
+          << "acceptance:\n  max_sigma_xy_m: 0.001\n  max_sigma_yaw_deg: 0.01\n";
+    }
+    std::printf("%s\n", tight ? "tolerances 1 mm, 0.01 deg (stops advised):"
+                              : "default tolerances (enough):");
+    guide::GuideSession session(options);
+    auto start = std::chrono::steady_clock::now();
+    double cpu_start = CpuSeconds();
+    const guide::GuideReport first = session.Refresh();
+    PrintReport("first read (59 minutes):", first, Seconds(start), CpuSeconds() - cpu_start);
+    std::vector<double> times, cpu_times;
+    for (int k = 0; k < updates; ++k) {
+      t_s += 1.0;
+      for (GrowingLog& log : logs) log.WriteUpTo(t_s);
+      start = std::chrono::steady_clock::now();
+      cpu_start = CpuSeconds();
+      const guide::GuideReport report = session.Refresh();
+      times.push_back(Seconds(start));
+      cpu_times.push_back(CpuSeconds() - cpu_start);
+      PrintReport("update (+1 s of logs):", report, times.back(), cpu_times.back());
+    }
+    std::printf("%.0f s of logs; updates: median %.3f s (CPU %.3f s), max %.3f s (CPU %.3f s); "
+                "%s\n",
+                t_s - first_s, Quantile(times, 0.5), Quantile(cpu_times, 0.5),
+                Quantile(times, 1.0), Quantile(cpu_times, 1.0),
+                session.last_read().incremental ? "the scan log read on from the last read"
+                                                : "the scan log read whole");
+    std::fflush(stdout);
+  }
+  fs::remove_all(whole);
   return 0;
 }
 
@@ -98,6 +201,7 @@ int main(int argc, char** argv) {
   std::string mode;
   int seeds = 20;
   int stations = 0;
+  int updates = 10;
   std::vector<std::string> scenarios;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -107,17 +211,20 @@ int main(int argc, char** argv) {
       return bench::Transcript(argv[i + 1]);
     } else if (arg == "--seeds" && i + 1 < argc) {
       seeds = std::atoi(argv[++i]);
+    } else if (arg == "--updates" && i + 1 < argc) {
+      updates = std::atoi(argv[++i]);
     } else if (arg == "--stations" && i + 1 < argc) {
       stations = std::atoi(argv[++i]);
     } else if (arg == "--help") {
       std::cout << "usage: guide_bench --check [SCENARIO.yaml ...] [--stations N] | --crew | "
-                   "--speed [--seeds N (default 20)]\n"
+                   "--speed [--updates N] [--seeds N (default 20)]\n"
                    "  --check     the guide's σ over calibrate's on sessions cut after 30, 60 and "
                    "100 % of their scans\n"
                    "              (scenarios from configs/simulate/; --stations overrides their "
                    "num_stations)\n"
                    "  --crew      a crew following the guide against the field guide's pattern\n"
-                   "  --speed     one update on an hour-long session\n"
+                   "  --speed     an hour-long session followed as it grows: the first read of 59 minutes,\n"
+                   "              then N updates (default 10), each after a second more of logs\n"
                    "  --transcript DIR  one guided crew, the guide's report after each stop\n";
       return 0;
     } else {
@@ -133,7 +240,7 @@ int main(int argc, char** argv) {
   } else if (mode == "--crew") {
     status = bench::RunCrew(seeds, scratch);
   } else if (mode == "--speed") {
-    status = Speed(scratch);
+    status = Speed(scratch, updates);
   } else {
     std::cerr << "guide_bench: give --check, --crew or --speed\n";
   }

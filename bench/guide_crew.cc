@@ -125,7 +125,7 @@ Outcome GuidedCrew(const sim::SimulationConfig& config, uint64_t seed, const fs:
     } else if (Calibrate(config, stops, seed, dir, &outcome)) {
       return outcome;
     }
-    guide::GuideRequest request;
+    guide::GuideOptions request;
     request.session_path = dir.string();
     request.config_path = config_path;
     request.threads = 2;

@@ -11,32 +11,23 @@
 
 #include "calib/wall_detector.h"
 #include "calib/wall_geometry.h"
+#include "common/enum_text.h"
 #include "io/scanner_geometry.h"
 
 namespace wallcal::calib {
 
 const char* ScanSkipName(ScanSkip reason) {
-  switch (reason) {
-    case ScanSkip::kNoPoseBeforeLogs:
-      return "no pose: before the GNSS/heading logs";
-    case ScanSkip::kNoPoseAfterLogs:
-      return "no pose: after the GNSS/heading logs";
-    case ScanSkip::kNoPoseGnssGap:
-      return "no pose: in a GNSS gap";
-    case ScanSkip::kNoPoseHeadingGap:
-      return "no pose: in a heading gap";
-    case ScanSkip::kVehicleMoving:
-      return "vehicle moving";
-    case ScanSkip::kScannerBehindWall:
-      return "scanner at or behind the wall";
-    case ScanSkip::kWallNotDetected:
-      return "wall not detected";
-    case ScanSkip::kMalformedLine:
-      return "malformed scan line";
-    case ScanSkip::kNoPoseAtShiftedTime:
-      return "no pose at the clock-offset-corrected time";
-  }
-  return "unknown";
+  static const EnumText<ScanSkip> kTexts[] = {
+      {ScanSkip::kNoPoseBeforeLogs, "no pose: before the GNSS/heading logs"},
+      {ScanSkip::kNoPoseAfterLogs, "no pose: after the GNSS/heading logs"},
+      {ScanSkip::kNoPoseGnssGap, "no pose: in a GNSS gap"},
+      {ScanSkip::kNoPoseHeadingGap, "no pose: in a heading gap"},
+      {ScanSkip::kVehicleMoving, "vehicle moving"},
+      {ScanSkip::kScannerBehindWall, "scanner at or behind the wall"},
+      {ScanSkip::kWallNotDetected, "wall not detected"},
+      {ScanSkip::kMalformedLine, "malformed scan line"},
+      {ScanSkip::kNoPoseAtShiftedTime, "no pose at the clock-offset-corrected time"}};
+  return TextOf(kTexts, reason, "unknown");
 }
 
 ScanSkip ScanSkipFor(PoseStatus status) {

@@ -112,15 +112,9 @@ double YawFromTrueHeading(const LocalFrame& frame, double heading_true_rad, doub
   // γ at the vehicle, not at the origin: it changes by ~1e-5 rad per 100 m east-west at
   // mid-latitudes, small but free to get right.
   const UtmPoint p = ToUtm(lat_deg, lon_deg, io::UtmZone{frame.zone, frame.north});
-  return YawFromGridHeading(heading_true_rad - p.convergence_rad);
+  return YawFromHeading(heading_true_rad - p.convergence_rad);
 }
 
-double YawFromGridHeading(double heading_grid_rad) {
-  return WrapAngle(0.5 * kPi - heading_grid_rad);
-}
-
-double GridHeadingFromYaw(double yaw_rad) { return kPi / 2.0 - yaw_rad; }
-
-double GridHeadingDeg(double yaw_rad) { return WrapAngle(GridHeadingFromYaw(yaw_rad)) * kRadToDeg; }
+double GridHeadingDeg(double yaw_rad) { return WrapAngle(HeadingFromYaw(yaw_rad)) * kRadToDeg; }
 
 }  // namespace wallcal::calib

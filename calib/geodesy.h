@@ -54,14 +54,8 @@ Eigen::Vector2d ToLocal(const LocalFrame& frame, double lat_deg, double lon_deg)
 double YawFromTrueHeading(const LocalFrame& frame, double heading_true_rad, double lat_deg,
                           double lon_deg);
 
-// Grid heading (rad, clockwise from grid north) -> yaw = π/2 − grid heading, in (-π, π].
-double YawFromGridHeading(double heading_grid_rad);
-
-// Vehicle yaw (rad, counter-clockwise from grid east) -> grid heading = π/2 − yaw (rad,
-// clockwise from grid north), not wrapped: callers wrap it as they show it (WrapTwoPi,
-// WrapAngle) or take circular statistics of it.
-double GridHeadingFromYaw(double yaw_rad);
-// The same wrapped to (−180°, 180°] (deg), for reports: sessions circle a wall, so headings
+// A vehicle yaw (rad, counter-clockwise from grid east) as a grid heading (clockwise from grid
+// north, HeadingFromYaw of common/angles.h) wrapped to (−180°, 180°] (deg), for reports: sessions circle a wall, so headings
 // straddle north as often as not.
 double GridHeadingDeg(double yaw_rad);
 

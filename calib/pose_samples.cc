@@ -34,7 +34,7 @@ std::vector<YawSample> YawSamples(const io::NmeaLog& headings, io::HeadingRefere
     YawSample sample;
     sample.stamp_s = heading.stamp_s;
     if (reference == io::HeadingReference::kGridNorth) {
-      sample.yaw_rad = YawFromGridHeading(heading.heading_rad);
+      sample.yaw_rad = YawFromHeading(heading.heading_rad);
     } else {
       assert(!used.empty());
       // Convergence at the vehicle: take the nearest used fix in time.

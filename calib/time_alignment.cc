@@ -12,6 +12,7 @@
 #include "calib/geodesy.h"
 #include "common/circular.h"
 #include "common/angles.h"
+#include "common/enum_text.h"
 
 namespace wallcal::calib {
 namespace {
@@ -70,6 +71,30 @@ size_t Bracket(const std::vector<Sample>& samples, double stamp_s) {
   return hi - 1;
 }
 
+// The bracketing pair (lo, lo + 1) of a stamp and its fraction f between them; false with the
+// reason in *failure when the stamp is outside the stream or the pair is further apart than
+// max_gap_s (then gap_status).
+template <typename Sample>
+bool Interval(const std::vector<Sample>& samples, double stamp_s, double max_gap_s,
+              PoseStatus gap_status, size_t* lo, double* f, PoseStatus* failure) {
+  if (!(stamp_s >= samples.front().stamp_s)) {
+    *failure = PoseStatus::kBeforeStart;
+    return false;
+  }
+  if (stamp_s > samples.back().stamp_s) {
+    *failure = PoseStatus::kAfterEnd;
+    return false;
+  }
+  *lo = Bracket(samples, stamp_s);
+  const double t0_s = samples[*lo].stamp_s, t1_s = samples[*lo + 1].stamp_s;
+  if (t1_s - t0_s > max_gap_s) {
+    *failure = gap_status;
+    return false;
+  }
+  *f = (stamp_s - t0_s) / (t1_s - t0_s);
+  return true;
+}
+
 // Cubic Hermite weights at fraction f of [t0, t1] with the tangents from central differences
 // over the neighbours t_-1 and t2 (non-uniform spacing allowed): the value is
 // w[0]·v_-1 + w[1]·v0 + w[2]·v1 + w[3]·v2. Exact for quadratics (a vehicle speeding up or
@@ -85,19 +110,11 @@ std::array<double, 4> HermiteWeights(double tm1, double t0, double t1, double t2
 }  // namespace
 
 const char* PoseStatusName(PoseStatus status) {
-  switch (status) {
-    case PoseStatus::kOk:
-      return "ok";
-    case PoseStatus::kBeforeStart:
-      return "before the GNSS/heading logs";
-    case PoseStatus::kAfterEnd:
-      return "after the GNSS/heading logs";
-    case PoseStatus::kGnssGap:
-      return "in a GNSS gap";
-    case PoseStatus::kHeadingGap:
-      return "in a heading gap";
-  }
-  return "unknown";
+  static const EnumText<PoseStatus> kTexts[] = {
+      {PoseStatus::kOk, "ok"}, {PoseStatus::kBeforeStart, "before the GNSS/heading logs"},
+      {PoseStatus::kAfterEnd, "after the GNSS/heading logs"},
+      {PoseStatus::kGnssGap, "in a GNSS gap"}, {PoseStatus::kHeadingGap, "in a heading gap"}};
+  return TextOf(kTexts, status, "unknown");
 }
 
 PoseInterpolator::PoseInterpolator(std::vector<PositionSample> positions,
@@ -116,44 +133,26 @@ PoseInterpolator::PoseInterpolator(std::vector<PositionSample> positions,
 
 bool PoseInterpolator::PositionAt(double stamp_s, Eigen::Vector2d* p_local_m, double* sigma_m,
                                   PoseStatus* failure) const {
-  if (!(stamp_s >= positions_.front().stamp_s)) {
-    *failure = PoseStatus::kBeforeStart;
+  size_t lo = 0;
+  double f = 0.0;
+  if (!Interval(positions_, stamp_s, gnss_max_gap_s_, PoseStatus::kGnssGap, &lo, &f, failure)) {
     return false;
   }
-  if (stamp_s > positions_.back().stamp_s) {
-    *failure = PoseStatus::kAfterEnd;
-    return false;
-  }
-  const size_t lo = Bracket(positions_, stamp_s);
   const PositionSample& a = positions_[lo];
   const PositionSample& b = positions_[lo + 1];
-  if (b.stamp_s - a.stamp_s > gnss_max_gap_s_) {
-    *failure = PoseStatus::kGnssGap;
-    return false;
-  }
-  const double f = (stamp_s - a.stamp_s) / (b.stamp_s - a.stamp_s);
   *p_local_m = a.p_local_m + f * (b.p_local_m - a.p_local_m);
   *sigma_m = a.sigma_m + f * (b.sigma_m - a.sigma_m);
   return true;
 }
 
 bool PoseInterpolator::YawAt(double stamp_s, double* yaw_rad, PoseStatus* failure) const {
-  if (!(stamp_s >= yaws_.front().stamp_s)) {
-    *failure = PoseStatus::kBeforeStart;
+  size_t lo = 0;
+  double f = 0.0;
+  if (!Interval(yaws_, stamp_s, heading_max_gap_s_, PoseStatus::kHeadingGap, &lo, &f, failure)) {
     return false;
   }
-  if (stamp_s > yaws_.back().stamp_s) {
-    *failure = PoseStatus::kAfterEnd;
-    return false;
-  }
-  const size_t lo = Bracket(yaws_, stamp_s);
   const YawSample& a = yaws_[lo];
   const YawSample& b = yaws_[lo + 1];
-  if (b.stamp_s - a.stamp_s > heading_max_gap_s_) {
-    *failure = PoseStatus::kHeadingGap;
-    return false;
-  }
-  const double f = (stamp_s - a.stamp_s) / (b.stamp_s - a.stamp_s);
   // The shorter arc: a vehicle does not turn by more than π between two heading samples.
   *yaw_rad = WrapAngle(a.yaw_rad + f * WrapAngle(b.yaw_rad - a.yaw_rad));
   return true;

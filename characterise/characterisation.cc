@@ -19,15 +19,6 @@
 namespace wallcal::characterise {
 namespace {
 
-std::string NowUtc() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char text[32];
-  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return text;
-}
-
 // Where to stand for the range scale: near and far within the scanner's reach.
 std::string DistanceAdvice(const io::ScannerPreset& preset) {
   if (preset.max_range_m >= 20.0) return "stations from 3 m to 15 m from the wall";
@@ -222,7 +213,7 @@ Characterisation Characterise(const CharacteriseRequest& request) {
   result.preset.name = request.preset_name.empty() ? preset.name + "_measured" : request.preset_name;
   result.preset.source = "measured by wallcal characterise " + std::string(io::kToolVersion) +
                          " on session '" + calibration.session.name + "' (" +
-                         calibration.session.file + ") at " + NowUtc();
+                         calibration.session.file + ") at " + NowUtcIso8601();
   result.preset.range_scale_k = model.k.value;
   result.preset.range_offset_b_m = model.b_m.value;
   result.preset.sim_scale_n = model.n.value;

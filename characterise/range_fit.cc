@@ -8,6 +8,8 @@
 #include <cmath>
 #include <limits>
 
+#include "common/statistics.h"
+
 namespace wallcal::characterise {
 namespace {
 
@@ -44,13 +46,6 @@ void DriftWeights(const std::vector<double>& knots, double t, std::vector<double
   const double u = (t - knots[j - 1]) / (knots[j] - knots[j - 1]);
   (*h)[j - 1] += u;  // weight of knot j (index j − 1)
   if (j >= 2) (*h)[j - 2] += 1.0 - u;
-}
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + mid, v.end());
-  return v[mid];
 }
 
 Value ValueOf(double value, const Eigen::VectorXd& gradient, const Eigen::MatrixXd& cov) {
@@ -256,7 +251,7 @@ FitOutput FitRangeModel(const FitSetup& setup) {
     const double dof = std::max(1, used - P);
     const double within_r2 = sum_r2 - explained * sigma_w * sigma_w;
     sigma_w = std::max(1e-5, std::sqrt(std::max(0.0, within_r2) / dof));
-    out.robust_sigma_m = 1.4826 * Median(abs_residuals);
+    out.robust_sigma_m = 1.4826 * UpperMedian(abs_residuals, 0.0);
     gate_m = std::max(4.0 * out.robust_sigma_m, 1e-3);
   }
 

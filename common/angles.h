@@ -31,4 +31,13 @@ inline double WrapTwoPi(double angle_rad) {
   return a;
 }
 
+// A yaw (rad, counter-clockwise from east) as a heading (rad, clockwise from north of the same
+// frame: grid north for a grid yaw, true north for a true one) = π/2 − yaw, not wrapped: callers
+// wrap it as they show it (WrapTwoPi, WrapAngle) or take circular statistics of it.
+inline double HeadingFromYaw(double yaw_rad) { return 0.5 * kPi - yaw_rad; }
+
+// A heading (rad, clockwise from north) as a yaw (rad, counter-clockwise from east) = π/2 −
+// heading, in (−π, π].
+inline double YawFromHeading(double heading_rad) { return WrapAngle(0.5 * kPi - heading_rad); }
+
 }  // namespace wallcal

@@ -4,6 +4,7 @@
 // every program prints a number the same way.
 
 #include <cstdio>
+#include <ctime>
 #include <string>
 
 namespace wallcal {
@@ -19,6 +20,17 @@ std::string Format(const char* format, Args... args) {
   std::snprintf(out.data(), out.size(), format, args...);
   out.resize(static_cast<size_t>(n));
   return out;
+}
+
+// The wall-clock time now, UTC, as ISO 8601 to the second ("2026-11-26T19:00:00Z"): the stamp
+// written into offsets.yaml and the scanner presets.
+inline std::string NowUtcIso8601() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
 }
 
 }  // namespace wallcal

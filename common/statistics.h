@@ -20,4 +20,13 @@ inline double Median(std::vector<double> values) {
   return median;
 }
 
+// The value at index size/2 of the sorted values (for an even count the upper of the two middle
+// ones: always one of the values); `empty_value` when there are none.
+inline double UpperMedian(std::vector<double> values, double empty_value) {
+  if (values.empty()) return empty_value;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
 }  // namespace wallcal

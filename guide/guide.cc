@@ -8,18 +8,14 @@
 
 #include "analysis/repeatability.h"
 #include "common/angles.h"
+#include "common/statistics.h"
+#include "guide/guide_session.h"
+#include "io/input_file.h"
 #include "pipeline/calibration.h"
 #include "pipeline/steps.h"
 
 namespace wallcal::guide {
 namespace {
-
-double Median(std::vector<double> values, double fallback) {
-  if (values.empty()) return fallback;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<long>(mid), values.end());
-  return values[mid];
-}
 
 Eigen::Vector2d Lever(const calib::Mount& mount, double yaw_rad) {
   return Eigen::Vector2d(std::cos(yaw_rad) * mount.x_m - std::sin(yaw_rad) * mount.y_m,
@@ -63,7 +59,8 @@ std::vector<StationSummary> SummariseStations(const pipeline::CalibrationResult&
     double sin_sum = 0.0, cos_sum = 0.0, distance_sum = 0.0;
     int count = 0;
     int heading_samples = 0;
-    std::set<int> scans;
+    int64_t scans = 0;  // a scan's observations are adjacent: counted at each new scan_index
+    int last_scan = -1;
   };
   std::map<int, Accumulator> by_station;
   for (const calib::WallObservation& o : result.observations) {
@@ -82,7 +79,10 @@ std::vector<StationSummary> SummariseStations(const pipeline::CalibrationResult&
     a.distance_sum += std::abs(signed_distance);
     ++a.count;
     a.heading_samples = std::max(a.heading_samples, o.pose.dwell_yaw_samples);
-    a.scans.insert(o.scan_index);
+    if (o.scan_index != a.last_scan) {
+      ++a.scans;
+      a.last_scan = o.scan_index;
+    }
   }
   std::vector<StationSummary> stations;
   std::vector<double> rates, heading_rates, distances;
@@ -93,12 +93,12 @@ std::vector<StationSummary> SummariseStations(const pipeline::CalibrationResult&
     s.wall_index = a.wall_index;
     s.vehicle_to_wall_rad = std::atan2(a.sin_sum, a.cos_sum);
     s.distance_m = a.distance_sum / a.count;
-    s.scans = static_cast<int64_t>(a.scans.size());
+    s.scans = a.scans;
     stations.push_back(s);
     distances.push_back(s.distance_m);
     const double span = a.end_s - a.start_s;
-    if (span > 1.0 && a.scans.size() > 1) {
-      rates.push_back((a.scans.size() - 1.0) / span);
+    if (span > 1.0 && a.scans > 1) {
+      rates.push_back((a.scans - 1.0) / span);
       if (a.heading_samples > 0) {
         heading_rates.push_back(a.heading_samples / (span + 2.0 * model->dwell_guard_s));
       }
@@ -107,9 +107,9 @@ std::vector<StationSummary> SummariseStations(const pipeline::CalibrationResult&
   }
   std::sort(stations.begin(), stations.end(),
             [](const StationSummary& a, const StationSummary& b) { return a.start_s < b.start_s; });
-  model->scan_rate_hz = Median(rates, model->preset.rate_hz);
-  model->heading_rate_hz = Median(heading_rates, 20.0);
-  model->typical_distance_m = Median(distances, 8.0);
+  model->scan_rate_hz = UpperMedian(rates, model->preset.rate_hz);
+  model->heading_rate_hz = UpperMedian(heading_rates, 20.0);
+  model->typical_distance_m = UpperMedian(distances, 8.0);
   return stations;
 }
 
@@ -129,20 +129,24 @@ double FitScale(const StopModel& model, const std::vector<calib::WallObservation
     }
     ratios.push_back(o.sigma_rho_m / fit.sigma_rho_m);
   }
-  return Median(ratios, 1.0);
+  return UpperMedian(ratios, 1.0);
 }
 
 }  // namespace
 
-GuideReport AssessSession(const GuideRequest& request) {
-  pipeline::CalibrateRequest calibrate;
-  calibrate.session_path = request.session_path;
-  calibrate.config_path = request.config_path;
-  calibrate.preview = true;
-  calibrate.force = true;  // the σ along a weak direction, not a refusal
-  calibrate.threads = request.threads;
-  const pipeline::CalibrationResult result = pipeline::RunCalibration(calibrate);
+void GuideOptions::Validate() const {
+  if (session_path.empty()) throw io::InputError("guide: no session given");
+  if (max_next < 1 || max_next > 3) {
+    throw io::InputError("guide: max_next " + std::to_string(max_next) + "; expected 1, 2 or 3");
+  }
+  if (threads < 0) {
+    throw io::InputError("guide: threads " + std::to_string(threads) + "; expected 0 or more");
+  }
+}
 
+GuideReport AssessSession(const GuideOptions& options) { return GuideSession(options).Refresh(); }
+
+GuideReport ReportOn(const pipeline::CalibrationResult& result, int max_next) {
   GuideReport report;
   report.session_name = result.session.name;
   for (const calib::WallGeometry& wall : result.walls) report.wall_ids.push_back(wall.id);
@@ -206,15 +210,13 @@ GuideReport AssessSession(const GuideRequest& request) {
   report.enough = report.predicted.known && estimate.usable && !estimate.forced &&
                   WorstSigmaRatio(report.predicted, report.acceptance) <= 1.0;
   if (!report.enough) {
-    const int count = std::clamp(request.max_next, 1, 3);
+    const int count = std::clamp(max_next, 1, 3);
     if (report.predicted.known) {
       report.next = NextStops(model, evidence, last_s, report.acceptance, count);
     } else {
       // Nothing determined yet: the start of the plan for twenty minutes.
       model.mount = estimate.usable ? estimate.mount : model.mount;
       const Plan plan = BestPlan(model, report.acceptance, 20.0 * 60.0);
-      std::vector<calib::WallObservation> obs;
-      std::vector<double> w;
       for (size_t i = 0; i < plan.stops.size() && static_cast<int>(i) < count; ++i) {
         report.next.push_back(Advice{plan.stops[i], Prediction{}});
       }
@@ -223,11 +225,12 @@ GuideReport AssessSession(const GuideRequest& request) {
   return report;
 }
 
-GuideReport PlanSession(const GuideRequest& request, double budget_s) {
+GuideReport PlanSession(const GuideOptions& options, double budget_s) {
+  options.Validate();
   pipeline::CalibrateRequest calibrate;
-  calibrate.session_path = request.session_path;
-  calibrate.config_path = request.config_path;
-  calibrate.threads = request.threads;
+  calibrate.session_path = options.session_path;
+  calibrate.config_path = options.config_path;
+  calibrate.threads = options.threads;
   pipeline::CalibrationResult result;
   {
     pipeline::Setup setup = pipeline::LoadSessionAndOptions(calibrate);

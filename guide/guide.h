@@ -3,7 +3,8 @@
 // The guide at the wall: what a session's logs hold now (they may still be growing), the σ of the
 // mount if it were calibrated now, whether the acceptance tolerances are met, and the next stops
 // that would lower the largest σ most; or, before any log exists, the best plan for a time
-// budget. Computed once into a GuideReport; guide_text.cc renders it.
+// budget. Computed once into a GuideReport; guide_text.cc renders it. guide_session.h keeps the
+// guide between refreshes of logs that grow; the command line is apps/guide_command.cc.
 
 #include <cstdint>
 #include <optional>
@@ -12,14 +13,18 @@
 
 #include "guide/prediction.h"
 #include "pipeline/calibrate_options.h"
+#include "pipeline/calibration.h"
 
 namespace wallcal::guide {
 
-struct GuideRequest {
+struct GuideOptions {
   std::string session_path;  // session.yaml or its folder
   std::string config_path;   // calibrate options (as calibrate's --config); empty: defaults
   int threads = 0;           // 0: every core
   int max_next = 3;          // stops to advise (1..3)
+  // Throws io::InputError naming the first bad field (no session, max_next outside 1..3,
+  // threads < 0).
+  void Validate() const;
 };
 
 // A station recorded so far (a dwell with the wall detected).
@@ -53,11 +58,17 @@ struct GuideReport {
 };
 
 // Reads the session's logs as they are now (a text log's unfinished last line, a recording
-// without its index or summary: what is complete) and predicts. Throws io::InputError for bad
-// input (a session.yaml, survey or option file at fault).
-GuideReport AssessSession(const GuideRequest& request);
+// without its index or summary: what is complete) and predicts: one refresh of a new
+// GuideSession (guide_session.h). Throws io::InputError for bad input (a session.yaml, survey
+// or option file at fault).
+GuideReport AssessSession(const GuideOptions& options);
+
+// The report on a preview calibration's result (calibrate's observations, the estimate and
+// where its adjustment ended): the stations, the σ if calibrated now, enough, and up to
+// `max_next` next stops.
+GuideReport ReportOn(const pipeline::CalibrationResult& result, int max_next);
 
 // The best plan for `budget_s` from session.yaml, the survey and the options only.
-GuideReport PlanSession(const GuideRequest& request, double budget_s);
+GuideReport PlanSession(const GuideOptions& options, double budget_s);
 
 }  // namespace wallcal::guide

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <string>
 
@@ -116,31 +117,48 @@ std::vector<Advice> NextStops(const StopModel& model, const Evidence& evidence, 
       std::vector<calib::WallObservation> observations;
       std::vector<double> weights;
     };
-    auto evaluate = [&](const StopSpec& stop, Scored* best) {
+    auto score = [&](const StopSpec& stop) {
+      Scored scored;
       std::vector<calib::WallObservation> obs = chosen;
       std::vector<double> w = chosen_weights;
       const size_t old_size = obs.size();
       int ids = station_id;
-      if (!AppendWaitAndStop(model, previous, stop, time_s, &ids, &obs, &w)) return;
+      if (!AppendWaitAndStop(model, previous, stop, time_s, &ids, &obs, &w)) return scored;
       const Prediction after = PredictMount(model, evidence, obs, w);
       std::vector<double> angles_after = angles;
       angles_after.push_back(stop.vehicle_to_wall_rad);
       const double ratio = Shortfall(after, angles_after, model.solver, acceptance);
       const double spent = stop.wait_s + stop.dwell_s;
+      scored.stop = stop;
+      scored.after = after;
+      scored.ratio = ratio;
       // Before the σ is known at all, the stop that makes it smallest; after, the steepest drop.
-      const double rate = std::isfinite(before) ? (before - ratio) / spent : -ratio;
-      if (rate > best->rate) {
-        best->stop = stop;
-        best->after = after;
-        best->ratio = ratio;
-        best->rate = rate;
-        best->observations.assign(obs.begin() + static_cast<long>(old_size), obs.end());
-        best->weights.assign(w.begin() + static_cast<long>(old_size), w.end());
+      scored.rate = std::isfinite(before) ? (before - ratio) / spent : -ratio;
+      scored.observations.assign(obs.begin() + static_cast<long>(old_size), obs.end());
+      scored.weights.assign(w.begin() + static_cast<long>(old_size), w.end());
+      return scored;
+    };
+    // The candidates are scored on the solver's threads (each its own problem), then taken in
+    // their order, the first of equal rates kept: the choice does not depend on the threads.
+    auto take_best = [&](const std::vector<StopSpec>& stops, Scored* best) {
+      std::vector<Scored> scored(stops.size());
+      const size_t threads = std::clamp<size_t>(static_cast<size_t>(model.solver.num_threads), 1,
+                                                std::max<size_t>(1, stops.size()));
+      std::vector<std::future<void>> jobs;
+      for (size_t t = 1; t < threads; ++t) {
+        jobs.push_back(std::async(std::launch::async, [&, t]() {
+          for (size_t i = t; i < stops.size(); i += threads) scored[i] = score(stops[i]);
+        }));
+      }
+      for (size_t i = 0; i < stops.size(); i += threads) scored[i] = score(stops[i]);
+      for (std::future<void>& job : jobs) job.get();
+      for (Scored& candidate : scored) {
+        if (candidate.rate > best->rate) *best = std::move(candidate);
       }
     };
     // First the place (wall, angle, distance) at a middle dwell and wait, then how long to stand
     // and to wait there.
-    Scored best;
+    std::vector<StopSpec> places;
     for (int wall = 0; wall < static_cast<int>(model.walls.size()); ++wall) {
       for (double angle : CandidateAngles()) {
         for (double distance : distances) {
@@ -150,20 +168,24 @@ std::vector<Advice> NextStops(const StopModel& model, const Evidence& evidence, 
           stop.distance_m = distance;
           stop.dwell_s = 30.0;
           stop.wait_s = tau_s;
-          evaluate(stop, &best);
+          places.push_back(stop);
         }
       }
     }
+    Scored best;
+    take_best(places, &best);
     if (!std::isfinite(best.rate) && !best.after.known) break;
     const StopSpec place = best.stop;
+    std::vector<StopSpec> timings;
     for (double dwell : dwells) {
       for (double wait : waits) {
         StopSpec stop = place;
         stop.dwell_s = dwell;
         stop.wait_s = wait;
-        evaluate(stop, &best);
+        timings.push_back(stop);
       }
     }
+    take_best(timings, &best);
     chosen.insert(chosen.end(), best.observations.begin(), best.observations.end());
     chosen_weights.insert(chosen_weights.end(), best.weights.begin(), best.weights.end());
     advice.push_back(Advice{best.stop, best.after});

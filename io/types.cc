@@ -3,6 +3,24 @@
 
 namespace wallcal::io {
 
+std::string SkipCounts::ListReasons(bool problems_only, size_t max_reasons) const {
+  std::string out;
+  size_t shown = 0;
+  for (const auto& [reason, count] : by_reason) {
+    if (problems_only && IsInformational(reason)) continue;
+    if (shown == max_reasons) {
+      out += "; ...";
+      break;
+    }
+    out += (shown++ > 0 ? "; " : "") + reason + ": " + std::to_string(count);
+    const auto line = first_line.find(reason);
+    if (line != first_line.end() && line->second > 0) {
+      out += ", first at line " + std::to_string(line->second);
+    }
+  }
+  return out;
+}
+
 std::string Where(const std::string& file, int line, const std::string& message) {
   std::string text = file;
   if (line > 0) text += ":" + std::to_string(line);

@@ -105,6 +105,11 @@ struct SkipCounts {
     severity.emplace(reason, how);
     if (line > 0 && first_line.find(reason) == first_line.end()) first_line[reason] = line;
   }
+  // "reason: n, first at line L; ..." for the reasons counted (the problems only when
+  // `problems_only`), at most `max_reasons` of them and then "; ...": the one way a skip list
+  // is written, in calibrate's warnings and inspect's report alike.
+  std::string ListReasons(bool problems_only,
+                          size_t max_reasons = std::numeric_limits<size_t>::max()) const;
 };
 
 struct NmeaLog {

@@ -35,31 +35,12 @@ namespace fs = std::filesystem;
 
 std::string FileName(const std::string& path) { return fs::path(path).filename().string(); }
 
-// "reason: n, first at line L; ..." for the reasons `skips` counts (its problems only when
-// `problems_only`), at most `max_reasons` of them and then "; ...".
-std::string ListReasons(const io::SkipCounts& skips, bool problems_only,
-                        size_t max_reasons = std::numeric_limits<size_t>::max()) {
-  std::ostringstream out;
-  size_t shown = 0;
-  for (const auto& [reason, count] : skips.by_reason) {
-    if (problems_only && skips.IsInformational(reason)) continue;
-    if (shown == max_reasons) {
-      out << "; ...";
-      break;
-    }
-    out << (shown++ > 0 ? "; " : "") << reason << ": " << count;
-    const auto line = skips.first_line.find(reason);
-    if (line != skips.first_line.end() && line->second > 0) out << ", first at line " << line->second;
-  }
-  return out.str();
-}
-
 // "file: N lines skipped (reason: n, first at line L; ...)" for the problem reasons; empty
 // when there are none.
 std::string DescribeSkips(const std::string& file, const io::SkipCounts& skips) {
   if (skips.Problems() == 0) return std::string();
   return FileName(file) + ": " + std::to_string(skips.Problems()) + " lines skipped (" +
-         ListReasons(skips, true) + ")";
+         skips.ListReasons(true) + ")";
 }
 
 // Stops the run after the first pass: the estimate says why.
@@ -160,7 +141,7 @@ PoseStep ReadPoses(const CalibrationResult& result) {
     }
     // Why the lines were not fixes, with the first line of each reason: the user can open the
     // log there (a missing checksum, a latitude of 91°, a misspelt sentence type).
-    const std::string reasons = ListReasons(step.gnss.skipped, false, 6);
+    const std::string reasons = step.gnss.skipped.ListReasons(false, 6);
     throw io::InputError(io::Where(
         session.gnss_log, 0,
         "fewer than 2 GGA fixes of accepted quality (gnss.min_fix_quality " +
@@ -209,6 +190,19 @@ PoseStep ReadPoses(const CalibrationResult& result) {
   return step;
 }
 
+MovingScans ChooseMovingScans(const CalibrateOptions& options, int num_dwells) {
+  MovingScans moving;
+  // Moving scans: when asked for, or when the engineer drove continuously (too few dwells to
+  // calibrate from stations alone). The solver then estimates the scanner clock offset too.
+  moving.use_moving = options.alignment.use_moving_scans ||
+                      (options.alignment.moving_scans_if_few_stations &&
+                       num_dwells < options.solver.min_stations);
+  // Stop-and-go: the drives between the stops too, kept if the clock offset is determined.
+  moving.moving_by_default = !moving.use_moving && options.alignment.moving_scans_in_stop_and_go;
+  moving.use_moving = moving.use_moving || moving.moving_by_default;
+  return moving;
+}
+
 PassSetup PreparePasses(const CalibrateRequest& request, const CalibrationResult& result,
                         const calib::PoseInterpolator& poses) {
   PassSetup setup;
@@ -227,14 +221,9 @@ PassSetup PreparePasses(const CalibrateRequest& request, const CalibrationResult
   EnforcePresetFit(fit, result.preset, result.session, request.force, &setup.warnings);
   setup.scanner_from_data = fit.taken_from_data;
   pass.threads = options.solver.num_threads;
-  // Moving scans: when asked for, or when the engineer drove continuously (too few dwells to
-  // calibrate from stations alone). The solver then estimates the scanner clock offset too.
-  pass.use_moving = options.alignment.use_moving_scans ||
-                    (options.alignment.moving_scans_if_few_stations &&
-                     result.num_dwells < options.solver.min_stations);
-  // Stop-and-go: the drives between the stops too, kept if the clock offset is determined.
-  setup.moving_by_default = !pass.use_moving && options.alignment.moving_scans_in_stop_and_go;
-  pass.use_moving = pass.use_moving || setup.moving_by_default;
+  const MovingScans moving = ChooseMovingScans(options, result.num_dwells);
+  pass.use_moving = moving.use_moving;
+  setup.moving_by_default = moving.moving_by_default;
   if (pass.use_moving && !options.alignment.use_moving_scans && !setup.moving_by_default) {
     setup.warnings.push_back({WarningKind::kMovingScansUsed, "only " + std::to_string(result.num_dwells) +
                                " stations (dwells) found: scans taken while moving are used, with "
@@ -515,7 +504,7 @@ Coverage CountCoverage(const CalibrationResult& result) {
     used_scans.insert(o.scan_index);
     if (!o.pose.stationary) moving_scans.insert(o.scan_index);
     used_segments.insert(calib::GnssSegment(o));
-    grid_headings.push_back(calib::GridHeadingFromYaw(o.pose.yaw_rad));
+    grid_headings.push_back(HeadingFromYaw(o.pose.yaw_rad));
     const calib::WallGeometry& wall = result.walls[o.wall_index];
     // φ of Barawid 2007, Eq. 8: the wall normal (towards the wall) in the vehicle frame.
     const double side =

@@ -96,6 +96,14 @@ struct PoseStep {
 };
 PoseStep ReadPoses(const CalibrationResult& result);
 
+// Which scans taken while moving the passes use, for a session with `num_dwells` dwells:
+// use_moving (the passes detect them) and moving_by_default (RunInputs::moving_by_default).
+struct MovingScans {
+  bool use_moving = false;
+  bool moving_by_default = false;
+};
+MovingScans ChooseMovingScans(const CalibrateOptions& options, int num_dwells);
+
 // How the detection passes read scans and which scans they use. The context points into
 // `result` (preset, detector options, walls) and at `poses`: both outlive the passes.
 struct PassSetup {

@@ -2,11 +2,11 @@
 #include "pipeline/verdict.h"
 
 #include <cmath>
-#include <ctime>
 #include <limits>
 #include <set>
 
 #include "common/angles.h"
+#include "common/enum_text.h"
 #include "common/format.h"
 #include "common/sha256.h"
 
@@ -20,15 +20,9 @@ double SigmaOf(double variance) {
 }  // namespace
 
 const char* VerdictName(Verdict verdict) {
-  switch (verdict) {
-    case Verdict::kAccept:
-      return "ACCEPT";
-    case Verdict::kReview:
-      return "REVIEW";
-    case Verdict::kReject:
-      return "REJECT";
-  }
-  return "REJECT";
+  static const EnumText<Verdict> kTexts[] = {
+      {Verdict::kAccept, "ACCEPT"}, {Verdict::kReview, "REVIEW"}, {Verdict::kReject, "REJECT"}};
+  return TextOf(kTexts, verdict, "REJECT");
 }
 
 Change CompareMounts(const solvers::MountEstimate& now, const io::PreviousOffsets& previous) {
@@ -107,15 +101,6 @@ Decision Decide(const DecisionInputs& in) {
            "bias the mount (see the report's diagnostics)");
   }
   return d;
-}
-
-std::string NowUtcIso8601() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
 }
 
 std::vector<io::InputFileDigest> DigestInputs(const io::SessionSpec& session,

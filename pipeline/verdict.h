@@ -62,9 +62,6 @@ struct Provenance {
   std::vector<io::InputFileDigest> inputs;
 };
 
-// The current time as "YYYY-MM-DDTHH:MM:SSZ".
-std::string NowUtcIso8601();
-
 // The SHA-256 of each input file of the session (session.yaml, scanner, GNSS and heading logs,
 // survey, options file when given, scanner preset file read, previous offsets of --compare when
 // given), in that order, one entry per distinct path.

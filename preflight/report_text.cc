@@ -41,13 +41,6 @@ std::string FormatStamp(double stamp_s) {
   return buffer;
 }
 
-double Median(std::vector<double> values) {
-  if (values.empty()) return io::kNaN;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid), values.end());
-  return values[mid];
-}
-
 // Circular extent of angles (rad) about their circular mean: min and max as headings in
 // [0, 360) degrees and the width in degrees (0 for fewer than one angle).
 AngleExtent Extent(const std::vector<double>& angles_rad) {
@@ -113,15 +106,7 @@ std::string HistogramAxis() {
 }
 
 std::string DescribeSkips(const io::SkipCounts& skips) {
-  std::ostringstream out;
-  bool first = true;
-  for (const auto& [reason, count] : skips.by_reason) {
-    out << (first ? "" : "; ") << count << " " << reason;
-    const auto line = skips.first_line.find(reason);
-    if (line != skips.first_line.end() && line->second > 0) out << " (first line " << line->second << ")";
-    first = false;
-  }
-  return first ? std::string("none") : out.str();
+  return skips.Total() == 0 ? std::string("none") : skips.ListReasons(false);
 }
 
 int64_t WorrisomeSkips(const io::SkipCounts& skips) { return skips.Problems(); }

@@ -180,7 +180,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     const std::vector<calib::YawSample> yaws =
         calib::YawSamples(*heading_log, spec.heading_reference, *frame, used);
     for (const calib::YawSample& sample : yaws) {
-      logged_grid_headings_rad.push_back(calib::GridHeadingFromYaw(sample.yaw_rad));
+      logged_grid_headings_rad.push_back(HeadingFromYaw(sample.yaw_rad));
     }
     if (positions.size() >= 2 && yaws.size() >= 2) {
       try {
@@ -267,7 +267,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
       if (scans) {
         for (double t : scans->stamps_s) n_scans += (t >= dwell.start_s && t <= dwell.end_s);
       }
-      const double heading_deg = std::fmod((kPi / 2.0 - dwell.mean_yaw_rad) * kRadToDeg + 720.0, 360.0);
+      const double heading_deg = WrapTwoPi(HeadingFromYaw(dwell.mean_yaw_rad)) * kRadToDeg;
       char row[256];
       std::snprintf(row, sizeof(row), "  %4zu  %+8.1f s %5.1f s %6.1f° %7lld", d + 1,
                     dwell.start_s - t0, dwell.end_s - dwell.start_s, heading_deg,
@@ -315,7 +315,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
     for (const calib::WallObservation& o : calibration->observations) {
       if (o.scan_index < 0 || seen[o.scan_index]) continue;
       seen[o.scan_index] = 1;
-      seen_headings_rad.push_back(calib::GridHeadingFromYaw(o.pose.yaw_rad));
+      seen_headings_rad.push_back(HeadingFromYaw(o.pose.yaw_rad));
     }
   }
 
@@ -365,7 +365,7 @@ SessionInspection InspectSession(const std::string& session_path, const std::str
   if (!dwells.empty() && !options.alignment.use_moving_scans) {
     std::vector<double> station_headings_rad;
     for (const calib::Dwell& dwell : dwells) {
-      station_headings_rad.push_back(calib::GridHeadingFromYaw(dwell.mean_yaw_rad));
+      station_headings_rad.push_back(HeadingFromYaw(dwell.mean_yaw_rad));
     }
     const AngleExtent stations = Extent(station_headings_rad);
     out << "  stations  at grid headings " << Fmt("%.1f", stations.min_deg) << "°.."

@@ -3,30 +3,36 @@
 #include <cmath>
 #include <sstream>
 
+#include "common/statistics.h"
 #include "preflight/internal/inspect_internal.h"
 
 namespace wallcal::preflight {
 
 namespace internal {
 
-StreamStats FixStats(const std::string& path, const io::NmeaLog& log) {
+namespace {
+
+// The stamps and log lines of one NMEA stream (fixes or headings), as ComputeStreamStats takes them.
+template <class Sample>
+StreamStats SampleStats(const char* name, const std::string& path,
+                        const std::vector<Sample>& samples) {
   std::vector<double> stamps;
   std::vector<int> lines;
-  for (const io::GnssFix& fix : log.fixes) {
-    stamps.push_back(fix.stamp_s);
-    lines.push_back(fix.line);
+  for (const Sample& sample : samples) {
+    stamps.push_back(sample.stamp_s);
+    lines.push_back(sample.line);
   }
-  return ComputeStreamStats("GNSS fixes (GGA)", path, stamps, lines);
+  return ComputeStreamStats(name, path, stamps, lines);
+}
+
+}  // namespace
+
+StreamStats FixStats(const std::string& path, const io::NmeaLog& log) {
+  return SampleStats("GNSS fixes (GGA)", path, log.fixes);
 }
 
 StreamStats HeadingStats(const std::string& path, const io::NmeaLog& log) {
-  std::vector<double> stamps;
-  std::vector<int> lines;
-  for (const io::HeadingSample& h : log.headings) {
-    stamps.push_back(h.stamp_s);
-    lines.push_back(h.line);
-  }
-  return ComputeStreamStats("headings (HDT/THS)", path, stamps, lines);
+  return SampleStats("headings (HDT/THS)", path, log.headings);
 }
 
 std::string FormatQualities(const io::NmeaLog& log) {
@@ -74,7 +80,7 @@ StreamStats ComputeStreamStats(const std::string& name, const std::string& file,
     }
     steps.push_back(dt);
   }
-  s.median_period_s = internal::Median(steps);
+  s.median_period_s = UpperMedian(steps, io::kNaN);
   if (std::isfinite(s.median_period_s) && s.median_period_s > 0) {
     const double threshold_s = gap_periods * s.median_period_s;
     for (size_t i = 1; i < stamps_s.size(); ++i) {

@@ -5,11 +5,7 @@
 # ccache is used when found. scripts/test.sh then builds the tests in the same build/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
-launcher=()
-if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
-cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWALLCAL_WERROR="${WALLCAL_WERROR:-ON}" \
-  "${launcher[@]}"
+bash scripts/configure.sh
 cmake --build build -j"${JOBS:-2}" --target wallcal
 ./build/wallcal calibrate samples/lms291-sapporo --output build/sample-offsets.yaml
 echo "setup: offsets written to build/sample-offsets.yaml; the program is build/wallcal"

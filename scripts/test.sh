@@ -4,10 +4,6 @@
 # the whole test suite under ctest. After scripts/setup.sh only the tests are left to compile.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
-launcher=()
-if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
-cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWALLCAL_WERROR="${WALLCAL_WERROR:-ON}" \
-  "${launcher[@]}"
+bash scripts/configure.sh
 cmake --build build -j"${JOBS:-2}"
 ctest --test-dir build --output-on-failure -j"${JOBS:-2}"

@@ -208,7 +208,7 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
         const io::HeadingSample& h = headings.headings[next_heading++];
         heading_msg.header.stamp_s = h.stamp_s;
         ++heading_msg.header.seq;
-        const double yaw = kPi / 2.0 - h.heading_rad;  // ENU yaw (REP 103)
+        const double yaw = YawFromHeading(h.heading_rad);  // ENU yaw (REP 103)
         heading_msg.x = heading_msg.y = 0.0;
         heading_msg.z = std::sin(yaw / 2.0);
         heading_msg.w = std::cos(yaw / 2.0);

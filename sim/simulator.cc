@@ -116,7 +116,7 @@ std::vector<io::HeadingSample> SimulateHeadings(const sim::SimulationConfig& con
   headings.reserve(count);
   for (int64_t j = 0; j < count; ++j) {
     const double t_s = j / config.heading_rate_hz;
-    const double true_heading_rad = kPi / 2.0 - trajectory.At(t_s).yaw_rad;  // cw from true north
+    const double true_heading_rad = HeadingFromYaw(trajectory.At(t_s).yaw_rad);  // cw from true north
     io::HeadingSample sample;
     sample.stamp_s = config.start_time_s + t_s + config.heading_latency_s;
     sample.heading_rad =

@@ -121,7 +121,7 @@ std::string HeadingArc(const std::vector<calib::WallObservation>& observations) 
   std::vector<double> headings;
   headings.reserve(observations.size());
   for (const auto& o : observations) {
-    headings.push_back(WrapTwoPi(calib::GridHeadingFromYaw(o.pose.yaw_rad)));
+    headings.push_back(WrapTwoPi(HeadingFromYaw(o.pose.yaw_rad)));
   }
   std::sort(headings.begin(), headings.end());
   double widest = headings.front() + 2.0 * kPi - headings.back();

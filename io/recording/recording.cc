@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/enum_text.h"
 #include "io/recording/mcap/internal/mcap_reader.h"
 #include "io/recording/rosbag1/internal/rosbag1_reader.h"
 #include "io/recording/rosbag2/internal/rosbag2_sqlite_reader.h"
@@ -31,15 +32,10 @@ Magic MagicOf(const std::string& path) {
 }  // namespace
 
 const char* RecordingFormatName(RecordingFormat format) {
-  switch (format) {
-    case RecordingFormat::kRos1Bag:
-      return "ROS 1 bag";
-    case RecordingFormat::kMcap:
-      return "MCAP";
-    case RecordingFormat::kRosbag2Sqlite:
-      return "rosbag2 sqlite3";
-  }
-  return "recording";
+  static const EnumText<RecordingFormat> kTexts[] = {
+      {RecordingFormat::kRos1Bag, "ROS 1 bag"}, {RecordingFormat::kMcap, "MCAP"},
+      {RecordingFormat::kRosbag2Sqlite, "rosbag2 sqlite3"}};
+  return TextOf(kTexts, format, "recording");
 }
 
 bool IsRecording(const std::string& path) {

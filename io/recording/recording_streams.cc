@@ -325,7 +325,7 @@ GnssFix FixFromNavSatFix(const NavSatFixMsg& msg, double stamp_s, double max_sig
 
 double HeadingFromEnuQuaternion(double x, double y, double z, double w) {
   const double yaw = std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
-  return WrapTwoPi(kPi / 2.0 - yaw);  // the grid heading of an ENU yaw
+  return WrapTwoPi(HeadingFromYaw(yaw));  // the grid heading of an ENU yaw
 }
 
 PoseLogs ReadPoseLogs(const SessionSpec& spec, bool read_gnss, bool read_heading) {

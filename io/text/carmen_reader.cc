@@ -3,15 +3,17 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstring>
 #include <limits>
+
 #include "common/angles.h"
 #include "io/internal/decimal.h"
 #include "io/input_file.h"
+#include "io/text/internal/gzip_input.h"
 
 namespace wallcal::io {
 namespace {
@@ -89,16 +91,21 @@ CarmenReader::CarmenReader(const std::string& path) : path_(path), chunk_(kChunk
   const InputLimits limits = CurrentInputLimits();
   max_line_bytes_ = limits.max_line_bytes;
   max_total_bytes_ = limits.max_file_bytes;
-  errno = 0;
-  gzFile file = gzopen(path.c_str(), "rb");
-  if (file == nullptr) {
-    throw InputError(Where(path, 0,
-                           std::string("cannot open the scan log: ") +
-                               (errno != 0 ? std::strerror(errno) : "unknown error")));
-  }
-  gzbuffer(file, 1 << 18);
-  gz_ = file;
+  gz_ = OpenGzip(path, "the scan log", 1 << 18);
   tokens_.reserve(1024);
+}
+
+CarmenReader::CarmenReader(const std::string& path, int64_t start_byte, int64_t first_line)
+    : CarmenReader(path) {
+  if (start_byte <= 0) return;
+  if (gzseek(static_cast<gzFile>(gz_), static_cast<z_off_t>(start_byte), SEEK_SET) !=
+      static_cast<z_off_t>(start_byte)) {
+    throw InputError(Where(path, static_cast<int>(first_line),
+                           "cannot read the scan log on from byte " + std::to_string(start_byte) +
+                               "; expected a log at least that long"));
+  }
+  start_byte_ = start_byte;
+  lines_read_ = std::max<int64_t>(0, first_line - 1);
 }
 
 CarmenReader::~CarmenReader() {
@@ -140,6 +147,7 @@ bool CarmenReader::FillChunk() {
 bool CarmenReader::ReadLine() {
   line_.clear();
   line_has_newline_ = false;
+  bool at_line_start = true;
   // Lines end at LF, CRLF or a CR alone (old Mac and some instrument downloads). A NUL byte
   // inside a line stays in it (and the line is skipped whole by Next), it never ends the line
   // early nor joins it to the next one.
@@ -151,6 +159,10 @@ bool CarmenReader::ReadLine() {
         ++chunk_begin_;
         continue;
       }
+    }
+    if (at_line_start) {
+      at_line_start = false;
+      line_start_byte_ = start_byte_ + total_bytes_ - static_cast<int64_t>(chunk_end_ - chunk_begin_);
     }
     const char* begin = chunk_.data() + chunk_begin_;
     const size_t available = chunk_end_ - chunk_begin_;

@@ -32,6 +32,11 @@ class CarmenReader : public ScanSource {
   // file (io/input_file.h). A line with a NUL byte is skipped whole ("line with a NUL byte");
   // a UTF-8 byte-order mark before the first line is ignored.
   explicit CarmenReader(const std::string& path);
+  // Opens the log at byte `start_byte` of its text, the start of a line an earlier reader
+  // reported by line_start_byte(), and numbers the lines from `first_line` on (a log being
+  // appended, read on from where the last read stopped). A gzip-compressed log is inflated
+  // from its start up to there.
+  CarmenReader(const std::string& path, int64_t start_byte, int64_t first_line);
   ~CarmenReader() override;
   CarmenReader(const CarmenReader&) = delete;
   CarmenReader& operator=(const CarmenReader&) = delete;
@@ -49,6 +54,8 @@ class CarmenReader : public ScanSource {
 
   const SkipCounts& skipped() const override { return skipped_; }
   int64_t lines_read() const { return lines_read_; }
+  // Where the line read last starts: bytes of text from the start of the log.
+  int64_t line_start_byte() const { return line_start_byte_; }
   int64_t scans_read() const override { return scans_read_; }
   const std::string& path() const override { return path_; }
 
@@ -77,6 +84,8 @@ class CarmenReader : public ScanSource {
   size_t chunk_begin_ = 0, chunk_end_ = 0;  // unread bytes of chunk_
   bool at_end_ = false;
   int64_t total_bytes_ = 0;                   // uncompressed bytes read
+  int64_t start_byte_ = 0;                    // where reading began (the constructor's)
+  int64_t line_start_byte_ = 0;
   int64_t max_line_bytes_ = 0, max_total_bytes_ = 0;
   std::vector<std::string_view> tokens_;
   SkipCounts skipped_;

@@ -24,17 +24,20 @@ bool IsGzipFile(const std::string& path) {
   return static_cast<unsigned char>(magic[0]) == 0x1f && static_cast<unsigned char>(magic[1]) == 0x8b;
 }
 
-GzipStreamBuf::GzipStreamBuf(const std::string& path, int64_t max_bytes)
-    : max_bytes_(max_bytes), buffer_(new char[kBufferBytes]) {
+void* OpenGzip(const std::string& path, const std::string& what, unsigned buffer_bytes) {
   errno = 0;
   gzFile file = gzopen(path.c_str(), "rb");
   if (file == nullptr) {
-    throw InputError(Where(path, 0,
-                           std::string("cannot open the gzip file: ") +
-                               (errno != 0 ? std::strerror(errno) : "out of memory")));
+    throw InputError(Where(path, 0, "cannot open " + what + ": " +
+                                        (errno != 0 ? std::strerror(errno) : "out of memory")));
   }
-  gzbuffer(file, 1 << 17);
-  gz_ = file;
+  gzbuffer(file, buffer_bytes);
+  return file;
+}
+
+GzipStreamBuf::GzipStreamBuf(const std::string& path, int64_t max_bytes)
+    : max_bytes_(max_bytes), buffer_(new char[kBufferBytes]) {
+  gz_ = OpenGzip(path, "the gzip file", 1 << 17);
   setg(buffer_.get(), buffer_.get(), buffer_.get());
 }
 

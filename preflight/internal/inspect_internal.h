@@ -28,7 +28,6 @@ std::string FileName(const std::string& path);
 // Stamps on the UNIX clock (after 1973) are printed as UTC; smaller ones (a logger that counts
 // from its own start, like the Radish logs) as seconds.
 std::string FormatStamp(double stamp_s);
-double Median(std::vector<double> values);
 
 // Circular extent of angles (rad) about their circular mean: min and max as headings in
 // [0, 360) degrees and the width in degrees (0 for fewer than one angle).

@@ -182,10 +182,10 @@ TEST(GeodesyTest, YawFromHeadings) {
   // Facing true south-west wraps into (−π, π].
   EXPECT_NEAR(YawFromTrueHeading(frame, 1.25 * kPi, 43.1, 142.6), -0.75 * kPi + gamma, 1e-12);
   // Grid headings need no convergence.
-  EXPECT_NEAR(YawFromGridHeading(0.0), kPi / 2, 1e-15);
-  EXPECT_NEAR(YawFromGridHeading(kPi / 2), 0.0, 1e-15);
-  EXPECT_NEAR(YawFromGridHeading(kPi), -kPi / 2, 1e-15);
-  EXPECT_NEAR(YawFromGridHeading(1.5 * kPi), kPi, 1e-12);  // west: +π, not −π
+  EXPECT_NEAR(YawFromHeading(0.0), kPi / 2, 1e-15);
+  EXPECT_NEAR(YawFromHeading(kPi / 2), 0.0, 1e-15);
+  EXPECT_NEAR(YawFromHeading(kPi), -kPi / 2, 1e-15);
+  EXPECT_NEAR(YawFromHeading(1.5 * kPi), kPi, 1e-12);  // west: +π, not −π
 }
 
 TEST(GeodesyTest, WrapAngleToHalfOpenInterval) {

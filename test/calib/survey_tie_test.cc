@@ -11,6 +11,7 @@
 
 #include "calib/geodesy.h"
 #include "calib/rover_survey.h"
+#include "test/support/expect_text.h"
 
 namespace wallcal::calib {
 namespace {
@@ -205,8 +206,10 @@ TEST(SurveyTieTest, MissingControlIdNamesIt) {
   Scenario s = MakeScenario(site, kThreeControls, kWallA, kWallB, 0.0, 0.0, &rng);
   s.spec.control[2].id = "C3x";
   const std::string message = ErrorOf(s, site);
-  EXPECT_NE(message.find("session.yaml:12"), std::string::npos) << message;
-  EXPECT_NE(message.find("control point C3x is not in survey.csv"), std::string::npos) << message;
+  testing_support::ExpectContains(message, {
+      "session.yaml:12",
+      "control point C3x is not in survey.csv"
+  });
 }
 
 TEST(SurveyTieTest, RejectsCoincidentAndDisagreeingControl) {
@@ -221,8 +224,7 @@ TEST(SurveyTieTest, RejectsCoincidentAndDisagreeingControl) {
   site.LatLon(kThreeControls[1] + Eigen::Vector2d(3.0, 0.0), &wrong.spec.control[1].lat_deg,
               &wrong.spec.control[1].lon_deg);
   const std::string message = ErrorOf(wrong, site);
-  EXPECT_NE(message.find("disagree"), std::string::npos) << message;
-  EXPECT_NE(message.find("session.yaml:"), std::string::npos) << message;
+  testing_support::ExpectContains(message, {"disagree", "session.yaml:"});
 
   Scenario none = MakeScenario(site, {}, kWallA, kWallB, 0.0, 0.0, &rng);
   EXPECT_FALSE(ErrorOf(none, site).empty());
@@ -237,17 +239,18 @@ TEST(SurveyTieTest, AControlPointFarOffIsNamedWhenItCanBe) {
   site.LatLon(kThreeControls[1] + Eigen::Vector2d(0.0, 10000.0), &three.spec.control[1].lat_deg,
               &three.spec.control[1].lon_deg);
   const std::string named = ErrorOf(three, site);
-  EXPECT_NE(named.find("control point C2 disagrees"), std::string::npos) << named;
-  EXPECT_NE(named.find("C1, C3 agree"), std::string::npos) << named;
-  EXPECT_NE(named.find("session.yaml:11"), std::string::npos) << named;
+  testing_support::ExpectContains(named, {
+      "control point C2 disagrees",
+      "C1, C3 agree",
+      "session.yaml:11"
+  });
 
   Scenario two = MakeScenario(site, {kThreeControls[0], kThreeControls[1]}, kWallA, kWallB, 0.0,
                               0.0, &rng);
   site.LatLon(kThreeControls[0] + Eigen::Vector2d(0.0, 10000.0), &two.spec.control[0].lat_deg,
               &two.spec.control[0].lon_deg);
   const std::string both = ErrorOf(two, site);
-  EXPECT_NE(both.find("control points C1 and C2"), std::string::npos) << both;
-  EXPECT_NE(both.find("cannot be told"), std::string::npos) << both;
+  testing_support::ExpectContains(both, {"control points C1 and C2", "cannot be told"});
 }
 
 TEST(SurveyTieTest, WallCodesMatchWithoutCase) {

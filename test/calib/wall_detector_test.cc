@@ -41,6 +41,13 @@ Segment WallOnLine(double theta_rad, double rho_m, double s0_m, double s1_m) {
   return {rho_m * n + s0_m * d, rho_m * n + s1_m * d};
 }
 
+// A scene of the one wall WallOnLine(theta_rad, rho_m, s0_m, s1_m).
+Scene OneWall(double theta_rad, double rho_m, double s0_m, double s1_m) {
+  Scene scene;
+  scene.walls.push_back(WallOnLine(theta_rad, rho_m, s0_m, s1_m));
+  return scene;
+}
+
 double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
 }
@@ -139,8 +146,7 @@ TEST(WallDetectorTest, FindsCleanWall) {
   const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   const calib::DetectorOptions opt;
   const double theta = 0.3, rho = 7.5;
-  Scene scene;
-  scene.walls.push_back(WallOnLine(theta, rho, -5.0, 6.0));
+  Scene scene = OneWall(theta, rho, -5.0, 6.0);
   std::mt19937 rng(1);
   const auto true_r = TrueRanges(scene, sick);
   const ScanPoints pts = Points(Log(true_r, sick, &rng), sick, opt);
@@ -211,8 +217,7 @@ TEST(WallDetectorTest, FindsWallBehindTrees) {
   const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   const calib::DetectorOptions opt;
   const double theta = -0.15, rho = 9.0;
-  Scene scene;
-  scene.walls.push_back(WallOnLine(theta, rho, -7.0, 7.0));
+  Scene scene = OneWall(theta, rho, -7.0, 7.0);
   // An orchard row in front of the wall (Barawid 2007 works in an orchard).
   for (double y : {-5.0, -3.2, -1.5, 0.2, 1.9, 3.6, 5.3}) {
     scene.trunks.push_back({Eigen::Vector2d(5.5 + 0.1 * y, y), 0.25});
@@ -231,8 +236,7 @@ TEST(WallDetectorTest, IgnoresSecondWallOutsideGate) {
   const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   const calib::DetectorOptions opt;
   const double theta = 0.0, rho = 10.0;
-  Scene scene;
-  scene.walls.push_back(WallOnLine(theta, rho, -2.0, 2.0));  // the surveyed wall: 23 beams
+  Scene scene = OneWall(theta, rho, -2.0, 2.0);  // the surveyed wall: 23 beams
   // An unsurveyed side wall, perpendicular and closer: many more points.
   scene.walls.push_back({Eigen::Vector2d(0.5, -3.0), Eigen::Vector2d(9.5, -3.0)});
   // A long parallel fence beyond the wall, outside the wide distance gate (10 ± 6 m, centred
@@ -269,8 +273,7 @@ TEST(WallDetectorTest, StrongLineJustOutsideAngleGateIsNotChosen) {
   // (One cell out is within the noise of its own fit, 0.07° here: the gate's edge is that fuzzy.)
   int trapped = 0;
   for (int cells_out : {2, 4}) {
-    Scene scene;
-    scene.walls.push_back(WallOnLine(theta, rho, -1.5, 1.5));  // 22 beams
+    Scene scene = OneWall(theta, rho, -1.5, 1.5);  // 22 beams
     const double theta_other =
         gate.theta_rad + gate.theta_halfwidth_rad + cells_out * opt.hough_theta_step_rad;
     scene.walls.push_back(WallOnLine(theta_other, 3.0, 1.0, 6.0));  // 45 beams
@@ -300,8 +303,7 @@ TEST(WallDetectorTest, MixedPixelsDoNotBiasTheLine) {
   const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   const calib::DetectorOptions opt;
   const double theta = 0.05, rho = 8.0;
-  Scene scene;
-  scene.walls.push_back(WallOnLine(theta, rho, -5.0, 5.0));
+  Scene scene = OneWall(theta, rho, -5.0, 5.0);
   scene.walls.push_back(WallOnLine(theta, 14.0, -15.0, 15.0));  // background beyond the ends
   for (double y : {-2.0, -0.7, 0.7, 2.0}) scene.trunks.push_back({Eigen::Vector2d(5.0, y), 0.2});
   const auto true_r = TrueRanges(scene, sick);
@@ -356,8 +358,7 @@ TEST(WallDetectorTest, RejectsWhenTooFewInliers) {
   const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   calib::DetectorOptions opt;
   const double theta = 0.0, rho = 8.0;
-  Scene scene;
-  scene.walls.push_back(WallOnLine(theta, rho, -0.6, 0.6));  // 9 beams, 7 not at an edge
+  Scene scene = OneWall(theta, rho, -0.6, 0.6);  // 9 beams, 7 not at an edge
   std::mt19937 rng(7);
   const ScanPoints pts = Points(Log(TrueRanges(scene, sick), sick, &rng), sick, opt);
   // The wide gate: seven points leave the wall's direction uncertain to ~1°.
@@ -381,8 +382,7 @@ TEST(WallDetectorTest, SegmentGateDropsPointsBeyondWallEnds) {
   const io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
   const calib::DetectorOptions opt;
   const double theta = 0.0, rho = 8.0;
-  Scene scene;
-  scene.walls.push_back(WallOnLine(theta, rho, -3.0, 3.0));  // the surveyed wall
+  Scene scene = OneWall(theta, rho, -3.0, 3.0);  // the surveyed wall
   // A longer fence almost in line with it, 4 cm behind, beyond its end: inside the Hough band.
   scene.walls.push_back(WallOnLine(theta, rho + 0.04, 3.6, 12.0));
   std::mt19937 rng(8);
@@ -412,8 +412,7 @@ TEST(WallDetectorTest, HandlesUrgGeometry) {
   calib::DetectorOptions opt;
   opt.min_range_m = 0.1;
   const double theta = 0.1, rho = 2.0;
-  Scene scene;
-  scene.walls.push_back(WallOnLine(theta, rho, -1.5, 1.7));
+  Scene scene = OneWall(theta, rho, -1.5, 1.7);
   scene.walls.push_back(WallOnLine(theta + kPi / 2, 1.7, -2.0, 1.6));  // side wall: a corner
   scene.trunks.push_back({Eigen::Vector2d(1.2, -0.4), 0.08});           // a table leg
   std::mt19937 rng(9);

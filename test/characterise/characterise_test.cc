@@ -23,22 +23,15 @@
 #include "io/config/config_writer.h"
 #include "pipeline/calibration.h"
 #include "sim/simulated_session.h"
+#include "test/support/expect_text.h"
 #include "test/support/program_runner.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal::characterise {
 namespace {
 
 namespace fs = std::filesystem;
-
-// An empty folder in this process's scratch folder, removed when the process ends.
-fs::path TempDir(const std::string& name) {
-  static const testing_support::ScratchDir scratch("wallcal_characterise_");
-  const fs::path dir = scratch.path() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+using testing_support::FreshScratchDir;
 
 sim::SimulationConfig Scenario(const std::string& name) {
   return sim::ReadSimulationConfig(std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/" + name +
@@ -66,7 +59,7 @@ void ExpectWithin3Sigma(const Value& v, double truth, const char* what) {
 }
 
 TEST(CharacteriseTest, RecoversAnLms291LikeScannerInCmMode) {
-  const fs::path dir = TempDir("lms");
+  const fs::path dir = FreshScratchDir("lms");
   sim::SimulationConfig config = Scenario("characterise_lms291");
   const Characterisation r = Characterise(Simulated(config, 3, dir));
   ASSERT_TRUE(r.ok()) << r.reason;
@@ -86,15 +79,14 @@ TEST(CharacteriseTest, RecoversAnLms291LikeScannerInCmMode) {
   EXPECT_EQ(r.preset.name, "sick_lms291_measured");
   EXPECT_DOUBLE_EQ(r.preset.range_scale_k, r.model.k.value);
   EXPECT_DOUBLE_EQ(r.preset.range_resolution_m, 0.01);
-  EXPECT_NE(r.preset.source.find("measured"), std::string::npos);
-  EXPECT_NE(r.preset.source.find("characterise-lms291"), std::string::npos);
+  testing_support::ExpectContains(r.preset.source, {"measured", "characterise-lms291"});
   EXPECT_NE(Summary(r).find("k = "), std::string::npos);
   EXPECT_NE(Summary(r).find("the correction k*z + b is known to"), std::string::npos);
   EXPECT_EQ(Plots(r).size(), 3u);
 }
 
 TEST(CharacteriseTest, RecoversTheUrg04lxModelOfOkuboEtAl) {
-  const fs::path dir = TempDir("urg");
+  const fs::path dir = FreshScratchDir("urg");
   const Characterisation r = Characterise(Simulated(Scenario("characterise_urg04lx"), 5, dir));
   ASSERT_TRUE(r.ok()) << r.reason;
   // Okubo, Ye & Borenstein 2009: n = 0.9899, c = 7.0 mm, σ = 2.9 mm, mm mode.
@@ -105,7 +97,7 @@ TEST(CharacteriseTest, RecoversTheUrg04lxModelOfOkuboEtAl) {
 }
 
 TEST(CharacteriseTest, MeasuresTheWarmUpDriftOfTheFirstHour) {
-  const fs::path dir = TempDir("warmup");
+  const fs::path dir = FreshScratchDir("warmup");
   const Characterisation r =
       Characterise(Simulated(Scenario("characterise_lms291_warmup"), 2, dir));
   ASSERT_TRUE(r.ok()) << r.reason;
@@ -145,7 +137,7 @@ pipeline::CalibrationResult Calibrate(const CharacteriseRequest& request) {
 }
 
 TEST(CharacteriseTest, AMeasuredPresetMatchingTheShippedOneLeavesTheMountAlone) {
-  const fs::path dir = TempDir("same");
+  const fs::path dir = FreshScratchDir("same");
   // The URG's truth is its shipped preset's model.
   const CharacteriseRequest request = Simulated(Scenario("characterise_urg04lx"), 7, dir);
   const pipeline::CalibrationResult before = Calibrate(request);
@@ -173,9 +165,9 @@ TEST(CharacteriseTest, AMeasuredPresetCorrectsTheMountWhenTheTrueOffsetDiffers) 
   config.truth_scale_n = 1.0;
   config.truth_offset_c_m = 0.0;
   const pipeline::CalibrationResult reference =
-      Calibrate(Simulated(config, 11, TempDir("offset_reference")));
+      Calibrate(Simulated(config, 11, FreshScratchDir("offset_reference")));
   config.truth_offset_c_m = 0.010;
-  const CharacteriseRequest request = Simulated(config, 11, TempDir("offset"));
+  const CharacteriseRequest request = Simulated(config, 11, FreshScratchDir("offset"));
   const pipeline::CalibrationResult before = Calibrate(request);
   ASSERT_TRUE(reference.estimate.usable && before.estimate.usable) << before.estimate.message;
   const Characterisation r = Characterise(request);
@@ -206,7 +198,7 @@ TEST(CharacteriseTest, AMeasuredPresetCorrectsTheMountWhenTheTrueOffsetDiffers) 
 }
 
 TEST(CharacteriseTest, RefusesASessionWithEveryStationAtOneDistance) {
-  const fs::path dir = TempDir("narrow");
+  const fs::path dir = FreshScratchDir("narrow");
   sim::SimulationConfig config = Scenario("characterise_lms291");
   config.station_distance_m = 10.0;
   config.station_distance_far_m = 0.0;
@@ -216,7 +208,7 @@ TEST(CharacteriseTest, RefusesASessionWithEveryStationAtOneDistance) {
 }
 
 TEST(CharacteriseTest, RefusesTooFewRanges) {
-  const fs::path dir = TempDir("few");
+  const fs::path dir = FreshScratchDir("few");
   sim::SimulationConfig config = Scenario("characterise_urg04lx");
   config.log_every_n = 50;  // one scan in 5 s: a scan or two a station
   const Characterisation r = Characterise(Simulated(config, 1, dir));
@@ -229,7 +221,7 @@ TEST(CharacteriseTest, RefusesTooFewRanges) {
 }
 
 TEST(CharacteriseTest, ABadMountFileIsBadInput) {
-  const fs::path dir = TempDir("badmount");
+  const fs::path dir = FreshScratchDir("badmount");
   CharacteriseRequest request = Simulated(Scenario("characterise_urg04lx"), 1, dir);
   std::ofstream((dir / "offsets.yaml").string()) << "scanner_mount: {x: 1.0, y: oops}\n";
   request.mount_path = (dir / "offsets.yaml").string();
@@ -239,7 +231,7 @@ TEST(CharacteriseTest, ABadMountFileIsBadInput) {
 }
 
 TEST(CharacteriseTest, AGivenMountIsUsedWithItsSigma) {
-  const fs::path dir = TempDir("mount");
+  const fs::path dir = FreshScratchDir("mount");
   const sim::SimulationConfig config = Scenario("characterise_urg04lx");
   CharacteriseRequest request = Simulated(config, 4, dir);
   std::ofstream((dir / "offsets.yaml").string())
@@ -255,7 +247,7 @@ TEST(CharacteriseTest, AGivenMountIsUsedWithItsSigma) {
 }
 
 TEST(CharacteriseScenarioTest, ScannerTruthRoundTripsThroughTruthYamlOnlyWhenSet) {
-  const fs::path dir = TempDir("truth");
+  const fs::path dir = FreshScratchDir("truth");
   sim::SimulationConfig plain;
   EXPECT_EQ(sim::FormatTruthYaml(plain, 1).find("scanner_truth"), std::string::npos);
   EXPECT_EQ(sim::FormatTruthYaml(plain, 1).find("station_distance_far_m"), std::string::npos);
@@ -295,7 +287,7 @@ TEST(CharacteriseProgramTest, ExitCodes) {
   EXPECT_EQ(RunProgram(program), 2);
   EXPECT_EQ(RunProgram(program + " --bogus x"), 2);
   EXPECT_EQ(RunProgram(program + " /nonexistent/session"), 2);
-  const fs::path dir = TempDir("program");
+  const fs::path dir = FreshScratchDir("program");
   const CharacteriseRequest request = Simulated(Scenario("characterise_urg04lx"), 2, dir);
   const std::string out = (dir / "preset.yaml").string();
   EXPECT_EQ(RunProgram(program + " " + request.session_path + " --config " + request.config_path +

@@ -20,11 +20,11 @@
 #include "common/angles.h"
 #include "guide/guide.h"
 #include "guide/prediction.h"
-#include "guide/run_guide.h"
 #include "guide/stop_model.h"
 #include "pipeline/calibration.h"
 #include "sim/simulated_session.h"
 #include "sim/simulation_config.h"
+#include "test/support/program_runner.h"
 #include "test/support/scratch_dir.h"
 #include "test/support/shipped_presets.h"
 
@@ -47,7 +47,7 @@ TEST(GuideAdviceTest, AdvisedStopsGiveTheSigmaTheGuidePredicts) {
   const testing_support::ScratchDir scratch("wallcal_guide_advice_");
   const std::string first = (scratch.path() / "first").string();
   sim::WriteSimulatedSession(config, 31, first);
-  guide::GuideRequest request;
+  guide::GuideOptions request;
   request.session_path = first;
   const guide::GuideReport report = guide::AssessSession(request);
   ASSERT_TRUE(report.predicted.known);
@@ -119,9 +119,11 @@ TEST(GuideAdviceTest, JsonIsOneObjectWithTheDocumentedKeys) {
   for (const std::vector<std::string>& args :
        {std::vector<std::string>{sample, "--json"},
         std::vector<std::string>{sample, "--plan", "5", "--json"}}) {
-    std::ostringstream out, err;
-    ASSERT_EQ(guide::RunGuide(args, out, err), 0) << err.str();
-    EXPECT_TRUE(std::regex_match(out.str(), object)) << out.str();
+    std::vector<std::string> command = {"guide"};
+    command.insert(command.end(), args.begin(), args.end());
+    const testing_support::ProgramRun run = testing_support::RunWallcal(command);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    EXPECT_TRUE(std::regex_match(run.out, object)) << run.out;
   }
 }
 
@@ -131,9 +133,11 @@ TEST(GuideAdviceTest, UsageErrorsExitTwo) {
         std::vector<std::string>{"a", "--plan", "0"}, std::vector<std::string>{"a", "--next", "4"},
         std::vector<std::string>{"a", "--bogus"},
         std::vector<std::string>{"/nonexistent/session.yaml"}}) {
-    std::ostringstream out, err;
-    EXPECT_EQ(guide::RunGuide(args, out, err), 2) << (args.empty() ? "" : args[0]);
-    EXPECT_FALSE(err.str().empty());
+    std::vector<std::string> command = {"guide"};
+    command.insert(command.end(), args.begin(), args.end());
+    const testing_support::ProgramRun run = testing_support::RunWallcal(command);
+    EXPECT_EQ(run.exit_code, 2) << (args.empty() ? "" : args[0]);
+    EXPECT_FALSE(run.err.empty());
   }
 }
 

@@ -12,28 +12,14 @@
 
 #include "common/angles.h"
 #include "io/types.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-// An empty folder in this process's scratch folder, removed when the process ends.
-std::string Dir(const std::string& name) {
-  static const testing_support::ScratchDir scratch("output_file_test_");
-  const fs::path dir = scratch.path() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using testing_support::FreshScratchFolder;
+using testing_support::ReadFile;
 
 size_t FilesIn(const std::string& dir) {
   size_t n = 0;
@@ -45,19 +31,19 @@ size_t FilesIn(const std::string& dir) {
 }
 
 TEST(OutputFileTest, WriteFileAtomicallyCreatesAndReplaces) {
-  const std::string dir = Dir("atomic");
+  const std::string dir = FreshScratchFolder("atomic");
   const std::string path = dir + "/offsets.yaml";
   WriteFileAtomically(path, "first\n");
-  EXPECT_EQ(ReadText(path), "first\n");
+  EXPECT_EQ(ReadFile(path), "first\n");
   WriteFileAtomically(path, "second, longer content\n");
-  EXPECT_EQ(ReadText(path), "second, longer content\n");
+  EXPECT_EQ(ReadFile(path), "second, longer content\n");
   EXPECT_EQ(FilesIn(dir), 1u);  // no temporary file left behind
   const auto permissions = fs::status(path).permissions();
   EXPECT_NE(permissions & fs::perms::others_read, fs::perms::none);
 }
 
 TEST(OutputFileTest, WriteFileAtomicallyFailsCleanlyOnAMissingFolder) {
-  const std::string dir = Dir("missing_parent") + "/no_such_folder";
+  const std::string dir = FreshScratchFolder("missing_parent") + "/no_such_folder";
   const std::string path = dir + "/offsets.yaml";
   try {
     WriteFileAtomically(path, "content\n");
@@ -69,7 +55,7 @@ TEST(OutputFileTest, WriteFileAtomicallyFailsCleanlyOnAMissingFolder) {
 }
 
 TEST(OutputFileTest, WriteFileAtomicallyKeepsTheOldFileWhenTheTargetIsAFolder) {
-  const std::string dir = Dir("target_is_folder");
+  const std::string dir = FreshScratchFolder("target_is_folder");
   const std::string path = dir + "/offsets.yaml";
   fs::create_directories(path + "/inside");  // rename over a non-empty folder fails
   EXPECT_THROW(WriteFileAtomically(path, "content\n"), InputError);

@@ -17,13 +17,17 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io/config/session_reader.h"
 #include "pipeline/calibration.h"
 #include "sim/simulated_session.h"
+#include "test/support/expect_text.h"
 #include "test/support/flow_names.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/scratch_files.h"
+#include "test/support/shipped_presets.h"
+#include "test/support/simulated_sessions.h"
 
 namespace wallcal {
 
@@ -31,6 +35,8 @@ namespace wallcal {
 namespace {
 
 namespace fs = std::filesystem;
+using testing_support::FreshScratchDir;
+using testing_support::ShippedScenarioPath;
 
 // ---- A strict XML well-formedness checker ----
 // Elements must nest and close in order; attribute values quoted; '&' only in the five named
@@ -192,28 +198,13 @@ int Count(const std::string& text, const std::string& what) {
   return n;
 }
 
-std::string ScenarioPath(const std::string& name) {
-  return std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/" + name + ".yaml";
-}
-
-fs::path FreshDir(const std::string& name) {
-  // One folder per process, removed when it ends: ctest runs each test of this suite in its own
-  // process, each building the suite's fixture; a shared folder would be rebuilt under the
-  // others' feet.
-  static const testing_support::ScratchDir scratch("wallcal_report_");
-  const fs::path dir = scratch.path() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 // One calibrated simulated session shared by the tests (calibrating takes a fraction of a second,
 // but there is no reason to repeat it).
 class ReportTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    const fs::path dir = FreshDir("session");
-    WriteSimulatedSession(sim::ReadSimulationConfig(ScenarioPath("lms291_sapporo")), 7, dir.string());
+    const fs::path dir = FreshScratchDir("session");
+    WriteSimulatedSession(sim::ReadSimulationConfig(ShippedScenarioPath("lms291_sapporo")), 7, dir.string());
     CalibrateRequest request;
     request.session_path = dir.string();
     request.collect_report_data = true;
@@ -231,33 +222,46 @@ std::unique_ptr<CalibrationResult> ReportTest::result_;
 std::unique_ptr<std::string> ReportTest::html_;
 
 TEST(XmlCheckerTest, RejectsBrokenMarkup) {
-  // The checks below rely on the checker: it must say no to each kind of error.
-  EXPECT_EQ(XmlProblem("<a><b></b></a>"), "");
-  EXPECT_EQ(XmlProblem("<!DOCTYPE html>\n<a x=\"1\" y='2'>t &amp; &#176; &#x3b1;<b/></a>\n"), "");
-  EXPECT_NE(XmlProblem("<a><b></a></b>"), "");
-  EXPECT_NE(XmlProblem("<a><b></b>"), "");
-  EXPECT_NE(XmlProblem("<a x=1></a>"), "");
-  EXPECT_NE(XmlProblem("<a x></a>"), "");
-  EXPECT_NE(XmlProblem("<a>fish & chips</a>"), "");
-  EXPECT_NE(XmlProblem("<a>1 < 2</a>"), "");
-  EXPECT_NE(XmlProblem("<a x=\"a<b\"></a>"), "");
-  EXPECT_NE(XmlProblem("<a></a><b></b>"), "");
-  EXPECT_NE(XmlProblem("<a x=\"1\"x=\"2\"></a>"), "");
-  EXPECT_NE(XmlProblem("<a>&nbsp;</a>"), "");
-  EXPECT_NE(XmlProblem("<meta charset=\"utf-8\"><a></a>"), "");
+  // The checks below rely on the checker: it must say no to each kind of error. Each piece of
+  // markup, and whether it is well-formed:
+  const std::pair<const char*, bool> kMarkup[] = {
+      {"<a><b></b></a>", true},
+      {"<!DOCTYPE html>\n<a x=\"1\" y='2'>t &amp; &#176; &#x3b1;<b/></a>\n", true},
+      {"<a><b></a></b>", false},
+      {"<a><b></b>", false},
+      {"<a x=1></a>", false},
+      {"<a x></a>", false},
+      {"<a>fish & chips</a>", false},
+      {"<a>1 < 2</a>", false},
+      {"<a x=\"a<b\"></a>", false},
+      {"<a></a><b></b>", false},
+      {"<a x=\"1\"x=\"2\"></a>", false},
+      {"<a>&nbsp;</a>", false},
+      {"<meta charset=\"utf-8\"><a></a>", false},
+  };
+  for (const auto& [text, accepted] : kMarkup) {
+    EXPECT_EQ(XmlProblem(text).empty(), accepted) << text << ": " << XmlProblem(text);
+  }
 }
 
 TEST(XmlCheckerTest, SelfContainedCheckCatchesFetchesAndScripts) {
-  EXPECT_EQ(SelfContainedProblem("<svg xmlns=\"http://www.w3.org/2000/svg\"><a href=\"#x\"/></svg>"), "");
-  EXPECT_NE(SelfContainedProblem("<script>1</script>"), "");
-  EXPECT_NE(SelfContainedProblem("<link rel=\"stylesheet\" href=\"a.css\"/>"), "");
-  EXPECT_NE(SelfContainedProblem("<img src=\"plot.png\"/>"), "");
-  EXPECT_NE(SelfContainedProblem("<img src=\"https://x.org/a.png\"/>"), "");
-  EXPECT_NE(SelfContainedProblem("<style>@import 'x.css';</style>"), "");
-  EXPECT_NE(SelfContainedProblem("<div style=\"background:url(a.png)\"></div>"), "");
-  EXPECT_NE(SelfContainedProblem("<p>see http://example.com</p>"), "");
-  EXPECT_NE(SelfContainedProblem("<body onload=\"x()\"></body>"), "");
-  EXPECT_EQ(SelfContainedProblem("<img src=\"data:image/png;base64,AAAA\"/>"), "");
+  // Each page, and whether it fetches and runs nothing.
+  const std::pair<const char*, bool> kPages[] = {
+      {"<svg xmlns=\"http://www.w3.org/2000/svg\"><a href=\"#x\"/></svg>", true},
+      {"<script>1</script>", false},
+      {"<link rel=\"stylesheet\" href=\"a.css\"/>", false},
+      {"<img src=\"plot.png\"/>", false},
+      {"<img src=\"https://x.org/a.png\"/>", false},
+      {"<style>@import 'x.css';</style>", false},
+      {"<div style=\"background:url(a.png)\"></div>", false},
+      {"<p>see http://example.com</p>", false},
+      {"<body onload=\"x()\"></body>", false},
+      {"<img src=\"data:image/png;base64,AAAA\"/>", true},
+  };
+  for (const auto& [text, accepted] : kPages) {
+    EXPECT_EQ(SelfContainedProblem(text).empty(), accepted)
+        << text << ": " << SelfContainedProblem(text);
+  }
 }
 
 TEST_F(ReportTest, CalibrationOfTheSimulatedSessionSucceeded) {
@@ -336,18 +340,20 @@ TEST_F(ReportTest, ResidualAnalysisRepeatabilityAndForceAreShownWhenPresent) {
   r.time_offset_sigma_s = 0.0011;
   const std::string html = FormatReportHtml(r);
   EXPECT_EQ(XmlProblem(html), "");
-  EXPECT_NE(html.find("TREND FLAGGED"), std::string::npos);
-  EXPECT_NE(html.find("range scale error: check k"), std::string::npos);
-  EXPECT_NE(html.find("residuals grow with range &lt;k&gt;"), std::string::npos);
-  EXPECT_NE(html.find("Repeatability"), std::string::npos);
-  EXPECT_NE(html.find("first half"), std::string::npos);
-  EXPECT_NE(html.find("--force"), std::string::npos);
-  EXPECT_NE(html.find("0.0123"), std::string::npos);
-  EXPECT_NE(html.find("a&lt;b &amp; &quot;c&quot;"), std::string::npos);
+  testing_support::ExpectContains(html, {
+      "TREND FLAGGED",
+      "range scale error: check k",
+      "residuals grow with range &lt;k&gt;",
+      "Repeatability",
+      "first half",
+      "--force",
+      "0.0123",
+      "a&lt;b &amp; &quot;c&quot;"
+  });
 }
 
 TEST_F(ReportTest, WriteReportCreatesTheFolderAndTheFile) {
-  const fs::path dir = FreshDir("write") / "nested" / "out";
+  const fs::path dir = FreshScratchDir("write") / "nested" / "out";
   const std::string path = WriteReport(*result_, dir.string());
   EXPECT_EQ(fs::path(path), dir / "report.html");
   std::ifstream in(path);
@@ -357,11 +363,7 @@ TEST_F(ReportTest, WriteReportCreatesTheFolderAndTheFile) {
 }
 
 TEST(ReportUnusableTest, ARefusedEstimateStillGivesAWellFormedReport) {
-  const fs::path dir = FreshDir("narrow");
-  sim::SimulationConfig config = sim::ReadSimulationConfig(ScenarioPath("lms291_sapporo"));
-  config.heading_spread_rad = 4.0 * kDegToRad;
-  config.num_stations = 8;
-  WriteSimulatedSession(config, 21, dir.string());
+  const fs::path dir = testing_support::NarrowHeadingsSession("narrow");
   CalibrateRequest request;
   request.session_path = dir.string();
   request.collect_report_data = true;
@@ -370,8 +372,7 @@ TEST(ReportUnusableTest, ARefusedEstimateStillGivesAWellFormedReport) {
   const std::string html = FormatReportHtml(result);
   EXPECT_EQ(XmlProblem(html), "");
   EXPECT_EQ(SelfContainedProblem(html), "");
-  EXPECT_NE(html.find("NOT DETERMINED"), std::string::npos);
-  EXPECT_NE(html.find("id=\"counts\""), std::string::npos);
+  testing_support::ExpectContains(html, {"NOT DETERMINED", "id=\"counts\""});
 }
 
 }  // namespace

@@ -6,26 +6,24 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include "common/angles.h"
 #include "io/types.h"
+#include "test/support/expect_text.h"
 #include "test/support/scratch_files.h"
 
 namespace wallcal::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
+using testing_support::ScratchFolder;
 using io::InputError;
 
 using testing_support::WriteFile;
 
-// A folder in this process's scratch folder, removed when the process ends.
-std::string Dir(const std::string& name) {
-  return testing_support::ScratchFolder("calibrate_options_test_", name);
-}
-
 TEST(CalibrateOptionsTest, ReadsCalibrateOptionsInDegrees) {
-  const std::string path = WriteFile(Dir("options") + "/calibrate.yaml", R"(
+  const std::string path = WriteFile(ScratchFolder("options") + "/calibrate.yaml", R"(
 detector:
   min_inliers: 20
   wide_angle_gate_deg: 15
@@ -49,30 +47,24 @@ first_pass_max_scans: 500
 }
 
 TEST(CalibrateOptionsTest, RejectsBadCalibrateOptions) {
-  const std::string dir = Dir("bad_options");
-  auto error = [&dir](const std::string& yaml) {
-    try {
-      ReadCalibrateOptions(WriteFile(dir + "/calibrate.yaml", yaml));
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string();
+  const std::string dir = ScratchFolder("bad_options");
+  // Each file and what its message says (file:line first where the key has a line).
+  const std::pair<const char*, const char*> kBad[] = {
+      {"detector:\n  min_inliers: 20\n  wide_angle_gate_rad: 0.3\n",
+       "calibrate.yaml:3: unknown key 'detector.wide_angle_gate_rad'"},
+      {"solvers:\n  max_iterations: 3\n", "calibrate.yaml:1: unknown key 'solvers'"},
+      {"detector:\n  min_inliers: 0\n", "calibrate.yaml:2: detector.min_inliers must be >= 3, got 0"},
+      {"detector:\n  min_inliers: many\n", "calibrate.yaml:2: detector.min_inliers"},
+      {"alignment:\n  use_moving_scans: maybe\n", "true or false"},
+      {"detector: 3\n", "detector must be a map"},
   };
-  EXPECT_NE(error("detector:\n  min_inliers: 20\n  wide_angle_gate_rad: 0.3\n")
-                .find("calibrate.yaml:3: unknown key 'detector.wide_angle_gate_rad'"),
-            std::string::npos);
-  EXPECT_NE(
-      error("solvers:\n  max_iterations: 3\n").find("calibrate.yaml:1: unknown key 'solvers'"),
-      std::string::npos);
-  EXPECT_NE(error("detector:\n  min_inliers: 0\n")
-                .find("calibrate.yaml:2: detector.min_inliers must be >= 3, got 0"),
-            std::string::npos);
-  EXPECT_NE(
-      error("detector:\n  min_inliers: many\n").find("calibrate.yaml:2: detector.min_inliers"),
-      std::string::npos);
-  EXPECT_NE(error("alignment:\n  use_moving_scans: maybe\n").find("true or false"),
-            std::string::npos);
-  EXPECT_NE(error("detector: 3\n").find("detector must be a map"), std::string::npos);
+  for (const auto& [yaml, message] : kBad) {
+    SCOPED_TRACE(yaml);
+    testing_support::ExpectContains(testing_support::MessageOf<InputError>([&dir, yaml = yaml] {
+                                      ReadCalibrateOptions(WriteFile(dir + "/calibrate.yaml", yaml));
+                                    }),
+                                    {message});
+  }
 }
 
 }  // namespace

@@ -34,22 +34,26 @@
 #include "solvers/clock_rounds.h"
 #include "solvers/mount_problem.h"
 #include "test/support/scratch_dir.h"
+#include "test/support/simulated_sessions.h"
 
 namespace wallcal {
 namespace {
 
 namespace fs = std::filesystem;
 
-TEST(DelaysTest, RecoversGnssLatencyScannerOffsetAndHeadingDelayWithHonestSigma) {
-  const sim::SimulationConfig config = sim::WithDefaultWalls(sim::ReadSimulationConfig(
-      std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_delays_continuous.yaml"));
-  const testing_support::ScratchDir scratch("wallcal_delays_");
-  const fs::path dir = scratch.path() / "session";
-  sim::WriteSimulatedSession(config, 7, dir.string());
+// Calibrates the session in `dir` with the benchmark's options bench/<config_name>.
+pipeline::CalibrationResult CalibrateWith(const fs::path& dir, const std::string& config_name) {
   pipeline::CalibrateRequest request;
   request.session_path = dir.string();
-  request.config_path = std::string(WALLCAL_SOURCE_DIR) + "/bench/calibrate_matched_moving.yaml";
-  const pipeline::CalibrationResult result = pipeline::RunCalibration(request, nullptr);
+  request.config_path = std::string(WALLCAL_SOURCE_DIR) + "/bench/" + config_name;
+  return pipeline::RunCalibration(request, nullptr);
+}
+
+TEST(DelaysTest, RecoversGnssLatencyScannerOffsetAndHeadingDelayWithHonestSigma) {
+  const sim::SimulationConfig config =
+      testing_support::ShippedScenario("bench_lms291_delays_continuous");
+  const pipeline::CalibrationResult result = CalibrateWith(
+      testing_support::SimulatedSession(config, 7, "session"), "calibrate_matched_moving.yaml");
   ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
 
   const double gnss_s = config.gnss_latency_s + 0.5 * config.gnss_jitter_s;
@@ -273,15 +277,10 @@ TEST(DelaysTest, OwnSigmaSeesWhatTheDataHoldOfEachDelay) {
 }
 
 TEST(DelaysTest, StationaryOnlySessionSaysTheHeadingDelayIsNotEstimated) {
-  sim::SimulationConfig config = sim::WithDefaultWalls(sim::ReadSimulationConfig(
-      std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_delays_stopgo.yaml"));
-  const testing_support::ScratchDir scratch("wallcal_delays_still_");
-  const fs::path dir = scratch.path() / "session";
-  sim::WriteSimulatedSession(config, 3, dir.string());
-  pipeline::CalibrateRequest request;
-  request.session_path = dir.string();
-  request.config_path = std::string(WALLCAL_SOURCE_DIR) + "/bench/calibrate_matched_standing.yaml";
-  const pipeline::CalibrationResult result = pipeline::RunCalibration(request, nullptr);
+  const pipeline::CalibrationResult result = CalibrateWith(
+      testing_support::SimulatedSession(
+          testing_support::ShippedScenario("bench_lms291_delays_stopgo"), 3, "session"),
+      "calibrate_matched_standing.yaml");
   ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
   EXPECT_EQ(result.gnss_epochs.status, calib::EpochMappingStatus::kMapped);
   EXPECT_EQ(result.heading_delay.status, pipeline::DelayStatus::kNotEstimated);

@@ -23,6 +23,7 @@
 #include "sim/simulator.h"
 #include "solvers/mount_problem.h"
 #include "test/support/scratch_dir.h"
+#include "test/support/simulated_sessions.h"
 #include "test/support/synthetic_fixtures.h"
 
 namespace wallcal {
@@ -182,14 +183,8 @@ TEST(MovingPoseTest, DrivesAtASecondWallLeaveNoBias) {
   // only errors left are the line fits'. With the drives' poses on straight chords between the
   // 10 Hz fixes (off by a·T²/8 = 4 mm, one sign over half a drive) x came out −20 mm here, the
   // same on every seed; their line fits alone scatter x by about 1 mm.
-  sim::SimulationConfig config = sim::ReadSimulationConfig(
-      std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_two_walls.yaml");
-  config.gnss_bias_sigma_m = config.gnss_white_sigma_m = 0.0;
-  config.heading_white_sigma_rad = config.heading_drift_rad_per_s = 0.0;
-  config.total_station_sigma_m = config.control_sigma_m = 0.0;
-  const testing_support::ScratchDir scratch("wallcal_moving_pose_two_walls_");
-  const fs::path dir = scratch.path() / "session";
-  sim::WriteSimulatedSession(config, 5, dir.string());
+  const sim::SimulationConfig config = testing_support::TwoWallsWithOnlyLineFitErrors();
+  const fs::path dir = testing_support::SimulatedSession(config, 5, "two_walls");
   // The solver's GNSS model left at an RTK receiver's (its slices free to follow a pattern),
   // its white noise too (the stops of this noiseless session would measure none).
   const pipeline::CalibrationResult result =
@@ -242,11 +237,8 @@ TEST(MovingPoseTest, StopAndGoUsesTheDrivesWithAnHonestSigma) {
 }
 
 TEST(MovingPoseTest, DrivesAreDroppedWhenTheOffsetIsNotDetermined) {
-  sim::SimulationConfig config = sim::WithDefaultWalls(sim::ReadSimulationConfig(
-      std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_stopgo.yaml"));
-  const testing_support::ScratchDir scratch("wallcal_moving_pose_drop_");
-  const fs::path dir = scratch.path() / "session";
-  sim::WriteSimulatedSession(config, 21, dir.string());
+  const fs::path dir = testing_support::SimulatedSession(
+      testing_support::ShippedScenario("bench_lms291_stopgo"), 21, "drop");
   // No offset σ is this small: the drives go, with a warning, and the counts say so.
   const pipeline::CalibrationResult strict =
       Calibrate(dir, std::string(kDrives) + "  moving_max_time_offset_sigma_s: 0.000001\n");

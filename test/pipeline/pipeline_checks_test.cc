@@ -23,8 +23,10 @@
 #include "sim/simulator.h"
 #include "io/config/session_reader.h"
 #include "solvers/mount_problem.h"
+#include "test/support/expect_text.h"
 #include "test/support/flow_names.h"
 #include "test/support/scratch_dir.h"
+#include "test/support/simulated_sessions.h"
 
 namespace wallcal {
 
@@ -71,8 +73,7 @@ TEST(PipelineChecksTest, DegenerateSessionIsRefusedAndNamesTheWeakAxis) {
   EXPECT_FALSE(refused.estimate.usable);
   EXPECT_NE(refused.estimate.message.find("lateral offset y is not determined"), std::string::npos)
       << refused.estimate.message;
-  EXPECT_NE(refused.estimate.message.find("headings"), std::string::npos);
-  EXPECT_NE(refused.estimate.message.find("turned ≥ 30°"), std::string::npos);
+  testing_support::ExpectContains(refused.estimate.message, {"headings", "turned ≥ 30°"});
   EXPECT_FALSE(refused.forced);
 
   const CalibrationResult forced = Calibrate(dir, /*force=*/true);
@@ -252,11 +253,7 @@ solvers::Mount SolvePerfectObservations(const fs::path& dir, const sim::Simulati
 }
 
 TEST(PipelineChecksTest, PerfectObservationsReturnTheTruth) {
-  sim::SimulationConfig config = sim::ReadSimulationConfig(
-      std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_two_walls.yaml");
-  config.gnss_bias_sigma_m = config.gnss_white_sigma_m = 0.0;
-  config.heading_white_sigma_rad = config.heading_drift_rad_per_s = 0.0;
-  config.total_station_sigma_m = config.control_sigma_m = 0.0;
+  const sim::SimulationConfig config = testing_support::TwoWallsWithOnlyLineFitErrors();
   const fs::path dir = Simulated(config, 2, "perfect");
   // Standing scans only: the test is about the dwells' edges.
   const std::string solver_yaml = "solver:\n  use_gst_sigma: false\n  gnss_bias_sigma_m: 0.015\n";

@@ -31,9 +31,10 @@
 #include "io/output_file.h"
 #include "io/config/config_writer.h"
 #include "common/angles.h"
+#include "test/support/expect_text.h"
 #include "test/support/flow_names.h"
 #include "test/support/program_runner.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal {
 
@@ -41,28 +42,17 @@ namespace wallcal {
 namespace {
 
 namespace fs = std::filesystem;
+using testing_support::FreshScratchDir;
+using testing_support::WriteFile;
+
 const std::string kRealDir = WALLCAL_SOURCE_DIR "/../shared/testdata/real/";
-
-// An empty folder in this process's scratch folder, removed when the process ends.
-fs::path TempDir(const std::string& name) {
-  static const testing_support::ScratchDir scratch("inspect_test_");
-  const fs::path dir = scratch.path() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string WriteFile(const fs::path& path, const std::string& content) {
-  std::ofstream(path, std::ios::binary) << content;
-  return path.string();
-}
 
 // A simulated session (the bundled sample's scenario), optionally with another heading spread.
 std::string Simulate(const std::string& name, double heading_spread_deg = 0.0) {
   sim::SimulationConfig config = sim::ReadSimulationConfig(
       WALLCAL_SOURCE_DIR "/configs/simulate/lms291_sapporo.yaml");
   if (heading_spread_deg > 0) config.heading_spread_rad = heading_spread_deg / kRadToDeg;
-  const fs::path dir = TempDir(name);
+  const fs::path dir = FreshScratchDir(name);
   WriteSimulatedSession(config, 7, dir.string());
   return dir.string();
 }
@@ -112,8 +102,9 @@ TEST(InspectTest, SimulatedSessionHasEnoughData) {
   }
   // The program prints the same and exits 0.
   const ProgramRun run = RunInspectProgram(dir);
-  EXPECT_EQ(run.status, 0) << run.err;
-  EXPECT_NE(run.out.find("VERDICT: enough data for a calibration"), std::string::npos) << run.out;
+  testing_support::ExpectExitSaying(run.status, 0, run.out, {
+      "VERDICT: enough data for a calibration"
+  });
 }
 
 TEST(InspectTest, NarrowHeadingsGetAVerdictNamingTheProblem) {
@@ -136,10 +127,12 @@ TEST(InspectTest, MissingHeadingLogStillReportsGnssAndScans) {
   EXPECT_NE(inspection.blockers.front().find("heading.nmea"), std::string::npos)
       << inspection.blockers.front();
   EXPECT_EQ(inspection.report.find("GNSS fixes (GGA) (gnss.nmea): 0 records"), std::string::npos);
-  EXPECT_NE(inspection.report.find("GNSS fixes (GGA) (gnss.nmea): "), std::string::npos);
-  EXPECT_NE(inspection.report.find("quality   4 (RTK fixed)"), std::string::npos) << inspection.report;
-  EXPECT_NE(inspection.report.find("scans (scans.clf): "), std::string::npos);
-  EXPECT_NE(inspection.report.find("control   2 points"), std::string::npos) << inspection.report;
+  testing_support::ExpectContains(inspection.report, {
+      "GNSS fixes (GGA) (gnss.nmea): ",
+      "quality   4 (RTK fixed)",
+      "scans (scans.clf): ",
+      "control   2 points"
+  });
 }
 
 TEST(InspectTest, LogsThatDoNotOverlapAreNamed) {
@@ -163,14 +156,21 @@ TEST(InspectTest, LogsThatDoNotOverlapAreNamed) {
   EXPECT_TRUE(named) << inspection.report;
 }
 
+// What `inspect --dump KIND` writes for the session in `dir`, parsed: rows of fields, the
+// header line in *header.
+std::vector<std::vector<std::string>> DumpRows(const std::string& dir, DumpKind kind,
+                                               std::string* header) {
+  std::ostringstream csv;
+  Dump(dir, kind, csv);
+  return ParseCsv(csv.str(), header);
+}
+
 TEST(InspectTest, DumpsParseBackToTheReadersNumbers) {
   const std::string dir = Simulate("dump");
   const io::SessionSpec spec = io::ReadSession(dir);
   std::string header;
 
-  std::ostringstream gnss_csv;
-  Dump(dir, DumpKind::kGnss, gnss_csv);
-  const auto gnss_rows = ParseCsv(gnss_csv.str(), &header);
+  const auto gnss_rows = DumpRows(dir, DumpKind::kGnss, &header);
   EXPECT_EQ(header, "time_s,lat_deg,lon_deg,height_m,quality,satellites,hdop,sigma_lat_m,sigma_lon_m,line");
   const io::NmeaLog nmea = io::ReadNmea(spec.gnss_log);
   ASSERT_EQ(gnss_rows.size(), nmea.fixes.size());
@@ -188,9 +188,7 @@ TEST(InspectTest, DumpsParseBackToTheReadersNumbers) {
     EXPECT_EQ(std::stoi(gnss_rows[i][9]), fix.line);
   }
 
-  std::ostringstream heading_csv;
-  Dump(dir, DumpKind::kHeading, heading_csv);
-  const auto heading_rows = ParseCsv(heading_csv.str(), &header);
+  const auto heading_rows = DumpRows(dir, DumpKind::kHeading, &header);
   EXPECT_EQ(header, "time_s,heading_deg,line");
   const io::NmeaLog headings = io::ReadNmea(spec.heading_log);
   ASSERT_EQ(heading_rows.size(), headings.headings.size());
@@ -329,14 +327,16 @@ TEST(InspectTest, RealCarmenLogReportCountsItsScans) {
   if (!fs::exists(log)) GTEST_SKIP() << "real test data not available: " << log;
   EXPECT_EQ(SniffLogKind(log), LogKind::kCarmen);
   const std::string report = InspectLogFile(log);
-  EXPECT_NE(report.find("scans (intel-corrected.log.gz): 910 records"), std::string::npos) << report;
-  EXPECT_NE(report.find("180 beams: 910 scans"), std::string::npos) << report;
-  EXPECT_NE(report.find("14541 not a scan: ODOM"), std::string::npos) << report;
-  EXPECT_NE(report.find("steps back in time"), std::string::npos) << report;
+  testing_support::ExpectContains(report, {
+      "scans (intel-corrected.log.gz): 910 records",
+      "180 beams: 910 scans",
+      "not a scan: ODOM: 14541",
+      "steps back in time"
+  });
 }
 
 TEST(InspectTest, SniffsLogKindByContent) {
-  const fs::path dir = TempDir("sniff");
+  const fs::path dir = FreshScratchDir("sniff");
   const std::string gga = "$GPGGA,120000.00,4000.0,N,10000.0,E,4,10,1.0,10.0,M,0.0,M,,*" +
                           io::NmeaChecksum("GPGGA,120000.00,4000.0,N,10000.0,E,4,10,1.0,10.0,M,0.0,M,,");
   EXPECT_EQ(SniffLogKind(WriteFile(dir / "a.txt", "# header\n\n1747031522.113 " + gga + "\n")),
@@ -376,36 +376,34 @@ TEST(InspectTest, SniffsLogKindByContent) {
 
   // The program: garbage and a dump of the wrong kind are exit 2 with one line naming the file.
   ProgramRun run = RunInspectProgram((dir / "garbage.bin").string());
-  EXPECT_EQ(run.status, 2);
-  EXPECT_NE(run.err.find("garbage.bin:1: neither NMEA nor CARMEN"), std::string::npos) << run.err;
+  testing_support::ExpectExitSaying(run.status, 2, run.err, {
+      "garbage.bin:1: neither NMEA nor CARMEN"
+  });
   run = RunInspectProgram(gz + " --dump gnss");
-  EXPECT_EQ(run.status, 2);
-  EXPECT_NE(run.err.find("expects an NMEA log"), std::string::npos) << run.err;
+  testing_support::ExpectExitSaying(run.status, 2, run.err, {"expects an NMEA log"});
   EXPECT_TRUE(run.out.empty()) << run.out;
 }
 
 TEST(InspectTest, MissingFileExitsTwoNamingThePath) {
   const std::string path = (fs::path(::testing::TempDir()) / "inspect_no_such_log.nmea").string();
   const ProgramRun run = RunInspectProgram(path);
-  EXPECT_EQ(run.status, 2);
-  EXPECT_NE(run.err.find(path), std::string::npos) << run.err;
+  testing_support::ExpectExitSaying(run.status, 2, run.err, {path});
   EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
   const ProgramRun session = RunInspectProgram(path + ".yaml");
-  EXPECT_EQ(session.status, 2);
-  EXPECT_NE(session.err.find(path + ".yaml"), std::string::npos) << session.err;
+  testing_support::ExpectExitSaying(session.status, 2, session.err, {path + ".yaml"});
 }
 
 TEST(InspectTest, UsageErrorsHelpAndVersion) {
   ProgramRun run = RunInspectProgram("--help");
-  EXPECT_EQ(run.status, 0);
-  EXPECT_NE(run.out.find("--dump"), std::string::npos);
+  testing_support::ExpectExitSaying(run.status, 0, run.out, {"--dump"});
   run = RunInspectProgram("--version");
   EXPECT_EQ(run.status, 0);
   EXPECT_EQ(run.out.rfind("wallcal inspect ", 0), 0u) << run.out;
   EXPECT_EQ(RunInspectProgram("").status, 2);
   run = RunInspectProgram("x --dump positions");
-  EXPECT_EQ(run.status, 2);
-  EXPECT_NE(run.err.find("expected gnss, heading, scans or survey"), std::string::npos) << run.err;
+  testing_support::ExpectExitSaying(run.status, 2, run.err, {
+      "expected gnss, heading, scans or survey"
+  });
   EXPECT_EQ(RunInspectProgram("x --bogus").status, 2);
 }
 

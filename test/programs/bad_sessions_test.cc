@@ -37,31 +37,21 @@
 #include "io/output_file.h"
 #include "io/config/config_writer.h"
 #include "test/support/program_runner.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal {
 namespace {
 
 namespace fs = std::filesystem;
 
+using namespace testing_support;  // NOLINT: the test helpers of test/support
+
 const std::string kSourceDir = WALLCAL_SOURCE_DIR;
 const std::string kSentinel = "# an offsets.yaml from an earlier, good run: must survive\nx: 1\n";
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-void WriteText(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << text;
-  ASSERT_TRUE(out.good()) << path;
-}
-
 std::vector<std::string> ReadLines(const fs::path& path) {
   std::vector<std::string> lines;
-  std::istringstream in(ReadText(path));
+  std::istringstream in(ReadFile(path));
   for (std::string line; std::getline(in, line);) lines.push_back(line);
   return lines;
 }
@@ -69,16 +59,7 @@ std::vector<std::string> ReadLines(const fs::path& path) {
 void WriteLines(const fs::path& path, const std::vector<std::string>& lines) {
   std::string text;
   for (const std::string& line : lines) text += line + "\n";
-  WriteText(path, text);
-}
-
-// Replaces the first occurrence of `from` (which must be there) in the file.
-void Replace(const fs::path& path, const std::string& from, const std::string& to) {
-  std::string text = ReadText(path);
-  const size_t at = text.find(from);
-  ASSERT_NE(at, std::string::npos) << "'" << from << "' not in " << path;
-  text.replace(at, from.size(), to);
-  WriteText(path, text);
+  WriteFile(path, text);
 }
 
 // "<prefix> $<body>*<checksum>": a sentence with a correct checksum.
@@ -188,7 +169,7 @@ TEST_P(BadSessionsTest, FailsCleanlyOrWarns) {
   }
   if (bad.mutate) bad.mutate(dir);
   const fs::path offsets = dir / "offsets.yaml";
-  WriteText(offsets, kSentinel);
+  WriteFile(offsets, kSentinel);
 
   std::string args = dir.string() + " --quiet " + bad.extra_args;
   for (size_t at; (at = args.find("{dir}")) != std::string::npos;) args.replace(at, 5, dir.string());
@@ -199,7 +180,7 @@ TEST_P(BadSessionsTest, FailsCleanlyOrWarns) {
   EXPECT_EQ(run.exit_code, bad.exit_code) << "stdout:\n" << run.out << "stderr:\n" << run.err;
 
   if (bad.exit_code == 0) {
-    const std::string written = ReadText(offsets);
+    const std::string written = ReadFile(offsets);
     EXPECT_NE(written, kSentinel) << "offsets.yaml not written";
     for (const std::string& fragment : bad.fragments) {
       EXPECT_NE(run.out.find(fragment), std::string::npos)
@@ -213,7 +194,7 @@ TEST_P(BadSessionsTest, FailsCleanlyOrWarns) {
       EXPECT_NE(run.err.find(fragment), std::string::npos)
           << "'" << fragment << "' not in stderr:\n" << run.err;
     }
-    EXPECT_EQ(ReadText(offsets), kSentinel) << "an existing offsets.yaml was replaced";
+    EXPECT_EQ(ReadFile(offsets), kSentinel) << "an existing offsets.yaml was replaced";
   }
   for (const auto& entry : fs::directory_iterator(dir)) {
     EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos)
@@ -245,17 +226,17 @@ const std::vector<BadCase> kCases = {
     {"session_yaml_syntax", nullptr, 2, {"session.yaml:4:", "YAML syntax error"}},
     {"session_missing_key",
      [](const fs::path& d) {
-       Replace(d / "session.yaml", "gnss:\n  log: gnss.nmea\n  min_fix_quality: 4\n", "");
+       ReplaceInFile(d / "session.yaml", "gnss:\n  log: gnss.nmea\n  min_fix_quality: 4\n", "");
      },
      2, {"session.yaml:1:", "gnss is missing", "expected a map with log"}},
     {"session_unknown_key",
-     [](const fs::path& d) { Replace(d / "session.yaml", "  time_offset_s: 0", "  time_ofset_s: 0"); },
+     [](const fs::path& d) { ReplaceInFile(d / "session.yaml", "  time_offset_s: 0", "  time_ofset_s: 0"); },
      2, {"session.yaml:5:", "unknown key 'scanner.time_ofset_s'", "time_offset_s"}},
     {"session_missing_control_key",
-     [](const fs::path& d) { Replace(d / "session.yaml", "{id: C2, lat:", "{id: C2, lag:"); },
+     [](const fs::path& d) { ReplaceInFile(d / "session.yaml", "{id: C2, lat:", "{id: C2, lag:"); },
      2, {"session.yaml:16:", "unknown key 'survey.control[1].lag'"}},
     {"unknown_scanner_preset",
-     [](const fs::path& d) { Replace(d / "session.yaml", "sick_lms291", "sick_lms999"); }, 2,
+     [](const fs::path& d) { ReplaceInFile(d / "session.yaml", "sick_lms291", "sick_lms999"); }, 2,
      {"unknown scanner model 'sick_lms999'", "available presets:", "sick_lms291"}},
     {"missing_scan_log", [](const fs::path& d) { fs::remove(d / "scans.clf"); }, 2,
      {"scans.clf: cannot open the scan log"}},
@@ -266,11 +247,11 @@ const std::vector<BadCase> kCases = {
     {"missing_survey", [](const fs::path& d) { fs::remove(d / "survey.csv"); }, 2,
      {"survey.csv: cannot open the survey file"}},
     {"options_unknown_key",
-     [](const fs::path& d) { WriteText(d / "options.yaml", "detector:\n  min_inlers: 5\n"); }, 2,
+     [](const fs::path& d) { WriteFile(d / "options.yaml", "detector:\n  min_inlers: 5\n"); }, 2,
      {"options.yaml:2:", "unknown key 'detector.min_inlers'", "min_inliers"}, false,
      "--config {dir}/options.yaml"},
     {"options_bad_value",
-     [](const fs::path& d) { WriteText(d / "options.yaml", "solver:\n  max_iterations: many\n"); },
+     [](const fs::path& d) { WriteFile(d / "options.yaml", "solver:\n  max_iterations: many\n"); },
      2, {"options.yaml:2:", "solver.max_iterations: expected an integer, got 'many'"}, false,
      "--config {dir}/options.yaml"},
 
@@ -282,17 +263,17 @@ const std::vector<BadCase> kCases = {
     {"survey_truncated", nullptr, 2, {"survey.csv:4:", "3 fields; expected 5 as in the header"}},
     {"survey_no_header", nullptr, 2, {"survey.csv:", "no header"}},
     {"control_id_not_in_survey",
-     [](const fs::path& d) { Replace(d / "session.yaml", "{id: C2,", "{id: C9,"); }, 2,
+     [](const fs::path& d) { ReplaceInFile(d / "session.yaml", "{id: C2,", "{id: C9,"); }, 2,
      {"session.yaml:16:", "control point C9 is not in", "expected a survey point with id C9"}},
     {"wall_without_survey_points",
-     [](const fs::path& d) { Replace(d / "session.yaml", "code: WALL1}", "code: WALL9}"); }, 2,
+     [](const fs::path& d) { ReplaceInFile(d / "session.yaml", "code: WALL1}", "code: WALL9}"); }, 2,
      {"survey.csv: wall north_wall: no survey points with code WALL9",
       "the survey's codes are CTRL (2), WALL1 (62); expected at least 2"}},
 
     // --- NMEA logs: nothing usable -------------------------------------------------------------
     {"gnss_all_bad", nullptr, 2,
      {"gnss.nmea: fewer than 2 GGA fixes of accepted quality"}},
-    {"gnss_empty", [](const fs::path& d) { WriteText(d / "gnss.nmea", ""); }, 2,
+    {"gnss_empty", [](const fs::path& d) { WriteFile(d / "gnss.nmea", ""); }, 2,
      {"gnss.nmea: fewer than 2 GGA fixes", "found none"}},
     {"gnss_float_only",
      [](const fs::path& d) {
@@ -326,15 +307,15 @@ const std::vector<BadCase> kCases = {
       "expected CARMEN RAWLASER1/ROBOTLASER1/FLASER lines"}},
     {"scans_truncated_file",
      [](const fs::path& d) {
-       std::string text = ReadText(d / "scans.clf");
-       WriteText(d / "scans.clf", text.substr(0, 1000));  // cut inside the first scan
+       std::string text = ReadFile(d / "scans.clf");
+       WriteFile(d / "scans.clf", text.substr(0, 1000));  // cut inside the first scan
      },
      2, {"scans.clf: no scan records", "line cut off at end of file: 1, first at line 2"}},
-    {"scans_empty", [](const fs::path& d) { WriteText(d / "scans.clf", ""); }, 2,
+    {"scans_empty", [](const fs::path& d) { WriteFile(d / "scans.clf", ""); }, 2,
      {"scans.clf: no scan records"}},
 
     {"scans_outside_log_time",
-     [](const fs::path& d) { Replace(d / "session.yaml", "time_offset_s: 0", "time_offset_s: 7200"); },
+     [](const fs::path& d) { ReplaceInFile(d / "session.yaml", "time_offset_s: 0", "time_offset_s: 7200"); },
      2, {"scans.clf", "do not overlap the GNSS and heading logs", "scanner.time_offset_s"}},
 
     // --- geometry the data cannot determine ------------------------------------------------
@@ -344,7 +325,7 @@ const std::vector<BadCase> kCases = {
        // a survey mistake, said before any scan is read.
        Append(d / "survey.csv", {"F1,300.0,400.0,0.5,FAR", "F2,310.0,400.0,0.5,FAR",
                                  "F3,320.0,400.0,0.5,FAR"});
-       Replace(d / "session.yaml", "code: WALL1}", "code: FAR}");
+       ReplaceInFile(d / "session.yaml", "code: WALL1}", "code: FAR}");
      },
      2, {"session.yaml", "the GNSS track passes no closer than", "control points"}},
     {"one_heading_only", nullptr, 1,
@@ -412,7 +393,7 @@ const std::vector<BadCase> kCases = {
        std::string text;
        for (const std::string& line : lines) text += line + "\n";
        text.resize(text.size() - 500);  // the logger was killed mid-line
-       WriteText(d / "scans.clf", text);
+       WriteFile(d / "scans.clf", text);
      },
      0,
      {"scans.clf: 5 lines skipped", "RAWLASER1: negative or non-finite range: 2, first at line 12",

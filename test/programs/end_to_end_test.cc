@@ -34,9 +34,12 @@
 #include "sim/simulator.h"
 #include "io/config/session_reader.h"
 #include "common/angles.h"
+#include "test/support/expect_text.h"
 #include "test/support/flow_names.h"
 #include "test/support/program_runner.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/scratch_files.h"
+#include "test/support/shipped_presets.h"
+#include "test/support/simulated_sessions.h"
 
 namespace wallcal {
 
@@ -44,18 +47,8 @@ namespace wallcal {
 namespace {
 
 namespace fs = std::filesystem;
-std::string ScenarioPath(const std::string& name) {
-  return std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/" + name + ".yaml";
-}
-
-// An empty folder in this process's scratch folder, removed when the process ends.
-fs::path FreshDir(const std::string& name) {
-  static const testing_support::ScratchDir scratch("wallcal_e2e_");
-  const fs::path dir = scratch.path() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+using testing_support::FreshScratchDir;
+using testing_support::ShippedScenarioPath;
 
 struct Errors {
   double dx_m, dy_m, dyaw_deg;
@@ -85,8 +78,8 @@ Errors CalibrateAndCompare(const fs::path& session, const sim::SimulationConfig&
 }
 
 void RunScenario(const std::string& scenario, uint64_t seed) {
-  const sim::SimulationConfig config = sim::ReadSimulationConfig(ScenarioPath(scenario));
-  const fs::path dir = FreshDir(scenario + "_" + std::to_string(seed));
+  const sim::SimulationConfig config = sim::ReadSimulationConfig(ShippedScenarioPath(scenario));
+  const fs::path dir = FreshScratchDir(scenario + "_" + std::to_string(seed));
   WriteSimulatedSession(config, seed, dir.string());
   const sim::SimulationConfig truth = sim::ReadTruthYaml((dir / "truth.yaml").string());
   ASSERT_NEAR(truth.mount_x_m, config.mount_x_m, 1e-9);
@@ -167,21 +160,11 @@ TEST(EndToEndTest, RoverSurveyedWallCalibratesWithoutATotalStation) {
 
 // ---- The programs ----------------------------------------------------------------------------
 
-struct CommandRun {
-  int status = -1;
-  std::string out;
-};
+using testing_support::CommandRun;
+using testing_support::RunCommand;
 
-// Runs a shell command line (test/support/program_runner.h), stderr merged into out.
-CommandRun RunCommand(const std::string& command) {
-  testing_support::RunOptions options;
-  options.merge_stderr = true;
-  const testing_support::ProgramRun run = testing_support::RunShell(command, options);
-  return {run.exit_code, run.out};
-}
-
-const std::string kCalibrate = testing_support::ShellQuote(testing_support::WallcalPath()) + " calibrate";
-const std::string kSimulate = testing_support::ShellQuote(testing_support::WallcalPath()) + " simulate";
+const std::string kCalibrate = testing_support::WallcalCommand("calibrate");
+const std::string kSimulate = testing_support::WallcalCommand("simulate");
 
 // Parses "x = 2.5712 ± 0.0061 m" style numbers after a label in calibrate's summary.
 double Printed(const std::string& out, const std::string& label) {
@@ -192,7 +175,7 @@ double Printed(const std::string& out, const std::string& label) {
 
 TEST(CalibrateProgramTest, SampleSessionPrintsTheTrueMount) {
   const fs::path sample = fs::path(WALLCAL_SOURCE_DIR) / "samples" / "lms291-sapporo";
-  const fs::path out = FreshDir("sample") / "offsets.yaml";
+  const fs::path out = FreshScratchDir("sample") / "offsets.yaml";
   const CommandRun run = RunCommand(kCalibrate + " " + sample.string() + " --output " + out.string());
   ASSERT_EQ(run.status, 0) << run.out;
   const sim::SimulationConfig truth = sim::ReadTruthYaml((sample / "truth.yaml").string());
@@ -204,42 +187,33 @@ TEST(CalibrateProgramTest, SampleSessionPrintsTheTrueMount) {
 }
 
 TEST(CalibrateProgramTest, MissingSessionFailsWithReasonAndWritesNothing) {
-  const fs::path dir = FreshDir("missing");
+  const fs::path dir = FreshScratchDir("missing");
   const CommandRun run = RunCommand(kCalibrate + " " + (dir / "nope").string());
-  EXPECT_EQ(run.status, 2) << run.out;
-  EXPECT_NE(run.out.find("session.yaml"), std::string::npos) << run.out;
+  testing_support::ExpectExitSaying(run.status, 2, run.out, {"session.yaml"});
   EXPECT_FALSE(fs::exists(dir / "nope" / "offsets.yaml"));
 }
 
 TEST(CalibrateProgramTest, UnknownOptionIsAUsageError) {
   const CommandRun run = RunCommand(kCalibrate + " x --frobnicate");
-  EXPECT_EQ(run.status, 2);
-  EXPECT_NE(run.out.find("--frobnicate"), std::string::npos) << run.out;
+  testing_support::ExpectExitSaying(run.status, 2, run.out, {"--frobnicate"});
 }
 
 TEST(CalibrateProgramTest, HelpExplainsTheProgram) {
   const CommandRun run = RunCommand(kCalibrate + " --help");
-  EXPECT_EQ(run.status, 0);
-  EXPECT_NE(run.out.find("--method"), std::string::npos);
-  EXPECT_NE(run.out.find("offsets.yaml"), std::string::npos);
+  testing_support::ExpectExitSaying(run.status, 0, run.out, {"--method", "offsets.yaml"});
 }
 
 // A session whose vehicle only ever faced the wall square-on cannot determine the mount: the
 // tool refuses, says why, and leaves an existing offsets.yaml untouched.
 TEST(CalibrateProgramTest, NarrowHeadingsAreRefusedAndOldOffsetsKept) {
-  const fs::path dir = FreshDir("narrow");
-  sim::SimulationConfig config = sim::ReadSimulationConfig(ScenarioPath("lms291_sapporo"));
-  config.heading_spread_rad = 4.0 * kDegToRad;
-  config.num_stations = 8;
-  WriteSimulatedSession(config, 21, dir.string());
+  const fs::path dir = testing_support::NarrowHeadingsSession("narrow");
   const fs::path out = dir / "offsets.yaml";
   {
     std::ofstream old(out);
     old << "previous: calibration\n";
   }
   const CommandRun run = RunCommand(kCalibrate + " " + dir.string());
-  EXPECT_EQ(run.status, 1) << run.out;
-  EXPECT_NE(run.out.find("not determined"), std::string::npos) << run.out;
+  testing_support::ExpectExitSaying(run.status, 1, run.out, {"not determined"});
   std::ifstream in(out);
   std::stringstream text;
   text << in.rdbuf();
@@ -247,8 +221,8 @@ TEST(CalibrateProgramTest, NarrowHeadingsAreRefusedAndOldOffsetsKept) {
 }
 
 TEST(SimulateProgramTest, WritesACompleteSessionThatCalibrates) {
-  const fs::path dir = FreshDir("simulate_cli");
-  const CommandRun sim = RunCommand(kSimulate + " --config " + ScenarioPath("lms291_sapporo") +
+  const fs::path dir = FreshScratchDir("simulate_cli");
+  const CommandRun sim = RunCommand(kSimulate + " --config " + ShippedScenarioPath("lms291_sapporo") +
                              " --seed 5 --output " + dir.string());
   ASSERT_EQ(sim.status, 0) << sim.out;
   for (const char* file : {"session.yaml", "scans.clf", "gnss.nmea", "heading.nmea",
@@ -262,8 +236,7 @@ TEST(SimulateProgramTest, WritesACompleteSessionThatCalibrates) {
 
 TEST(SimulateProgramTest, BadSeedIsAUsageError) {
   const CommandRun run = RunCommand(kSimulate + " --seed -3 --output /tmp/x");
-  EXPECT_EQ(run.status, 2);
-  EXPECT_NE(run.out.find("--seed"), std::string::npos) << run.out;
+  testing_support::ExpectExitSaying(run.status, 2, run.out, {"--seed"});
 }
 
 }  // namespace

@@ -7,8 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#include "test/support/expect_text.h"
 #include "test/support/program_runner.h"
 #include "test/support/sample_session.h"
+#include "test/support/scratch_files.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -30,7 +32,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kSample = fs::path(WALLCAL_SOURCE_DIR) / "samples" / "lms291-sapporo";
+using namespace testing_support;  // NOLINT: the test helpers of test/support
+
+const fs::path& kSample = kSampleSession;
 const fs::path kShippedPresets = fs::path(WALLCAL_SOURCE_DIR) / "configs" / "scanners";
 const fs::path kRealData = fs::path(WALLCAL_SOURCE_DIR) / ".." / "shared" / "testdata" / "real";
 
@@ -38,23 +42,6 @@ std::string Quote(const std::string& text) {
   std::string quoted = "'";
   for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return quoted + "'";
-}
-
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-void WriteText(const fs::path& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
-}
-
-void Replace(const fs::path& path, const std::string& from, const std::string& to) {
-  std::string text = ReadText(path);
-  const size_t at = text.find(from);
-  ASSERT_NE(at, std::string::npos) << from;
-  text.replace(at, from.size(), to);
-  WriteText(path, text);
 }
 
 // Every line end of `text` ("\n") as `eol`.
@@ -104,11 +91,10 @@ class FieldTest : public testing_support::SampleSessionTest {
 TEST_F(FieldTest, OutputNamingThePresetInTheSessionIsRefused) {
   fs::create_directories(session_ / "scanners");
   fs::copy_file(kShippedPresets / "sick_lms291.yaml", session_ / "scanners" / "sick_lms291.yaml");
-  const std::string before = ReadText(session_ / "scanners" / "sick_lms291.yaml");
+  const std::string before = ReadFile(session_ / "scanners" / "sick_lms291.yaml");
   const Outcome run = Calibrate(". --output scanners/sick_lms291.yaml");
-  EXPECT_EQ(run.status, 2) << run.all();
-  EXPECT_NE(run.err.find("names an input"), std::string::npos) << run.err;
-  EXPECT_EQ(ReadText(session_ / "scanners" / "sick_lms291.yaml"), before);
+  testing_support::ExpectExitSaying(run.status, 2, run.err, {"names an input"});
+  EXPECT_EQ(ReadFile(session_ / "scanners" / "sick_lms291.yaml"), before);
 }
 
 TEST_F(FieldTest, OutputNamingTheShippedPresetIsRefused) {
@@ -118,12 +104,11 @@ TEST_F(FieldTest, OutputNamingTheShippedPresetIsRefused) {
   fs::create_directories(shipped);
   fs::copy(kShippedPresets, shipped / "scanners", fs::copy_options::recursive);
   const fs::path preset = shipped / "scanners" / "sick_lms291.yaml";
-  const std::string before = ReadText(preset);
+  const std::string before = ReadFile(preset);
   const Outcome run = Calibrate(". --output " + Quote(preset.string()),
                                 "WALLCAL_CONFIG_DIR=" + Quote(shipped.string()));
-  EXPECT_EQ(run.status, 2) << run.all();
-  EXPECT_NE(run.err.find("names an input"), std::string::npos) << run.err;
-  EXPECT_EQ(ReadText(preset), before);
+  testing_support::ExpectExitSaying(run.status, 2, run.err, {"names an input"});
+  EXPECT_EQ(ReadFile(preset), before);
 }
 
 TEST_F(FieldTest, OutputNamingTheComparedOffsetsIsRefusedAndEveryInputIsDigested) {
@@ -131,11 +116,10 @@ TEST_F(FieldTest, OutputNamingTheComparedOffsetsIsRefusedAndEveryInputIsDigested
   fs::copy_file(kShippedPresets / "sick_lms291.yaml", session_ / "scanners" / "sick_lms291.yaml");
   const Outcome first = Calibrate(". --output previous.yaml");
   ASSERT_EQ(first.status, 0) << first.all();
-  const std::string previous = ReadText(session_ / "previous.yaml");
+  const std::string previous = ReadFile(session_ / "previous.yaml");
   const Outcome same = Calibrate(". --compare previous.yaml --output previous.yaml");
-  EXPECT_EQ(same.status, 2) << same.all();
-  EXPECT_NE(same.err.find("names an input"), std::string::npos) << same.err;
-  EXPECT_EQ(ReadText(session_ / "previous.yaml"), previous);
+  testing_support::ExpectExitSaying(same.status, 2, same.err, {"names an input"});
+  EXPECT_EQ(ReadFile(session_ / "previous.yaml"), previous);
 
   const Outcome second = Calibrate(". --compare previous.yaml --output offsets.yaml");
   ASSERT_EQ(second.status, 0) << second.all();
@@ -165,13 +149,12 @@ TEST_F(FieldTest, InspectFindsAMeasuredPresetInTheSessionAsCalibrateDoes) {
   fs::create_directories(session_ / "scanners");
   fs::copy_file(kShippedPresets / "sick_lms291.yaml",
                 session_ / "scanners" / "sick_lms291_measured.yaml");
-  Replace(session_ / "session.yaml", "model: sick_lms291", "model: sick_lms291_measured");
+  ReplaceInFile(session_ / "session.yaml", "model: sick_lms291", "model: sick_lms291_measured");
   const Outcome calibrate = Calibrate(". --output offsets.yaml");
   ASSERT_EQ(calibrate.status, 0) << calibrate.all();
   const Outcome inspect = Inspect(".");
   EXPECT_EQ(inspect.status, 0) << inspect.all();
-  EXPECT_EQ(inspect.all().find("unknown scanner model"), std::string::npos) << inspect.all();
-  EXPECT_EQ(inspect.all().find("NOT enough data"), std::string::npos) << inspect.all();
+  testing_support::ExpectLacks(inspect.all(), {"unknown scanner model", "NOT enough data"});
   const Outcome dump = Inspect(". --dump scans");
   EXPECT_EQ(dump.status, 0) << dump.err;
   // The provenance names the measured file.
@@ -193,43 +176,38 @@ TEST_F(FieldTest, InspectFindsAMeasuredPresetInTheSessionAsCalibrateDoes) {
 // The survey's x and y columns swapped (a PNEZD file read as PENZD): two control points fit
 // it by a rotation as well as the right one, the scans tell.
 TEST_F(FieldTest, MirroredSurveyIsNamedByCalibrateAndInspect) {
-  Replace(session_ / "survey.csv", "id,x,y,z,code", "id,y,x,z,code");
+  ReplaceInFile(session_ / "survey.csv", "id,x,y,z,code", "id,y,x,z,code");
   const Outcome calibrate = Calibrate(". --output offsets.yaml");
-  EXPECT_EQ(calibrate.status, 2) << calibrate.all();
-  EXPECT_NE(calibrate.err.find("mirrored survey"), std::string::npos) << calibrate.err;
-  EXPECT_NE(calibrate.err.find("session.yaml:15"), std::string::npos) << calibrate.err;
+  testing_support::ExpectExitSaying(calibrate.status, 2, calibrate.err, {
+      "mirrored survey", "session.yaml:15"
+  });
   EXPECT_FALSE(fs::exists(session_ / "offsets.yaml"));
   const Outcome inspect = Inspect(".");
   EXPECT_EQ(inspect.status, 0) << inspect.all();
   const std::string verdict = inspect.out.substr(inspect.out.find("\nverdict"));
   EXPECT_NE(verdict.find("mirrored survey"), std::string::npos) << verdict;
-  EXPECT_EQ(verdict.find("stop at more places"), std::string::npos) << verdict;
-  EXPECT_EQ(verdict.find("too few stations"), std::string::npos) << verdict;
+  testing_support::ExpectLacks(verdict, {"stop at more places", "too few stations"});
 }
 
 // C1's latitude typed 0.09° (10 km) off: with two control points either may be the wrong one.
 TEST_F(FieldTest, ControlPointTenKilometresOffNamesBothOfTwo) {
-  Replace(session_ / "session.yaml", "lat: 43.07129002690411", "lat: 43.16129002690411");
+  ReplaceInFile(session_ / "session.yaml", "lat: 43.07129002690411", "lat: 43.16129002690411");
   const Outcome run = Calibrate(". --output offsets.yaml");
-  EXPECT_EQ(run.status, 2) << run.all();
-  EXPECT_NE(run.err.find("C1 and C2"), std::string::npos) << run.err;
-  EXPECT_NE(run.err.find("cannot be told"), std::string::npos) << run.err;
+  testing_support::ExpectExitSaying(run.status, 2, run.err, {"C1 and C2", "cannot be told"});
   EXPECT_EQ(run.err.find("worst: C2"), std::string::npos) << run.err;
 }
 
 // `inspect --suggest-session` leaves lat: 0.0, lon: 0.0 for the control points.
 TEST_F(FieldTest, PlaceholderControlPointIsNamedWithItsLine) {
-  Replace(session_ / "session.yaml", "lat: 43.07128991302616, lon: 141.34006594797694",
+  ReplaceInFile(session_ / "session.yaml", "lat: 43.07128991302616, lon: 141.34006594797694",
           "lat: 0.0, lon: 0.0");
   const Outcome run = Calibrate(". --output offsets.yaml");
-  EXPECT_EQ(run.status, 2) << run.all();
-  EXPECT_NE(run.err.find("session.yaml:16"), std::string::npos) << run.err;
-  EXPECT_NE(run.err.find("placeholder"), std::string::npos) << run.err;
-  EXPECT_NE(run.err.find("C2"), std::string::npos) << run.err;
+  testing_support::ExpectExitSaying(run.status, 2, run.err, {
+      "session.yaml:16", "placeholder", "C2"
+  });
   EXPECT_EQ(run.err.find("central meridian"), std::string::npos) << run.err;
   const Outcome inspect = Inspect(".");
-  EXPECT_EQ(inspect.status, 2) << inspect.all();
-  EXPECT_NE(inspect.err.find("placeholder"), std::string::npos) << inspect.err;
+  testing_support::ExpectExitSaying(inspect.status, 2, inspect.err, {"placeholder"});
 }
 
 // ---- the scanner's geometry from the data -------------------------------------------------
@@ -259,19 +237,18 @@ std::string DropLastBeam(const std::string& text) {
 }
 
 TEST_F(FieldTest, DriverGeometryWithinTheFamilyIsTakenFromTheData) {
-  WriteText(session_ / "scans.clf", DropLastBeam(ReadText(session_ / "scans.clf")));
+  WriteFile(session_ / "scans.clf", DropLastBeam(ReadFile(session_ / "scans.clf")));
   const Outcome run = Calibrate(". --output offsets.yaml");
-  EXPECT_EQ(run.status, 0) << run.all();
-  EXPECT_NE(run.out.find("from the data: 180 beams (preset 181)"), std::string::npos) << run.out;
+  testing_support::ExpectExitSaying(run.status, 0, run.out, {
+      "from the data: 180 beams (preset 181)"
+  });
 }
 
 TEST_F(FieldTest, AnotherScannerIsStillRefused) {
   // 181 beams 1° apart (a SICK LMS) against the URG-04LX's 682 beams 0.35° apart.
-  Replace(session_ / "session.yaml", "model: sick_lms291", "model: hokuyo_urg04lx");
+  ReplaceInFile(session_ / "session.yaml", "model: sick_lms291", "model: hokuyo_urg04lx");
   const Outcome run = Calibrate(". --output offsets.yaml");
-  EXPECT_EQ(run.status, 2) << run.all();
-  EXPECT_NE(run.err.find("another scanner"), std::string::npos) << run.err;
-  EXPECT_NE(run.err.find("181 beams"), std::string::npos) << run.err;
+  testing_support::ExpectExitSaying(run.status, 2, run.err, {"another scanner", "181 beams"});
 }
 
 const fs::path kUrgBag = kRealData / "ros1" / "scan_tools-demo.bag";
@@ -280,22 +257,20 @@ TEST_F(FieldTest, RealUrgRecordingSuggestsAndFitsTheUrgPreset) {
   if (!fs::exists(kUrgBag)) GTEST_SKIP() << "no real data at " << kUrgBag;
   const Outcome suggest = Inspect(Quote(kUrgBag.string()) + " --suggest-session");
   ASSERT_EQ(suggest.status, 0) << suggest.all();
-  EXPECT_NE(suggest.out.find("model: hokuyo_urg04lx"), std::string::npos) << suggest.out;
-  EXPECT_NE(suggest.out.find("681 beams (preset 682)"), std::string::npos) << suggest.out;
+  testing_support::ExpectContains(suggest.out, {"model: hokuyo_urg04lx", "681 beams (preset 682)"});
 
   // The bag as the scan log of a session (its GNSS and heading from the sample): the preset
   // is accepted; the run then stops at the logs' times (2010 against the sample's).
-  Replace(session_ / "session.yaml", "model: sick_lms291\n  log: scans.clf",
+  ReplaceInFile(session_ / "session.yaml", "model: sick_lms291\n  log: scans.clf",
           "model: hokuyo_urg04lx\n  log: " + kUrgBag.string() + "\n  topic: /scan");
   const Outcome urg = Calibrate(". --output offsets.yaml");
   EXPECT_EQ(urg.status, 2) << urg.all();
   EXPECT_EQ(urg.err.find("682"), std::string::npos) << urg.err;
   EXPECT_NE(urg.err.find("do not overlap"), std::string::npos) << urg.err;
 
-  Replace(session_ / "session.yaml", "model: hokuyo_urg04lx", "model: sick_lms291");
+  ReplaceInFile(session_ / "session.yaml", "model: hokuyo_urg04lx", "model: sick_lms291");
   const Outcome lms = Calibrate(". --output offsets.yaml");
-  EXPECT_EQ(lms.status, 2) << lms.all();
-  EXPECT_NE(lms.err.find("another scanner"), std::string::npos) << lms.err;
+  testing_support::ExpectExitSaying(lms.status, 2, lms.err, {"another scanner"});
 }
 
 // ---- survey files: inspect, line ends, exports --------------------------------------------
@@ -309,25 +284,24 @@ std::string SmallGsi() {
 
 TEST_F(FieldTest, InspectSummarisesASurveyFile) {
   const Outcome csv = Inspect("survey.csv");
-  EXPECT_EQ(csv.status, 0) << csv.all();
-  EXPECT_NE(csv.out.find("CSV, comma-separated"), std::string::npos) << csv.out;
-  EXPECT_NE(csv.out.find("64 observations"), std::string::npos) << csv.out;
-  EXPECT_NE(csv.out.find("CTRL: 2;"), std::string::npos) << csv.out;
-  EXPECT_NE(csv.out.find("WALL1: 62;"), std::string::npos) << csv.out;
-  EXPECT_NE(csv.out.find("x (east)"), std::string::npos) << csv.out;
+  testing_support::ExpectExitSaying(csv.status, 0, csv.out, {
+      "CSV, comma-separated",
+      "64 observations",
+      "CTRL: 2;",
+      "WALL1: 62;",
+      "x (east)"
+  });
 
-  WriteText(session_ / "job.gsi", SmallGsi());
+  WriteFile(session_ / "job.gsi", SmallGsi());
   const Outcome gsi = Inspect("job.gsi");
-  EXPECT_EQ(gsi.status, 0) << gsi.all();
-  EXPECT_NE(gsi.out.find("Leica GSI"), std::string::npos) << gsi.out;
-  EXPECT_NE(gsi.out.find("3 observations"), std::string::npos) << gsi.out;
-  EXPECT_NE(gsi.out.find("WALL1: 2;"), std::string::npos) << gsi.out;
+  testing_support::ExpectExitSaying(gsi.status, 0, gsi.out, {
+      "Leica GSI", "3 observations", "WALL1: 2;"
+  });
 
   const fs::path real = kRealData / "gsi" / "leica_gsi8_ertola.gsi";
   if (fs::exists(real)) {
     const Outcome job = Inspect(Quote(real.string()));
-    EXPECT_EQ(job.status, 0) << job.all();
-    EXPECT_NE(job.out.find("Leica GSI"), std::string::npos) << job.out;
+    testing_support::ExpectExitSaying(job.status, 0, job.out, {"Leica GSI"});
   }
 }
 
@@ -345,6 +319,15 @@ Mount MountOf(const fs::path& offsets) {
   return m;
 }
 
+// Expects the offsets.yaml a run wrote to hold `reference`'s mount: the same bytes of data give
+// the same numbers, to round-off.
+void ExpectMountOf(const fs::path& offsets, const Mount& reference) {
+  const Mount mount = MountOf(offsets);
+  EXPECT_NEAR(mount.x_m, reference.x_m, 1e-9);
+  EXPECT_NEAR(mount.y_m, reference.y_m, 1e-9);
+  EXPECT_NEAR(mount.yaw_deg, reference.yaw_deg, 1e-9);
+}
+
 TEST_F(FieldTest, EveryLineEndReadsToTheSameMount) {
   const Outcome plain = Calibrate(". --output plain.yaml");
   ASSERT_EQ(plain.status, 0) << plain.all();
@@ -353,20 +336,14 @@ TEST_F(FieldTest, EveryLineEndReadsToTheSameMount) {
   for (const std::string eol : {"\r\n", "\r"}) {
     SCOPED_TRACE(eol == "\r" ? "CR" : "CRLF");
     for (const char* name : {"scans.clf", "gnss.nmea", "heading.nmea", "survey.csv"}) {
-      WriteText(session_ / name, WithLineEnds(ReadText(kSample / name), eol));
+      WriteFile(session_ / name, WithLineEnds(ReadFile(kSample / name), eol));
     }
     const Outcome run = Calibrate(". --output offsets.yaml");
     ASSERT_EQ(run.status, 0) << run.all();
-    const Mount mount = MountOf(session_ / "offsets.yaml");
-    // The same bytes of data: the same numbers, to round-off.
-    EXPECT_NEAR(mount.x_m, reference.x_m, 1e-9);
-    EXPECT_NEAR(mount.y_m, reference.y_m, 1e-9);
-    EXPECT_NEAR(mount.yaw_deg, reference.yaw_deg, 1e-9);
-    WriteText(session_ / "job.gsi", WithLineEnds(gsi, eol));
+    ExpectMountOf(session_ / "offsets.yaml", reference);
+    WriteFile(session_ / "job.gsi", WithLineEnds(gsi, eol));
     const Outcome job = Inspect("job.gsi");
-    EXPECT_EQ(job.status, 0) << job.all();
-    EXPECT_NE(job.out.find("Leica GSI"), std::string::npos) << job.out;
-    EXPECT_NE(job.out.find("3 observations"), std::string::npos) << job.out;
+    testing_support::ExpectExitSaying(job.status, 0, job.out, {"Leica GSI", "3 observations"});
   }
 }
 
@@ -401,7 +378,7 @@ TEST_F(FieldTest, SurveyorExportsReadToTheSamePointsAndMount) {
   const Mount reference = MountOf(session_ / "plain.yaml");
   const Outcome plain_dump = Inspect("survey.csv --dump survey");
   ASSERT_EQ(plain_dump.status, 0) << plain_dump.all();
-  const std::string csv = ReadText(kSample / "survey.csv");
+  const std::string csv = ReadFile(kSample / "survey.csv");
   struct Variant {
     const char* name;
     std::string text;
@@ -415,7 +392,7 @@ TEST_F(FieldTest, SurveyorExportsReadToTheSamePointsAndMount) {
   };
   for (const Variant& v : variants) {
     SCOPED_TRACE(v.name);
-    WriteText(session_ / "survey.csv", v.text);
+    WriteFile(session_ / "survey.csv", v.text);
     const Outcome dump = Inspect("survey.csv --dump survey");
     ASSERT_EQ(dump.status, 0) << dump.all();
     if (std::string(v.name) != "lower-case codes") {
@@ -423,19 +400,14 @@ TEST_F(FieldTest, SurveyorExportsReadToTheSamePointsAndMount) {
     }
     const Outcome run = Calibrate(". --output offsets.yaml");
     ASSERT_EQ(run.status, 0) << run.all();
-    const Mount mount = MountOf(session_ / "offsets.yaml");
-    EXPECT_NEAR(mount.x_m, reference.x_m, 1e-9);
-    EXPECT_NEAR(mount.y_m, reference.y_m, 1e-9);
-    EXPECT_NEAR(mount.yaw_deg, reference.yaw_deg, 1e-9);
+    ExpectMountOf(session_ / "offsets.yaml", reference);
   }
 }
 
 TEST_F(FieldTest, AWallCodeNotInTheSurveyListsTheCodesFound) {
-  Replace(session_ / "session.yaml", "code: WALL1", "code: WALL9");
+  ReplaceInFile(session_ / "session.yaml", "code: WALL1", "code: WALL9");
   const Outcome run = Calibrate(". --output offsets.yaml");
-  EXPECT_EQ(run.status, 2) << run.all();
-  EXPECT_NE(run.err.find("WALL9"), std::string::npos) << run.err;
-  EXPECT_NE(run.err.find("CTRL (2), WALL1 (62)"), std::string::npos) << run.err;
+  testing_support::ExpectExitSaying(run.status, 2, run.err, {"WALL9", "CTRL (2), WALL1 (62)"});
 }
 
 }  // namespace

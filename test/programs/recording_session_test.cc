@@ -30,22 +30,17 @@
 #include "pipeline/calibration.h"
 #include "sim/recording_session.h"
 #include "sim/simulated_session.h"
+#include "test/support/expect_text.h"
 #include "test/support/program_runner.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal {
 namespace {
 
 namespace fs = std::filesystem;
 
-// An empty folder in this process's scratch folder, removed when the process ends.
-fs::path FreshDir(const std::string& name) {
-  static const testing_support::ScratchDir scratch("wallcal_rec_");
-  const fs::path dir = scratch.path() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+using testing_support::ReplaceInFile;
+using testing_support::FreshScratchDir;
 
 // A short stop-and-go scenario (6 stations of 3 s): a calibration takes about a second.
 sim::SimulationConfig ShortScenario() {
@@ -60,7 +55,7 @@ sim::SimulationConfig ShortScenario() {
 // The text session, simulated once per test process.
 const fs::path& TextSession() {
   static const fs::path dir = [] {
-    const fs::path d = FreshDir("text");
+    const fs::path d = FreshScratchDir("text");
     sim::WriteSimulatedSession(ShortScenario(), 5, d.string());
     return d;
   }();
@@ -68,7 +63,7 @@ const fs::path& TextSession() {
 }
 
 fs::path SessionAs(const std::string& format) {
-  const fs::path dir = FreshDir(format);
+  const fs::path dir = FreshScratchDir(format);
   fs::copy(TextSession(), dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
   sim::ConvertSessionToRecording(dir.string(), *sim::ParseSessionFormat(format));
   return dir;
@@ -80,31 +75,10 @@ pipeline::CalibrationResult Calibrate(const fs::path& dir) {
   return pipeline::RunCalibration(request, nullptr);
 }
 
-struct CommandRun {
-  int status = -1;
-  std::string out;
-};
+using testing_support::CommandRun;
+using testing_support::RunCommand;
 
-// Runs a shell command line (test/support/program_runner.h), stderr merged into out.
-CommandRun RunCommand(const std::string& command) {
-  testing_support::RunOptions options;
-  options.merge_stderr = true;
-  const testing_support::ProgramRun run = testing_support::RunShell(command, options);
-  return {run.exit_code, run.out};
-}
-
-const std::string kCalibrate = testing_support::ShellQuote(testing_support::WallcalPath()) + " calibrate";
-
-void ReplaceInFile(const fs::path& file, const std::string& from, const std::string& to) {
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string s = text.str();
-  const size_t at = s.find(from);
-  ASSERT_NE(at, std::string::npos) << from;
-  s.replace(at, from.size(), to);
-  std::ofstream(file, std::ios::trunc) << s;
-}
+const std::string kCalibrate = testing_support::WallcalCommand("calibrate");
 
 TEST(RecordingSessionTest, EveryFormatCalibratesToTheSameMount) {
   const pipeline::CalibrationResult text = Calibrate(TextSession());
@@ -131,7 +105,7 @@ TEST(RecordingSessionTest, EveryFormatCalibratesToTheSameMount) {
 // nmea_msgs/Sentence (GGA, GST, HDT through the text reader) and sensor_msgs/Imu, in one ROS 1
 // bag whose receive times are the logger stamps + 0.25 s.
 TEST(RecordingSessionTest, SentencesImuAndReceiveStamps) {
-  const fs::path dir = FreshDir("sentences");
+  const fs::path dir = FreshScratchDir("sentences");
   fs::copy(TextSession(), dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
   const io::NmeaLog text_gnss = io::ReadNmea((dir / "gnss.nmea").string());
   const io::NmeaLog text_heading = io::ReadNmea((dir / "heading.nmea").string());
@@ -204,23 +178,25 @@ TEST(RecordingSessionTest, WrongTypeMissingTopicAndPresetMismatchExitTwoWithTheN
 
   ReplaceInFile(dir / "session.yaml", "  topic: /heading\n", "  topic: /gps/fix\n");
   run = RunCommand(kCalibrate + " " + dir.string());
-  EXPECT_EQ(run.status, 2) << run.out;
-  EXPECT_NE(run.out.find("no topic '/gps/fix'"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("/fix (sensor_msgs/NavSatFix)"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("/scan (sensor_msgs/LaserScan)"), std::string::npos) << run.out;
+  testing_support::ExpectExitSaying(run.status, 2, run.out, {
+      "no topic '/gps/fix'",
+      "/fix (sensor_msgs/NavSatFix)",
+      "/scan (sensor_msgs/LaserScan)"
+  });
 
   ReplaceInFile(dir / "session.yaml", "  topic: /gps/fix\n", "  topic: /fix\n");
   ReplaceInFile(dir / "session.yaml", "model: sick_lms291", "model: hokuyo_urg04lx");
   run = RunCommand(kCalibrate + " " + dir.string());
-  EXPECT_EQ(run.status, 2) << run.out;
-  EXPECT_NE(run.out.find("181 beams"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("the preset hokuyo_urg04lx has 682 beams"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("another scanner"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("topic /scan message 1"), std::string::npos) << run.out;
+  testing_support::ExpectExitSaying(run.status, 2, run.out, {
+      "181 beams",
+      "the preset hokuyo_urg04lx has 682 beams",
+      "another scanner",
+      "topic /scan message 1"
+  });
 }
 
 TEST(RecordingSessionTest, TopicOnATextLogIsAnError) {
-  const fs::path dir = FreshDir("topic_on_text");
+  const fs::path dir = FreshScratchDir("topic_on_text");
   fs::copy(TextSession(), dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
   ReplaceInFile(dir / "session.yaml", "  log: gnss.nmea\n", "  log: gnss.nmea\n  topic: /fix\n");
   const CommandRun run = RunCommand(kCalibrate + " " + dir.string());
@@ -289,7 +265,7 @@ TEST(RecordingStreamsTest, EnuYawBecomesHeadingClockwiseFromNorth) {
 namespace wallcal {
 namespace {
 
-const std::string kInspect = testing_support::ShellQuote(testing_support::WallcalPath()) + " inspect";
+const std::string kInspect = testing_support::WallcalCommand("inspect");
 const std::string kRealRos1 = WALLCAL_SOURCE_DIR "/../shared/testdata/real/ros1";
 
 TEST(InspectRecordingTest, SuggestSessionOnTheRealBagsProposesScanAndFix) {
@@ -366,7 +342,7 @@ TEST(InspectRecordingTest, DumpsOfATopicMatchTheTextLogs) {
 }
 
 TEST(InspectRecordingTest, SeveralCandidateTopicsAreListed) {
-  const fs::path dir = FreshDir("two_fixes");
+  const fs::path dir = FreshScratchDir("two_fixes");
   {
     io::Ros1BagWriter bag((dir / "two.bag").string(), io::ChunkCompression::kNone);
     const int a = bag.AddConnection("/fix", io::RosType::kNavSatFix);

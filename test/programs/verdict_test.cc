@@ -16,36 +16,21 @@
 #include <yaml-cpp/yaml.h>
 
 #include "common/sha256.h"
+#include "test/support/expect_text.h"
 #include "test/support/program_runner.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/sample_session.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal {
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kSample = fs::path(WALLCAL_SOURCE_DIR) / "samples" / "lms291-sapporo";
-const std::string kCalibrate = testing_support::ShellQuote(testing_support::WallcalPath()) + " calibrate";
-const std::string kInspect = testing_support::ShellQuote(testing_support::WallcalPath()) + " inspect";
+using namespace testing_support;  // NOLINT: the test helpers of test/support
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-void WriteText(const fs::path& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
-}
-
-void Replace(const fs::path& path, const std::string& from, const std::string& to) {
-  std::string text = ReadText(path);
-  const size_t at = text.find(from);
-  ASSERT_NE(at, std::string::npos) << from;
-  text.replace(at, from.size(), to);
-  WriteText(path, text);
-}
+const fs::path& kSample = kSampleSession;
+const std::string kCalibrate = testing_support::WallcalCommand("calibrate");
+const std::string kInspect = testing_support::WallcalCommand("inspect");
 
 using RunOut = testing_support::ProgramRun;
 
@@ -77,8 +62,10 @@ TEST(VerdictTest, EmitsOneTreeAndSaysWhenTheHeightIsUnknown) {
   std::ofstream(dir / "session.yaml", std::ios::app) << "antenna_in_base: {x: -0.4, y: 0.0, z: 2.1}\n";
   const RunOut tf = Exec(kCalibrate, dir.string() + " --emit ros2-static-tf --quiet");
   ASSERT_EQ(tf.exit_code, 0) << tf.err;
-  EXPECT_TRUE(Has(tf.out, "--frame-id base_link --child-frame-id gnss_antenna")) << tf.out;
-  EXPECT_TRUE(Has(tf.out, "--frame-id gnss_antenna --child-frame-id laser")) << tf.out;
+  testing_support::ExpectContains(tf.out, {
+      "--frame-id base_link --child-frame-id gnss_antenna",
+      "--frame-id gnss_antenna --child-frame-id laser"
+  });
   EXPECT_FALSE(Has(tf.out, "--frame-id base_link --child-frame-id laser")) << tf.out;
   EXPECT_TRUE(Has(tf.out, "# gnss_antenna -> laser: z = 0: the scanner's height")) << tf.out;
 
@@ -91,7 +78,7 @@ TEST(VerdictTest, EmitsOneTreeAndSaysWhenTheHeightIsUnknown) {
   EXPECT_TRUE(Has(urdf.out, "<child link=\"gnss_antenna\"/>"));
   EXPECT_NO_THROW(YAML::Load("x: 1"));  // (yaml-cpp linked for the provenance test below)
   const fs::path urdf_file = dir / "mount.urdf";
-  WriteText(urdf_file, urdf.out);
+  WriteFile(urdf_file, urdf.out);
   // check_urdf (liburdfdom-tools) when installed; otherwise xmllint's well-formedness check.
   if (testing_support::RunShell("command -v check_urdf").exit_code == 0) {
     const RunOut check = Exec("check_urdf", urdf_file.string());
@@ -101,7 +88,7 @@ TEST(VerdictTest, EmitsOneTreeAndSaysWhenTheHeightIsUnknown) {
   }
 
   // With the height in session.yaml it is used and the note goes away.
-  Replace(dir / "session.yaml", "  time_offset_s: 0\n", "  time_offset_s: 0\n  z_m: -0.85\n");
+  ReplaceInFile(dir / "session.yaml", "  time_offset_s: 0\n", "  time_offset_s: 0\n  z_m: -0.85\n");
   const RunOut known = Exec(kCalibrate, dir.string() + " --emit ros2-static-tf --quiet");
   ASSERT_EQ(known.exit_code, 0) << known.err;
   EXPECT_TRUE(Has(known.out, "--z -0.85 ")) << known.out;
@@ -113,20 +100,19 @@ TEST(VerdictTest, ClosedFormWritesNoSigmaAndAWarning) {
   const fs::path dir = Copy("barawid");
   const RunOut run = Exec(kCalibrate, dir.string() + " --method barawid --quiet");
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_TRUE(Has(run.out, "no sigma")) << run.out;
-  EXPECT_TRUE(Has(run.out, "verdict    REVIEW")) << run.out;
+  testing_support::ExpectContains(run.out, {"no sigma", "verdict    REVIEW"});
   const YAML::Node doc = YAML::LoadFile((dir / "offsets.yaml").string());
   EXPECT_TRUE(doc["scanner_mount"]["stddev"].IsNull());
   EXPECT_TRUE(doc["scanner_mount"]["covariance"].IsNull());
   ASSERT_GE(doc["warnings"].size(), 1u);
-  EXPECT_TRUE(Has(ReadText(dir / "offsets.yaml"), "no σ: the closed form"));
+  EXPECT_TRUE(Has(ReadFile(dir / "offsets.yaml"), "no σ: the closed form"));
 }
 
 // Finding 3: a preset that does not fit the data stops the run, naming both; inspect agrees.
 TEST(VerdictTest, WrongPresetIsRefusedNamingBoth) {
   for (const std::string& model : {std::string("hokuyo_urg04lx"), std::string("sick_lms200")}) {
     const fs::path dir = Copy("preset_" + model);
-    Replace(dir / "session.yaml", "model: sick_lms291", "model: " + model);
+    ReplaceInFile(dir / "session.yaml", "model: sick_lms291", "model: " + model);
     const RunOut run = Exec(kCalibrate, dir.string() + " --quiet");
     EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
     EXPECT_TRUE(Has(run.err, "scanner.model '" + model + "' does not fit")) << run.err;
@@ -138,7 +124,7 @@ TEST(VerdictTest, WrongPresetIsRefusedNamingBoth) {
     EXPECT_TRUE(Has(inspect.out, "does not fit")) << inspect.out;
     const RunOut forced = Exec(kCalibrate, dir.string() + " --quiet --force");
     if (forced.exit_code == 0) {
-      EXPECT_TRUE(Has(ReadText(dir / "offsets.yaml"), "FORCED: scanner.model"));
+      EXPECT_TRUE(Has(ReadFile(dir / "offsets.yaml"), "FORCED: scanner.model"));
     }
   }
 }
@@ -146,24 +132,25 @@ TEST(VerdictTest, WrongPresetIsRefusedNamingBoth) {
 // Finding 4: a survey that is not where the GNSS track is, and a mount far from the guess.
 TEST(VerdictTest, SurveyFarFromTheTrackIsASurveyMistake) {
   const fs::path dir = Copy("far");
-  Replace(dir / "session.yaml", "lat: 43.07129002690411", "lat: 43.17129002690411");
-  Replace(dir / "session.yaml", "lat: 43.07128991302616", "lat: 43.17128991302616");
+  ReplaceInFile(dir / "session.yaml", "lat: 43.07129002690411", "lat: 43.17129002690411");
+  ReplaceInFile(dir / "session.yaml", "lat: 43.07128991302616", "lat: 43.17128991302616");
   const RunOut run = Exec(kCalibrate, dir.string() + " --quiet");
   EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
-  EXPECT_TRUE(Has(run.err, "the GNSS track passes no closer than")) << run.err;
-  EXPECT_TRUE(Has(run.err, "control points")) << run.err;
+  testing_support::ExpectContains(run.err, {
+      "the GNSS track passes no closer than",
+      "control points"
+  });
   EXPECT_FALSE(Has(run.err, "stations")) << run.err;
   EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
 }
 
 TEST(VerdictTest, MountGuessToleranceRefusesAGrossError) {
   const fs::path dir = Copy("guess");
-  Replace(dir / "session.yaml", "  time_offset_s: 0\n",
+  ReplaceInFile(dir / "session.yaml", "  time_offset_s: 0\n",
           "  time_offset_s: 0\n  mount_guess: {x: 2.0, y: 0.05, yaw_deg: 2.8, tolerance_m: 0.2}\n");
   const RunOut run = Exec(kCalibrate, dir.string() + " --quiet");
   EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
-  EXPECT_TRUE(Has(run.err, "from scanner.mount_guess")) << run.err;
-  EXPECT_TRUE(Has(run.err, "tolerance_m 0.200 m")) << run.err;
+  testing_support::ExpectContains(run.err, {"from scanner.mount_guess", "tolerance_m 0.200 m"});
   EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
   const RunOut forced = Exec(kCalibrate, dir.string() + " --quiet --force");
   EXPECT_EQ(forced.exit_code, 0) << forced.err;
@@ -173,13 +160,12 @@ TEST(VerdictTest, MountGuessToleranceRefusesAGrossError) {
 // Finding 5: the refusal for σ follows the dominant term, with the counts of the final pass.
 TEST(VerdictTest, SigmaRefusalFollowsTheDominantTermAndCountsTheScans) {
   const fs::path dir = Copy("sigma");
-  WriteText(dir / "strict.yaml", "solver: {max_sigma_xy_m: 0.01}\n");
+  WriteFile(dir / "strict.yaml", "solver: {max_sigma_xy_m: 0.01}\n");
   const RunOut run = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "strict.yaml").string());
   EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
   EXPECT_TRUE(Has(run.err, "of its variance comes from the")) << run.err;
   EXPECT_FALSE(Has(run.err, "turned ≥ 30°")) << run.err;
-  EXPECT_FALSE(Has(run.out, " 0 used")) << run.out;
-  EXPECT_FALSE(Has(run.out, "headings 0.0..0.0")) << run.out;
+  testing_support::ExpectLacks(run.out, {" 0 used", "headings 0.0..0.0"});
   EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
 }
 
@@ -205,7 +191,7 @@ TEST(VerdictTest, OffsetsCarryProvenanceAndNoInternalNames) {
   const RunOut run = Exec(kCalibrate, dir.string() + " --quiet");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_FALSE(Has(run.out, "seed")) << run.out;
-  const std::string text = ReadText(dir / "offsets.yaml");
+  const std::string text = ReadFile(dir / "offsets.yaml");
   EXPECT_FALSE(Has(text, "seed_002")) << text;
   const YAML::Node doc = YAML::Load(text);
   EXPECT_NEAR(doc["barawid_2007_notation"]["b"].as<double>(), doc["scanner_mount"]["x"].as<double>(), 1e-6);
@@ -226,7 +212,7 @@ TEST(VerdictTest, OffsetsCarryProvenanceAndNoInternalNames) {
   EXPECT_EQ(hashed, 1);
   for (const auto& entry : fs::directory_iterator(fs::path(WALLCAL_SOURCE_DIR) / "docs")) {
     if (entry.path().extension() != ".md") continue;
-    const std::string doc_text = ReadText(entry.path());
+    const std::string doc_text = ReadFile(entry.path());
     for (const char* internal : {"docs/session-format.md", "../shared", "seed 00", "seed_002"}) {
       EXPECT_FALSE(Has(doc_text, internal)) << entry.path() << ": " << internal;
     }
@@ -241,24 +227,24 @@ TEST(VerdictTest, VerdictCompareAndReportTop) {
   const fs::path dir = Copy("compare");
   const RunOut first = Exec(kCalibrate, dir.string() + " --quiet --output " + (dir / "previous.yaml").string());
   ASSERT_EQ(first.exit_code, 0) << first.err;
-  EXPECT_TRUE(Has(first.out, "  verdict    ")) << first.out;
-  EXPECT_TRUE(Has(first.out, "σ budget")) << first.out;
+  testing_support::ExpectContains(first.out, {"  verdict    ", "σ budget"});
   // The same data again: no change.
   const RunOut same = Exec(kCalibrate, dir.string() + " --quiet --compare " + (dir / "previous.yaml").string());
   ASSERT_EQ(same.exit_code, 0) << same.err;
-  EXPECT_TRUE(Has(same.out, "change     since")) << same.out;
-  EXPECT_TRUE(Has(same.out, "x +0.0 mm, y +0.0 mm")) << same.out;
-  EXPECT_TRUE(Has(ReadText(dir / "offsets.yaml"), "change_since_previous: {previous:"));
+  testing_support::ExpectContains(same.out, {"change     since", "x +0.0 mm, y +0.0 mm"});
+  EXPECT_TRUE(Has(ReadFile(dir / "offsets.yaml"), "change_since_previous: {previous:"));
   // A previous calibration 50 mm further forward: REVIEW, naming the move.
-  Replace(dir / "previous.yaml", "  x: 2.", "  x: 2.05");  // crude: +0.05 m on x's first decimal
-  WriteText(dir / "lenient.yaml", "acceptance: {max_sigma_xy_m: 0.05, max_sigma_yaw_deg: 1.0}\n");
+  ReplaceInFile(dir / "previous.yaml", "  x: 2.", "  x: 2.05");  // crude: +0.05 m on x's first decimal
+  WriteFile(dir / "lenient.yaml", "acceptance: {max_sigma_xy_m: 0.05, max_sigma_yaw_deg: 1.0}\n");
   const RunOut moved = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "lenient.yaml").string() +
                                          " --compare " + (dir / "previous.yaml").string() +
                                          " --report " + (dir / "report").string());
   ASSERT_EQ(moved.exit_code, 0) << moved.err;
-  EXPECT_TRUE(Has(moved.out, "verdict    REVIEW")) << moved.out;
-  EXPECT_TRUE(Has(moved.out, "since " + (dir / "previous.yaml").string())) << moved.out;
-  const std::string html = ReadText(dir / "report" / "report.html");
+  testing_support::ExpectContains(moved.out, {
+      "verdict    REVIEW",
+      "since " + (dir / "previous.yaml").string()
+  });
+  const std::string html = ReadFile(dir / "report" / "report.html");
   const size_t verdict = html.find("class=\"verdict v-review\"");
   const size_t budget = html.find("Error budget");
   const size_t folded = html.find("<details id=\"diagnostics\">");
@@ -271,11 +257,13 @@ TEST(VerdictTest, VerdictCompareAndReportTop) {
   if (hough != std::string::npos) {
     EXPECT_GT(hough, folded);
   }
-  EXPECT_TRUE(Has(html, "error (estimate &#8722; truth)"));
-  EXPECT_TRUE(Has(html, "change since previous"));
+  testing_support::ExpectContains(html, {
+      "error (estimate &#8722; truth)",
+      "change since previous"
+  });
 
   // Bootstrap off: no "bootstrap (0)".
-  WriteText(dir / "noboot.yaml", "solver: {bootstrap_samples: 0}\n");
+  WriteFile(dir / "noboot.yaml", "solver: {bootstrap_samples: 0}\n");
   const RunOut noboot = Exec(kCalibrate, dir.string() + " --quiet --config " + (dir / "noboot.yaml").string());
   ASSERT_EQ(noboot.exit_code, 0) << noboot.err;
   EXPECT_FALSE(Has(noboot.out, "bootstrap (0)")) << noboot.out;
@@ -291,7 +279,7 @@ namespace {
 // then points at the survey, not at the stations.
 TEST(VerdictTest, MirroredSurveyWithTwoControlPointsPointsAtTheSurvey) {
   const fs::path dir = Copy("mirrored");
-  std::istringstream in(ReadText(dir / "survey.csv"));
+  std::istringstream in(ReadFile(dir / "survey.csv"));
   std::string line, out;
   std::getline(in, line);
   out = line + "\n";
@@ -301,11 +289,10 @@ TEST(VerdictTest, MirroredSurveyWithTwoControlPointsPointsAtTheSurvey) {
     out += line.substr(0, a + 1) + line.substr(b + 1, c - b - 1) + "," +
            line.substr(a + 1, b - a - 1) + line.substr(c) + "\n";
   }
-  WriteText(dir / "survey.csv", out);
+  WriteFile(dir / "survey.csv", out);
   const RunOut run = Exec(kCalibrate, dir.string() + " --quiet");
   EXPECT_NE(run.exit_code, 0) << run.out;
-  EXPECT_TRUE(Has(run.err, "survey")) << run.err;
-  EXPECT_TRUE(Has(run.err, "swapped")) << run.err;
+  testing_support::ExpectContains(run.err, {"survey", "swapped"});
   EXPECT_FALSE(Has(run.err, "turned ≥ 30°")) << run.err;
   EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
 }

@@ -10,23 +10,20 @@
 
 #include "common/angles.h"
 #include "io/types.h"
+#include "test/support/expect_text.h"
 #include "test/support/scratch_files.h"
 
 namespace wallcal::sim {
 namespace {
 
 namespace fs = std::filesystem;
+using testing_support::ScratchFolder;
 using io::InputError;
 
 using testing_support::WriteFile;
 
-// A folder in this process's scratch folder, removed when the process ends.
-std::string Dir(const std::string& name) {
-  return testing_support::ScratchFolder("simulation_config_test_", name);
-}
-
 TEST(SimulationConfigTest, SimulationConfigDefaultsAndLists) {
-  const std::string dir = Dir("simulation");
+  const std::string dir = ScratchFolder("simulation");
   const SimulationConfig defaults = ReadSimulationConfig(WriteFile(dir + "/empty.yaml", ""));
   const SimulationConfig expected;
   EXPECT_EQ(defaults.name, expected.name);
@@ -62,22 +59,14 @@ obstacles:
   ASSERT_EQ(config.obstacles.size(), 1u);
   EXPECT_DOUBLE_EQ(config.obstacles[0].radius_m, 0.3);
 
-  try {
-    ReadSimulationConfig(WriteFile(dir + "/bad.yaml", "walls:\n  - {id: a, x0: 1}\n"));
-    FAIL() << "no exception";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.yaml:2: unknown key 'walls[0].x0'"),
-              std::string::npos)
-        << e.what();
-  }
-  try {
-    ReadSimulationConfig(WriteFile(dir + "/invalid.yaml", "num_stations: 0\n"));
-    FAIL() << "no exception";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("simulation.num_stations must be >= 1, got 0"),
-              std::string::npos)
-        << e.what();
-  }
+  const auto error = [&dir](const std::string& name, const std::string& yaml) {
+    return testing_support::MessageOf<InputError>(
+        [&] { ReadSimulationConfig(WriteFile(dir + "/" + name, yaml)); });
+  };
+  testing_support::ExpectContains(error("bad.yaml", "walls:\n  - {id: a, x0: 1}\n"),
+                                  {"bad.yaml:2: unknown key 'walls[0].x0'"});
+  testing_support::ExpectContains(error("invalid.yaml", "num_stations: 0\n"),
+                                  {"simulation.num_stations must be >= 1, got 0"});
 }
 
 TEST(SimulationConfigTest, TruthYamlRoundTrips) {
@@ -91,7 +80,7 @@ TEST(SimulationConfigTest, TruthYamlRoundTrips) {
   config.walls = {{"north", "WALL1", -10, 20, 10, 20, 3.0, 0.5},
                   {"shed", "", 15, 0, 15, 8, 2.5, 1.0}};
   config.obstacles = {{1.0, 5.0, 0.3}};
-  const std::string path = WriteFile(Dir("truth") + "/truth.yaml", FormatTruthYaml(config, 42));
+  const std::string path = WriteFile(ScratchFolder("truth") + "/truth.yaml", FormatTruthYaml(config, 42));
 
   const YAML::Node root = YAML::LoadFile(path);
   EXPECT_EQ(root["seed"].as<uint64_t>(), 42u);

@@ -8,6 +8,7 @@
 #include <ceres/gradient_checker.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -38,6 +39,30 @@ WallLineMeasurement HandMeasurement() {
   return m;
 }
 
+// The hand-worked parameters: mount (x, y, yaw) = (2, 0.5, 0.05), wall (δd, δα) = (0.02, 0),
+// GNSS bias b = (0.1, −0.2).
+const double kHandMount[3] = {2.0, 0.5, 0.05};
+const double kHandWall[2] = {0.02, 0.0};
+const double kHandBias[2] = {0.1, -0.2};
+
+// The rho error of HandMeasurement() with the vehicle's true yaw `yaw_rad` (the lever arm turns
+// with it): s_y = 2.2 + sin(ψ)·2 + cos(ψ)·0.5, rho_pred = 10.02 − s_y, measured 5 m.
+double HandRhoError(double yaw_rad) {
+  return 10.02 - (2.2 + std::sin(yaw_rad) * 2.0 + std::cos(yaw_rad) * 0.5) - 5.0;
+}
+
+// The (rho, theta) errors of `m` at the hand-worked parameters with time offsets (dt, δh), a
+// heading offset and a heading drift.
+Eigen::Vector2d HandErrors(const WallLineMeasurement& m, const std::array<double, 2>& time_offsets,
+                           double heading_offset_rad, double heading_drift_rad_per_s) {
+  const double heading_offset[1] = {heading_offset_rad};
+  const double heading_drift[1] = {heading_drift_rad_per_s};
+  double error[2];
+  WallLineCost(m).Errors(kHandMount, kHandWall, kHandBias, time_offsets.data(), heading_offset,
+                         heading_drift, error);
+  return Eigen::Vector2d(error[0], error[1]);
+}
+
 TEST(WallLineCostTest, EvaluatesHandWorkedValue) {
   // mount (x, y, yaw) = (2, 0.5, 0.05); wall (δd, δα) = (0.02, 0); bias b = (0.1, −0.2).
   //   n' = (0, 1), d' = n'·c + δd = 10 + 0.02 = 10.02 (σ = +1)
@@ -46,13 +71,11 @@ TEST(WallLineCostTest, EvaluatesHandWorkedValue) {
   //   theta_pred = π/2 + 0 − π/2 − 0.05 = −0.05 → theta error −0.05 − 0.1 = −0.15 rad
   //   e = W [0.82; −0.15] = [100·0.82; 30·0.82 + 500·(−0.15)] = [82; 24.6 − 75] = [82; −50.4]
   std::unique_ptr<ceres::CostFunction> cost(WallLineCost::Create(HandMeasurement()));
-  const double mount[3] = {2.0, 0.5, 0.05};
-  const double wall[2] = {0.02, 0.0};
-  const double bias[2] = {0.1, -0.2};
   const double time_offset[2] = {0.0, 0.0};
   const double heading_offset[1] = {0.0};
   const double heading_drift[1] = {0.0};
-  const double* parameters[6] = {mount, wall, bias, time_offset, heading_offset, heading_drift};
+  const double* parameters[6] = {kHandMount, kHandWall,      kHandBias,
+                                 time_offset, heading_offset, heading_drift};
   double residual[2];
   ASSERT_TRUE(cost->Evaluate(parameters, residual, nullptr));
   EXPECT_NEAR(residual[0], 82.0, 1e-9);
@@ -65,18 +88,9 @@ TEST(WallLineCostTest, HeadingDelayTurnsTheYawByRateTimesDelay) {
   // theta error −0.17; the same as a clock offset dt = 0.1 would give for the yaw alone.
   WallLineMeasurement m = HandMeasurement();
   m.yaw_rate_rps = 0.2;
-  const WallLineCost cost(m);
-  const double mount[3] = {2.0, 0.5, 0.05};
-  const double wall[2] = {0.02, 0.0};
-  const double bias[2] = {0.1, -0.2};
-  const double delayed[2] = {0.0, 0.1};
-  const double zero[1] = {0.0};
-  double error[2];
-  cost.Errors(mount, wall, bias, delayed, zero, zero, error);
+  const Eigen::Vector2d error = HandErrors(m, {0.0, 0.1}, 0.0, 0.0);
   EXPECT_NEAR(error[1], -0.17, 1e-12);
-  const double yaw = 0.5 * kPi + 0.02;
-  const double s_y = 2.2 + std::sin(yaw) * 2.0 + std::cos(yaw) * 0.5;
-  EXPECT_NEAR(error[0], 10.02 - s_y - 5.0, 1e-12);
+  EXPECT_NEAR(error[0], HandRhoError(0.5 * kPi + 0.02), 1e-12);
 }
 
 TEST(WallLineCostTest, HeadingOffsetAndDriftTurnTheLeverArmAndTheta) {
@@ -86,24 +100,11 @@ TEST(WallLineCostTest, HeadingOffsetAndDriftTurnTheLeverArmAndTheta) {
   //   theta_pred = π/2 − (π/2 − 0.02) − 0.05 = −0.03 → theta error −0.13
   WallLineMeasurement m = HandMeasurement();
   m.drift_time_s = 100.0;
-  const WallLineCost cost(m);
-  const double mount[3] = {2.0, 0.5, 0.05};
-  const double wall[2] = {0.02, 0.0};
-  const double bias[2] = {0.1, -0.2};
-  const double time_offset[2] = {0.0, 0.0};
-  const double heading_offset[1] = {0.01};
-  const double heading_drift[1] = {1e-4};
-  double error[2];
-  cost.Errors(mount, wall, bias, time_offset, heading_offset, heading_drift, error);
-  const double yaw = 0.5 * kPi - 0.02;
-  const double s_y = 2.2 + std::sin(yaw) * 2.0 + std::cos(yaw) * 0.5;
-  EXPECT_NEAR(error[0], 10.02 - s_y - 5.0, 1e-12);
+  const Eigen::Vector2d error = HandErrors(m, {0.0, 0.0}, 0.01, 1e-4);
+  EXPECT_NEAR(error[0], HandRhoError(0.5 * kPi - 0.02), 1e-12);
   EXPECT_NEAR(error[1], -0.13, 1e-12);
   // A heading offset and the same drift contribution are one and the same thing.
-  const double only_offset[1] = {0.02};
-  const double no_drift[1] = {0.0};
-  double same[2];
-  cost.Errors(mount, wall, bias, time_offset, only_offset, no_drift, same);
+  const Eigen::Vector2d same = HandErrors(m, {0.0, 0.0}, 0.02, 0.0);
   EXPECT_NEAR(same[0], error[0], 1e-12);
   EXPECT_NEAR(same[1], error[1], 1e-12);
 }

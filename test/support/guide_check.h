@@ -50,7 +50,7 @@ inline std::vector<CutCheck> CheckGuideOnCuts(const sim::SimulationConfig& confi
       check.calibrated = true;
       for (int a = 0; a < 3; ++a) check.reported[a] = std::sqrt(result.estimate.covariance(a, a));
     }
-    guide::GuideRequest guide_request;
+    guide::GuideOptions guide_request;
     guide_request.session_path = cut.string();
     guide_request.threads = threads;
     const guide::GuideReport report = guide::AssessSession(guide_request);

@@ -145,4 +145,23 @@ inline ProgramRun RunWallcalLine(const std::string& command, const std::string& 
   return RunShell("exec " + ShellQuote(WallcalPath()) + " " + command + " " + args, options);
 }
 
+// `wallcal COMMAND`, quoted for the shell: the start of a command line for RunCommand.
+inline std::string WallcalCommand(const std::string& command) {
+  return ShellQuote(WallcalPath()) + " " + command;
+}
+
+// What a command line did, stderr merged into stdout.
+struct CommandRun {
+  int status = -1;  // the exit status; -1 when it did not exit
+  std::string out;
+};
+
+// Runs a shell command line with stderr merged into out.
+inline CommandRun RunCommand(const std::string& command) {
+  RunOptions options;
+  options.merge_stderr = true;
+  const ProgramRun run = RunShell(command, options);
+  return {run.exit_code, run.out};
+}
+
 }  // namespace wallcal::testing_support

@@ -17,14 +17,6 @@ namespace wallcal::testing_support {
 // The ROS 2 recordings of the real test data (absent on machines without it: tests skip).
 inline const std::string kRealRos2 = WALLCAL_SOURCE_DIR "/../shared/testdata/real/ros2";
 
-// ScratchFolder(prefix, name) emptied first: ctest runs each case in a process of its own.
-inline std::string FreshScratchFolder(const std::string& prefix, const std::string& name) {
-  const std::string dir = ScratchFolder(prefix, name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
 // One message as the callback saw it.
 struct GotMessage {
   std::string topic;

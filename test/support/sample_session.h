@@ -11,6 +11,10 @@
 
 namespace wallcal::testing_support {
 
+// The bundled sample session, read-only: tests that edit it work on a copy.
+inline const std::filesystem::path kSampleSession =
+    std::filesystem::path(WALLCAL_SOURCE_DIR) / "samples" / "lms291-sapporo";
+
 class SampleSessionTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -21,9 +25,8 @@ class SampleSessionTest : public ::testing::Test {
     fs::remove_all(root_);
     session_ = root_ / "S";
     fs::create_directories(session_);
-    const fs::path sample = fs::path(WALLCAL_SOURCE_DIR) / "samples" / "lms291-sapporo";
     for (const char* name : {"session.yaml", "scans.clf", "gnss.nmea", "heading.nmea", "survey.csv"}) {
-      fs::copy_file(sample / name, session_ / name);
+      fs::copy_file(kSampleSession / name, session_ / name);
     }
   }
   void TearDown() override { std::filesystem::remove_all(root_); }

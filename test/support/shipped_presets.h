@@ -16,4 +16,9 @@ inline io::ScannerPreset ShippedPreset(const std::string& name) {
   return io::LoadScannerPreset(name, {std::string(WALLCAL_SOURCE_DIR) + "/configs/scanners"});
 }
 
+// configs/simulate/<name>.yaml of the source tree: a shipped simulation scenario.
+inline std::string ShippedScenarioPath(const std::string& name) {
+  return std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/" + name + ".yaml";
+}
+
 }  // namespace wallcal::testing_support

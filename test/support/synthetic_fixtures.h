@@ -21,6 +21,19 @@ inline calib::WallGeometry NorthWall() {
   return wall;
 }
 
+// Stations where the vehicle creeps forward at 1 m/s and turns at 3°/s while scanning, with the
+// scanner's stamps 80 ms early (40 scans each). The clock offset moves the scanner by 8 cm and
+// 0.24°. Every other station drives backwards: forward motion alone would trade the offset for x.
+inline sim::SimSettings MovingStations() {
+  sim::SimSettings s;
+  s.speed_mps = 1.0;
+  s.yaw_rate_rps = 3.0 * kDegToRad;
+  s.time_offset_s = 0.08;
+  s.scans_per_station = 40;
+  s.alternate_direction = true;
+  return s;
+}
+
 // The solver's noise model matching a synthetic session's (GST σ not used).
 inline solvers::SolverOptions OptionsFor(const sim::SimSettings& s) {
   solvers::SolverOptions options;

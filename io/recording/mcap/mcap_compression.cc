@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "common/enum_text.h"
 #include "io/recording/rosbag1/internal/bag_compression.h"
 
 namespace wallcal::io {
@@ -110,17 +111,11 @@ std::vector<uint8_t> Deflate(Codec codec, const uint8_t* data, size_t size) {
 }
 
 const char* InflateStatusText(InflateStatus status) {
-  switch (status) {
-    case InflateStatus::kOk:
-      return "ok";
-    case InflateStatus::kCorrupt:
-      return "the compressed data is damaged";
-    case InflateStatus::kTooLong:
-      return "it decompresses to more bytes than declared";
-    case InflateStatus::kTooShort:
-      return "it decompresses to fewer bytes than declared";
-  }
-  return "?";
+  static const EnumText<InflateStatus> kTexts[] = {
+      {InflateStatus::kOk, "ok"}, {InflateStatus::kCorrupt, "the compressed data is damaged"},
+      {InflateStatus::kTooLong, "it decompresses to more bytes than declared"},
+      {InflateStatus::kTooShort, "it decompresses to fewer bytes than declared"}};
+  return TextOf(kTexts, status, "?");
 }
 
 }  // namespace wallcal::io

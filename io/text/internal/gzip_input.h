@@ -16,6 +16,11 @@ namespace wallcal::io {
 // True when the file begins with the gzip magic bytes 1f 8b. False for a missing or short file.
 bool IsGzipFile(const std::string& path);
 
+// Opens a plain or gzip file through zlib for reading, with an input buffer of buffer_bytes.
+// Returns the gzFile (opaque here: zlib stays out of this header). Throws InputError
+// "path: cannot open <what>: <reason>" when it cannot.
+void* OpenGzip(const std::string& path, const std::string& what, unsigned buffer_bytes);
+
 // How reading a gzip file ended so far.
 enum class GzipState {
   kOk,        // no problem met (yet)

@@ -10,19 +10,16 @@
 
 #include "io/writers/writers.h"
 #include "common/angles.h"
+#include "test/support/expect_text.h"
 #include "test/support/scratch_files.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
+using testing_support::ScratchFolder;
 
 using testing_support::WriteFile;
-
-// A folder in this process's scratch folder, removed when the process ends.
-std::string Dir(const std::string& name) {
-  return testing_support::ScratchFolder("session_reader_test_", name);
-}
 
 // The session of docs/session-format.md, as printed there.
 const char kExample[] = R"(name: sapporo-north-wall          # free text
@@ -50,7 +47,7 @@ walls:
 )";
 
 TEST(SessionReaderTest, ReadsTheSessionExample) {
-  const std::string dir = Dir("example");
+  const std::string dir = ScratchFolder("example");
   WriteFile(dir + "/session.yaml", kExample);
   const SessionSpec spec = ReadSession(dir);  // the folder holding session.yaml
   EXPECT_EQ(spec.file, (fs::path(dir) / "session.yaml").lexically_normal().string());
@@ -80,7 +77,7 @@ TEST(SessionReaderTest, ReadsTheSessionExample) {
 }
 
 TEST(SessionReaderTest, ReadsExtensionKeysAndRoundTrips) {
-  const std::string dir = Dir("extensions");
+  const std::string dir = ScratchFolder("extensions");
   fs::create_directories(dir + "/logs");
   WriteFile(dir + "/session.yaml", R"(name: "two walls: east & north"
 utm_zone: 33s
@@ -144,7 +141,7 @@ antenna_in_base: {x: 0.1, y: 0.2, z: 1.9}
 
 // Runs ReadSession on `yaml` and returns the error message ("" if none).
 std::string SessionError(const std::string& name, const std::string& yaml) {
-  const std::string dir = Dir(name);
+  const std::string dir = ScratchFolder(name);
   WriteFile(dir + "/session.yaml", yaml);
   try {
     ReadSession(dir);
@@ -167,7 +164,7 @@ std::string Replace(std::string text, const std::string& from, const std::string
 }
 
 TEST(SessionReaderTest, MissingSessionFile) {
-  const std::string dir = Dir("empty_folder");
+  const std::string dir = ScratchFolder("empty_folder");
   try {
     ReadSession(dir);
     FAIL() << "no exception";
@@ -225,8 +222,7 @@ TEST(SessionReaderTest, NamesEachMissingRequiredKey) {
   const std::string message = SessionError(
       "control_without_h", Replace(example, "lat: 43.0712345, lon: 141.3398765, h: 72.31",
                                    "lat: 43.0712345, lon: 141.3398765"));
-  EXPECT_NE(message.find("survey.control[0].h is missing"), std::string::npos) << message;
-  EXPECT_NE(message.find("session.yaml:16:"), std::string::npos) << message;
+  testing_support::ExpectContains(message, {"survey.control[0].h is missing", "session.yaml:16:"});
   EXPECT_NE(SessionError("wall_without_code",
                          Without(example,
                                  "    code: WALL1                   # the survey points "
@@ -291,7 +287,7 @@ TEST(SessionReaderTest, RejectsBadValues) {
 
 TEST(SessionReaderTest, ReadsSurveyColumnsForHeaderlessCsv) {
   const std::string example = kExample;
-  const std::string dir = Dir("columns");
+  const std::string dir = ScratchFolder("columns");
   EXPECT_EQ(ReadSession(WriteFile(dir + "/session.yaml", example)).survey_columns,
             SurveyColumns::kHeader);
   const std::pair<const char*, SurveyColumns> cases[] = {{"PNEZD", SurveyColumns::kPNEZD},
@@ -354,7 +350,7 @@ TEST(SessionReaderTest, UnknownPresetListsTheAvailableOnes) {
 }
 
 TEST(SessionReaderTest, FirstSearchDirWins) {
-  const std::string dir = Dir("presets");
+  const std::string dir = ScratchFolder("presets");
   WriteFile(dir + "/sick_lms291.yaml",
             "num_beams: 361\nstart_angle_deg: -90\nangular_step_deg: 0.5\nmax_range_m: 30\n");
   const ScannerPreset preset = LoadScannerPreset("sick_lms291", {dir, kPresetDirs[0]});

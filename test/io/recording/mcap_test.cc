@@ -15,28 +15,19 @@
 #include "io/recording/mcap/internal/mcap_records.h"
 #include "io/writers/mcap_writer.h"
 #include "io/types.h"
+#include "test/support/expect_text.h"
 #include "test/support/recorded_messages.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-using testing_support::kRealRos2;
-const std::string& kReal = kRealRos2;
-using Got = testing_support::GotMessage;
-
-// An empty folder in this process's scratch folder (removed when the process ends).
-std::string Dir(const std::string& name) {
-  return testing_support::FreshScratchFolder("mcap_test-", name);
-}
+using namespace testing_support;  // NOLINT: the test helpers of test/support
 
 std::vector<uint8_t> ReadBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
 }
-
-using testing_support::CollectMessages;
 
 uint32_t Crc(const std::vector<uint8_t>& v) {
   return static_cast<uint32_t>(crc32(0, v.data(), static_cast<uInt>(v.size())));
@@ -49,25 +40,16 @@ const TopicInfo* Find(const Recording& rec, const std::string& name) {
   return nullptr;
 }
 
-std::string ErrorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 #define SKIP_WITHOUT_REAL()                               \
   do {                                                    \
-    if (!fs::exists(kReal)) {                             \
-      GTEST_SKIP() << "no shared test data at " << kReal; \
+    if (!fs::exists(kRealRos2)) {                             \
+      GTEST_SKIP() << "no shared test data at " << kRealRos2; \
     }                                                     \
   } while (0)
 
 TEST(McapReaderTest, ReadsRosbag2CdrTestFile) {
   SKIP_WITHOUT_REAL();
-  auto rec = OpenMcap(kReal + "/rosbag2-cdr_test_0.mcap");
+  auto rec = OpenMcap(kRealRos2 + "/rosbag2-cdr_test_0.mcap");
   EXPECT_EQ(rec->format(), RecordingFormat::kMcap);
   EXPECT_TRUE(rec->warnings().empty());
   EXPECT_EQ(rec->compressions(), std::set<ChunkCompression>{ChunkCompression::kNone});
@@ -98,7 +80,7 @@ TEST(McapReaderTest, ReadsRosbag2CdrTestFile) {
       {"/array_topic", 1586406456.866330524, 696, 0xab8a469a},
       {"/array_topic", 1586406456.914169506, 696, 0xab8a469a},
   };
-  const std::vector<Got> got = CollectMessages(*rec, {"/test_topic", "/array_topic"});
+  const std::vector<GotMessage> got = CollectMessages(*rec, {"/test_topic", "/array_topic"});
   ASSERT_EQ(got.size(), 7u);
   int64_t tests = 0, arrays = 0;
   for (size_t i = 0; i < got.size(); ++i) {
@@ -115,7 +97,7 @@ TEST(McapReaderTest, ReadsRosbag2CdrTestFile) {
 
 TEST(McapReaderTest, ReadsZstdTalkerStrings) {
   SKIP_WITHOUT_REAL();
-  auto rec = OpenMcap(kReal + "/rosbag2-talker.mcap");
+  auto rec = OpenMcap(kRealRos2 + "/rosbag2-talker.mcap");
   EXPECT_TRUE(rec->warnings().empty());
   EXPECT_EQ(rec->compressions(), std::set<ChunkCompression>{ChunkCompression::kZstd});
   ASSERT_EQ(rec->topics().size(), 3u);
@@ -128,7 +110,7 @@ TEST(McapReaderTest, ReadsZstdTalkerStrings) {
   EXPECT_NEAR(Find(*rec, "/topic")->first_s, 1585866235.112609068, 1e-6);
   EXPECT_NEAR(Find(*rec, "/topic")->last_s, 1585866239.643508139, 1e-6);
 
-  const std::vector<Got> got = CollectMessages(*rec, {"/topic"});
+  const std::vector<GotMessage> got = CollectMessages(*rec, {"/topic"});
   ASSERT_EQ(got.size(), 10u);
   for (size_t i = 0; i < got.size(); ++i) {
     // CDR: 4-byte encapsulation header, uint32 length including the NUL, the characters.
@@ -144,7 +126,7 @@ TEST(McapReaderTest, ReadsZstdTalkerStrings) {
   }
   EXPECT_NEAR(got[0].receive_s, 1585866235.112609068, 1e-6);
   EXPECT_NEAR(got[9].receive_s, 1585866239.643508139, 1e-6);
-  const std::vector<Got> all = CollectMessages(*rec, {"/topic", "/rosout"});
+  const std::vector<GotMessage> all = CollectMessages(*rec, {"/topic", "/rosout"});
   ASSERT_EQ(all.size(), 20u);
   for (size_t i = 0; i < all.size(); ++i) {
     EXPECT_EQ(all[i].topic, i % 2 == 0 ? "/rosout" : "/topic") << i;  // interleaved by time
@@ -154,7 +136,7 @@ TEST(McapReaderTest, ReadsZstdTalkerStrings) {
 
 TEST(McapReaderTest, BufferEntryReadsTheSameAsTheFile) {
   SKIP_WITHOUT_REAL();
-  const std::string path = kReal + "/rosbag2-talker.mcap";
+  const std::string path = kRealRos2 + "/rosbag2-talker.mcap";
   auto from_file = OpenMcap(path);
   auto from_buffer = OpenMcapBuffer("talker", ReadBytes(path));
   const auto a = CollectMessages(*from_file, {"/topic", "/rosout"});
@@ -182,7 +164,7 @@ std::string WriteTwoTopics(const std::string& path, ChunkCompression c, int n = 
   return path;
 }
 
-void ExpectTwoTopicsInOrder(const std::vector<Got>& got, int n) {
+void ExpectTwoTopicsInOrder(const std::vector<GotMessage>& got, int n) {
   ASSERT_EQ(got.size(), static_cast<size_t>(2 * n));
   for (size_t i = 1; i < got.size(); ++i) {
     ASSERT_LE(got[i - 1].receive_s, got[i].receive_s) << i;
@@ -192,7 +174,7 @@ void ExpectTwoTopicsInOrder(const std::vector<Got>& got, int n) {
     }
   }
   int64_t next_a = 0, next_b = 0;
-  for (const Got& g : got) {
+  for (const GotMessage& g : got) {
     const bool is_a = g.topic == "/a";
     const int64_t want = is_a ? next_a++ : next_b++;
     EXPECT_EQ(g.index, want);
@@ -207,7 +189,7 @@ void ExpectTwoTopicsInOrder(const std::vector<Got>& got, int n) {
 class McapRoundTrip : public ::testing::TestWithParam<ChunkCompression> {};
 
 TEST_P(McapRoundTrip, WrittenFileReadsBackThroughTheSummary) {
-  const std::string path = WriteTwoTopics(Dir("round_trip") + "/two.mcap", GetParam());
+  const std::string path = WriteTwoTopics(FreshScratchFolder("round_trip") + "/two.mcap", GetParam());
   auto rec = OpenMcap(path);
   EXPECT_TRUE(rec->warnings().empty()) << rec->warnings().front();
   EXPECT_EQ(rec->compressions(), std::set<ChunkCompression>{GetParam()});
@@ -221,7 +203,7 @@ TEST_P(McapRoundTrip, WrittenFileReadsBackThroughTheSummary) {
 }
 
 TEST_P(McapRoundTrip, FileWithoutFooterIsWalkedWithAWarning) {
-  const std::string path = WriteTwoTopics(Dir("no_footer") + "/two.mcap", GetParam());
+  const std::string path = WriteTwoTopics(FreshScratchFolder("no_footer") + "/two.mcap", GetParam());
   std::vector<uint8_t> bytes = ReadBytes(path);
   const uint64_t summary_start = mcap::GetU64(&bytes[bytes.size() - 8 - 20]);
   bytes.resize(summary_start - 13);  // cut before Data End: as a crashed recorder leaves it
@@ -233,7 +215,7 @@ TEST_P(McapRoundTrip, FileWithoutFooterIsWalkedWithAWarning) {
 
 TEST_P(McapRoundTrip, CutAtEvery61stByteNeverCrashes) {
   const std::vector<uint8_t> bytes =
-      ReadBytes(WriteTwoTopics(Dir("cuts") + "/two.mcap", GetParam(), 40, 200));
+      ReadBytes(WriteTwoTopics(FreshScratchFolder("cuts") + "/two.mcap", GetParam(), 40, 200));
   int opened = 0, thrown = 0;
   size_t best = 0;
   for (size_t cut = 0; cut < bytes.size(); cut += 61) {
@@ -241,7 +223,7 @@ TEST_P(McapRoundTrip, CutAtEvery61stByteNeverCrashes) {
       auto rec = OpenMcapBuffer("cut", std::vector<uint8_t>(bytes.begin(), bytes.begin() + cut));
       ++opened;
       EXPECT_FALSE(rec->warnings().empty()) << cut;  // a cut file is never silently whole
-      const std::vector<Got> got = CollectMessages(*rec, {"/a", "/b"});
+      const std::vector<GotMessage> got = CollectMessages(*rec, {"/a", "/b"});
       for (size_t i = 1; i < got.size(); ++i) ASSERT_LE(got[i - 1].receive_s, got[i].receive_s);
       best = std::max(best, got.size());
     } catch (const InputError&) {
@@ -270,13 +252,13 @@ constexpr uint64_t kFirstChunk = 36;  // magic 8 + Header record 9 + "ros2" 8 + 
 
 TEST(McapReaderTest, FlippedByteFailsTheDataCrcThenTheChunkCrc) {
   std::vector<uint8_t> bytes =
-      ReadBytes(WriteTwoTopics(Dir("flip") + "/two.mcap", ChunkCompression::kNone));
+      ReadBytes(WriteTwoTopics(FreshScratchFolder("flip") + "/two.mcap", ChunkCompression::kNone));
   ASSERT_EQ(bytes[kFirstChunk], mcap::kChunk);
   bytes[kFirstChunk + 200] ^= 0x40;  // inside the first chunk's records
-  std::string error = ErrorOf([&] { OpenMcapBuffer("flip.mcap", bytes); });
+  std::string error = ThrownMessage<InputError>([&] { OpenMcapBuffer("flip.mcap", bytes); });
   EXPECT_NE(error.find("data section CRC mismatch"), std::string::npos) << error;
   ZeroFileCrcs(&bytes);
-  error = ErrorOf([&] {
+  error = ThrownMessage<InputError>([&] {
     auto rec = OpenMcapBuffer("flip.mcap", bytes);
     CollectMessages(*rec, {"/a"});
   });
@@ -285,10 +267,10 @@ TEST(McapReaderTest, FlippedByteFailsTheDataCrcThenTheChunkCrc) {
 
 TEST(McapReaderTest, FlippedSummaryByteFailsTheSummaryCrc) {
   std::vector<uint8_t> bytes =
-      ReadBytes(WriteTwoTopics(Dir("flip_summary") + "/two.mcap", ChunkCompression::kZstd));
+      ReadBytes(WriteTwoTopics(FreshScratchFolder("flip_summary") + "/two.mcap", ChunkCompression::kZstd));
   const uint64_t summary_start = mcap::GetU64(&bytes[bytes.size() - 28]);
   bytes[summary_start + 20] ^= 1;
-  const std::string error = ErrorOf([&] { OpenMcapBuffer("s.mcap", bytes); });
+  const std::string error = ThrownMessage<InputError>([&] { OpenMcapBuffer("s.mcap", bytes); });
   EXPECT_NE(error.find("s.mcap:" + std::to_string(summary_start) + ": summary CRC mismatch"),
             std::string::npos)
       << error;
@@ -296,12 +278,12 @@ TEST(McapReaderTest, FlippedSummaryByteFailsTheSummaryCrc) {
 
 TEST(McapReaderTest, DamagedZstdChunkThrows) {
   std::vector<uint8_t> bytes =
-      ReadBytes(WriteTwoTopics(Dir("zstd") + "/two.mcap", ChunkCompression::kZstd));
+      ReadBytes(WriteTwoTopics(FreshScratchFolder("zstd") + "/two.mcap", ChunkCompression::kZstd));
   ZeroFileCrcs(&bytes);
   // The chunk's records start after 8+8+8+4 + (4+4 "zstd") + 8 bytes of fields.
   const size_t records = kFirstChunk + 9 + 44;
   for (size_t i = records; i < records + 12; ++i) bytes[i] ^= 0xA5;
-  const std::string error = ErrorOf([&] {
+  const std::string error = ThrownMessage<InputError>([&] {
     auto rec = OpenMcapBuffer("z.mcap", bytes);
     CollectMessages(*rec, {"/a", "/b"});
   });
@@ -310,7 +292,7 @@ TEST(McapReaderTest, DamagedZstdChunkThrows) {
 
 TEST(McapReaderTest, UnknownCompressionIsNamed) {
   std::vector<uint8_t> bytes =
-      ReadBytes(WriteTwoTopics(Dir("brotli") + "/two.mcap", ChunkCompression::kZstd));
+      ReadBytes(WriteTwoTopics(FreshScratchFolder("brotli") + "/two.mcap", ChunkCompression::kZstd));
   ZeroFileCrcs(&bytes);
   const uint8_t zstd[] = {4, 0, 0, 0, 'z', 's', 't', 'd'};
   int patched = 0;
@@ -321,7 +303,7 @@ TEST(McapReaderTest, UnknownCompressionIsNamed) {
     }
   }
   ASSERT_GT(patched, 1);  // chunks and chunk indexes
-  const std::string error = ErrorOf([&] { OpenMcapBuffer("b.mcap", bytes); });
+  const std::string error = ThrownMessage<InputError>([&] { OpenMcapBuffer("b.mcap", bytes); });
   EXPECT_NE(error.find("unknown chunk compression 'brot'"), std::string::npos) << error;
 }
 
@@ -330,7 +312,7 @@ TEST(McapReaderTest, UnknownCompressionIsNamed) {
 // distrusted and the data section walked instead.
 TEST(McapReaderTest, ChunkIndexPointingPastTheSummaryIsNotFollowed) {
   std::vector<uint8_t> bytes =
-      ReadBytes(WriteTwoTopics(Dir("index_past") + "/two.mcap", ChunkCompression::kNone));
+      ReadBytes(WriteTwoTopics(FreshScratchFolder("index_past") + "/two.mcap", ChunkCompression::kNone));
   ZeroFileCrcs(&bytes);
   const uint64_t summary_start = mcap::GetU64(&bytes[bytes.size() - 28]);
   size_t pos = summary_start, patched = 0;
@@ -354,10 +336,9 @@ TEST(McapReaderTest, ChunkIndexPointingPastTheSummaryIsNotFollowed) {
 }
 
 TEST(McapReaderTest, UnknownTopicListsTheTopicsPresent) {
-  auto rec = OpenMcap(WriteTwoTopics(Dir("unknown") + "/two.mcap", ChunkCompression::kLz4));
-  const std::string error = ErrorOf([&] { CollectMessages(*rec, {"/scan"}); });
-  EXPECT_NE(error.find("no topic /scan"), std::string::npos) << error;
-  EXPECT_NE(error.find("topics: /a, /b"), std::string::npos) << error;
+  auto rec = OpenMcap(WriteTwoTopics(FreshScratchFolder("unknown") + "/two.mcap", ChunkCompression::kLz4));
+  const std::string error = ThrownMessage<InputError>([&] { CollectMessages(*rec, {"/scan"}); });
+  testing_support::ExpectContains(error, {"no topic /scan", "topics: /a, /b"});
 }
 
 // A hand-built file without chunks or summary: loose messages, one channel in JSON.
@@ -413,7 +394,7 @@ TEST(McapReaderTest, LooseMessagesWithoutSummaryComeOutInTimeOrder) {
   EXPECT_NE(rec->warnings()[0].find("no summary section"), std::string::npos);
   ASSERT_EQ(rec->topics().size(), 2u);
   EXPECT_EQ(rec->topics()[1].encoding, "json");
-  const std::vector<Got> got = CollectMessages(*rec, {"/cdr"});
+  const std::vector<GotMessage> got = CollectMessages(*rec, {"/cdr"});
   ASSERT_EQ(got.size(), 3u);
   EXPECT_DOUBLE_EQ(got[0].receive_s, 10.0);
   EXPECT_EQ(got[0].data, std::vector<uint8_t>{1});
@@ -423,19 +404,19 @@ TEST(McapReaderTest, LooseMessagesWithoutSummaryComeOutInTimeOrder) {
 
 TEST(McapReaderTest, NonCdrTopicIsListedButNotRead) {
   auto rec = OpenMcapBuffer("loose.mcap", LooseFile());
-  const std::string error = ErrorOf([&] { CollectMessages(*rec, {"/json"}); });
+  const std::string error = ThrownMessage<InputError>([&] { CollectMessages(*rec, {"/json"}); });
   EXPECT_NE(error.find("topic /json is encoded as 'json'"), std::string::npos) << error;
 }
 
 TEST(McapReaderTest, NotMcapThrows) {
   const std::string error =
-      ErrorOf([] { OpenMcapBuffer("x.bag", std::vector<uint8_t>(100, 'x')); });
+      ThrownMessage<InputError>([] { OpenMcapBuffer("x.bag", std::vector<uint8_t>(100, 'x')); });
   EXPECT_NE(error.find("x.bag:0: not an MCAP file"), std::string::npos) << error;
-  EXPECT_NE(ErrorOf([] { OpenMcap("/nonexistent/file.mcap"); }), "");
+  EXPECT_NE(ThrownMessage<InputError>([] { OpenMcap("/nonexistent/file.mcap"); }), "");
 }
 
 TEST(McapWriterTest, WithoutCloseLeavesNoFile) {
-  const std::string dir = Dir("abandon");
+  const std::string dir = FreshScratchFolder("abandon");
   {
     McapWriter w(dir + "/x.mcap", ChunkCompression::kZstd);
     const uint16_t c = w.AddChannel("/a", "std_msgs/msg/String", "");

@@ -3,6 +3,7 @@
 // what a damaged payload reports (kind and offset).
 
 #include "io/recording/ros/ros_messages.h"
+#include "test/support/expect_text.h"
 
 #include <gtest/gtest.h>
 
@@ -40,9 +41,7 @@ class Bytes {
 
 LaserScanMsg SampleScan() {
   LaserScanMsg m;
-  m.header.seq = 7;
-  m.header.stamp_s = 1700000000.25;  // exact in binary: round trips to the bit
-  m.header.frame_id = "laser";
+  m.header = {7, 1700000000.25, "laser"};  // the stamp is exact in binary: round trips to the bit
   m.angle_min_rad = -2.0f;
   m.angle_max_rad = 2.0f;
   m.angle_increment_rad = 0.5f;
@@ -57,9 +56,7 @@ LaserScanMsg SampleScan() {
 
 NavSatFixMsg SampleFix() {
   NavSatFixMsg m;
-  m.header.seq = 3;
-  m.header.stamp_s = 1432235498.5;
-  m.header.frame_id = "gps";
+  m.header = {3, 1432235498.5, "gps"};
   m.status = 2;
   m.service = 1;
   m.latitude_deg = 42.375812;
@@ -72,9 +69,7 @@ NavSatFixMsg SampleFix() {
 
 QuaternionMsg SampleImu() {
   QuaternionMsg m;
-  m.header.seq = 11;
-  m.header.stamp_s = 1432235497.75;
-  m.header.frame_id = "imu_link";
+  m.header = {11, 1432235497.75, "imu_link"};
   m.x = 0.44;
   m.y = -0.54;
   m.z = -0.55;
@@ -111,8 +106,10 @@ TEST(RosTypesTest, NamesMd5sumsAndDefinitions) {
   EXPECT_STREQ(RosTypeName(RosType::kImu), "sensor_msgs/Imu");
   const std::string ros1 = RosTypeDefinition(RosType::kLaserScan, WireFormat::kRos1);
   const std::string ros2 = RosTypeDefinition(RosType::kLaserScan, WireFormat::kCdr);
-  EXPECT_NE(ros1.find("float32[] ranges\n"), std::string::npos);
-  EXPECT_NE(ros1.find("MSG: std_msgs/Header\nuint32 seq\ntime stamp"), std::string::npos);
+  testing_support::ExpectContains(ros1, {
+      "float32[] ranges\n",
+      "MSG: std_msgs/Header\nuint32 seq\ntime stamp"
+  });
   EXPECT_EQ(ros2.find("uint32 seq"), std::string::npos);
   EXPECT_NE(ros2.find("MSG: builtin_interfaces/Time\nint32 sec\nuint32 nanosec"),
             std::string::npos);
@@ -125,9 +122,7 @@ TEST(RosTypesTest, NamesMd5sumsAndDefinitions) {
 // intensities.
 LaserScanMsg TinyScan() {
   LaserScanMsg m;
-  m.header.seq = 7;
-  m.header.stamp_s = 1.000000002;
-  m.header.frame_id = "ab";
+  m.header = {7, 1.000000002, "ab"};
   m.angle_min_rad = 1;
   m.angle_max_rad = 2;
   m.angle_increment_rad = 3;

@@ -15,36 +15,20 @@
 #include "io/recording/rosbag2/internal/rosbag2_sqlite_reader.h"
 #include "io/writers/rosbag2_sqlite_writer.h"
 #include "io/types.h"
+#include "test/support/expect_text.h"
 #include "test/support/recorded_messages.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-using testing_support::kRealRos2;
-const std::string& kReal = kRealRos2;
-using Got = testing_support::GotMessage;
-
-// An empty folder in this process's scratch folder (removed when the process ends).
-std::string Dir(const std::string& name) {
-  return testing_support::FreshScratchFolder("rosbag2_sqlite_test-", name);
-}
+using namespace testing_support;  // NOLINT: the test helpers of test/support
 
 // A rosbag2 database holds CDR only.
-std::vector<Got> Collect(Recording& rec, const std::set<std::string>& topics) {
-  std::vector<Got> got = testing_support::CollectMessages(rec, topics);
-  for (const Got& g : got) EXPECT_EQ(g.wire, WireFormat::kCdr) << g.topic;
+std::vector<GotMessage> Collect(Recording& rec, const std::set<std::string>& topics) {
+  std::vector<GotMessage> got = testing_support::CollectMessages(rec, topics);
+  for (const GotMessage& g : got) EXPECT_EQ(g.wire, WireFormat::kCdr) << g.topic;
   return got;
-}
-
-std::string ErrorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 std::set<std::string> Tables(const std::string& path) {
@@ -63,10 +47,10 @@ std::set<std::string> Tables(const std::string& path) {
 }
 
 TEST(Rosbag2SqliteTest, ReadsRealIronDatabase) {
-  if (!fs::exists(kReal)) {
-    GTEST_SKIP() << "no shared test data at " << kReal;
+  if (!fs::exists(kRealRos2)) {
+    GTEST_SKIP() << "no shared test data at " << kRealRos2;
   }
-  auto rec = OpenRosbag2(kReal + "/rosbag2-cdr_test_0.db3");
+  auto rec = OpenRosbag2(kRealRos2 + "/rosbag2-cdr_test_0.db3");
   EXPECT_EQ(rec->format(), RecordingFormat::kRosbag2Sqlite);
   EXPECT_TRUE(rec->warnings().empty());
   ASSERT_EQ(rec->topics().size(), 2u);
@@ -95,7 +79,7 @@ TEST(Rosbag2SqliteTest, ReadsRealIronDatabase) {
       {6, "/array_topic", 1586406456.866330524, 696, 0xab8a469a},
       {7, "/array_topic", 1586406456.914169506, 696, 0xab8a469a},
   };
-  const std::vector<Got> got = Collect(*rec, {"/test_topic", "/array_topic"});
+  const std::vector<GotMessage> got = Collect(*rec, {"/test_topic", "/array_topic"});
   ASSERT_EQ(got.size(), 7u);
   for (size_t i = 0; i < got.size(); ++i) {
     EXPECT_EQ(got[i].file_offset, want[i].id);
@@ -122,7 +106,7 @@ std::vector<TopicInfo> WriteDb3(const std::string& path, Rosbag2Layout layout, i
   return w.topics();
 }
 
-void ExpectSequence(const std::vector<Got>& got, int n) {
+void ExpectSequence(const std::vector<GotMessage>& got, int n) {
   int64_t scans = 0;
   for (size_t i = 0; i < got.size(); ++i) {
     if (i > 0) {
@@ -139,7 +123,7 @@ void ExpectSequence(const std::vector<Got>& got, int n) {
 }
 
 TEST(Rosbag2SqliteTest, HumbleLayoutWrittenAndRead) {
-  const std::string path = Dir("humble") + "/bag_0.db3";
+  const std::string path = FreshScratchFolder("humble") + "/bag_0.db3";
   WriteDb3(path, Rosbag2Layout::kHumble, 0, 20);
   EXPECT_EQ(Tables(path), (std::set<std::string>{"messages", "topics"}));
   auto rec = OpenRosbag2(path);
@@ -147,7 +131,7 @@ TEST(Rosbag2SqliteTest, HumbleLayoutWrittenAndRead) {
   EXPECT_EQ(rec->topics()[0].name, "/fix");
   EXPECT_EQ(rec->topics()[0].count, 10);
   EXPECT_EQ(rec->topics()[1].type, "sensor_msgs/msg/LaserScan");
-  const std::vector<Got> got = Collect(*rec, {"/scan", "/fix"});
+  const std::vector<GotMessage> got = Collect(*rec, {"/scan", "/fix"});
   ASSERT_EQ(got.size(), 30u);
   ExpectSequence(got, 20);
   EXPECT_EQ(got[0].topic, "/scan");  // tie at 10.0 s: /scan was inserted first
@@ -155,7 +139,7 @@ TEST(Rosbag2SqliteTest, HumbleLayoutWrittenAndRead) {
 }
 
 TEST(Rosbag2SqliteTest, IronLayoutHasMessageDefinitions) {
-  const std::string path = Dir("iron") + "/bag_0.db3";
+  const std::string path = FreshScratchFolder("iron") + "/bag_0.db3";
   WriteDb3(path, Rosbag2Layout::kIron, 0, 5);
   const std::set<std::string> tables = Tables(path);
   EXPECT_EQ(tables.count("message_definitions"), 1u);
@@ -165,7 +149,7 @@ TEST(Rosbag2SqliteTest, IronLayoutHasMessageDefinitions) {
 }
 
 TEST(Rosbag2SqliteTest, FolderOfTwoFilesReadsInOrder) {
-  const std::string dir = Dir("split");
+  const std::string dir = FreshScratchFolder("split");
   std::vector<TopicInfo> a = WriteDb3(dir + "/split_0.db3", Rosbag2Layout::kIron, 0, 12);
   std::vector<TopicInfo> b = WriteDb3(dir + "/split_1.db3", Rosbag2Layout::kIron, 12, 8);
   for (size_t i = 0; i < a.size(); ++i) {
@@ -180,7 +164,7 @@ TEST(Rosbag2SqliteTest, FolderOfTwoFilesReadsInOrder) {
   EXPECT_EQ(rec->topics()[1].count, 20);
   EXPECT_NEAR(rec->topics()[1].first_s, 10.0, 1e-9);
   EXPECT_NEAR(rec->topics()[1].last_s, 11.9, 1e-9);
-  const std::vector<Got> got = Collect(*rec, {"/scan", "/fix"});
+  const std::vector<GotMessage> got = Collect(*rec, {"/scan", "/fix"});
   EXPECT_EQ(got.size(), 30u);
   ExpectSequence(got, 20);
 
@@ -193,7 +177,7 @@ TEST(Rosbag2SqliteTest, FolderOfTwoFilesReadsInOrder) {
 }
 
 TEST(Rosbag2SqliteTest, FolderWithoutMetadataReadsFilesInNumberOrder) {
-  const std::string dir = Dir("crashed");
+  const std::string dir = FreshScratchFolder("crashed");
   for (int part = 0; part < 11; ++part) {
     WriteDb3(dir + "/bag_" + std::to_string(part) + ".db3", Rosbag2Layout::kHumble, 2 * part, 2);
   }
@@ -204,7 +188,7 @@ TEST(Rosbag2SqliteTest, FolderWithoutMetadataReadsFilesInNumberOrder) {
 }
 
 TEST(Rosbag2SqliteTest, McapStorageFolderReadsThroughTheMcapReader) {
-  const std::string dir = Dir("mcap_folder");
+  const std::string dir = FreshScratchFolder("mcap_folder");
   std::vector<TopicInfo> topics(1);
   topics[0].name = "/scan";
   topics[0].type = "sensor_msgs/msg/LaserScan";
@@ -227,23 +211,23 @@ TEST(Rosbag2SqliteTest, McapStorageFolderReadsThroughTheMcapReader) {
 }
 
 TEST(Rosbag2SqliteTest, DatabaseWithoutTopicsTableIsNotRosbag2) {
-  const std::string path = Dir("other") + "/other.db3";
+  const std::string path = FreshScratchFolder("other") + "/other.db3";
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
   sqlite3_exec(db, "CREATE TABLE things(id INTEGER); INSERT INTO things VALUES (1);", nullptr,
                nullptr, nullptr);
   sqlite3_close(db);
-  std::string error = ErrorOf([&] { OpenRosbag2(path); });
+  std::string error = ThrownMessage<InputError>([&] { OpenRosbag2(path); });
   EXPECT_NE(error.find("no 'topics' table: not a rosbag2 database"), std::string::npos) << error;
 
-  const std::string text = Dir("text") + "/notes.db3";
+  const std::string text = FreshScratchFolder("text") + "/notes.db3";
   std::ofstream(text) << "not a database at all, just some text that is long enough\n";
-  error = ErrorOf([&] { OpenRosbag2(text); });
+  error = ThrownMessage<InputError>([&] { OpenRosbag2(text); });
   EXPECT_NE(error.find("not an SQLite database"), std::string::npos) << error;
 }
 
 TEST(Rosbag2SqliteTest, CutOrDamagedDatabaseThrowsOrReads) {
-  const std::string dir = Dir("cut");
+  const std::string dir = FreshScratchFolder("cut");
   const std::string whole = dir + "/whole.db3";
   WriteDb3(whole, Rosbag2Layout::kIron, 0, 200);
   std::ifstream in(whole, std::ios::binary);
@@ -273,7 +257,7 @@ TEST(Rosbag2SqliteTest, CutOrDamagedDatabaseThrowsOrReads) {
 }
 
 TEST(Rosbag2SqliteTest, UnknownTopicAndOtherSerializationThrow) {
-  const std::string path = Dir("unknown") + "/bag.db3";
+  const std::string path = FreshScratchFolder("unknown") + "/bag.db3";
   {
     Rosbag2SqliteWriter w(path, Rosbag2Layout::kHumble);
     w.AddTopic("/scan", "sensor_msgs/msg/LaserScan", "");
@@ -282,11 +266,11 @@ TEST(Rosbag2SqliteTest, UnknownTopicAndOtherSerializationThrow) {
     w.Close();
   }
   auto rec = OpenRosbag2(path);
-  std::string error = ErrorOf([&] { Collect(*rec, {"/imu"}); });
+  std::string error = ThrownMessage<InputError>([&] { Collect(*rec, {"/imu"}); });
   EXPECT_NE(error.find("no topic /imu in the recording (topics: /scan, /status)"),
             std::string::npos)
       << error;
-  error = ErrorOf([&] { Collect(*rec, {"/status"}); });
+  error = ThrownMessage<InputError>([&] { Collect(*rec, {"/status"}); });
   EXPECT_NE(error.find("topic /status is serialized as 'json'"), std::string::npos) << error;
   EXPECT_TRUE(Collect(*rec, {"/scan"}).empty());
 }
@@ -315,37 +299,37 @@ TEST(Rosbag2MetadataTest, ParsesRosbag2Yaml) {
 }
 
 TEST(Rosbag2MetadataTest, BadYamlSaysWhereAndWhat) {
-  std::string error = ErrorOf([] {
+  std::string error = ThrownMessage<InputError>([] {
     ParseRosbag2Metadata("rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n", "m.yaml");
   });
   EXPECT_NE(error.find("relative_file_paths"), std::string::npos) << error;
-  error = ErrorOf([] {
+  error = ThrownMessage<InputError>([] {
     ParseRosbag2Metadata(
         "rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n"
         "  relative_file_paths: [a.db3]\n  message_count: lots\n",
         "m.yaml");
   });
   EXPECT_NE(error.find("m.yaml:4: 'message_count' is not an integer"), std::string::npos) << error;
-  error = ErrorOf([] { ParseRosbag2Metadata("key: [unclosed\n", "m.yaml"); });
+  error = ThrownMessage<InputError>([] { ParseRosbag2Metadata("key: [unclosed\n", "m.yaml"); });
   EXPECT_NE(error.find("m.yaml:"), std::string::npos) << error;
-  error = ErrorOf([] {
+  error = ThrownMessage<InputError>([] {
     ParseRosbag2Metadata("rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n"
                          "  relative_file_paths: [a.db3]\n  topics_with_message_count:\n"
                          "    - topic_metadata: {name: '', type: x}\n", "m.yaml");
   });
   EXPECT_NE(error.find("m.yaml:5: a topic_metadata has an empty name"), std::string::npos)
       << error;
-  error = ErrorOf([] { ParseRosbag2Metadata("other: 1\n", "m.yaml"); });
+  error = ThrownMessage<InputError>([] { ParseRosbag2Metadata("other: 1\n", "m.yaml"); });
   EXPECT_NE(error.find("rosbag2_bagfile_information"), std::string::npos) << error;
 }
 
 TEST(Rosbag2SqliteTest, CompressedBagIsRefused) {
-  const std::string dir = Dir("compressed");
+  const std::string dir = FreshScratchFolder("compressed");
   std::ofstream(dir + "/metadata.yaml")
       << "rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n"
          "  compression_format: zstd\n  compression_mode: FILE\n"
          "  relative_file_paths: [bag_0.db3.zstd]\n";
-  const std::string error = ErrorOf([&] { OpenRosbag2(dir); });
+  const std::string error = ThrownMessage<InputError>([&] { OpenRosbag2(dir); });
   EXPECT_NE(error.find("compression_format 'zstd', mode 'FILE'"), std::string::npos) << error;
 }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "io/survey/survey_reader.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/expect_text.h"
+#include "test/support/scratch_files.h"
 
 #include <gtest/gtest.h>
 
@@ -13,17 +14,10 @@ namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Writes a file into this process's scratch folder, removed when the process ends.
-std::string WriteFile(const std::string& name, const std::string& content) {
-  static const testing_support::ScratchDir scratch("survey_reader_test_");
-  const std::string path = (scratch.path() / name).string();
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
-}
+using testing_support::WriteScratchFile;
 
 TEST(SurveyReaderTest, ReadsTheSessionExample) {
-  const std::vector<SurveyPoint> points = ReadSurvey(WriteFile(
+  const std::vector<SurveyPoint> points = ReadSurvey(WriteScratchFile(
       "example.csv", "id,x,y,z,code\nC1,0.000,0.000,0.000,CTRL\nW001,1.002,10.013,0.512,WALL1\n"));
   ASSERT_EQ(points.size(), 2u);
   EXPECT_EQ(points[0].id, "C1");
@@ -42,7 +36,7 @@ TEST(SurveyReaderTest, ReadsTheSessionExample) {
 TEST(SurveyReaderTest, ReadsEveryLineEnd) {
   for (const std::string eol : {"\n", "\r\n", "\r"}) {
     SCOPED_TRACE(eol == "\r" ? "CR" : eol == "\n" ? "LF" : "CRLF");
-    const std::vector<SurveyPoint> points = ReadSurvey(WriteFile(
+    const std::vector<SurveyPoint> points = ReadSurvey(WriteScratchFile(
         "eol.csv", "# job" + eol + "id,x,y,z,code" + eol + "C1,0.000,0.000,0.000,CTRL" + eol +
                        eol + "W001,1.002,10.013,0.512,WALL1" + eol));
     ASSERT_EQ(points.size(), 2u);
@@ -54,6 +48,17 @@ TEST(SurveyReaderTest, ReadsEveryLineEnd) {
 }
 
 // Surveyors' exports: units in the header, semicolons with decimal commas, tabs.
+// Expects the one point each spelling of the sample row gives: W001 of WALL1 at (1.002, 10.013,
+// 0.512).
+void ExpectOnlyW001(const std::vector<SurveyPoint>& points) {
+  ASSERT_EQ(points.size(), 1u);
+  EXPECT_EQ(points[0].id, "W001");
+  EXPECT_EQ(points[0].code, "WALL1");
+  EXPECT_DOUBLE_EQ(points[0].x_m, 1.002);
+  EXPECT_DOUBLE_EQ(points[0].y_m, 10.013);
+  EXPECT_DOUBLE_EQ(points[0].z_m, 0.512);
+}
+
 TEST(SurveyReaderTest, ReadsUnitsSemicolonsDecimalCommasAndTabs) {
   const std::string variants[] = {
       "Point,Easting (m),Northing (m),Elev [m],Code\nW001,1.002,10.013,0.512,WALL1\n",
@@ -64,17 +69,12 @@ TEST(SurveyReaderTest, ReadsUnitsSemicolonsDecimalCommasAndTabs) {
   };
   for (size_t i = 0; i < 4; ++i) {
     SCOPED_TRACE(variants[i]);
-    const std::vector<SurveyPoint> points = ReadSurvey(WriteFile("variant.csv", variants[i]));
-    ASSERT_EQ(points.size(), 1u);
-    EXPECT_EQ(points[0].id, "W001");
-    EXPECT_EQ(points[0].code, "WALL1");
-    EXPECT_DOUBLE_EQ(points[0].x_m, 1.002);
-    EXPECT_DOUBLE_EQ(points[0].y_m, 10.013);
-    EXPECT_DOUBLE_EQ(points[0].z_m, 0.512);
+    const std::vector<SurveyPoint> points = ReadSurvey(WriteScratchFile("variant.csv", variants[i]));
+    ExpectOnlyW001(points);
   }
   // An empty field between two tabs stays a field of its own: the easting is missing.
   try {
-    ReadSurvey(WriteFile("empty.csv", variants[4]));
+    ReadSurvey(WriteScratchFile("empty.csv", variants[4]));
     ADD_FAILURE() << "an empty easting was read";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("column 2 (easting) is empty"), std::string::npos)
@@ -100,20 +100,15 @@ TEST(SurveyReaderTest, AcceptsSurveyorHeadersInAnyOrderAndCase) {
   for (const std::string& content : variants) {
     SCOPED_TRACE(content);
     const std::vector<SurveyPoint> points =
-        ReadSurvey(WriteFile("variant" + std::to_string(index++) + ".csv", content));
-    ASSERT_EQ(points.size(), 1u);
-    EXPECT_EQ(points[0].id, "W001");
-    EXPECT_EQ(points[0].code, "WALL1");
-    EXPECT_DOUBLE_EQ(points[0].x_m, 1.002);
-    EXPECT_DOUBLE_EQ(points[0].y_m, 10.013);
-    EXPECT_DOUBLE_EQ(points[0].z_m, 0.512);
+        ReadSurvey(WriteScratchFile("variant" + std::to_string(index++) + ".csv", content));
+    ExpectOnlyW001(points);
   }
 }
 
 TEST(SurveyReaderTest, ReadsHeaderlessPnezdAndPenzd) {
   // A description with a comma, quoted as spreadsheets write it; the last row has none.
   const std::string pnezd = "1,10.013,1.002,0.512,\"WALL1, north\"\n2,20,3,0.5\n";
-  const std::vector<SurveyPoint> a = ReadSurvey(WriteFile("pnezd.csv", pnezd), SurveyColumns::kPNEZD);
+  const std::vector<SurveyPoint> a = ReadSurvey(WriteScratchFile("pnezd.csv", pnezd), SurveyColumns::kPNEZD);
   ASSERT_EQ(a.size(), 2u);
   EXPECT_EQ(a[0].id, "1");
   EXPECT_EQ(a[0].code, "WALL1, north");
@@ -125,14 +120,14 @@ TEST(SurveyReaderTest, ReadsHeaderlessPnezdAndPenzd) {
   EXPECT_DOUBLE_EQ(a[1].y_m, 20.0);
 
   const std::vector<SurveyPoint> b =
-      ReadSurvey(WriteFile("penzd.csv", "1,1.002,10.013,0.512,WALL1\n"), SurveyColumns::kPENZD);
+      ReadSurvey(WriteScratchFile("penzd.csv", "1,1.002,10.013,0.512,WALL1\n"), SurveyColumns::kPENZD);
   ASSERT_EQ(b.size(), 1u);
   EXPECT_DOUBLE_EQ(b[0].x_m, 1.002);
   EXPECT_DOUBLE_EQ(b[0].y_m, 10.013);
 
   // A header row in a file said to have none: the first row's number fails, with a hint.
   try {
-    ReadSurvey(WriteFile("pnezd_header.csv", "Point,Northing,Easting,Elevation,Description\n"),
+    ReadSurvey(WriteScratchFile("pnezd_header.csv", "Point,Northing,Easting,Elevation,Description\n"),
                SurveyColumns::kPNEZD);
     FAIL() << "no exception";
   } catch (const InputError& e) {
@@ -152,7 +147,7 @@ TEST(SurveyReaderTest, KeepsEveryObservationAndCombinesRepeats) {
       "W1,1.000,10.000,0.500,WALL1\n"  // face I
       "W1,1.010,10.000,0.520,WALL1\n"  // face II: 22.4 mm from face I
       "C1,50.000,0.000,0.000,CTRL\n";  // the same id 50 m away: another point
-  const std::vector<SurveyPoint> observations = ReadSurvey(WriteFile("repeats.csv", csv));
+  const std::vector<SurveyPoint> observations = ReadSurvey(WriteScratchFile("repeats.csv", csv));
   ASSERT_EQ(observations.size(), 4u);
   EXPECT_EQ(FormatSurveyDumpCsv(observations),
             "id,x_m,y_m,z_m,code\n"
@@ -222,7 +217,7 @@ TEST(SurveyReaderTest, DumpQuotesIdsAndCodesAndReadsBack) {
             "id,x_m,y_m,z_m,code\n"
             "\"A,1\",1.23457,0.00000,0.00000,\"say \"\"hi\"\"\"\n"
             "B,0.00000,-2.50000,0.00000,\" padded \"\n");
-  const std::vector<SurveyPoint> back = ReadSurvey(WriteFile("dump.csv", dump));
+  const std::vector<SurveyPoint> back = ReadSurvey(WriteScratchFile("dump.csv", dump));
   ASSERT_EQ(back.size(), 2u);
   EXPECT_EQ(back[0].id, "A,1");
   EXPECT_EQ(back[0].code, "say \"hi\"");
@@ -235,7 +230,7 @@ TEST(SurveyReaderTest, DumpQuotesIdsAndCodesAndReadsBack) {
 void ExpectError(const std::string& name, const std::string& content, const std::string& where,
                  const std::string& text, SurveyColumns columns = SurveyColumns::kHeader) {
   SCOPED_TRACE(name);
-  const std::string path = WriteFile(name + ".csv", content);
+  const std::string path = WriteScratchFile(name + ".csv", content);
   try {
     ReadSurvey(path, columns);
     FAIL() << "no exception";
@@ -247,45 +242,51 @@ void ExpectError(const std::string& name, const std::string& content, const std:
   }
 }
 
+// A bad survey file, where its message points (after the path) and what it says.
+struct BadSurvey {
+  const char* name;
+  const char* content;
+  const char* where;
+  const char* text;
+  SurveyColumns columns = SurveyColumns::kHeader;
+};
+
 TEST(SurveyReaderTest, RejectsBadFilesWithFileAndLine) {
-  ExpectError("no_header", "# only a comment\n\n", ": ", "no header");
-  ExpectError("missing_column", "id,x,SECRET,code\nW1,1,2,WALL1\n", ":1: ",
-              "the header's 4 columns name no northing, elevation; expected a header naming");
-  ExpectError("unrecognised", "Foo,Bar,SECRET\n1,2,3\n", ":1: ",
-              "the header's 3 columns name no point id, easting, northing, elevation, code");
-  ExpectError("headerless", "1,2,3,4,SECRET\n", ":1: ", "survey.columns: PNEZD or PENZD");
-  ExpectError("no_code", "id,x,y,z\nW1,1,2,3\n", ":1: ", "name no code");
-  ExpectError("ambiguous", "id,x,e,y,z,code\nW1,1,1,2,3,W\n", ":1: ",
-              "column 2 and column 3 both name the easting; expected one column");
-  ExpectError("field_count", "id,x,y,z,code\nW1,1,2,3,WALL1\nW2,1,2,SECRET\n", ":3: ",
-              "4 fields; expected 5 as in the header");
-  ExpectError("non_numeric", "id,x,y,z,code\nW1,1,2,3,WALL1\n\nW2,1,SECRET,3,WALL1\n", ":4: ",
-              "column 3 (northing) is not a finite number (6 characters); expected a number");
-  ExpectError("non_finite", "id,x,y,z,code\nW1,1,2,inf,SECRET\n", ":2: ", "finite number");
-  ExpectError("nan", "id,x,y,z,code\nW1,nan,2,3,SECRET\n", ":2: ", "finite number");
-  ExpectError("empty_coordinate", "id,x,y,z,code\nW1,,2,3,SECRET\n", ":2: ",
-              "column 2 (easting) is empty");
-  ExpectError("empty_id", "id,x,y,z,code\n ,1,2,3,SECRET\n", ":2: ",
-              "column 1 (point id) is empty");
-  ExpectError("control_char", "id,x,y,z,code\nSECRET\x1b[2J,1,2,3,W\n", ":2: ",
-              "the point id has a control character");
-  ExpectError("open_quote", "id,x,y,z,code\nW1,1,2,3,\"SECRET\n", ":2: ",
-              "a quoted field is never closed");
-  ExpectError("no_points", "id,x,y,z,code\n# nothing\n", ": ", "no survey points");
-  ExpectError("huge", "id,x,y,z,code\nW1,1,2,3,SECRET\nW2,1e10,2,3,SECRET\n", ":3: ",
-              "a coordinate beyond ±1e9 m");
-  ExpectError("pnezd_fields", "1,2,3\n", ":1: ", "3 fields; expected 5 (PNEZD) or 4",
-              SurveyColumns::kPNEZD);
+  const BadSurvey kBad[] = {
+    {"no_header", "# only a comment\n\n", ": ", "no header"},
+    {"missing_column", "id,x,SECRET,code\nW1,1,2,WALL1\n", ":1: ",
+     "the header's 4 columns name no northing, elevation; expected a header naming"},
+    {"unrecognised", "Foo,Bar,SECRET\n1,2,3\n", ":1: ",
+     "the header's 3 columns name no point id, easting, northing, elevation, code"},
+    {"headerless", "1,2,3,4,SECRET\n", ":1: ", "survey.columns: PNEZD or PENZD"},
+    {"no_code", "id,x,y,z\nW1,1,2,3\n", ":1: ", "name no code"},
+    {"ambiguous", "id,x,e,y,z,code\nW1,1,1,2,3,W\n", ":1: ",
+     "column 2 and column 3 both name the easting; expected one column"},
+    {"field_count", "id,x,y,z,code\nW1,1,2,3,WALL1\nW2,1,2,SECRET\n", ":3: ",
+     "4 fields; expected 5 as in the header"},
+    {"non_numeric", "id,x,y,z,code\nW1,1,2,3,WALL1\n\nW2,1,SECRET,3,WALL1\n", ":4: ",
+     "column 3 (northing) is not a finite number (6 characters); expected a number"},
+    {"non_finite", "id,x,y,z,code\nW1,1,2,inf,SECRET\n", ":2: ", "finite number"},
+    {"nan", "id,x,y,z,code\nW1,nan,2,3,SECRET\n", ":2: ", "finite number"},
+    {"empty_coordinate", "id,x,y,z,code\nW1,,2,3,SECRET\n", ":2: ", "column 2 (easting) is empty"},
+    {"empty_id", "id,x,y,z,code\n ,1,2,3,SECRET\n", ":2: ", "column 1 (point id) is empty"},
+    {"control_char", "id,x,y,z,code\nSECRET\x1b[2J,1,2,3,W\n", ":2: ",
+     "the point id has a control character"},
+    {"open_quote", "id,x,y,z,code\nW1,1,2,3,\"SECRET\n", ":2: ", "a quoted field is never closed"},
+    {"no_points", "id,x,y,z,code\n# nothing\n", ": ", "no survey points"},
+    {"huge", "id,x,y,z,code\nW1,1,2,3,SECRET\nW2,1e10,2,3,SECRET\n", ":3: ",
+     "a coordinate beyond ±1e9 m"},
+    {"pnezd_fields", "1,2,3\n", ":1: ", "3 fields; expected 5 (PNEZD) or 4", SurveyColumns::kPNEZD},
+  };
+  for (const BadSurvey& bad : kBad) {
+    ExpectError(bad.name, bad.content, bad.where, bad.text, bad.columns);
+  }
 }
 
 TEST(SurveyReaderTest, MissingFileNamesThePath) {
   const std::string path = ::testing::TempDir() + "/survey_reader_test_missing.csv";
-  try {
-    ReadSurvey(path);
-    FAIL() << "no exception";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
-  }
+  const std::string message = testing_support::MessageOf<InputError>([&] { ReadSurvey(path); });
+  EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
 }
 
 }  // namespace

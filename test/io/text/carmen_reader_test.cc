@@ -10,24 +10,16 @@
 #include <iterator>
 #include <string>
 #include "common/angles.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/expect_text.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A file in this process's scratch folder, removed when the process ends.
-std::string TempPath(const std::string& name) {
-  static const testing_support::ScratchDir scratch("carmen_reader_test_");
-  return (scratch.path() / name).string();
-}
-
-std::string WriteFile(const std::string& name, const std::string& content) {
-  const std::string path = TempPath(name);
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
-}
+using testing_support::ReadFile;
+using testing_support::ScratchPath;
+using testing_support::WriteScratchFile;
 
 std::string Ranges(int n, double first_m, double step_m) {
   std::string text;
@@ -50,7 +42,7 @@ std::vector<ScanRecord> ReadAll(CarmenReader& reader) {
 }
 
 TEST(CarmenReaderTest, ReadsRawlaser1) {
-  CarmenReader reader(WriteFile("raw.clf", Rawlaser(181, 1000.5) + "\n"));
+  CarmenReader reader(WriteScratchFile("raw.clf", Rawlaser(181, 1000.5) + "\n"));
   const std::vector<ScanRecord> scans = ReadAll(reader);
   ASSERT_EQ(scans.size(), 1u);
   const ScanRecord& scan = scans[0];
@@ -67,13 +59,40 @@ TEST(CarmenReaderTest, ReadsRawlaser1) {
   EXPECT_EQ(reader.skipped().Total(), 0);
 }
 
+// A log being appended: a reader opened at the line start an earlier one reported reads the
+// rest with the same line numbers, the line that was cut off at the first read included.
+TEST(CarmenReaderTest, ReadsOnFromWhereAnEarlierReaderStopped) {
+  const std::string first = "PARAM x 1\n" + Rawlaser(181, 10.0) + "\r\n" + Rawlaser(181, 10.1) + "\n";
+  const std::string third = Rawlaser(181, 10.2) + "\n";
+  const std::string path = WriteFile("growing.clf", first + third.substr(0, 40));
+  int64_t third_byte = 0;
+  int64_t second_line = 0;
+  {
+    CarmenReader reader(path);
+    const std::vector<ScanRecord> scans = ReadAll(reader);
+    ASSERT_EQ(scans.size(), 2u);
+    EXPECT_EQ(reader.skipped().Problems(), 1);  // the cut-off line
+    second_line = scans[1].line;
+    third_byte = reader.line_start_byte();  // the cut-off line's start
+  }
+  EXPECT_EQ(third_byte, static_cast<int64_t>(first.size()));
+  std::ofstream(path, std::ios::binary | std::ios::app) << third.substr(40);
+  CarmenReader reader(path, third_byte, second_line + 1);
+  const std::vector<ScanRecord> scans = ReadAll(reader);
+  ASSERT_EQ(scans.size(), 1u);
+  EXPECT_DOUBLE_EQ(scans[0].stamp_s, 10.2);
+  EXPECT_EQ(scans[0].line, 4);
+  EXPECT_EQ(reader.line_start_byte(), third_byte);
+  EXPECT_EQ(reader.skipped().Total(), 0);
+}
+
 // LF, CRLF and a CR alone each end a line: the same scans, with the same line numbers.
 TEST(CarmenReaderTest, ReadsEveryLineEnd) {
   for (const std::string eol : {"\n", "\r\n", "\r"}) {
     SCOPED_TRACE(eol == "\r" ? "CR" : eol == "\n" ? "LF" : "CRLF");
     const std::string log = "# header" + eol + Rawlaser(181, 1000.5) + eol + eol +
                             Rawlaser(181, 1000.6) + eol;
-    CarmenReader reader(WriteFile("eol.clf", log));
+    CarmenReader reader(WriteScratchFile("eol.clf", log));
     const std::vector<ScanRecord> scans = ReadAll(reader);
     ASSERT_EQ(scans.size(), 2u);
     EXPECT_EQ(scans[0].line, 2);
@@ -87,7 +106,7 @@ TEST(CarmenReaderTest, ReadsEveryLineEnd) {
 
 TEST(CarmenReaderTest, ReadsRawlaser1WithRemissions) {
   const std::string line = "RAWLASER1 0 -0.5 1.0 0.5 30 0.01 1 3 1.5 2.5 3.5 3 10 20 30 7.0 h 8.0";
-  CarmenReader reader(WriteFile("rem.clf", line + "\n"));
+  CarmenReader reader(WriteScratchFile("rem.clf", line + "\n"));
   const std::vector<ScanRecord> scans = ReadAll(reader);
   ASSERT_EQ(scans.size(), 1u);
   EXPECT_DOUBLE_EQ(scans[0].stamp_s, 8.0);  // logger_timestamp, not ipc_timestamp
@@ -101,7 +120,7 @@ TEST(CarmenReaderTest, ReadsRobotlaser1) {
   const std::string line =
       "ROBOTLASER1 0 -2.0 4.0 0.01 5.6 0.01 0 4 1.0 1.1 1.2 1.3 0 "
       "0.1 0.2 0.3 1.1 1.2 1.3 0.5 0.0 0.2 0.1 0.0 12.25 robot 12.5";
-  CarmenReader reader(WriteFile("robot.clf", "# header\n" + line + "\n"));
+  CarmenReader reader(WriteScratchFile("robot.clf", "# header\n" + line + "\n"));
   const std::vector<ScanRecord> scans = ReadAll(reader);
   ASSERT_EQ(scans.size(), 1u);
   EXPECT_DOUBLE_EQ(scans[0].stamp_s, 12.5);
@@ -118,7 +137,7 @@ TEST(CarmenReaderTest, ReadsFlaserWithCarmenGeometry) {
   log += "FLASER 180" + Ranges(180, 2.0, 0.0) + " 1 2 0.5 1 2 0.5 100.0 pippo 100.25\n";
   log += "FLASER 361" + Ranges(361, 3.0, 0.0) + " 1 2 0.5 1 2 0.5 101.0 pippo 101.25\n";
   log += "FLASER 5" + Ranges(5, 4.0, 0.0) + " 1 2 0.5 1 2 0.5 102.0 pippo 102.25\n";
-  CarmenReader reader(WriteFile("flaser.clf", log));
+  CarmenReader reader(WriteScratchFile("flaser.clf", log));
   const std::vector<ScanRecord> scans = ReadAll(reader);
   ASSERT_EQ(scans.size(), 3u);
   EXPECT_DOUBLE_EQ(scans[0].stamp_s, 100.25);
@@ -132,15 +151,23 @@ TEST(CarmenReaderTest, ReadsFlaserWithCarmenGeometry) {
   EXPECT_FLOAT_EQ(scans[2].ranges_m[4], 4.0f);
 }
 
-TEST(CarmenReaderTest, ReadsGzipTransparently) {
-  const std::string path = TempPath("scans.clf.gz");
+// A gzip log `name` in the scratch folder of `scans` RAWLASER lines of `beams` beams, stamped
+// 10, 11, ... s; its path ("" when it cannot be written).
+std::string WriteGzipLog(const std::string& name, int scans, int beams) {
+  const std::string path = ScratchPath(name);
   gzFile file = gzopen(path.c_str(), "wb");
-  ASSERT_NE(file, nullptr);
-  for (int i = 0; i < 50; ++i) {
-    const std::string line = Rawlaser(361, 10.0 + i) + "\n";
+  if (file == nullptr) return "";
+  for (int i = 0; i < scans; ++i) {
+    const std::string line = Rawlaser(beams, 10.0 + i) + "\n";
     gzwrite(file, line.data(), static_cast<unsigned>(line.size()));
   }
   gzclose(file);
+  return path;
+}
+
+TEST(CarmenReaderTest, ReadsGzipTransparently) {
+  const std::string path = WriteGzipLog("scans.clf.gz", 50, 361);
+  ASSERT_FALSE(path.empty());
   CarmenReader reader(path);
   const std::vector<ScanRecord> scans = ReadAll(reader);
   ASSERT_EQ(scans.size(), 50u);
@@ -152,18 +179,11 @@ TEST(CarmenReaderTest, ReadsGzipTransparently) {
 // A gzip log whose end was lost (logger killed, copy interrupted): the scans before the cut are
 // read, the cut is counted, nothing is half-used.
 TEST(CarmenReaderTest, TruncatedGzipKeepsTheScansBeforeTheCut) {
-  const std::string whole = TempPath("whole.clf.gz");
-  gzFile file = gzopen(whole.c_str(), "wb");
-  ASSERT_NE(file, nullptr);
-  for (int i = 0; i < 400; ++i) {
-    const std::string line = Rawlaser(181, 10.0 + i) + "\n";
-    gzwrite(file, line.data(), static_cast<unsigned>(line.size()));
-  }
-  gzclose(file);
-  std::ifstream in(whole, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string whole = WriteGzipLog("whole.clf.gz", 400, 181);
+  ASSERT_FALSE(whole.empty());
+  const std::string bytes = ReadFile(whole);
   ASSERT_GT(bytes.size(), 2000u);
-  const std::string cut = WriteFile("cut.clf.gz", bytes.substr(0, bytes.size() * 2 / 3));
+  const std::string cut = WriteScratchFile("cut.clf.gz", bytes.substr(0, bytes.size() * 2 / 3));
   CarmenReader reader(cut);
   const std::vector<ScanRecord> scans = ReadAll(reader);
   EXPECT_GT(scans.size(), 10u);
@@ -177,7 +197,7 @@ TEST(CarmenReaderTest, TruncatedGzipKeepsTheScansBeforeTheCut) {
 
 TEST(CarmenReaderTest, ReadsLinesLongerThanOneBuffer) {
   // 9000 beams ~ 80 kB: more than one gzgets chunk.
-  CarmenReader reader(WriteFile("long.clf", Rawlaser(9000, 5.0) + "\n" + Rawlaser(3, 6.0) + "\n"));
+  CarmenReader reader(WriteScratchFile("long.clf", Rawlaser(9000, 5.0) + "\n" + Rawlaser(3, 6.0) + "\n"));
   const std::vector<ScanRecord> scans = ReadAll(reader);
   ASSERT_EQ(scans.size(), 2u);
   EXPECT_EQ(scans[0].ranges_m.size(), 9000u);
@@ -192,7 +212,7 @@ TEST(CarmenReaderTest, CountsLinesOfOtherKinds) {
       "\n"
       "NEFF 30 1.0 host 1.0\n" +
       Rawlaser(5, 3.0) + "\n";
-  CarmenReader reader(WriteFile("kinds.clf", log));
+  CarmenReader reader(WriteScratchFile("kinds.clf", log));
   const std::vector<ScanRecord> scans = ReadAll(reader);
   ASSERT_EQ(scans.size(), 1u);
   EXPECT_EQ(scans[0].line, 6);
@@ -212,7 +232,7 @@ void ExpectSkipped(const std::string& name, const std::string& bad_line,
                    const std::string& reason) {
   SCOPED_TRACE(name);
   const std::string log = Rawlaser(5, 1.0) + "\n" + bad_line + "\n" + Rawlaser(5, 3.0) + "\n";
-  CarmenReader reader(WriteFile(name + ".clf", log));
+  CarmenReader reader(WriteScratchFile(name + ".clf", log));
   const std::vector<ScanRecord> scans = ReadAll(reader);
   ASSERT_EQ(scans.size(), 2u);
   EXPECT_DOUBLE_EQ(scans[0].stamp_s, 1.0);
@@ -249,7 +269,7 @@ TEST(CarmenReaderTest, SkipsMalformedScanLinesWhole) {
 TEST(CarmenReaderTest, CountsALineCutOffAtEndOfFile) {
   const std::string full = Rawlaser(181, 2.0);
   const std::string cut = full.substr(0, full.size() / 2);  // no newline, too few fields
-  CarmenReader reader(WriteFile("cut.clf", Rawlaser(181, 1.0) + "\n" + cut));
+  CarmenReader reader(WriteScratchFile("cut.clf", Rawlaser(181, 1.0) + "\n" + cut));
   const std::vector<ScanRecord> scans = ReadAll(reader);
   ASSERT_EQ(scans.size(), 1u);
   EXPECT_EQ(reader.skipped().by_reason.at("RAWLASER1: line cut off at end of file"), 1);
@@ -257,19 +277,15 @@ TEST(CarmenReaderTest, CountsALineCutOffAtEndOfFile) {
 }
 
 TEST(CarmenReaderTest, AcceptsLastLineWithoutNewline) {
-  CarmenReader reader(WriteFile("nonewline.clf", Rawlaser(5, 1.0)));
+  CarmenReader reader(WriteScratchFile("nonewline.clf", Rawlaser(5, 1.0)));
   EXPECT_EQ(ReadAll(reader).size(), 1u);
   EXPECT_EQ(reader.skipped().Total(), 0);
 }
 
 TEST(CarmenReaderTest, MissingFileNamesThePath) {
-  const std::string path = TempPath("no_such_log.clf");
-  try {
-    CarmenReader reader(path);
-    FAIL() << "no exception";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
-  }
+  const std::string path = ScratchPath("no_such_log.clf");
+  testing_support::ExpectContains(
+      testing_support::MessageOf<InputError>([&] { CarmenReader reader(path); }), {path});
 }
 
 // Real Radish logs (CARMEN FLASER): skip when ../shared is not there.
@@ -333,7 +349,7 @@ TEST(CarmenReaderTest, SkimmingSeesTheScansNextReads) {
   // Line 9: a scan line whose beam count disagrees with its ranges, stamp still readable.
   text += "RAWLASER1 0 -1.5707963 3.1415927 0.017453293 80.0 0.01 0 181 1.0 2.0 0 host 1000.7\n";
   text += "\n" + Rawlaser(181, 1000.8) + "\n";
-  const std::string path = WriteFile("skim.clf", text);
+  const std::string path = WriteScratchFile("skim.clf", text);
 
   CarmenReader whole(path);
   const std::vector<ScanRecord> scans = ReadAll(whole);

@@ -15,27 +15,17 @@
 #include "io/text/nmea_reader.h"
 #include "io/survey/survey_reader.h"
 #include "io/writers/writers.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A file in this process's scratch folder, removed when the process ends.
-std::string PathOf(const std::string& name) {
-  static const testing_support::ScratchDir scratch("gzip_input_test-");
-  return (scratch.path() / name).string();
-}
-
-std::string WritePlain(const std::string& name, const std::string& content) {
-  const std::string path = PathOf(name);
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
-}
+using testing_support::ScratchPath;
+using testing_support::WriteScratchFile;
 
 std::string WriteGzip(const std::string& name, const std::string& content) {
-  const std::string path = PathOf(name);
+  const std::string path = ScratchPath(name);
   gzFile file = gzopen(path.c_str(), "wb");
   EXPECT_NE(file, nullptr);
   EXPECT_EQ(gzwrite(file, content.data(), static_cast<unsigned>(content.size())),
@@ -69,7 +59,7 @@ std::string PlainCapture() {
 
 TEST(GzipInputTest, GzipNmeaLogReadsLikeThePlainOne) {
   const std::string text = PlainCapture();
-  const NmeaLog plain = ReadNmea(WritePlain("capture.nmea", text));
+  const NmeaLog plain = ReadNmea(WriteScratchFile("capture.nmea", text));
   const NmeaLog packed = ReadNmea(WriteGzip("capture.nmea.gz", text));
   ASSERT_EQ(plain.fixes.size(), 2000u);
   ASSERT_EQ(packed.fixes.size(), plain.fixes.size());
@@ -89,7 +79,7 @@ TEST(GzipInputTest, GzipNmeaLogReadsLikeThePlainOne) {
 
 TEST(GzipInputTest, CutOffGzipNmeaKeepsTheLinesBeforeTheCut) {
   const std::string whole = Bytes(WriteGzip("whole.nmea.gz", PlainCapture()));
-  const std::string path = WritePlain("cut.nmea.gz", whole.substr(0, whole.size() / 2));
+  const std::string path = WriteScratchFile("cut.nmea.gz", whole.substr(0, whole.size() / 2));
   const NmeaLog log = ReadNmea(path);
   EXPECT_GT(log.fixes.size(), 100u);
   EXPECT_LT(log.fixes.size(), 2000u);
@@ -100,7 +90,7 @@ TEST(GzipInputTest, CutOffGzipNmeaKeepsTheLinesBeforeTheCut) {
 TEST(GzipInputTest, CorruptGzipIsAnInputError) {
   std::string bytes = Bytes(WriteGzip("good.nmea.gz", PlainCapture()));
   for (size_t i = bytes.size() / 3; i < bytes.size() / 3 + 64; ++i) bytes[i] ^= 0x5a;
-  const std::string path = WritePlain("corrupt.nmea.gz", bytes);
+  const std::string path = WriteScratchFile("corrupt.nmea.gz", bytes);
   try {
     ReadNmea(path);
     FAIL() << "no exception";
@@ -130,7 +120,7 @@ TEST(GzipInputTest, StreamBufStopsAtItsCapAndRewinds) {
   EXPECT_EQ(got.size(), 999u);
   EXPECT_EQ(small.state(), GzipState::kTooLarge);
   EXPECT_NE(small.Problem().find("more than 999 bytes uncompressed"), std::string::npos);
-  EXPECT_FALSE(IsGzipFile(WritePlain("plain.txt", "\x1f")));
+  EXPECT_FALSE(IsGzipFile(WriteScratchFile("plain.txt", "\x1f")));
   EXPECT_TRUE(IsGzipFile(path));
 }
 
@@ -153,7 +143,7 @@ TEST(GzipInputTest, GzipSurveyFilesReadLikePlainOnes) {
   std::string rows = "id,x,y,z,code\n";
   for (int i = 0; i < 3000; ++i) rows += "P" + std::to_string(i) + ",1.0,2.0,3.0,W\n";
   const std::string whole = Bytes(WriteGzip("big.csv.gz", rows));
-  const std::string cut = WritePlain("cut.csv.gz", whole.substr(0, whole.size() - 20));
+  const std::string cut = WriteScratchFile("cut.csv.gz", whole.substr(0, whole.size() - 20));
   try {
     ReadSurvey(cut);
     FAIL() << "no exception";

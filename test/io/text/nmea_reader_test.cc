@@ -13,20 +13,14 @@
 
 #include "io/writers/writers.h"
 #include "common/angles.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/expect_text.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Writes a file into this process's scratch folder, removed when the process ends.
-std::string WriteFile(const std::string& name, const std::string& content) {
-  static const testing_support::ScratchDir scratch("nmea_reader_test_");
-  const std::string path = (scratch.path() / name).string();
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
-}
+using testing_support::WriteScratchFile;
 
 // "$body*hh" with the right checksum.
 std::string S(const std::string& body) { return "$" + body + "*" + NmeaChecksum(body); }
@@ -47,7 +41,7 @@ TEST(NmeaReaderTest, ReadsLoggerTimePrefixedSentences) {
       "1747031522.150 $HEHDT,123.456,T*28\n"
       "1747031522.200 " +
       S("INTHS,123.45,A") + "\n";
-  const NmeaLog nmea = ReadNmea(WriteFile("prefixed.nmea", log));
+  const NmeaLog nmea = ReadNmea(WriteScratchFile("prefixed.nmea", log));
   ASSERT_EQ(nmea.fixes.size(), 1u);
   const GnssFix& fix = nmea.fixes[0];
   EXPECT_DOUBLE_EQ(fix.stamp_s, 1747031522.113);
@@ -78,7 +72,7 @@ TEST(NmeaReaderTest, ReadsEveryLineEnd) {
         "1747031522.113 $GNGGA,051202.10,4304.27407,N,14120.39259,E,4,14,0.7,53.10,M,19.21,M,"
         "1.0,0000*64" + eol + "1747031522.150 $HEHDT,123.456,T*28" + eol +
         "1747031522.200 " + S("INTHS,123.45,A") + eol;
-    const NmeaLog nmea = ReadNmea(WriteFile("eol.nmea", log));
+    const NmeaLog nmea = ReadNmea(WriteScratchFile("eol.nmea", log));
     ASSERT_EQ(nmea.fixes.size(), 1u);
     EXPECT_EQ(nmea.fixes[0].quality, 4);
     ASSERT_EQ(nmea.headings.size(), 2u);
@@ -106,7 +100,7 @@ TEST(NmeaReaderTest, AttachesGstBeforeOrAfterItsGga) {
                           "\n"  // after, one epoch late
                           "101.3 " +
                           S("GPGST,115959.00,,,,,0.1,0.1,1.0") + "\n";  // no GGA at all
-  const NmeaLog nmea = ReadNmea(WriteFile("gst.nmea", log));
+  const NmeaLog nmea = ReadNmea(WriteScratchFile("gst.nmea", log));
   ASSERT_EQ(nmea.fixes.size(), 3u);
   EXPECT_DOUBLE_EQ(nmea.fixes[0].sigma_lat_m, 0.5);
   EXPECT_DOUBLE_EQ(nmea.fixes[0].sigma_lon_m, 0.6);
@@ -127,7 +121,7 @@ TEST(NmeaReaderTest, TimesPlainCaptureFromUtcAndDate) {
       "\n" + S("GNGGA,235959.90,4134.0,N,09345.0,W,4,10,0.9,278.0,M,-31.442,M,,") + "\n" +
       S("GNGGA,000000.10,4134.0,N,09345.0,W,4,10,0.9,278.0,M,-31.442,M,,") + "\n" +  // midnight
       S("GNTHS,30.0,A") + "\n";
-  const NmeaLog nmea = ReadNmea(WriteFile("plain.nmea", log));
+  const NmeaLog nmea = ReadNmea(WriteScratchFile("plain.nmea", log));
   ASSERT_EQ(nmea.fixes.size(), 3u);
   // Before the RMC: the first date of the file.
   EXPECT_NEAR(nmea.fixes[0].stamp_s, day_s + 13 * 3600 + 28 * 60 + 19.6, 1e-6);
@@ -161,7 +155,7 @@ TEST(NmeaReaderTest, SkipsAndCountsBadSentences) {
       "\xb5\x62junk$GP" + S("GPHDT,45.0,T") + "\n" +  // junk before the sentence: kept
       "0.5 " + S("GPGGA,120011.00,4000.0,N,10000.0,E,4,10,1.0,10.0,M,0.0,M,,") + "\n" + "12.0 " +
       S("GPHDT,360.0,T") + "\n";
-  const NmeaLog nmea = ReadNmea(WriteFile("bad.nmea", log));
+  const NmeaLog nmea = ReadNmea(WriteScratchFile("bad.nmea", log));
   ASSERT_EQ(nmea.fixes.size(), 1u);
   EXPECT_DOUBLE_EQ(nmea.fixes[0].stamp_s, 1.0);
   EXPECT_EQ(Count(nmea, "bad checksum"), 1);
@@ -191,7 +185,7 @@ TEST(NmeaReaderTest, FindsTheSentenceAfterBinaryBytes) {
   const std::string log = "100.0 " +
                           S("GPGGA,120000.00,4000.0,N,10000.0,E,4,10,1.0,10.0,M,0.0,M,,") + "\n" +
                           "\xb5\x62$\x01*\x02" + S("GPHDT,45.0,T") + "\n";
-  const NmeaLog nmea = ReadNmea(WriteFile("junk.nmea", log));
+  const NmeaLog nmea = ReadNmea(WriteScratchFile("junk.nmea", log));
   ASSERT_EQ(nmea.headings.size(), 1u);
   EXPECT_NEAR(nmea.headings[0].heading_rad, 45.0 * kDegToRad, 1e-12);
   EXPECT_DOUBLE_EQ(nmea.headings[0].stamp_s, 100.0);  // time of the last timed sentence
@@ -201,7 +195,7 @@ TEST(NmeaReaderTest, DatesAPlainCaptureFromZda) {
   // 2018-09-07 = 17781 days after 1970-01-01; ZDA carries day, month, year.
   const std::string log = S("GPZDA,120000.00,07,09,2018,00,00") + "\n" +
                           S("GPGGA,120000.50,4304.0,N,14120.0,E,4,12,0.8,50.0,M,20.0,M,,") + "\n";
-  const NmeaLog nmea = ReadNmea(WriteFile("zda.nmea", log));
+  const NmeaLog nmea = ReadNmea(WriteScratchFile("zda.nmea", log));
   ASSERT_EQ(nmea.fixes.size(), 1u);
   EXPECT_NEAR(nmea.fixes[0].stamp_s, 17781 * 86400.0 + 43200.5, 1e-6);
 }
@@ -214,7 +208,7 @@ TEST(NmeaReaderTest, BinaryBlobAcrossLinesIsSkipped) {
   const std::string log = "1.000 " + S("GPGGA,000001.00,4304.0,N,14120.0,E,4,12,0.8,50.0,M,20.0,M,,") +
                           "\n" + blob + "\n" + "2.000 " +
                           S("GPGGA,000002.00,4305.0,N,14120.0,E,4,12,0.8,50.0,M,20.0,M,,") + "\n";
-  const NmeaLog nmea = ReadNmea(WriteFile("blob.nmea", log));
+  const NmeaLog nmea = ReadNmea(WriteScratchFile("blob.nmea", log));
   ASSERT_EQ(nmea.fixes.size(), 2u);
   EXPECT_NEAR(nmea.fixes[0].lat_deg, 43.0 + 4.0 / 60.0, 1e-12);
   EXPECT_NEAR(nmea.fixes[1].lat_deg, 43.0 + 5.0 / 60.0, 1e-12);
@@ -225,7 +219,7 @@ TEST(NmeaReaderTest, BinaryBlobAcrossLinesIsSkipped) {
 TEST(NmeaReaderTest, ReadsSouthAndWest) {
   const std::string log =
       "1.0 " + S("GPGGA,120000.00,3352.1234567,S,15112.7654321,W,4,10,1.0,10.0,M,5.0,M,,") + "\n";
-  const NmeaLog nmea = ReadNmea(WriteFile("southwest.nmea", log));
+  const NmeaLog nmea = ReadNmea(WriteScratchFile("southwest.nmea", log));
   ASSERT_EQ(nmea.fixes.size(), 1u);
   EXPECT_NEAR(nmea.fixes[0].lat_deg, -(33.0 + 52.1234567 / 60.0), 1e-12);
   EXPECT_NEAR(nmea.fixes[0].lon_deg, -(151.0 + 12.7654321 / 60.0), 1e-12);
@@ -234,12 +228,8 @@ TEST(NmeaReaderTest, ReadsSouthAndWest) {
 
 TEST(NmeaReaderTest, MissingFileNamesThePath) {
   const std::string path = ::testing::TempDir() + "/nmea_reader_test_no_such.nmea";
-  try {
-    ReadNmea(path);
-    FAIL() << "no exception";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
-  }
+  testing_support::ExpectContains(
+      testing_support::MessageOf<InputError>([&] { ReadNmea(path); }), {path});
 }
 
 // ---- Real receiver logs (gpsd's regression tests) against gpsd's decoding in the .chk ----

@@ -15,26 +15,14 @@
 #include "io/config/session_reader.h"
 #include "io/survey/survey_reader.h"
 #include "common/angles.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-// An empty folder in this process's scratch folder, removed when the process ends.
-std::string Dir(const std::string& name) {
-  static const testing_support::ScratchDir scratch("writers_test_");
-  const fs::path dir = scratch.path() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
-
-std::string WriteText(const std::string& path, const std::string& content) {
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
-}
+using testing_support::FreshScratchFolder;
+using testing_support::WriteFile;
 
 TEST(WritersTest, NmeaChecksumOfTheSessionExample) {
   EXPECT_EQ(NmeaChecksum("HEHDT,123.456,T"), "28");
@@ -72,7 +60,7 @@ TEST(WritersTest, NmeaLinesReadBack) {
   EXPECT_EQ(FormatGgaLine(north_east).rfind("1747031522.125 $GNGGA,063202.1", 0), 0u)
       << FormatGgaLine(north_east);
 
-  const NmeaLog nmea = ReadNmea(WriteText(Dir("nmea") + "/gnss.nmea", log));
+  const NmeaLog nmea = ReadNmea(WriteFile(FreshScratchFolder("nmea") + "/gnss.nmea", log));
   EXPECT_EQ(nmea.skipped.Total(), 0);
   ASSERT_EQ(nmea.fixes.size(), 2u);
   const GnssFix* expected[] = {&north_east, &south_west};
@@ -110,7 +98,7 @@ TEST(WritersTest, RawlaserLineReadsBack) {
   EXPECT_NE(line.find(" wallcal-sim 1747031522.123456"), std::string::npos);
   EXPECT_EQ(line.find('\n'), std::string::npos);
 
-  CarmenReader reader(WriteText(Dir("carmen") + "/scans.clf", line + "\n"));
+  CarmenReader reader(WriteFile(FreshScratchFolder("carmen") + "/scans.clf", line + "\n"));
   ScanRecord read;
   ASSERT_TRUE(reader.Next(&read));
   EXPECT_DOUBLE_EQ(read.stamp_s, scan.stamp_s);
@@ -129,7 +117,7 @@ TEST(WritersTest, SurveyCsvReadsBack) {
                                            {"W001", "WALL1", 1.00249, -10.0131, 0.512, 0}};
   const std::string text = FormatSurveyCsv(points);
   EXPECT_EQ(text.rfind("id,x,y,z,code\n", 0), 0u);
-  const std::vector<SurveyPoint> read = ReadSurvey(WriteText(Dir("survey") + "/survey.csv", text));
+  const std::vector<SurveyPoint> read = ReadSurvey(WriteFile(FreshScratchFolder("survey") + "/survey.csv", text));
   ASSERT_EQ(read.size(), 2u);
   EXPECT_EQ(read[1].id, "W001");
   EXPECT_EQ(read[1].code, "WALL1");
@@ -139,7 +127,7 @@ TEST(WritersTest, SurveyCsvReadsBack) {
 }
 
 TEST(WritersTest, SessionYamlRoundTrips) {
-  const std::string dir = Dir("session");
+  const std::string dir = FreshScratchFolder("session");
   SessionSpec spec;
   spec.dir = dir;
   spec.name = "simulated";
@@ -153,7 +141,7 @@ TEST(WritersTest, SessionYamlRoundTrips) {
   spec.walls = {{"north", "WALL1"}, {"true", "yes"}};  // words YAML would take for booleans
   const std::string text = FormatSessionYaml(spec);
   EXPECT_NE(text.find("log: scans.clf\n"), std::string::npos) << text;  // relative to the folder
-  const SessionSpec read = ReadSession(WriteText(dir + "/session.yaml", text));
+  const SessionSpec read = ReadSession(WriteFile(dir + "/session.yaml", text));
   EXPECT_EQ(read.name, "simulated");
   EXPECT_FALSE(read.utm_zone.has_value());
   EXPECT_EQ(read.scanner_log, fs::path(spec.scanner_log).lexically_normal().string());
