@@ -115,9 +115,9 @@ TEST(EndToEndTest, SouthernHemisphereWestLongitude) { RunScenario("lms200_south_
 // points nor a tie).
 TEST(EndToEndTest, RoverSurveyedWallCalibratesWithoutATotalStation) {
   const sim::SimulationConfig config =
-      sim::ReadSimulationConfig(ScenarioPath("bench_lms291_rover"));
+      sim::ReadSimulationConfig(ShippedScenarioPath("bench_lms291_rover"));
   ASSERT_EQ(config.survey_mode, sim::SurveyMode::kRover);
-  const fs::path dir = FreshDir("rover_15");
+  const fs::path dir = FreshScratchDir("rover_15");
   WriteSimulatedSession(config, 15, dir.string());
   std::ifstream survey(dir / "survey.csv");
   std::string header;
