@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <future>
 #include <thread>
 #include <utility>
@@ -331,21 +332,23 @@ PassOutcome DetectionPass(const PassContext& context, const PassRequest& request
 
 int ShiftObservations(const PoseInterpolator& poses, double dt_s, double heading_shift_s,
                       std::vector<WallObservation>* observations) {
-  std::vector<WallObservation> kept;
-  kept.reserve(observations->size());
-  int dropped = 0;
-  for (WallObservation& o : *observations) {
+  // Compacted in place: a copy of an hour's observations would add to the run's peak memory.
+  std::vector<WallObservation>& all = *observations;
+  size_t kept = 0;
+  for (size_t i = 0; i < all.size(); ++i) {
+    WallObservation& o = all[i];
     VehiclePose pose;
     if (poses.At(o.pose.stamp_s + dt_s, o.pose.heading_shift_s + heading_shift_s, &pose) !=
         PoseStatus::kOk) {
-      ++dropped;
       continue;
     }
     pose.clock_shift_s = o.pose.clock_shift_s + dt_s;
     o.pose = pose;
-    kept.push_back(o);
+    if (kept != i) all[kept] = std::move(o);
+    ++kept;
   }
-  *observations = std::move(kept);
+  const int dropped = static_cast<int>(all.size() - kept);
+  all.erase(all.begin() + static_cast<std::ptrdiff_t>(kept), all.end());
   return dropped;
 }
 

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -71,28 +72,35 @@ size_t Bracket(const std::vector<Sample>& samples, double stamp_s) {
   return hi - 1;
 }
 
-// The bracketing pair (lo, lo + 1) of a stamp and its fraction f between them; false with the
-// reason in *failure when the stamp is outside the stream or the pair is further apart than
-// max_gap_s (then gap_status).
+// The samples a and b bracketing a stamp, and its fraction f of the way from a to b.
 template <typename Sample>
-bool Interval(const std::vector<Sample>& samples, double stamp_s, double max_gap_s,
-              PoseStatus gap_status, size_t* lo, double* f, PoseStatus* failure) {
+struct Span {
+  const Sample* a = nullptr;
+  const Sample* b = nullptr;
+  double f = 0.0;
+};
+
+// The span of a stamp; empty with the reason in *failure when the stamp is outside the stream or
+// its bracketing samples are further apart than max_gap_s (then gap_status).
+template <typename Sample>
+std::optional<Span<Sample>> SpanAt(const std::vector<Sample>& samples, double stamp_s,
+                                   double max_gap_s, PoseStatus gap_status, PoseStatus* failure) {
   if (!(stamp_s >= samples.front().stamp_s)) {
     *failure = PoseStatus::kBeforeStart;
-    return false;
+    return std::nullopt;
   }
   if (stamp_s > samples.back().stamp_s) {
     *failure = PoseStatus::kAfterEnd;
-    return false;
+    return std::nullopt;
   }
-  *lo = Bracket(samples, stamp_s);
-  const double t0_s = samples[*lo].stamp_s, t1_s = samples[*lo + 1].stamp_s;
-  if (t1_s - t0_s > max_gap_s) {
+  const size_t lo = Bracket(samples, stamp_s);
+  const Sample& a = samples[lo];
+  const Sample& b = samples[lo + 1];
+  if (b.stamp_s - a.stamp_s > max_gap_s) {
     *failure = gap_status;
-    return false;
+    return std::nullopt;
   }
-  *f = (stamp_s - t0_s) / (t1_s - t0_s);
-  return true;
+  return Span<Sample>{&a, &b, (stamp_s - a.stamp_s) / (b.stamp_s - a.stamp_s)};
 }
 
 // Cubic Hermite weights at fraction f of [t0, t1] with the tangents from central differences
@@ -133,28 +141,18 @@ PoseInterpolator::PoseInterpolator(std::vector<PositionSample> positions,
 
 bool PoseInterpolator::PositionAt(double stamp_s, Eigen::Vector2d* p_local_m, double* sigma_m,
                                   PoseStatus* failure) const {
-  size_t lo = 0;
-  double f = 0.0;
-  if (!Interval(positions_, stamp_s, gnss_max_gap_s_, PoseStatus::kGnssGap, &lo, &f, failure)) {
-    return false;
-  }
-  const PositionSample& a = positions_[lo];
-  const PositionSample& b = positions_[lo + 1];
-  *p_local_m = a.p_local_m + f * (b.p_local_m - a.p_local_m);
-  *sigma_m = a.sigma_m + f * (b.sigma_m - a.sigma_m);
+  const auto s = SpanAt(positions_, stamp_s, gnss_max_gap_s_, PoseStatus::kGnssGap, failure);
+  if (!s) return false;
+  *p_local_m = s->a->p_local_m + s->f * (s->b->p_local_m - s->a->p_local_m);
+  *sigma_m = s->a->sigma_m + s->f * (s->b->sigma_m - s->a->sigma_m);
   return true;
 }
 
 bool PoseInterpolator::YawAt(double stamp_s, double* yaw_rad, PoseStatus* failure) const {
-  size_t lo = 0;
-  double f = 0.0;
-  if (!Interval(yaws_, stamp_s, heading_max_gap_s_, PoseStatus::kHeadingGap, &lo, &f, failure)) {
-    return false;
-  }
-  const YawSample& a = yaws_[lo];
-  const YawSample& b = yaws_[lo + 1];
+  const auto s = SpanAt(yaws_, stamp_s, heading_max_gap_s_, PoseStatus::kHeadingGap, failure);
+  if (!s) return false;
   // The shorter arc: a vehicle does not turn by more than π between two heading samples.
-  *yaw_rad = WrapAngle(a.yaw_rad + f * WrapAngle(b.yaw_rad - a.yaw_rad));
+  *yaw_rad = WrapAngle(s->a->yaw_rad + s->f * WrapAngle(s->b->yaw_rad - s->a->yaw_rad));
   return true;
 }
 

@@ -34,4 +34,23 @@ CircularExtent CircularExtentOf(const std::vector<double>& angles_rad) {
   return extent;
 }
 
+CircularArc NarrowestArc(std::vector<double> angles_rad) {
+  CircularArc arc;
+  if (angles_rad.empty()) return arc;
+  std::sort(angles_rad.begin(), angles_rad.end());
+  double widest_gap_rad = angles_rad.front() + kTwoPi - angles_rad.back();
+  arc.start_rad = angles_rad.front();
+  arc.end_rad = angles_rad.back();
+  for (size_t k = 1; k < angles_rad.size(); ++k) {
+    const double gap_rad = angles_rad[k] - angles_rad[k - 1];
+    if (gap_rad > widest_gap_rad) {
+      widest_gap_rad = gap_rad;
+      arc.start_rad = angles_rad[k];
+      arc.end_rad = angles_rad[k - 1];
+    }
+  }
+  arc.width_rad = kTwoPi - widest_gap_rad;
+  return arc;
+}
+
 }  // namespace wallcal

@@ -22,4 +22,15 @@ struct CircularExtent {
 };
 CircularExtent CircularExtentOf(const std::vector<double>& angles_rad);
 
+// The narrowest arc holding every angle (rad, each within one turn of the others): the circle
+// minus the widest empty gap between neighbours. It runs counter-clockwise from start_rad to
+// end_rad (both angles of the set) and is width_rad = 2π − the widest gap wide; 0 for one
+// angle or none.
+struct CircularArc {
+  double start_rad = 0.0;
+  double end_rad = 0.0;
+  double width_rad = 0.0;
+};
+CircularArc NarrowestArc(std::vector<double> angles_rad);
+
 }  // namespace wallcal

@@ -397,6 +397,37 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
   return estimate;
 }
 
+MountEstimate ClockRoundStep(const std::vector<calib::WallObservation>& observations,
+                             const std::vector<calib::WallGeometry>& walls,
+                             const solvers::SolverOptions& options, const MountEstimate& before,
+                             const WarmStart& warm, WarmStart* ended, double observation_weight) {
+  const std::vector<double> weights =
+      observation_weight == 1.0 ? std::vector<double>()
+                                : std::vector<double>(observations.size(), observation_weight);
+  std::string error;
+  // The noise model's lever arms from the mount before, as the full solve would take them.
+  auto mp = BuildMountProblem(observations, walls, options, before.mount, before.mount, &error,
+                              weights);
+  if (!mp) return Refused(before.mount, EstimateFailure::kBadInput, error);
+  ApplyWarmStart(warm, mp.get());
+  solvers::SolverOptions step_options = options;
+  step_options.max_iterations = kClockRoundSteps;
+  MountEstimate estimate = SolveMountProblem(*mp, step_options, /*compute_covariance=*/false);
+  if (!estimate.usable) return estimate;
+  // The solve before's uncertainty and checks (see the header).
+  estimate.covariance = before.covariance;
+  estimate.time_covariance = before.time_covariance;
+  estimate.time_offset_sigma_s = before.time_offset_sigma_s;
+  estimate.heading_delay_sigma_s = before.heading_delay_sigma_s;
+  estimate.heading_drift_sigma_rad_per_s = before.heading_drift_sigma_rad_per_s;
+  estimate.forced = before.forced;
+  estimate.warnings = before.warnings;
+  estimate.weak_direction = before.weak_direction;
+  estimate.solution_state = std::make_shared<const WarmStart>(WarmStartFrom(*mp));
+  if (ended != nullptr) *ended = *estimate.solution_state;
+  return estimate;
+}
+
 Refit RefitMount(const std::vector<calib::WallObservation>& observations,
                  const std::vector<calib::WallGeometry>& walls, const solvers::SolverOptions& options,
                  const Mount& initial, const std::vector<double>& weights, int max_iterations,

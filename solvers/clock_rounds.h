@@ -19,6 +19,11 @@ struct ClockRoundRule {
   int max_rounds = 3;          // re-interpolations at most
   double sigma_fraction = 0.25;  // a change below this fraction of σ adds < 6 % to the variance
   double tolerance_s = 2e-4;     // and a change below this is not worth a solve whatever the σ
+  // A round that moves the poses by more than this (s, positions or headings) is a whole solve
+  // with its covariance, not ClockRoundStep's steps with the solve before's σ's: over 0.1 s of
+  // shift (bench (h), the scanner clock 150 ms behind) the first solve's σ's of the mount are
+  // 1–6 % off those at the shifted poses; over 28 ms (the speed bench's hour with drives) 4e-4.
+  double max_step_shift_s = 0.05;
 };
 
 // What a round that moves left_s into the poses would change the estimate by (s, signed), from

@@ -13,6 +13,7 @@
 #include "calib/geodesy.h"
 #include "calib/wall_geometry.h"
 #include "common/angles.h"
+#include "common/circular.h"
 #include "common/format.h"
 
 namespace wallcal::solvers {
@@ -67,17 +68,9 @@ ObservabilityReport CheckObservability(const std::vector<calib::WallObservation>
     phi_rad.push_back(phi);
     doubled_rad.push_back(WrapAngle(2.0 * phi));
   }
-  std::sort(doubled_rad.begin(), doubled_rad.end());
-  double widest_gap = doubled_rad.front() + 2.0 * kPi - doubled_rad.back();
-  double arc_start = doubled_rad.front();
-  for (size_t k = 1; k < doubled_rad.size(); ++k) {
-    const double gap = doubled_rad[k] - doubled_rad[k - 1];
-    if (gap > widest_gap) {
-      widest_gap = gap;
-      arc_start = doubled_rad[k];
-    }
-  }
-  report.angle_spread_rad = 0.5 * (2.0 * kPi - widest_gap);
+  const CircularArc doubled_arc = NarrowestArc(std::move(doubled_rad));
+  const double arc_start = doubled_arc.start_rad;
+  report.angle_spread_rad = 0.5 * doubled_arc.width_rad;
   // Mean axis, and the extreme φ about it (an observation of the opposite face counts on the
   // same axis).
   const double mean_axis_rad = WrapAngle(0.5 * arc_start + 0.5 * report.angle_spread_rad);
@@ -123,20 +116,10 @@ std::string HeadingArc(const std::vector<calib::WallObservation>& observations) 
   for (const auto& o : observations) {
     headings.push_back(WrapTwoPi(HeadingFromYaw(o.pose.yaw_rad)));
   }
-  std::sort(headings.begin(), headings.end());
-  double widest = headings.front() + 2.0 * kPi - headings.back();
-  double start = headings.front();
-  double end = headings.back();
-  for (size_t k = 1; k < headings.size(); ++k) {
-    const double gap = headings[k] - headings[k - 1];
-    if (gap > widest) {
-      widest = gap;
-      start = headings[k];
-      end = headings[k - 1];
-    }
-  }
+  const CircularArc arc = NarrowestArc(std::move(headings));
   char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.0f°–%.0f°", start * kRadToDeg, end * kRadToDeg);
+  std::snprintf(buffer, sizeof buffer, "%.0f°–%.0f°", arc.start_rad * kRadToDeg,
+                arc.end_rad * kRadToDeg);
   return buffer;
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "calib/detection_pass.h"
 #include "common/angles.h"
@@ -56,8 +57,9 @@ PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>
     outcome.estimate = SolveMountBarawid(*observations, walls, options, force);
     return outcome;
   }
-  // Each round starts where the last one ended (warm), and is not checked before its solve
-  // again: the geometry is the one the first solve checked.
+  // Each round starts where the last one ended (warm) and takes ClockRoundStep's steps, with
+  // the solve before's checks and σ's (the geometry is the one that solve checked); a round
+  // that moves the poses by more than rule.max_step_shift_s solves in full.
   WarmStart warm;
   outcome.estimate = SolveMountCeres(*observations, walls, options, initial, force, nullptr, &warm,
                                      observation_weight);
@@ -113,12 +115,17 @@ PolicyOutcome SolveWithPolicy(Method method, std::vector<calib::WallObservation>
     outcome.dropped_at_shifted_time +=
         calib::ShiftObservations(poses, position_move_s, delay_move_s, observations);
     WarmStart from = warm;
-    from.checked = !e.forced;
     from.time_offset_s -= position_move_s;  // what is left of each once the poses carry it
     from.heading_delay_s -= delay_move_s;
-    const Mount start = e.mount;           // e is overwritten below
-    outcome.estimate = SolveMountCeres(*observations, walls, options, start, force, &from, &warm,
-                                       observation_weight);
+    const MountEstimate before = std::move(outcome.estimate);  // e refers to it: not used below
+    if (std::max(std::abs(position_move_s), std::abs(heading_move_s)) > rule.max_step_shift_s) {
+      from.checked = !before.forced;
+      outcome.estimate = SolveMountCeres(*observations, walls, options, before.mount, force, &from,
+                                         &warm, observation_weight);
+    } else {
+      outcome.estimate =
+          ClockRoundStep(*observations, walls, options, before, from, &warm, observation_weight);
+    }
   }
   outcome.estimate.time_offset_s += shifted_s;
   outcome.estimate.heading_delay_s += heading_shifted_s;

@@ -31,7 +31,9 @@ struct PolicyOutcome {
 // Solves with `method` from `initial`; for ceres with an estimated clock offset, shifts the
 // positions of *observations to the estimated scan times (dt) and their headings by dt + δh, and
 // solves again (at most rule.max_rounds rounds), and reports the totals; each round is
-// warm-started where the last ended (WarmStart). Each shift is made only when the data
+// ClockRoundStep's two Gauss–Newton steps from where the last ended (WarmStart), with the solve
+// before's σ's, about half the first solve's cost (a shift beyond rule.max_step_shift_s: a
+// whole solve). Each shift is made only when the data
 // determine it (solvers::DelayDetermined; for the sum, σ below half its prior's) and the change
 // a round would make to it is beyond rule.tolerance_s and rule.sigma_fraction of its σ
 // (clock_rounds.h: before any round, all of what is left; after one, predicted from the

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "common/enum_text.h"
 #include "io/recording/mcap/internal/mcap_compression.h"
 #include "io/recording/mcap/internal/mcap_records.h"
 
@@ -26,14 +27,9 @@ uint32_t Crc(uint32_t crc, const std::vector<uint8_t>& bytes) {
 }
 
 const char* CompressionName(ChunkCompression c) {
-  switch (c) {
-    case ChunkCompression::kZstd:
-      return "zstd";
-    case ChunkCompression::kLz4:
-      return "lz4";
-    default:
-      return "";
-  }
+  static const EnumText<ChunkCompression> kTexts[] = {{ChunkCompression::kZstd, "zstd"},
+                                                      {ChunkCompression::kLz4, "lz4"}};
+  return TextOf(kTexts, c, "");
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "common/enum_text.h"
 #include "io/recording/rosbag1/internal/bag_compression.h"
 #include "io/recording/rosbag1/internal/rosbag1_records.h"
 #include "io/types.h"
@@ -25,14 +26,9 @@ int64_t SecondsToNs(double seconds) {
 }
 
 const char* CompressionName(ChunkCompression compression) {
-  switch (compression) {
-    case ChunkCompression::kBz2:
-      return "bz2";
-    case ChunkCompression::kLz4:
-      return "lz4";
-    default:
-      return "none";
-  }
+  static const EnumText<ChunkCompression> kTexts[] = {{ChunkCompression::kBz2, "bz2"},
+                                                      {ChunkCompression::kLz4, "lz4"}};
+  return TextOf(kTexts, compression, "none");
 }
 
 }  // namespace

@@ -544,6 +544,53 @@ TEST(SolveMountCeresTest, RecoversAKnownScannerClockOffsetFromMovingScans) {
   EXPECT_EQ(held.time_offset_s, 0.0);
 }
 
+// A clock round's steps (ClockRoundStep): where the solve ended they stay (nothing to move), and
+// started off the minimum in the clock offset by what a round leaves (a few of its σ) they land
+// where a full solve from the same start does, to a small fraction of every σ, with the solve
+// before's σ's carried.
+TEST(ClockRoundStepTest, OneStepLandsWhereTheFullSolveDoes) {
+  SimSettings settings;
+  settings.speed_mps = 1.0;
+  settings.yaw_rate_rps = 3.0 * kDegToRad;
+  settings.time_offset_s = 0.08;
+  settings.scans_per_station = 40;
+  settings.alternate_direction = true;
+  std::mt19937 rng(9);
+  const SimData data = Simulate(settings, rng);
+  const solvers::SolverOptions options = OptionsFor(settings);
+  WarmStart ended;
+  const MountEstimate solved = SolveMountCeres(data.observations, data.walls, options,
+                                               settings.truth, false, nullptr, &ended);
+  ASSERT_TRUE(solved.usable) << solved.message;
+  ASSERT_TRUE(solved.time_offset_estimated);
+  const Eigen::Vector3d sigma = Sigma(solved);
+  const double dt_sigma_s = solved.time_offset_sigma_s;
+
+  const MountEstimate still = ClockRoundStep(data.observations, data.walls, options, solved, ended,
+                                             nullptr);
+  ASSERT_TRUE(still.usable) << still.message;
+  EXPECT_LT(std::abs(still.time_offset_s - solved.time_offset_s), 0.01 * dt_sigma_s);
+  EXPECT_LT((Error(still, solved.mount).cwiseQuotient(sigma)).cwiseAbs().maxCoeff(), 0.01);
+
+  WarmStart off = ended;
+  off.time_offset_s += 3.0 * dt_sigma_s;
+  const MountEstimate step =
+      ClockRoundStep(data.observations, data.walls, options, solved, off, nullptr);
+  const MountEstimate full =
+      SolveMountCeres(data.observations, data.walls, options, solved.mount, false, &off);
+  ASSERT_TRUE(step.usable) << step.message;
+  ASSERT_TRUE(full.usable) << full.message;
+  EXPECT_LT(std::abs(step.time_offset_s - full.time_offset_s), 0.05 * dt_sigma_s)
+      << "step " << step.time_offset_s << " full " << full.time_offset_s;
+  // One step gets x 0.12 σ from the full solve here, where 3 σ of dt moves the moving scans'
+  // residuals past the robust loss's corner; the second step, with the weights redone, 0.04 σ.
+  EXPECT_LT((Error(step, full.mount).cwiseQuotient(sigma)).cwiseAbs().maxCoeff(), 0.1)
+      << (Error(step, full.mount).cwiseQuotient(sigma)).transpose();
+  EXPECT_EQ(step.time_offset_sigma_s, solved.time_offset_sigma_s);
+  EXPECT_TRUE(step.covariance.isApprox(solved.covariance));
+  EXPECT_NEAR(full.time_offset_sigma_s, step.time_offset_sigma_s, 0.05 * dt_sigma_s);
+}
+
 TEST(RefitMountTest, WeightsSelectStationsAndZeroWeightsDropThem) {
   SimSettings settings;
   std::mt19937 rng(4);

@@ -84,32 +84,33 @@ const std::string_view* Fields::Find(std::string_view name) const {
   return nullptr;
 }
 
-bool Fields::U8(std::string_view name, uint8_t* value) const {
+const uint8_t* Fields::Sized(std::string_view name, size_t size) const {
   const std::string_view* v = Find(name);
-  if (v == nullptr || v->size() != 1) return false;
-  *value = static_cast<uint8_t>((*v)[0]);
-  return true;
+  return v != nullptr && v->size() == size ? reinterpret_cast<const uint8_t*>(v->data()) : nullptr;
+}
+
+bool Fields::U8(std::string_view name, uint8_t* value) const {
+  const uint8_t* bytes = Sized(name, 1);
+  if (bytes != nullptr) *value = bytes[0];
+  return bytes != nullptr;
 }
 
 bool Fields::U32(std::string_view name, uint32_t* value) const {
-  const std::string_view* v = Find(name);
-  if (v == nullptr || v->size() != 4) return false;
-  *value = LoadU32(reinterpret_cast<const uint8_t*>(v->data()));
-  return true;
+  const uint8_t* bytes = Sized(name, 4);
+  if (bytes != nullptr) *value = LoadU32(bytes);
+  return bytes != nullptr;
 }
 
 bool Fields::U64(std::string_view name, uint64_t* value) const {
-  const std::string_view* v = Find(name);
-  if (v == nullptr || v->size() != 8) return false;
-  *value = LoadU64(reinterpret_cast<const uint8_t*>(v->data()));
-  return true;
+  const uint8_t* bytes = Sized(name, 8);
+  if (bytes != nullptr) *value = LoadU64(bytes);
+  return bytes != nullptr;
 }
 
 bool Fields::Time(std::string_view name, int64_t* time_ns) const {
-  const std::string_view* v = Find(name);
-  if (v == nullptr || v->size() != 8) return false;
-  *time_ns = LoadTimeNs(reinterpret_cast<const uint8_t*>(v->data()));
-  return true;
+  const uint8_t* bytes = Sized(name, 8);
+  if (bytes != nullptr) *time_ns = LoadTimeNs(bytes);
+  return bytes != nullptr;
 }
 
 std::string ParseFields(const uint8_t* data, size_t size, Fields* fields) {

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "common/enum_text.h"
 #include "io/recording/ros/ros_messages.h"
 #include "io/recording/rosbag1/internal/rosbag1_reader.h"
 #include "io/writers/rosbag1_writer.h"
@@ -307,14 +308,9 @@ Written WriteSample(const std::string& name, ChunkCompression compression, doubl
 }
 
 std::string CompressionLabel(ChunkCompression compression) {
-  switch (compression) {
-    case ChunkCompression::kBz2:
-      return "Bz2";
-    case ChunkCompression::kLz4:
-      return "Lz4";
-    default:
-      return "None";
-  }
+  static const EnumText<ChunkCompression> kTexts[] = {{ChunkCompression::kBz2, "Bz2"},
+                                                      {ChunkCompression::kLz4, "Lz4"}};
+  return TextOf(kTexts, compression, "None");
 }
 
 class WriterRoundTripTest : public ::testing::TestWithParam<ChunkCompression> {};

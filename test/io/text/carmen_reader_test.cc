@@ -64,7 +64,7 @@ TEST(CarmenReaderTest, ReadsRawlaser1) {
 TEST(CarmenReaderTest, ReadsOnFromWhereAnEarlierReaderStopped) {
   const std::string first = "PARAM x 1\n" + Rawlaser(181, 10.0) + "\r\n" + Rawlaser(181, 10.1) + "\n";
   const std::string third = Rawlaser(181, 10.2) + "\n";
-  const std::string path = WriteFile("growing.clf", first + third.substr(0, 40));
+  const std::string path = WriteScratchFile("growing.clf", first + third.substr(0, 40));
   int64_t third_byte = 0;
   int64_t second_line = 0;
   {

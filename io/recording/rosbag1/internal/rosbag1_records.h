@@ -57,6 +57,8 @@ struct Fields {
   std::vector<std::pair<std::string_view, std::string_view>> items;
   // The value of `name`, or nullptr when absent.
   const std::string_view* Find(std::string_view name) const;
+  // The bytes of `name` when it holds exactly `size` of them, else nullptr.
+  const uint8_t* Sized(std::string_view name, size_t size) const;
   // Fixed-size integer fields; false when absent or of the wrong size.
   bool U8(std::string_view name, uint8_t* value) const;
   bool U32(std::string_view name, uint32_t* value) const;
