@@ -27,7 +27,7 @@ const char* ErrorSourceName(ErrorSource source) {
       {ErrorSource::kSurvey, "survey points"},
       {ErrorSource::kControl, "control points (survey tie)"},
       {ErrorSource::kGnss, "GNSS position"}, {ErrorSource::kHeading, "heading"},
-      {ErrorSource::kScanner, "scanner noise"}};
+      {ErrorSource::kScanner, "scanner noise"}, {ErrorSource::kRover, "rover points"}};
   return TextOf(kTexts, source, "");
 }
 
@@ -35,7 +35,7 @@ const char* ErrorSourceKey(ErrorSource source) {
   static const EnumText<ErrorSource> kTexts[] = {
       {ErrorSource::kSurvey, "survey_points"}, {ErrorSource::kControl, "control_points"},
       {ErrorSource::kGnss, "gnss"}, {ErrorSource::kHeading, "heading"},
-      {ErrorSource::kScanner, "scanner_noise"}};
+      {ErrorSource::kScanner, "scanner_noise"}, {ErrorSource::kRover, "rover_points"}};
   return TextOf(kTexts, source, "");
 }
 
@@ -66,7 +66,14 @@ ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observ
   // one Ceres thread each; each slot is its own.
   std::array<Eigen::Vector3d, kNumErrorSources + 1> variances{};
   std::array<bool, kNumErrorSources + 1> ok{};
+  const int rover_slot = 1 + static_cast<int>(ErrorSource::kRover);
+  const bool any_rover = std::any_of(walls.begin(), walls.end(),
+                                     [](const calib::WallGeometry& w) { return w.from_rover; });
   ParallelFor(kNumErrorSources + 1, options.num_threads, [&](int slot) {
+    if (slot == rover_slot && !any_rover) {  // nothing to make exact: slot 0's variance
+      ok[slot] = true;
+      return;
+    }
     if (slot == 0) {
       ok[0] = covariance_of(base, walls, one_thread, &variances[0]);
       return;
@@ -78,8 +85,9 @@ ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observ
     switch (source) {
       case ErrorSource::kSurvey:
         // Keep only the tie's part of each wall's prior (calib/survey_tie.cc builds the two
-        // as a sum: fit + tie).
+        // as a sum: fit + tie). A rover's wall is the rover term's.
         for (calib::WallGeometry& wall : w) {
+          if (wall.from_rover) continue;
           const double tie_offset_var = wall.tie_sigma_translation_m * wall.tie_sigma_translation_m +
                                         std::pow(wall.tie_sigma_rotation_rad * wall.tie_lever_m, 2);
           const double tie_angle_var = wall.tie_sigma_rotation_rad * wall.tie_sigma_rotation_rad;
@@ -93,6 +101,7 @@ ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observ
       case ErrorSource::kControl:
         // Keep only the survey fit's part: remove the tie's.
         for (calib::WallGeometry& wall : w) {
+          if (wall.from_rover) continue;  // no tie
           const double tie_offset_var = wall.tie_sigma_translation_m * wall.tie_sigma_translation_m +
                                         std::pow(wall.tie_sigma_rotation_rad * wall.tie_lever_m, 2);
           const double tie_angle_var = wall.tie_sigma_rotation_rad * wall.tie_sigma_rotation_rad;
@@ -116,6 +125,15 @@ ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observ
       case ErrorSource::kHeading:
         o.heading_sigma_rad *= kExact;
         break;
+      case ErrorSource::kRover:
+        // A rover's wall has no tie: its whole prior is the rover points' fit.
+        for (calib::WallGeometry& wall : w) {
+          if (!wall.from_rover) continue;
+          wall.sigma_offset_m *= kExact;
+          wall.sigma_angle_rad *= kExact;
+          wall.cov_offset_angle *= kExact * kExact;
+        }
+        break;
       case ErrorSource::kScanner:
         obs = base;
         for (calib::WallObservation& ob : obs) {
@@ -128,6 +146,7 @@ ErrorBudget ComputeErrorBudget(const std::vector<calib::WallObservation>& observ
     ok[slot] = covariance_of(obs.empty() ? base : obs, w, o, &variances[slot]);
   });
   if (!ok[0]) return budget;
+  if (!any_rover) variances[rover_slot] = variances[0];
   budget.total_variance = variances[0];
   for (bool slot_ok : ok) {
     if (!slot_ok) return budget;

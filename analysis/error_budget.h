@@ -8,7 +8,8 @@
 // source's share. The shares need not add up to the whole: the remainder is what the
 // geometry of the session does with the sources together (reported as `other`).
 // Sessions of more than kMaxRefitObservations observations are thinned for it as the
-// repeatability's re-solves are (analysis/repeatability.h). The six re-solves run over
+// repeatability's re-solves are (analysis/repeatability.h). The re-solves (one per source with
+// something to make exact, and the whole) run over
 // options.num_threads threads; the result does not depend on the count.
 
 #include <array>
@@ -28,8 +29,9 @@ enum class ErrorSource {
   kGnss,      // the RTK position error (white and time-correlated)
   kHeading,   // heading noise
   kScanner,   // the scanner's range noise (the line fits)
+  kRover,     // rover points fitted to the walls (a GNSS-surveyed wall: no tie, no total station)
 };
-inline constexpr int kNumErrorSources = 5;
+inline constexpr int kNumErrorSources = 6;
 const char* ErrorSourceName(ErrorSource source);  // "survey points", "control points", ...
 const char* ErrorSourceKey(ErrorSource source);   // "survey_points", "control_points", ...
 

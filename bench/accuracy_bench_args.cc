@@ -82,6 +82,8 @@ std::vector<Scenario> Scenarios() {
       {"delays_continuous",
        "(d3) continuous driving, a car's weave (turns to 12.5 deg/s), the logger's delays",
        sim + "bench_lms291_delays_continuous.yaml", moving, true},
+      {"rover", "(k) (a) with the wall surveyed by an RTK rover (no total station, no control)",
+       sim + "bench_lms291_rover.yaml", matched, false},
   };
 }
 

@@ -28,6 +28,7 @@ const Eigen::Matrix2d kQuarterTurn = Rotation(0.5 * 3.14159265358979323846);
 // per wall), so that the numerical Jacobian of the lines with respect to the noise is the
 // linear propagation of the survey's errors.
 struct SurveyModel {
+  bool rover = false;  // survey_mode rover: the points in the GNSS frame, no control, no tie
   Eigen::Vector2d frame_origin_enu_m;
   double frame_rotation_rad = 0.0;
   std::vector<Eigen::Vector2d> control_enu_m;              // true positions
@@ -41,7 +42,26 @@ struct SurveyModel {
   }
 };
 
+// A rover's wall points: one at the foot of the wall every survey_spacing_m, in the GNSS frame.
+SurveyModel MakeRoverSurveyModel(const sim::SimulationConfig& config) {
+  SurveyModel model;
+  model.rover = true;
+  model.frame_origin_enu_m.setZero();
+  for (const auto& w : config.walls) {
+    if (w.code.empty()) continue;
+    const Eigen::Vector2d w0(w.x0_m, w.y0_m), w1(w.x1_m, w.y1_m);
+    const double length_m = (w1 - w0).norm();
+    const double spacing_m = w.survey_spacing_m > 0.0 ? w.survey_spacing_m : 1.0;
+    const int steps = static_cast<int>(std::floor(length_m / spacing_m + 1e-9));
+    std::vector<Eigen::Vector2d> points;
+    for (int k = 0; k <= steps; ++k) points.push_back(w0 + (k * spacing_m / length_m) * (w1 - w0));
+    model.wall_points_enu_m.push_back(points);
+  }
+  return model;
+}
+
 SurveyModel MakeSurveyModel(const sim::SimulationConfig& config) {
+  if (config.survey_mode == sim::SurveyMode::kRover) return MakeRoverSurveyModel(config);
   SurveyModel model;
   model.frame_origin_enu_m = {config.survey_origin_x_m, config.survey_origin_y_m};
   model.frame_rotation_rad = config.survey_rotation_rad;
@@ -92,8 +112,12 @@ Eigen::VectorXd WallLines(const SurveyModel& model, const Eigen::VectorXd& noise
     sum_dot += u.dot(v);
     sum_cross += u.x() * v.y() - u.y() * v.x();
   }
-  const Eigen::Matrix2d R = Rotation(std::atan2(sum_cross, sum_dot));
-  const Eigen::Vector2d t = b_mean - R * a_mean;
+  Eigen::Matrix2d R = Rotation(std::atan2(sum_cross, sum_dot));
+  Eigen::Vector2d t = b_mean - R * a_mean;
+  if (model.rover) {  // no tie: the points are in the GNSS frame
+    R.setIdentity();
+    t.setZero();
+  }
 
   Eigen::VectorXd lines(2 * model.wall_points_enu_m.size());
   for (size_t w = 0; w < model.wall_points_enu_m.size(); ++w) {
@@ -124,7 +148,7 @@ Eigen::MatrixXd WallLineCovariance(const SurveyModel& model, const sim::Simulati
   const int n = model.NoiseSize();
   const int nc = static_cast<int>(model.control_enu_m.size());
   Eigen::VectorXd sigma(n);
-  sigma.setConstant(config.total_station_sigma_m);
+  sigma.setConstant(model.rover ? config.rover_sigma_m : config.total_station_sigma_m);
   sigma.segment(2 * nc, 2 * nc).setConstant(config.control_sigma_m);
   *truth = WallLines(model, Eigen::VectorXd::Zero(n));
   const int m = static_cast<int>(truth->size());

@@ -48,6 +48,9 @@ struct WallGeometry {
   double tie_lever_m = 0.0;
   int num_points = 0;
   double rms_m = 0.0;  // total-least-squares residual RMS of the surveyed points
+  // Its points were measured by a GNSS rover (a geodetic survey): then sigma_offset_m and
+  // sigma_angle_rad are the rover points' fit alone, and there is no tie.
+  bool from_rover = false;
 };
 
 // The scanner mount: vehicle_T_scanner, the scanner's origin and x axis in the vehicle frame

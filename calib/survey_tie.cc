@@ -264,10 +264,15 @@ std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
   std::vector<WallGeometry> walls;
   for (const io::WallSpec& wall_spec : spec.walls) {
     std::vector<Eigen::Vector2d> points;
+    std::vector<double> sigmas_m;  // each point's σ per axis: the file's (a rover's), or the
+                                   // total station's
+    bool from_rover = true;
     for (const io::SurveyPoint& point : survey) {
       if (!SameSurveyCode(point.code, wall_spec.code)) continue;
       points.push_back(tie.local_R_survey * Eigen::Vector2d(point.x_m, point.y_m) +
                        tie.local_t_survey);
+      sigmas_m.push_back(point.sigma_m > 0.0 ? point.sigma_m : options.total_station_sigma_m);
+      from_rover = from_rover && point.frame == io::SurveyFrame::kGeodetic;
     }
     const int n = static_cast<int>(points.size());
     if (n < 2) {
@@ -290,6 +295,8 @@ std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
     const Eigen::Vector2d normal(-direction.y(), direction.x());
 
     double along_min_m = 0.0, along_max_m = 0.0, along_sq_m2 = 0.0, across_sq_m2 = 0.0;
+    // Σσ², Σsσ², Σs²σ² over the points (s: along the wall from the centroid), for the fit's σ.
+    double var_sum_m2 = 0.0, along_var_sum_m3 = 0.0, along_sq_var_sum_m4 = 0.0;
     for (int i = 0; i < n; ++i) {
       const double along_m = direction.dot(points[i] - centroid);
       const double across_m = normal.dot(points[i] - centroid);
@@ -297,6 +304,10 @@ std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
       along_max_m = i == 0 ? along_m : std::max(along_max_m, along_m);
       along_sq_m2 += along_m * along_m;
       across_sq_m2 += across_m * across_m;
+      const double var_m2 = sigmas_m[i] * sigmas_m[i];
+      var_sum_m2 += var_m2;
+      along_var_sum_m3 += along_m * var_m2;
+      along_sq_var_sum_m4 += along_m * along_m * var_m2;
     }
     const double span_m = along_max_m - along_min_m;
     if (span_m < kMinWallSpanM) {
@@ -316,13 +327,16 @@ std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
     wall.num_points = n;
     wall.rms_m = std::sqrt(across_sq_m2 / n);
 
-    // Fit: offset at the centroid σ²/n, direction σ²/Σs², the two independent; moved to the
-    // wall's centre (along-coordinate s_c) the offset picks up s_c·δθ.
-    const double sigma_ts_m = options.total_station_sigma_m;
-    const double var_angle_fit = sigma_ts_m * sigma_ts_m / along_sq_m2;
+    // Fit (each point off the line by its own σ_i, independent): the offset at the centroid
+    // is the points' mean across, Σσ²/n²; the direction Σ s_i e_i / Σs², so Σs²σ²/(Σs²)²; their
+    // covariance Σsσ²/(n Σs²) (0 when every σ_i is the same). Moved to the wall's centre
+    // (along-coordinate s_c) the offset picks up s_c·δθ.
+    const double var_angle_fit = along_sq_var_sum_m4 / (along_sq_m2 * along_sq_m2);
+    const double var_centroid_fit = var_sum_m2 / (static_cast<double>(n) * n);
+    const double cov_centroid_fit = along_var_sum_m3 / (n * along_sq_m2);
     const double centre_along_m = 0.5 * (along_min_m + along_max_m);
-    const double var_offset_fit =
-        sigma_ts_m * sigma_ts_m / n + centre_along_m * centre_along_m * var_angle_fit;
+    const double var_offset_fit = var_centroid_fit + 2.0 * centre_along_m * cov_centroid_fit +
+                                  centre_along_m * centre_along_m * var_angle_fit;
     // Tie: the whole survey shifts by the translation error and turns about the control
     // centroid; only the along-wall component of the lever moves the wall along its normal.
     const Eigen::Vector2d centre = 0.5 * (wall.end_a_local + wall.end_b_local);
@@ -332,8 +346,9 @@ std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
     wall.sigma_offset_m = std::sqrt(var_offset_fit + var_offset_tie);
     wall.sigma_angle_rad =
         std::sqrt(var_angle_fit + tie.sigma_rotation_rad * tie.sigma_rotation_rad);
-    wall.cov_offset_angle = centre_along_m * var_angle_fit +
+    wall.cov_offset_angle = cov_centroid_fit + centre_along_m * var_angle_fit +
                             tie.sigma_rotation_rad * tie.sigma_rotation_rad * lever_m;
+    wall.from_rover = from_rover;
     wall.tie_sigma_translation_m = tie.sigma_translation_m;
     wall.tie_sigma_rotation_rad = tie.sigma_rotation_rad;
     wall.tie_lever_m = lever_m;

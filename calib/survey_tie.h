@@ -72,9 +72,11 @@ bool SameSurveyCode(const std::string& a, const std::string& b);
 // its last; normal_local = direction rotated +90° (counter-clockwise); offset_m = normal · p.
 // end_a/end_b: the extreme projections of the points onto the line (end_a towards the first
 // point). sigma_offset_m (along the normal at the wall's centre, the midpoint of end_a/end_b)
-// and sigma_angle_rad combine the fit (sigmas.total_station_sigma_m per point) and the tie
-// (translation σ, and rotation σ times the centre's distance along the wall from the control
-// centroid). rms_m: RMS of the points' distances to the fitted line.
+// and sigma_angle_rad combine the fit (each point's sigma_m, a rover's, or else
+// sigmas.total_station_sigma_m) and the tie (translation σ, and rotation σ times the centre's
+// distance along the wall from the control centroid; nothing for a rover survey, whose tie is
+// the identity). from_rover: every point of the wall is a rover's. rms_m: RMS of the points'
+// distances to the fitted line.
 // Throws io::InputError (io::Where(survey_file, 0, ...)) naming the wall id and code (and the
 // codes the survey has) when the wall has fewer than 2 points, or when its points span less
 // than 0.5 m.

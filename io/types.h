@@ -127,8 +127,16 @@ enum class SurveySource {
   kPolarFromOrigin,  // a GSI polar observation before any set-up: station at the local origin
 };
 
-// One total-station point, in the survey's local right-handed frame (ground metres): x east,
-// y north, z up (a file's N/E columns or GSI words are mapped so).
+// The frame a survey point's coordinates are in (docs/survey-files.md).
+enum class SurveyFrame {
+  kLocal,     // the total station's own frame: x_m, y_m, z_m
+  kGeodetic,  // a GNSS rover's: lat_deg, lon_deg and the ellipsoidal height in z_m, in the
+              // GNSS's datum; x_m, y_m stay 0 until calib::GeodeticSurveyToLocal places them
+};
+
+// One surveyed point. A total-station point is in the survey's local right-handed frame
+// (ground metres): x east, y north, z up (a file's N/E columns or GSI words are mapped so).
+// A rover point (frame kGeodetic) is in latitude, longitude (degrees) and ellipsoidal height.
 struct SurveyPoint {
   std::string id;
   std::string code;
@@ -138,12 +146,22 @@ struct SurveyPoint {
   int line = 0;          // 1-based line in the survey file (combined: the first observation's)
   int observations = 1;  // how many observations were averaged into this point (>= 1)
   SurveySource source = SurveySource::kCoordinates;
+  SurveyFrame frame = SurveyFrame::kLocal;
+  double lat_deg = 0.0;  // kGeodetic only, WGS84 / the GNSS's datum
+  double lon_deg = 0.0;
+  // Horizontal 1σ per axis (m) the file gives for this point (a rover's precision column);
+  // 0: not given (the session's or the solver's σ applies).
+  double sigma_m = 0.0;
 };
 
 // The columns of a survey CSV (session.yaml `survey.columns`): named by a header row, or a
 // headerless file with point, northing, easting, elevation[, description] (PNEZD) or point,
 // easting, northing, elevation[, description] (PENZD).
 enum class SurveyColumns { kHeader, kPNEZD, kPENZD };
+
+// A rover-surveyed wall point's horizontal 1σ per axis (m) when neither the survey file nor
+// survey.point_sigma_m gives one: an RTK fix held on a pole for a few seconds.
+inline constexpr double kDefaultRoverPointSigmaM = 0.010;
 
 // A survey point whose WGS84 position RTK-GNSS also measured.
 struct ControlPoint {
@@ -242,8 +260,11 @@ struct SessionSpec {
 
   std::string survey_points;  // resolved path
   SurveyColumns survey_columns = SurveyColumns::kHeader;  // CSV only; a GSI file is recognised
-  std::vector<ControlPoint> control;
+  std::vector<ControlPoint> control;  // empty for a rover survey (no tie)
   std::optional<double> survey_rotation_rad;  // Barawid 2007 Eq. 4-5 rotation, single control point
+  // survey.point_sigma_m: a rover point's horizontal 1σ per axis (m) where the survey file
+  // gives none; unset: kDefaultRoverPointSigmaM. Applies to rover (geodetic) surveys only.
+  std::optional<double> survey_point_sigma_m;
 
   std::vector<WallSpec> walls;
   std::optional<AntennaInBase> antenna_in_base;

@@ -269,10 +269,13 @@ std::string ReportBuilder::SiteMapSection() {
   s << Figure(plot.Svg("Site map"),
               "Local ground frame of the session (UTM zone " + N(r_.frame.zone) +
                   (r_.frame.north ? "N" : "S") +
-                  " grid axes, origin at the first control point, ground metres). Stations are "
-                  "numbered in time order. Control point tie RMS " +
-                  F("%.1f", r_.control_rms_m * 1000) + " mm over " + N(r_.num_control) +
-                  " points." + Esc(note));
+                  " grid axes, origin at the first control point, or the first rover point, "
+                  "ground metres). Stations are numbered in time order. " +
+                  (r_.num_control > 0 ? "Control point tie RMS " +
+                                            F("%.1f", r_.control_rms_m * 1000) + " mm over " +
+                                            N(r_.num_control) + " points."
+                                      : std::string("Walls surveyed by a GNSS rover: no tie.")) +
+                  Esc(note));
   s << "</section>\n";
   return s.str();
 }

@@ -45,12 +45,30 @@ std::string FormatSummary(const CalibrationResult& result) {
                   static_cast<long long>(g.fixes));
     out << line;
   }
+  if (const calib::MeasuredWhiteNoise& m = result.measured_noise;
+      m.gnss_white_sigma_m > 0.0 || m.heading_sigma_rad > 0.0) {
+    const bool used = result.options.solver.use_measured_white_noise;
+    std::snprintf(line, sizeof(line),
+                  "  noise      white noise at the stops: GNSS %.4f m, heading %.4f deg (0: too "
+                  "few samples); %s solver.gnss_white_sigma_m %.4f m, heading_sigma_deg %.4f deg\n",
+                  m.gnss_white_sigma_m, m.heading_sigma_rad * kRadToDeg,
+                  used ? "used instead of" : "not used (use_measured_white_noise: false), kept",
+                  result.configured_gnss_white_sigma_m,
+                  result.configured_heading_sigma_rad * kRadToDeg);
+    out << line;
+  }
+  const bool rover = !result.walls.empty() && result.walls.front().from_rover;
+  char tie[96];
+  if (rover) {
+    std::snprintf(tie, sizeof(tie), "rover points (no tie)");
+  } else {
+    std::snprintf(tie, sizeof(tie), "%d control points (RMS %.4f m)", result.num_control,
+                  result.control_rms_m);
+  }
   std::snprintf(line, sizeof(line),
-                "  survey     %d control points (RMS %.4f m), %zu wall(s), UTM zone %d%s, "
-                "convergence %.3f deg, scale %.6f\n",
-                result.num_control, result.control_rms_m, result.walls.size(), result.frame.zone,
-                result.frame.north ? "N" : "S", result.frame.convergence_rad * kRadToDeg,
-                result.frame.scale_k0);
+                "  survey     %s, %zu wall(s), UTM zone %d%s, convergence %.3f deg, scale %.6f\n",
+                tie, result.walls.size(), result.frame.zone, result.frame.north ? "N" : "S",
+                result.frame.convergence_rad * kRadToDeg, result.frame.scale_k0);
   out << line;
   std::snprintf(line, sizeof(line),
                 "  geometry   %d stations, %d GNSS-error slices, grid headings %.1f..%.1f deg, "

@@ -21,6 +21,7 @@
 #include "pipeline/calibrate_options.h"
 #include "io/types.h"
 #include "analysis/error_budget.h"
+#include "calib/white_noise.h"
 #include "pipeline/report_data.h"
 #include "pipeline/run_warnings.h"
 #include "pipeline/verdict.h"
@@ -103,6 +104,12 @@ struct CalibrationResult {
   // when not a preview or when the run stopped before the second pass.
   std::optional<calib::ScanLogTally> scan_log;
   calib::LocalFrame frame;
+  // The GNSS and heading white noise measured at the stops (calib/white_noise.h); with
+  // solver.use_measured_white_noise, options.solver.gnss_white_sigma_m and heading_sigma_rad are
+  // each its measure where there is one, and the configured_ values keep the configured ones.
+  calib::MeasuredWhiteNoise measured_noise;
+  double configured_gnss_white_sigma_m = 0.0;
+  double configured_heading_sigma_rad = 0.0;
   double control_rms_m = 0.0;
   int num_control = 0;
   int num_dwells = 0;

@@ -180,6 +180,15 @@ void CheckTrackNearWalls(const std::vector<Eigen::Vector2d>& track_local_m,
   const double distance_m = TrackToWallsDistance(track_local_m, walls);
   const double reach_m = preset.max_range_m + 20.0;
   if (distance_m <= reach_m) return;
+  if (session.control.empty()) {  // a rover survey: its points are in the GNSS frame
+    throw io::InputError(io::Where(
+        session.survey_points, 0,
+        Format("the GNSS track passes no closer than %.0f m to the walls of the rover survey "
+               "(the scanner reaches %.0f m): the rover points are not where the vehicle drove; "
+               "check their latitude and longitude (swapped? a digit wrong?), and that the GNSS "
+               "log is from this site",
+               distance_m, preset.max_range_m)));
+  }
   std::string control_ids;
   for (const io::ControlPoint& c : session.control) {
     control_ids += (control_ids.empty() ? "" : ", ") + c.id;

@@ -32,6 +32,9 @@ const char* AdviceFor(analysis::ErrorSource source) {
       return "add stations, or use a heading sensor with less noise";
     case analysis::ErrorSource::kScanner:
       return "stay longer at each station (more scans), or use a scanner with less range noise";
+    case analysis::ErrorSource::kRover:
+      return "measure more rover points along the wall, over a longer stretch of it, each held "
+             "longer in RTK fixed (docs/field-guide.md)";
   }
   return "";
 }

@@ -92,45 +92,6 @@ Setup LoadSessionAndOptions(const CalibrateRequest& request) {
   return setup;
 }
 
-SurveyStep TieSurveyAndFitWalls(const io::SessionSpec& session,
-                                const solvers::SolverOptions& solver, bool swap_survey_axes) {
-  SurveyStep step;
-  // Points measured more than once (both faces, two set-ups) are averaged (io/survey_reader.h).
-  const io::SurveyCombination combined = io::CombineSurveyObservations(
-      io::ReadSurvey(session.survey_points, session.survey_columns));
-  step.survey = combined.points;
-  if (swap_survey_axes) {
-    for (io::SurveyPoint& p : step.survey) std::swap(p.x_m, p.y_m);
-  }
-  for (const std::string& w : combined.warnings) {
-    step.warnings.push_back({WarningKind::kSurveyPoints, w});
-  }
-  const io::ControlPoint& first_control = session.control.front();
-  try {
-    step.frame =
-        calib::MakeLocalFrame(first_control.lat_deg, first_control.lon_deg, session.utm_zone);
-  } catch (const io::InputError& e) {
-    // The frame comes from session.yaml's first control point and utm_zone: name the line.
-    throw io::InputError(io::Where(session.file, first_control.line,
-                                   std::string("survey.control[0] / utm_zone: ") + e.what()));
-  }
-  // Before the tie: a mirrored survey would fail it with a message about one control point.
-  CheckSurveyNotMirrored(step.survey, session, step.frame);
-  step.tie =
-      calib::TieSurvey(step.survey, session.survey_points, session, step.frame, solver.survey());
-  step.walls =
-      calib::FitWalls(step.survey, session.survey_points, session, step.tie, solver.survey());
-  if (step.tie.num_control >= 2 &&
-      step.tie.control_rms_m >
-          3.0 * std::hypot(solver.control_sigma_m, solver.total_station_sigma_m)) {
-    step.warnings.push_back({WarningKind::kControlFit,
-                             "control points fit the survey with RMS " +
-                                 Format("%.3f", step.tie.control_rms_m) +
-                                 " m, more than 3x the expected RTK + total-station error"});
-  }
-  return step;
-}
-
 PoseStep ReadPoses(const CalibrationResult& result) {
   PoseStep step;
   const io::SessionSpec& session = result.session;
@@ -212,6 +173,11 @@ PoseStep ReadPoses(const CalibrationResult& result) {
                                    "fewer than 2 usable HDT/THS headings; expected a heading log"));
   }
   step.poses = std::make_unique<calib::PoseInterpolator>(positions, yaws, options.alignment);
+  // A moving scan carries one interpolated pose, so its σ is the sensors' white noise in full:
+  // measured at the stops where they hold enough samples (RunCalibration uses it instead of
+  // the configured fallbacks, which inflated the σ of sessions with drives when above the
+  // receiver's).
+  step.measured_noise = calib::MeasureWhiteNoise(positions, yaws, step.poses->dwells());
   if (options.solver.gnss_bias_tau_s > 0.0 &&
       options.alignment.segment_max_s > options.solver.gnss_bias_tau_s / 60.0) {
     // The solver holds the RTK error constant within a slice; over a long slice it wanders and

@@ -15,6 +15,7 @@
 #include "calib/detection_pass.h"
 #include "calib/survey_tie.h"
 #include "calib/time_alignment.h"
+#include "calib/white_noise.h"
 #include "io/types.h"
 #include "pipeline/calibration.h"
 #include "pipeline/run_warnings.h"
@@ -89,6 +90,8 @@ struct PoseStep {
   int64_t fixes_used = 0;
   int64_t headings_used = 0;
   int num_dwells = 0;
+  // The GNSS and heading white noise at the dwells (calib/white_noise.h).
+  calib::MeasuredWhiteNoise measured_noise;
   Warnings warnings;
 };
 PoseStep ReadPoses(const CalibrationResult& result);

@@ -13,6 +13,7 @@
 
 #include "calib/geodesy.h"
 #include "calib/pose_samples.h"
+#include "calib/rover_survey.h"
 #include "calib/survey_tie.h"
 #include "calib/time_alignment.h"
 #include "common/angles.h"
@@ -110,15 +111,33 @@ SessionInspection InspectOneScanner(const std::string& session_path,
                                   spec.utm_zone);
   }
   try {
+    std::vector<io::SurveyPoint> observations =
+        io::ReadSurvey(spec.survey_points, spec.survey_columns);
+    const bool rover = calib::IsRoverSurvey(observations);
+    if (rover) {
+      // Rover points are where the GNSS is: no tie (calib/rover_survey.h).
+      if (!spec.control.empty()) {
+        throw io::InputError(io::Where(spec.file, spec.control.front().line,
+                                       "survey.control given for a rover survey (latitude, "
+                                       "longitude); expected no survey.control"));
+      }
+      frame = calib::RoverSurveyFrame(observations, spec.survey_points, spec.utm_zone);
+      observations = calib::PlaceRoverPoints(
+          observations, spec.survey_points, *frame,
+          spec.survey_point_sigma_m.value_or(io::kDefaultRoverPointSigmaM));
+    }
     const std::vector<io::SurveyPoint> survey =
-        io::CombineSurveyObservations(io::ReadSurvey(spec.survey_points, spec.survey_columns))
-            .points;
-    out << "  points    " << survey.size() << " in " << FileName(spec.survey_points) << "\n";
+        io::CombineSurveyObservations(observations).points;
+    out << "  points    " << survey.size() << " in " << FileName(spec.survey_points)
+        << (rover ? " (rover: latitude, longitude)" : "") << "\n";
     if (!frame) throw io::InputError(io::Where(spec.file, 0, "no survey.control points"));
     const calib::SurveyTie tie =
-        calib::TieSurvey(survey, spec.survey_points, spec, *frame, options.solver.survey());
+        rover ? calib::RoverTie()
+              : calib::TieSurvey(survey, spec.survey_points, spec, *frame, options.solver.survey());
     out << "  control   " << tie.num_control << " points";
-    if (tie.num_control >= 2) {
+    if (rover) {
+      out << " (rover points need no tie)\n";
+    } else if (tie.num_control >= 2) {
       out << ", fit RMS " << Fmt("%.1f", 1000.0 * tie.control_rms_m) << " mm\n";
       for (const calib::ControlResidual& r : tie.control_residuals) {
         out << "    " << r.id << "  residual east " << Fmt("%+.1f", 1000.0 * r.residual_m.x())

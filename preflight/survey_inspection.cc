@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 
+#include "calib/rover_survey.h"
 #include "io/survey/survey_reader.h"
 #include "io/version.h"
 #include "preflight/inspect.h"
@@ -34,14 +35,32 @@ std::string ExtentOf(const std::vector<double>& values) {
 
 std::string InspectSurveyFile(const std::string& path) {
   const io::SurveyFileKind kind = io::SniffSurveyFile(path);
-  const std::vector<io::SurveyPoint> observations = io::ReadSurvey(path);
+  std::vector<io::SurveyPoint> observations = io::ReadSurvey(path);
+  const bool rover = calib::IsRoverSurvey(observations);
+  int file_sigmas = 0;
+  if (rover) {
+    // Placed as calibrate places them (east and north of the first point), so that repeated
+    // points combine and the extents read in metres.
+    for (const io::SurveyPoint& p : observations) file_sigmas += p.sigma_m > 0.0;
+    const calib::LocalFrame frame = calib::RoverSurveyFrame(observations, path, std::nullopt);
+    observations =
+        calib::PlaceRoverPoints(observations, path, frame, io::kDefaultRoverPointSigmaM);
+  }
   const io::SurveyCombination combined = io::CombineSurveyObservations(observations);
   std::ostringstream out;
   out << "wallcal inspect " << io::kToolVersion << ": survey file " << path << "\n";
   out << "  format    "
       << (kind.format == io::SurveyFormat::kGsi ? std::string("Leica GSI")
-                                                : "CSV, " + DelimiterName(kind.delimiter))
+          : rover ? "rover CSV (latitude, longitude, ellipsoidal height), " +
+                        DelimiterName(kind.delimiter)
+                  : "CSV, " + DelimiterName(kind.delimiter))
       << "\n";
+  if (rover) {
+    out << "  frame     x, y: metres east and north of the first point; z: ellipsoidal height; "
+        << file_sigmas << " of " << observations.size()
+        << " points carry their own σ (the others: survey.point_sigma_m, default "
+        << Fmt("%.3f", io::kDefaultRoverPointSigmaM) << " m)\n";
+  }
   out << "  points    " << observations.size() << " observations, " << combined.points.size()
       << " points (" << combined.repeated_points << " measured more than once";
   if (combined.repeated_points > 0) {
@@ -66,7 +85,8 @@ std::string InspectSurveyFile(const std::string& path) {
       << "            z (up)    " << ExtentOf(z) << "\n";
   for (const std::string& w : combined.warnings) out << "  warning: " << w << "\n";
   out << "  (name it in session.yaml as survey.points; walls: pick their codes above, matched "
-         "without case)\n";
+         "without case"
+      << (rover ? "; no survey.control: rover points need no tie" : "") << ")\n";
   return out.str();
 }
 

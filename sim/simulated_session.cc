@@ -113,11 +113,14 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
   spec.heading_log = (folder / "heading.nmea").string();
   spec.survey_points = (folder / "survey.csv").string();
   spec.control = sim.control;
+  const bool rover = config.survey_mode == sim::SurveyMode::kRover;
+  if (rover) spec.survey_point_sigma_m = config.rover_sigma_m;
   spec.walls = sim.walls;
   try {
     io::WriteFileAtomically(spec.gnss_log, gnss_text);
     io::WriteFileAtomically(spec.heading_log, heading_text);
-    io::WriteFileAtomically(spec.survey_points, io::FormatSurveyCsv(sim.survey));
+    io::WriteFileAtomically(spec.survey_points, rover ? io::FormatRoverSurveyCsv(sim.survey)
+                                                           : io::FormatSurveyCsv(sim.survey));
     io::WriteFileAtomically((folder / "truth.yaml").string(), sim::FormatTruthYaml(config, seed));
     for (size_t k = 0; k < runs.size(); ++k) fs::rename(written[k], runs[k].second);
     // session.yaml last: a folder with a session.yaml is a complete session.

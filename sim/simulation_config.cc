@@ -29,6 +29,17 @@ void ReadOptionalKeys(io::OptionsMap& section, SimulationConfig& config) {
     item.Number("scanner_time_offset_s", scanner.scanner_time_offset_s);
     item.Number("scanner_latency_s", scanner.scanner_latency_s);
   });
+  std::string survey_mode =
+      config.survey_mode == SurveyMode::kRover ? "rover" : "total_station";
+  section.Text("survey_mode", survey_mode);
+  if (survey_mode == "rover") {
+    config.survey_mode = SurveyMode::kRover;
+  } else if (survey_mode == "total_station") {
+    config.survey_mode = SurveyMode::kTotalStation;
+  } else {
+    Fail("simulation.survey_mode", "total_station or rover", survey_mode);
+  }
+  section.Number("rover_sigma_m", config.rover_sigma_m);
   section.Section("scanner_truth", [&config](io::OptionsMap& truth) {
     truth.Number("n", config.truth_scale_n);
     truth.Number("c_m", config.truth_offset_c_m);
@@ -119,6 +130,7 @@ void SimulationConfig::Validate() const {
   CheckNonNegative(s + "station_distance_far_m", station_distance_far_m);
   CheckRange(s + "drive_reverse_m", drive_reverse_m, 0.0, 100.0);
   CheckRange(s + "weave_turn_deg", weave_turn_rad * kRadToDeg, 0.0, 90.0);
+  CheckRange(s + "rover_sigma_m", rover_sigma_m, 1e-4, 1.0);
   for (size_t i = 0; i < scanners.size(); ++i) {
     const SimScanner& scanner = scanners[i];
     const std::string k = s + "scanners[" + std::to_string(i) + "].";
@@ -224,6 +236,10 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
              ", scanner_time_offset_s: " + io::ShortestNumber(scanner.scanner_time_offset_s) +
              ", scanner_latency_s: " + io::ShortestNumber(scanner.scanner_latency_s) + "}\n";
     }
+  }
+  if (config.survey_mode == SurveyMode::kRover) {
+    out += "  survey_mode: rover\n";
+    out += "  rover_sigma_m: " + io::ShortestNumber(config.rover_sigma_m) + "\n";
   }
   if (config.HasScannerTruth()) {
     std::string truth;

@@ -57,6 +57,9 @@ struct SimScanner {
   double scanner_latency_s = 0.0;
 };
 
+// How the simulated crew surveys the walls (SimulationConfig::survey_mode).
+enum class SurveyMode { kTotalStation, kRover };
+
 struct SimulationConfig {
   // Site
   double site_lat_deg = 43.07;
@@ -112,7 +115,12 @@ struct SimulationConfig {
   double heading_white_sigma_rad = 0.0009;  // 0.05 deg
   double heading_drift_rad_per_s = 2.42e-6;  // 0.5 deg/h (Barawid 2007 FOG)
   double heading_bias_rad = 0.0;             // constant heading-sensor zero offset
-  // Survey
+  // Survey. kTotalStation: a total-station survey in its own frame, tied by two RTK control
+  // points (survey.csv, survey.control). kRover: the wall points measured by an RTK rover
+  // straight in latitude, longitude and ellipsoidal height, each off by rover_sigma_m per
+  // horizontal axis (2× vertically), no control points (survey.point_sigma_m carries the σ).
+  SurveyMode survey_mode = SurveyMode::kTotalStation;
+  double rover_sigma_m = 0.010;
   double total_station_sigma_m = 0.003;
   double control_sigma_m = 0.015;
   double survey_rotation_rad = 0.4;      // total station frame rotation vs local east

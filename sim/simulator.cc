@@ -304,8 +304,37 @@ SimulatedSession Simulate(const sim::SimulationConfig& config, const io::Scanner
   session.fixes = SimulateGnss(config, trajectory, enu, seed);
   session.headings = SimulateHeadings(config, trajectory, seed);
 
+  // Rover survey: the pole's tip at the foot of the wall every survey_spacing_m, measured
+  // straight in the GNSS's frame (the simulator's WGS84); no control points.
+  if (config.survey_mode == SurveyMode::kRover) {
+    Noise rover_noise(seed, Stream::kSurvey);
+    int number = 0;
+    for (const auto& w : config.walls) {
+      if (w.code.empty()) continue;
+      const Eigen::Vector2d w0(w.x0_m, w.y0_m), w1(w.x1_m, w.y1_m);
+      const double length_m = (w1 - w0).norm();
+      const double spacing_m = w.survey_spacing_m > 0.0 ? w.survey_spacing_m : 1.0;
+      const int steps = static_cast<int>(std::floor(length_m / spacing_m + 1e-9));
+      for (int k = 0; k <= steps; ++k) {
+        const Eigen::Vector2d p_enu =
+            length_m > 0.0 ? Eigen::Vector2d(w0 + (k * spacing_m / length_m) * (w1 - w0)) : w0;
+        io::SurveyPoint point;
+        char id[16];
+        std::snprintf(id, sizeof(id), "R%03d", ++number);
+        point.id = id;
+        point.code = w.code;
+        point.frame = io::SurveyFrame::kGeodetic;
+        const double e = p_enu.x() + rover_noise.Normal(config.rover_sigma_m);
+        const double n = p_enu.y() + rover_noise.Normal(config.rover_sigma_m);
+        const double u = rover_noise.Normal(2.0 * config.rover_sigma_m);
+        enu.Reverse(e, n, u, point.lat_deg, point.lon_deg, point.z_m);
+        session.survey.push_back(point);
+      }
+    }
+  }
+
   // Survey: control points first (as a crew would set them up), then the walls.
-  {
+  if (config.survey_mode == SurveyMode::kTotalStation) {
     const SurveyFrame frame{{config.survey_origin_x_m, config.survey_origin_y_m},
                             config.survey_rotation_rad};
     Noise survey_noise(seed, Stream::kSurvey);

@@ -45,6 +45,9 @@ struct SimulatedSession {
   std::vector<io::HeadingSample> headings;
   // Total-station points (its own right-handed frame, ground metres, noisy). Control points C1,
   // C2 come first with code "CTRL", then W001, W002, … on each surveyed wall (code = wall code).
+  // survey_mode rover: R001, R002, … at the foot of each surveyed wall every survey_spacing_m,
+  // frame io::SurveyFrame::kGeodetic (lat_deg, lon_deg, z_m the ellipsoidal height), off by
+  // rover_sigma_m per horizontal axis and twice that vertically; no control points.
   std::vector<io::SurveyPoint> survey;
   // RTK-measured WGS84 positions of the control points (noisy, control_sigma_m per axis).
   std::vector<io::ControlPoint> control;

@@ -16,6 +16,10 @@ struct SolverOptions {
   double gnss_bias_sigma_m = 0.015;       // time-correlated RTK error, one per segment/station
   bool use_gst_sigma = true;              // take the bias σ from GST when the log has it
   double heading_sigma_rad = 0.0017453293;     // heading white noise, 0.1 deg
+  // Take the GNSS and heading white noise from the stops' own scatter when they hold enough
+  // samples (calib/white_noise.h; calibrate reports both): gnss_white_sigma_m and
+  // heading_sigma_rad are then the fallbacks.
+  bool use_measured_white_noise = true;
   double control_sigma_m = 0.015;         // RTK error of each control point
   double total_station_sigma_m = 0.003;   // total station point error (Barawid 2007: ±3 mm fine)
   double rotation_sigma_rad = 0.0034906585;    // σ of survey.rotation_deg (one control point), 0.2 deg
@@ -66,6 +70,7 @@ void VisitSolverOptions(V& v, SolverOptions& o) {
   v.Number("gnss_bias_sigma_m", o.gnss_bias_sigma_m);
   v.Boolean("use_gst_sigma", o.use_gst_sigma);
   v.Scaled("heading_sigma_deg", o.heading_sigma_rad, kRadToDeg);
+  v.Boolean("use_measured_white_noise", o.use_measured_white_noise);
   v.Scaled("heading_drift_sigma_deg_per_h", o.heading_drift_sigma_rad_per_s,
            kDegPerHourPerRadPerS);
   v.Number("control_sigma_m", o.control_sigma_m);

@@ -274,9 +274,9 @@ SessionSpec ReadSession(const std::string& path) {
     heading.Finish();
   }
   {
-    const YAML::Node node = top.Require("survey", "a map with points and control");
+    const YAML::Node node = top.Require("survey", "a map with points (and control)");
     MapReader survey = top.Child("survey", node);
-    survey.Allow({"points", "columns", "control", "rotation_deg"});
+    survey.Allow({"points", "columns", "control", "rotation_deg", "point_sigma_m"});
     survey.Finish();
     spec.survey_points = ResolvePath(
         spec.dir, survey.ToText(survey.Require("points", "the survey file's path"), "points"));
@@ -294,13 +294,14 @@ SessionSpec ReadSession(const std::string& path) {
         survey.Bad(columns, "columns", "PNEZD, PENZD or header");
       }
     }
-    const YAML::Node control =
-        survey.Require("control", "a list of {id, lat, lon, h} (at least one)");
-    if (!control.IsSequence() || control.size() == 0) {
+    // No control: a rover survey, whose points are in the GNSS's frame already (a total-station
+    // survey without control is refused by the tie, which knows what the file holds).
+    const YAML::Node control = survey.Find("control");
+    if (control.IsDefined() && (!control.IsSequence() || control.size() == 0)) {
       survey.Bad(control, "control", "a list of at least one {id, lat, lon, h}");
     }
     std::set<std::string> ids;
-    for (size_t i = 0; i < control.size(); ++i) {
+    for (size_t i = 0; control.IsDefined() && i < control.size(); ++i) {
       ControlPoint point = ReadControlPoint(survey, control[i], i);
       if (!ids.insert(point.id).second) {
         throw InputError(Where(
@@ -309,13 +310,21 @@ SessionSpec ReadSession(const std::string& path) {
       }
       spec.control.push_back(std::move(point));
     }
+    if (const YAML::Node sigma = survey.Find("point_sigma_m"); sigma.IsDefined()) {
+      const double sigma_m = survey.ToNumber(sigma, "point_sigma_m");
+      if (!(sigma_m > 0.0) || sigma_m > 1.0) {
+        survey.Bad(sigma, "point_sigma_m", "a rover point's horizontal 1σ in metres, in (0, 1]");
+      }
+      spec.survey_point_sigma_m = sigma_m;
+    }
     if (const YAML::Node rotation = survey.Find("rotation_deg"); rotation.IsDefined()) {
       spec.survey_rotation_rad = survey.ToNumber(rotation, "rotation_deg") / kRadToDeg;
     }
     if (spec.control.size() == 1 && !spec.survey_rotation_rad) {
       throw InputError(Where(f, survey.line(),
                              "one control point needs survey.rotation_deg (Barawid 2007 Eq. 4-5); "
-                             "expected a second control point or the rotation"));
+                             "expected a second control point or the rotation (a rover survey in "
+                             "latitude and longitude takes no control points)"));
     }
     survey.Finish();
   }

@@ -31,23 +31,6 @@ const std::array<std::vector<std::string>, kRoleCount> kAliases = {{
     {"code", "description", "desc", "pointcode", "feature", "featurecode"},
 }};
 
-// A unit in brackets is dropped too: "Northing (m)", "Elev [m]" and "Northing" are one name.
-std::string NormalName(const std::string& field) {
-  std::string name;
-  int depth = 0;  // inside ( ) or [ ]
-  for (char c : field) {
-    if (c == '(' || c == '[') ++depth;
-    if (c == ')' || c == ']') {
-      depth = std::max(0, depth - 1);
-      continue;
-    }
-    if (depth > 0) continue;
-    if (c == ' ' || c == '\t' || c == '_' || c == '-' || c == '.') continue;
-    name += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  }
-  return name;
-}
-
 std::string Column(int index) { return "column " + std::to_string(index + 1); }
 
 // Which column holds each role (-1: none). Throws when two columns name the same role.
@@ -56,7 +39,7 @@ std::array<int, kRoleCount> MatchHeader(const std::vector<std::string>& fields,
   std::array<int, kRoleCount> columns;
   columns.fill(-1);
   for (size_t i = 0; i < fields.size(); ++i) {
-    const std::string normal = NormalName(fields[i]);
+    const std::string normal = SurveyHeaderName(fields[i]);
     for (int role = 0; role < kRoleCount; ++role) {
       const std::vector<std::string>& aliases = kAliases[static_cast<size_t>(role)];
       if (std::find(aliases.begin(), aliases.end(), normal) == aliases.end()) continue;
@@ -88,26 +71,12 @@ std::array<int, kRoleCount> MatchHeader(const std::vector<std::string>& fields,
   return columns;
 }
 
-void CheckPrintable(const std::string& text, const std::string& what, const std::string& name,
-                    int line) {
-  for (char c : text) {
-    const unsigned char u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) {
-      throw InputError(Where(name, line,
-                             "the " + what + " has a control character; expected printable text"));
-    }
-  }
-}
-
 // `decimal_comma`: the file separates fields with ';' or a tab, and "12,345" is 12.345 (as
 // European instrument software writes it).
 double Number(std::string text, int column, Role role, const std::string& name, int line,
               const std::string& hint, bool decimal_comma) {
   const std::string label = Column(column) + " (" + kRoleNames[role] + ")";
-  if (decimal_comma && text.find('.') == std::string::npos &&
-      std::count(text.begin(), text.end(), ',') == 1) {
-    text[text.find(',')] = '.';
-  }
+  if (decimal_comma) text = WithDecimalPoint(std::move(text));
   if (text.empty()) {
     throw InputError(Where(name, line, label + " is empty; expected a number in metres" + hint));
   }
@@ -121,6 +90,40 @@ double Number(std::string text, int column, Role role, const std::string& name, 
 }
 
 }  // namespace
+
+std::string SurveyHeaderName(const std::string& field) {
+  std::string name;
+  int depth = 0;  // inside ( ) or [ ]
+  for (char c : field) {
+    if (c == '(' || c == '[') ++depth;
+    if (c == ')' || c == ']') {
+      depth = std::max(0, depth - 1);
+      continue;
+    }
+    if (depth > 0) continue;
+    if (c == ' ' || c == '\t' || c == '_' || c == '-' || c == '.') continue;
+    name += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  return name;
+}
+
+void CheckPrintableField(const std::string& text, const std::string& what,
+                         const std::string& name, int line) {
+  for (char c : text) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      throw InputError(Where(name, line,
+                             "the " + what + " has a control character; expected printable text"));
+    }
+  }
+}
+
+std::string WithDecimalPoint(std::string text) {
+  if (text.find('.') == std::string::npos && std::count(text.begin(), text.end(), ',') == 1) {
+    text[text.find(',')] = '.';
+  }
+  return text;
+}
 
 bool IsSurveyCsvHeader(const std::vector<std::string>& fields) {
   try {
@@ -241,10 +244,10 @@ std::vector<SurveyPoint> ParseSurveyCsv(std::string_view text, const std::string
       throw InputError(Where(name, line_number,
                              Column(column_of[kId]) + " (point id) is empty; expected an id"));
     }
-    CheckPrintable(point.id, "point id", name, line_number);
+    CheckPrintableField(point.id, "point id", name, line_number);
     const size_t code_column = static_cast<size_t>(column_of[kCode]);
     if (code_column < fields.size()) point.code = fields[code_column];
-    CheckPrintable(point.code, "code", name, line_number);
+    CheckPrintableField(point.code, "code", name, line_number);
     point.x_m = Number(fields[static_cast<size_t>(column_of[kEasting])], column_of[kEasting],
                        kEasting, name, line_number, hint, delimiter != ',');
     point.y_m = Number(fields[static_cast<size_t>(column_of[kNorthing])], column_of[kNorthing],

@@ -13,6 +13,7 @@
 #include "io/text/internal/gzip_input.h"
 #include "io/input_file.h"
 #include "io/survey/internal/line_splitter.h"
+#include "io/survey/internal/geodetic_csv.h"
 #include "io/survey/internal/leica_gsi.h"
 #include "io/survey/internal/survey_csv.h"
 
@@ -98,9 +99,12 @@ std::vector<SurveyPoint> ParseSurvey(std::istream& in, const std::string& name,
   // One line end for the CSV and GSI parsers: CRLF and a CR alone (some instrument downloads)
   // become LF, so every line keeps its number.
   text = NormaliseLineEnds(std::move(text));
-  std::vector<SurveyPoint> points = LooksLikeGsi(FirstContentLine(text))
-                                        ? GsiSurveyPoints(ParseGsi(text, name))
-                                        : ParseSurveyCsv(text, name, columns);
+  // A rover's export names latitude and longitude; a headerless file has no names.
+  std::vector<SurveyPoint> points =
+      LooksLikeGsi(FirstContentLine(text)) ? GsiSurveyPoints(ParseGsi(text, name))
+      : columns == SurveyColumns::kHeader && LooksLikeGeodeticSurvey(text)
+          ? ParseGeodeticSurveyCsv(text, name)
+          : ParseSurveyCsv(text, name, columns);
   for (const SurveyPoint& p : points) {
     if (std::abs(p.x_m) > kMaxSurveyCoordinateM || std::abs(p.y_m) > kMaxSurveyCoordinateM ||
         std::abs(p.z_m) > kMaxSurveyCoordinateM) {
@@ -138,7 +142,9 @@ SurveyFileKind SniffSurveyFile(const std::string& path) {
   }
   kind.delimiter = SurveyCsvDelimiter(first);
   std::vector<std::string> fields;
-  if (SplitCsvRow(first, &fields, kind.delimiter) && IsSurveyCsvHeader(fields)) {
+  if (LooksLikeGeodeticSurvey(head)) {
+    kind.format = SurveyFormat::kRoverCsv;
+  } else if (SplitCsvRow(first, &fields, kind.delimiter) && IsSurveyCsvHeader(fields)) {
     kind.format = SurveyFormat::kCsv;
   }
   return kind;
@@ -208,15 +214,17 @@ SurveyCombination CombineSurveyObservations(const std::vector<SurveyPoint>& obse
   for (const Group& group : groups) {
     SurveyPoint point = observations[group.members.front()];
     const double n = static_cast<double>(group.members.size());
-    double x = 0.0, y = 0.0, z = 0.0;
+    double x = 0.0, y = 0.0, z = 0.0, variance_m2 = 0.0;
     for (size_t i : group.members) {
       x += observations[i].x_m;
       y += observations[i].y_m;
       z += observations[i].z_m;
+      variance_m2 += observations[i].sigma_m * observations[i].sigma_m;
     }
     point.x_m = x / n;
     point.y_m = y / n;
     point.z_m = z / n;
+    if (point.sigma_m > 0.0) point.sigma_m = std::sqrt(variance_m2) / n;  // σ of the mean
     point.observations = static_cast<int>(group.members.size());
     if (group.members.size() > 1) {
       ++result.repeated_points;

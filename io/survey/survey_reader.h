@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Survey files (docs/survey-files.md): a surveyor's CSV or a Leica GSI-8/GSI-16 job, either one
-// plain or gzip-compressed. The kind is recognised by content: a file whose first line begins as
-// a GSI word does is GSI, anything else CSV; gzip by its first bytes, whatever the name.
+// Survey files (docs/survey-files.md): a surveyor's CSV, a Leica GSI-8/GSI-16 job or an RTK
+// rover's CSV in latitude and longitude, each plain or gzip-compressed. The kind is recognised
+// by content: a file whose first line begins as a GSI word does is GSI, a header naming a
+// latitude and a longitude column is a rover's (io/survey/internal/geodetic_csv.h: points of
+// frame SurveyFrame::kGeodetic), anything else CSV; gzip by its first bytes, whatever the name.
 //
 // CSV: a header row naming the columns, in any order and case, extra columns ignored (names
 // accepted: docs/survey-files.md; e.g. Point,Northing,Easting,Elevation,Description or
@@ -57,11 +59,12 @@ std::vector<SurveyPoint> ParseSurvey(std::istream& in, const std::string& name,
                                      SurveyColumns columns = SurveyColumns::kHeader);
 
 // What a file is as a survey, from its first content line (`inspect FILE` picks its summary by
-// it): a GSI job, a CSV whose first row is a header the reader accepts, or neither (kNone; a
-// header-less CSV needs survey.columns and so is kNone here). delimiter: the CSV's (',', ';' or
+// it): a GSI job, a CSV whose first row is a header the reader accepts, a rover's CSV (its
+// header names a latitude and a longitude), or neither (kNone; a header-less CSV needs
+// survey.columns and so is kNone here). delimiter: the CSV's (',', ';' or
 // a tab). Reads at most the first 64 KiB (inflated when gzip). Throws InputError only when the
 // path is no readable regular file.
-enum class SurveyFormat { kNone, kCsv, kGsi };
+enum class SurveyFormat { kNone, kCsv, kRoverCsv, kGsi };
 struct SurveyFileKind {
   SurveyFormat format = SurveyFormat::kNone;
   char delimiter = ',';
@@ -71,7 +74,8 @@ SurveyFileKind SniffSurveyFile(const std::string& path);
 // One point per place, for the calibration (docs/survey-files.md, "Repeated observations").
 struct SurveyCombination {
   // One point per place, in the order of each place's first observation: the mean of its
-  // observations, `observations` set to their count, `line` and `source` of the first.
+  // observations, `observations` set to their count, `line` and `source` of the first, sigma_m
+  // (when the observations carry one) the σ of their mean.
   std::vector<SurveyPoint> points;
   int repeated_points = 0;         // points averaged from two or more observations
   double max_repeat_spread_m = 0;  // largest distance of an averaged observation from its mean

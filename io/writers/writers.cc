@@ -121,6 +121,15 @@ std::string FormatSurveyCsv(const std::vector<SurveyPoint>& points) {
   return out;
 }
 
+std::string FormatRoverSurveyCsv(const std::vector<SurveyPoint>& points) {
+  std::string out = "Name,Latitude,Longitude,Ellipsoidal height,Code\n";
+  for (const SurveyPoint& point : points) {
+    out += point.id + Format(",%.9f,%.9f,%.4f,", point.lat_deg, point.lon_deg, point.z_m) +
+           point.code + "\n";
+  }
+  return out;
+}
+
 std::string FormatSessionYaml(const SessionSpec& spec) {
   std::string out;
   out += "name: " + YamlText(spec.name) + "\n";
@@ -165,13 +174,16 @@ std::string FormatSessionYaml(const SessionSpec& spec) {
          "\n";
   out += "survey:\n";
   out += "  points: " + YamlText(RelativeTo(spec.dir, spec.survey_points)) + "\n";
-  out += "  control:\n";
+  if (!spec.control.empty()) out += "  control:\n";
   for (const ControlPoint& point : spec.control) {
     out += "    - {id: " + YamlText(point.id) + ", lat: " + ShortestNumber(point.lat_deg) +
            ", lon: " + ShortestNumber(point.lon_deg) + ", h: " + ShortestNumber(point.h_m) + "}\n";
   }
   if (spec.survey_rotation_rad) {
     out += "  rotation_deg: " + ShortestNumber(*spec.survey_rotation_rad * kRadToDeg) + "\n";
+  }
+  if (spec.survey_point_sigma_m) {
+    out += "  point_sigma_m: " + ShortestNumber(*spec.survey_point_sigma_m) + "\n";
   }
   out += "walls:\n";
   for (const WallSpec& wall : spec.walls) {

@@ -31,6 +31,10 @@ std::string FormatHdtLine(double stamp_s, double heading_rad);
 // CSV with the header "id,x,y,z,code", coordinates with 4 decimals.
 std::string FormatSurveyCsv(const std::vector<SurveyPoint>& points);
 
+// A rover's export: the header "Name,Latitude,Longitude,Ellipsoidal height,Code", lat_deg and
+// lon_deg with 9 decimals (0.1 mm), z_m (the ellipsoidal height) with 4.
+std::string FormatRoverSurveyCsv(const std::vector<SurveyPoint>& points);
+
 // session.yaml for `spec`; paths written relative to spec.dir. ReadSession reads it back to the
 // same spec.
 std::string FormatSessionYaml(const SessionSpec& spec);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "calib/geodesy.h"
+#include "calib/rover_survey.h"
 #include "test/support/expect_text.h"
 
 namespace wallcal::calib {
@@ -319,6 +320,62 @@ TEST(SurveyTieTest, FitWallsSigmasMatchMonteCarlo) {
   EXPECT_LT(reported_offset, empirical_offset * 1.5);
   EXPECT_GT(reported_angle, empirical_angle / 1.5);
   EXPECT_LT(reported_angle, empirical_angle * 1.5);
+}
+
+TEST(SurveyTieTest, RoverWallSigmasMatchMonteCarlo) {
+  // Rover points straight in latitude and longitude, no tie; the first half of the wall
+  // measured with 5 mm, the second with 20 mm (the file's σ per point), so that the fit's
+  // offset and direction are correlated. The reported σ and the offset-direction covariance
+  // must match the scatter of many draws: with N draws an RMS is off by about 1/√(2N)
+  // (1.6 % at N = 2000), a correlation by about 1/√N (2.2 %); the bounds are 5 times those.
+  const Site site;
+  io::SessionSpec spec;
+  spec.walls.push_back(io::WallSpec{"north_wall", "WALL1"});
+  const Eigen::Vector2d direction = (kWallB - kWallA).normalized();
+  const Eigen::Vector2d true_normal(-direction.y(), direction.x());
+  const Eigen::Vector2d true_centre = 0.5 * (kWallA + kWallB);
+  const int num_points = 16;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const int draws = 2000;
+  double sum_sq_offset = 0.0, sum_sq_angle = 0.0, sum_cross = 0.0;
+  WallGeometry wall;
+  for (int i = 0; i < draws; ++i) {
+    std::vector<io::SurveyPoint> survey;
+    for (int k = 0; k < num_points; ++k) {
+      const double sigma_m = k < num_points / 2 ? 0.005 : 0.020;
+      const Eigen::Vector2d p = kWallA + (kWallB - kWallA) * k / (num_points - 1.0) +
+                                sigma_m * Eigen::Vector2d(normal(rng), normal(rng));
+      io::SurveyPoint point;
+      point.id = "R" + std::to_string(k);
+      point.code = "WALL1";
+      point.frame = io::SurveyFrame::kGeodetic;
+      point.sigma_m = sigma_m;
+      site.LatLon(p, &point.lat_deg, &point.lon_deg);
+      survey.push_back(point);
+    }
+    survey = PlaceRoverPoints(survey, "rover.csv", site.frame, 0.010);
+    wall = FitWalls(survey, "rover.csv", spec, RoverTie(), solvers::SolverOptions{}.survey()).at(0);
+    const double offset_error = wall.normal_local.dot(true_centre) - wall.offset_m;
+    const double angle_error = std::asin(true_normal.x() * wall.normal_local.y() -
+                                         true_normal.y() * wall.normal_local.x());
+    sum_sq_offset += offset_error * offset_error;
+    sum_sq_angle += angle_error * angle_error;
+    sum_cross += offset_error * angle_error;
+  }
+  EXPECT_TRUE(wall.from_rover);
+  EXPECT_EQ(wall.tie_sigma_translation_m, 0.0);
+  const double empirical_offset = std::sqrt(sum_sq_offset / draws);
+  const double empirical_angle = std::sqrt(sum_sq_angle / draws);
+  EXPECT_NEAR(wall.sigma_offset_m / empirical_offset, 1.0, 0.08);
+  EXPECT_NEAR(wall.sigma_angle_rad / empirical_angle, 1.0, 0.08);
+  // offset_m grows where the true wall is (n·c − d > 0) when the line turns towards +angle:
+  // compare the correlation's size and sign through the errors' own convention.
+  const double empirical_correlation = sum_cross / draws / (empirical_offset * empirical_angle);
+  const double reported_correlation =
+      -wall.cov_offset_angle / (wall.sigma_offset_m * wall.sigma_angle_rad);
+  EXPECT_GT(std::abs(reported_correlation), 0.2);  // unequal σ: not independent
+  EXPECT_NEAR(reported_correlation, empirical_correlation, 0.11);
 }
 
 TEST(SurveyTieTest, WallWithoutPointsNamesWallAndCode) {

@@ -185,9 +185,11 @@ TEST(MovingPoseTest, DrivesAtASecondWallLeaveNoBias) {
   // same on every seed; their line fits alone scatter x by about 1 mm.
   const sim::SimulationConfig config = testing_support::TwoWallsWithOnlyLineFitErrors();
   const fs::path dir = testing_support::SimulatedSession(config, 5, "two_walls");
-  // The solver's GNSS model left at an RTK receiver's (its slices free to follow a pattern).
+  // The solver's GNSS model left at an RTK receiver's (its slices free to follow a pattern),
+  // its white noise too (the stops of this noiseless session would measure none).
   const pipeline::CalibrationResult result =
       Calibrate(dir, "  use_gst_sigma: false\n  gnss_bias_sigma_m: 0.03\n"
+                     "  use_measured_white_noise: false\n"
                      "alignment:\n  moving_scans_in_stop_and_go: true\n");
   ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
   EXPECT_GT(result.scans_used_moving, 100);

@@ -108,6 +108,56 @@ TEST(EndToEndTest, HighLatitudeFarFromCentralMeridian) {
 
 TEST(EndToEndTest, SouthernHemisphereWestLongitude) { RunScenario("lms200_south_west", 14); }
 
+// A wall surveyed by an RTK rover (no total station, no control points): simulate writes the
+// points in latitude, longitude and ellipsoidal height with 10 mm of noise and session.yaml
+// without survey.control. The rover's σ must reach the adjustment: the error within 4 reported
+// σ on each axis, and the σ budget names the rover points (and neither the total station's
+// points nor a tie).
+TEST(EndToEndTest, RoverSurveyedWallCalibratesWithoutATotalStation) {
+  const sim::SimulationConfig config =
+      sim::ReadSimulationConfig(ShippedScenarioPath("bench_lms291_rover"));
+  ASSERT_EQ(config.survey_mode, sim::SurveyMode::kRover);
+  const fs::path dir = FreshScratchDir("rover_15");
+  WriteSimulatedSession(config, 15, dir.string());
+  std::ifstream survey(dir / "survey.csv");
+  std::string header;
+  std::getline(survey, header);
+  EXPECT_EQ(header, "Name,Latitude,Longitude,Ellipsoidal height,Code");
+  const io::SessionSpec spec = io::ReadSession((dir / "session.yaml").string());
+  EXPECT_TRUE(spec.control.empty());
+  ASSERT_TRUE(spec.survey_point_sigma_m.has_value());
+  EXPECT_DOUBLE_EQ(*spec.survey_point_sigma_m, config.rover_sigma_m);
+
+  const sim::SimulationConfig truth = sim::ReadTruthYaml((dir / "truth.yaml").string());
+  EXPECT_EQ(truth.survey_mode, sim::SurveyMode::kRover);
+  CalibrateRequest request;
+  request.session_path = dir.string();
+  const CalibrationResult result = RunCalibration(request, nullptr);
+  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
+  ASSERT_EQ(result.walls.size(), 1u);
+  EXPECT_TRUE(result.walls[0].from_rover);
+  EXPECT_EQ(result.num_control, 0);
+  const solvers::MountEstimate& e = result.estimate;
+  const double errors[3] = {e.mount.x_m - truth.mount_x_m, e.mount.y_m - truth.mount_y_m,
+                            WrapAngle(e.mount.yaw_rad - truth.mount_yaw_rad)};
+  for (int axis = 0; axis < 3; ++axis) {
+    SCOPED_TRACE(axis);
+    const double sigma = std::sqrt(e.covariance(axis, axis));
+    EXPECT_GT(sigma, 0.0);
+    EXPECT_LT(std::abs(errors[axis]), 4.0 * sigma);
+  }
+  ASSERT_TRUE(result.budget.done);
+  const auto share = [&](analysis::ErrorSource source) {
+    return result.budget.variance[static_cast<int>(source)];
+  };
+  // Round-off aside (the shares are differences of re-solved variances), nothing is the
+  // total station's or the tie's.
+  const double total = result.budget.total_variance.maxCoeff();
+  EXPECT_GT(share(analysis::ErrorSource::kRover).maxCoeff(), 1e-3 * total);
+  EXPECT_LT(share(analysis::ErrorSource::kSurvey).maxCoeff(), 1e-9 * total);
+  EXPECT_LT(share(analysis::ErrorSource::kControl).maxCoeff(), 1e-9 * total);
+}
+
 // ---- The programs ----------------------------------------------------------------------------
 
 using testing_support::CommandRun;

@@ -28,4 +28,16 @@ bool IsSurveyCsvHeader(const std::vector<std::string>& fields);
 // Quoted text is not counted.
 char SurveyCsvDelimiter(std::string_view line);
 
+// A header field as the readers compare it: a bracketed unit dropped ("Northing (m)",
+// "Elev [m]"), lower-cased, without blanks, '_', '-' and '.' ("Point ID" -> "pointid").
+std::string SurveyHeaderName(const std::string& field);
+
+// Throws InputError "name:line: the <what> has a control character; ..." when `text` has one.
+void CheckPrintableField(const std::string& text, const std::string& what,
+                         const std::string& name, int line);
+
+// "12,345" as "12.345": a field of a ';'- or tab-separated export with one decimal comma and no
+// point; any other text unchanged.
+std::string WithDecimalPoint(std::string text);
+
 }  // namespace wallcal::io

@@ -206,7 +206,18 @@ TEST(SessionReaderTest, NamesEachMissingRequiredKey) {
                               "position RTK-GNSS also measured (WGS84)\n"),
                       "    - {id: C1, lat: 43.0712345, lon: 141.3398765, h: 72.31}\n"),
               "    - {id: C2, lat: 43.0713012, lon: 141.3401123, h: 72.29}\n");
-  EXPECT_NE(SessionError("no_control", no_control).find("survey.control is missing"),
+  const char* kPointsLine =
+      "  points: survey.csv              # total-station export in its local frame, see below\n";
+  // No control is a rover survey's session (docs/survey-files.md, "Rover points"): it reads,
+  // and the tie refuses a total-station file without control later, knowing the file.
+  EXPECT_EQ(SessionError("no_control", no_control), "");
+  EXPECT_NE(SessionError("empty_control", Replace(no_control, kPointsLine,
+                                                  std::string(kPointsLine) + "  control: []\n"))
+                .find("at least one"),
+            std::string::npos);
+  EXPECT_NE(SessionError("bad_point_sigma", Replace(no_control, kPointsLine,
+                                                    std::string(kPointsLine) + "  point_sigma_m: 0\n"))
+                .find("point_sigma_m"),
             std::string::npos);
   const std::string message = SessionError(
       "control_without_h", Replace(example, "lat: 43.0712345, lon: 141.3398765, h: 72.31",
