@@ -10,16 +10,17 @@
 #include <sstream>
 #include <vector>
 
-#include "io/text/carmen_reader.h"
-#include "io/writers/mcap_writer.h"
-#include "io/text/nmea_reader.h"
+#include "io/config/session_reader.h"
+#include "io/output_file.h"
 #include "io/recording/recording.h"
 #include "io/recording/ros/ros_messages.h"
+#include "io/text/carmen_reader.h"
+#include "io/text/nmea_reader.h"
+#include "io/types.h"
+#include "io/writers/mcap_writer.h"
 #include "io/writers/rosbag1_writer.h"
 #include "io/writers/rosbag2_sqlite_writer.h"
-#include "io/output_file.h"
-#include "io/types.h"
-#include "io/config/session_reader.h"
+#include "io/writers/writers.h"
 #include "common/angles.h"
 
 namespace wallcal::sim {
@@ -123,37 +124,27 @@ std::unique_ptr<Sink> MakeSink(const std::string& dir, SessionFormat format, std
 // fixes stay above gnss.max_sigma_m and fixed ones below it.
 double FallbackSigma(int quality) { return quality == 4 ? 0.02 : quality == 5 ? 0.3 : 3.0; }
 
-// session.yaml with each stream's `log:` pointing at the recording and its `topic:` added.
-// Several scanners: each `    log: <its scan log>` line of the scanners: list becomes the
-// recording and its topic (scan_topics: the log's file name -> topic).
-void RewriteSessionYaml(const std::string& path, const std::string& recording,
-                        const std::map<std::string, std::string>& scan_topics = {}) {
-  std::ifstream in(path);
-  if (!in) throw io::InputError(io::Where(path, 0, "cannot read the session written before"));
-  std::ostringstream out;
-  std::string line, section;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line[0] != ' ') section = line.substr(0, line.find(':'));
-    if (section == "scanners" && line.rfind("    log: ", 0) == 0) {
-      const auto found = scan_topics.find(line.substr(9));
-      if (found != scan_topics.end()) {
-        out << "    log: " << recording << "\n    topic: " << found->second << "\n";
-        continue;
-      }
-    }
-    const bool is_log = line.rfind("  log:", 0) == 0;
-    const char* topic = section == "scanner" ? "/scan"
-                        : section == "gnss"  ? "/fix"
-                        : section == "heading" ? "/heading"
-                                               : nullptr;
-    if (is_log && topic != nullptr) {
-      out << "  log: " << recording << "\n  topic: " << topic << "\n";
-      if (section == "gnss") out << "  max_sigma_m: " << io::kDefaultGnssMaxSigmaM << "\n";
-    } else {
-      out << line << "\n";
-    }
+// The session as read back, each stream's log the recording and its topic set (several
+// scanners: scan_topics maps each scanner's old log to its topic), written again through
+// io::FormatSessionYaml.
+void RewriteSessionYaml(const std::string& dir, const std::string& recording,
+                        const std::map<std::string, std::string>& scan_topics) {
+  io::SessionSpec session = io::ReadSession(dir);
+  const std::string recording_path = (fs::path(dir) / recording).string();
+  if (session.scanners.empty()) {
+    session.scanner_log = recording_path;
+    session.scanner_topic = "/scan";
   }
-  io::WriteFileAtomically(path, out.str());
+  for (io::ScannerSpec& scanner : session.scanners) {
+    scanner.topic = scan_topics.at(scanner.log);
+    scanner.log = recording_path;
+  }
+  session.gnss_log = recording_path;
+  session.gnss_topic = "/fix";
+  session.gnss_max_sigma_m = io::kDefaultGnssMaxSigmaM;
+  session.heading_log = recording_path;
+  session.heading_topic = "/heading";
+  io::WriteFileAtomically(session.file, io::FormatSessionYaml(session));
 }
 
 }  // namespace
@@ -191,7 +182,7 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
   } else {
     for (const io::ScannerSpec& scanner : session.scanners) {
       streams.push_back({scanner.log, "/" + scanner.id + "/scan", scanner.frame});
-      scan_topics[fs::path(scanner.log).filename().string()] = streams.back().topic;
+      scan_topics[scanner.log] = streams.back().topic;
     }
   }
   std::vector<int> scan_ids;
@@ -284,7 +275,7 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
   }
   write_until(std::numeric_limits<double>::infinity());
   sink->Close();
-  RewriteSessionYaml((fs::path(dir) / "session.yaml").string(), name, scan_topics);
+  RewriteSessionYaml(dir, name, scan_topics);
   std::error_code ignored;
   for (const ScanStream& stream : streams) fs::remove(stream.log, ignored);
   for (const std::string& p : {gnss_path, heading_path}) fs::remove(p, ignored);

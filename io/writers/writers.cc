@@ -153,8 +153,8 @@ std::string FormatSessionYaml(const SessionSpec& spec) {
   };
   if (spec.scanners.empty()) {
     out += "scanner:\n";
-    scanner_keys("  ", spec.scanner_model, spec.scanner_log, "", spec.scanner_time_offset_s,
-                 spec.mount_guess);
+    scanner_keys("  ", spec.scanner_model, spec.scanner_log, spec.scanner_topic,
+                 spec.scanner_time_offset_s, spec.mount_guess);
   } else {
     out += "scanners:\n";
     for (const ScannerSpec& scanner : spec.scanners) {
@@ -166,9 +166,14 @@ std::string FormatSessionYaml(const SessionSpec& spec) {
   }
   out += "gnss:\n";
   out += "  log: " + YamlText(RelativeTo(spec.dir, spec.gnss_log)) + "\n";
+  if (!spec.gnss_topic.empty()) {
+    out += "  topic: " + YamlText(spec.gnss_topic) + "\n";
+    out += "  max_sigma_m: " + ShortestNumber(spec.gnss_max_sigma_m) + "\n";
+  }
   out += "  min_fix_quality: " + std::to_string(spec.min_fix_quality) + "\n";
   out += "heading:\n";
   out += "  log: " + YamlText(RelativeTo(spec.dir, spec.heading_log)) + "\n";
+  if (!spec.heading_topic.empty()) out += "  topic: " + YamlText(spec.heading_topic) + "\n";
   out += std::string("  reference: ") +
          (spec.heading_reference == HeadingReference::kGridNorth ? "grid_north" : "true_north") +
          "\n";

@@ -168,7 +168,7 @@ TEST(RecordingSessionTest, SentencesImuAndReceiveStamps) {
 
 TEST(RecordingSessionTest, WrongTypeMissingTopicAndPresetMismatchExitTwoWithTheNames) {
   const fs::path dir = SessionAs("ros1-lz4");
-  ReplaceInFile(dir / "session.yaml", "  topic: /fix\n", "  topic: /heading\n");
+  ReplaceInFile(dir / "session.yaml", "  topic: \"/fix\"\n", "  topic: /heading\n");
   CommandRun run = RunCommand(kCalibrate + " " + dir.string());
   EXPECT_EQ(run.status, 2) << run.out;
   EXPECT_NE(run.out.find("topic /heading has type geometry_msgs/QuaternionStamped"),
