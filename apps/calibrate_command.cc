@@ -121,6 +121,18 @@ int Usage(const std::string& message) {
   return 2;
 }
 
+// offsets.yaml to `output` ("-": stdout, else replaced atomically), and where it went in the
+// summary.
+void WriteOffsets(const std::string& output, const std::string& offsets_yaml,
+                  std::ostream& summary_out) {
+  if (wallcal::io::IsStdoutPath(output)) {
+    std::cout << offsets_yaml << std::flush;
+    return;
+  }
+  wallcal::io::WriteFileAtomically(output, offsets_yaml);
+  summary_out << "  wrote      " << wallcal::io::EscapeControl(output) << "\n";
+}
+
 // Progress on a terminal: a stage announcement (done == 0, total == 0) gets its own line; counted
 // progress within a stage is rewritten in place with '\r' at most five times a second.
 class ProgressLine {
@@ -234,13 +246,7 @@ int CalibrateSeveral(wallcal::pipeline::CalibrateRequest request, bool allow_par
               << wallcal::io::EscapeControl(several.session.file + ": " + several.message) << "\n";
     return 1;
   }
-  const std::string offsets_yaml = outputs::FormatSeveralOffsetsYaml(several, frames);
-  if (wallcal::io::IsStdoutPath(output)) {
-    std::cout << offsets_yaml << std::flush;
-  } else {
-    wallcal::io::WriteFileAtomically(output, offsets_yaml);
-    summary_out << "  wrote      " << wallcal::io::EscapeControl(output) << "\n";
-  }
+  WriteOffsets(output, outputs::FormatSeveralOffsetsYaml(several, frames), summary_out);
   if (emit) {
     summary_out << std::flush;
     std::cout << outputs::FormatSeveralEmit(*emit, several, frames) << std::flush;
@@ -412,14 +418,9 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
                 << "\n";
       return 1;
     }
-    const std::string offsets_yaml =
-        wallcal::io::FormatOffsetsYaml(outputs::MakeOffsetsDocument(result, frames));
-    if (wallcal::io::IsStdoutPath(output)) {
-      std::cout << offsets_yaml << std::flush;
-    } else {
-      wallcal::io::WriteFileAtomically(output, offsets_yaml);
-      summary_out << "  wrote      " << wallcal::io::EscapeControl(output) << "\n";
-    }
+    WriteOffsets(output,
+                 wallcal::io::FormatOffsetsYaml(outputs::MakeOffsetsDocument(result, frames)),
+                 summary_out);
     if (emit) {
       summary_out << std::flush;
       std::cout << outputs::FormatEmit(*emit, result.estimate, result.session.antenna_in_base, frames,

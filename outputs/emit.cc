@@ -6,25 +6,15 @@
 #include <cstdio>
 #include <stdexcept>
 #include <vector>
+
 #include "common/angles.h"
+#include "outputs/json_text.h"
 
 namespace wallcal::outputs {
 namespace {
-// 9 significant digits: well below a micrometre / microradian for mounts of a few metres, and
-// short enough to read. -0 is printed as 0 so a zero never looks signed.
-std::string Num(double value) {
-  if (value == 0.0) value = 0.0;
-  char buffer[40];
-  std::snprintf(buffer, sizeof(buffer), "%.9g", value);
-  return buffer;
-}
-
 double Sigma(const Eigen::Matrix3d& covariance, int i) {
   return std::sqrt(std::max(0.0, covariance(i, i)));
 }
-
-// Non-finite numbers are JSON null (a σ the method does not give).
-std::string JsonNum(double value) { return std::isfinite(value) ? Num(value) : "null"; }
 
 const char* kHeightNote =
     "z = 0: the scanner's height relative to the GNSS antenna is not known (give it as "
@@ -41,24 +31,6 @@ std::string UrdfJoint(const PlanarTransform& t) {
          "  <parent link=\"" + t.parent + "\"/>\n" + "  <child link=\"" + t.child + "\"/>\n" +
          "  <origin xyz=\"" + Num(t.x_m) + " " + Num(t.y_m) + " " + Num(t.z_m) +
          "\" rpy=\"0 0 " + Num(t.yaw_rad) + "\"/>\n" + "</joint>\n";
-}
-
-std::string JsonString(const std::string& s) {
-  // Frame names and method are plain (IsValidFrameName); notes are ours. Escape anyway.
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
-      out += buffer;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
 }
 
 void CheckFrames(const EmitFrames& frames) {

@@ -13,6 +13,7 @@
 #include "common/format.h"
 #include "io/config/yaml_text.h"
 #include "io/version.h"
+#include "outputs/json_text.h"
 #include "outputs/offsets_document.h"
 
 namespace wallcal::outputs {
@@ -42,30 +43,6 @@ std::string MountKeys(const std::string& indent, const solvers::Mount& mount,
   }
   out += "]  # 3x3 row-major, order x, y, yaw (m, m, rad)\n";
   return out;
-}
-
-std::string Num(double value) {
-  if (value == 0.0) value = 0.0;
-  char buffer[40];
-  std::snprintf(buffer, sizeof(buffer), "%.9g", value);
-  return std::isfinite(value) ? buffer : "null";
-}
-
-std::string JsonString(const std::string& text) {
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
-      out += buffer;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
 }
 
 const char* kHeightNote =
@@ -233,16 +210,16 @@ std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScanners
         const PlanarTransform& t = joints[antenna ? i + 1 : i];
         const Eigen::Matrix3d& c = run.result.estimate.covariance;
         out += std::string(i ? ",\n" : "\n") + "    {\"id\": " + JsonString(run.spec.id) +
-               ", \"child_frame\": \"" + t.child + "\", \"mount\": {\"x_m\": " + Num(t.x_m) +
-               ", \"y_m\": " + Num(t.y_m) + ", \"z_m\": " + Num(t.z_m) + ", \"yaw_rad\": " +
-               Num(t.yaw_rad) + ", \"yaw_deg\": " + Num(t.yaw_rad * kRadToDeg) +
+               ", \"child_frame\": \"" + t.child + "\", \"mount\": {\"x_m\": " + JsonNum(t.x_m) +
+               ", \"y_m\": " + JsonNum(t.y_m) + ", \"z_m\": " + JsonNum(t.z_m) + ", \"yaw_rad\": " +
+               JsonNum(t.yaw_rad) + ", \"yaw_deg\": " + JsonNum(t.yaw_rad * kRadToDeg) +
                "}, \"z_known\": " + (run.spec.z_m ? "true" : "false") + ", \"sigma\": {\"x_m\": " +
-               Num(Sigma(c, 0)) + ", \"y_m\": " + Num(Sigma(c, 1)) + ", \"yaw_rad\": " +
-               Num(Sigma(c, 2)) + ", \"yaw_deg\": " + Num(Sigma(c, 2) * kRadToDeg) +
+               JsonNum(Sigma(c, 0)) + ", \"y_m\": " + JsonNum(Sigma(c, 1)) + ", \"yaw_rad\": " +
+               JsonNum(Sigma(c, 2)) + ", \"yaw_deg\": " + JsonNum(Sigma(c, 2) * kRadToDeg) +
                "}, \"covariance\": {\"order\": [\"x_m\", \"y_m\", \"yaw_rad\"], \"matrix\": [";
         for (int r = 0; r < 3; ++r) {
           out += r ? ", [" : "[";
-          for (int col = 0; col < 3; ++col) out += (col ? ", " : "") + Num(c(r, col));
+          for (int col = 0; col < 3; ++col) out += (col ? ", " : "") + JsonNum(c(r, col));
           out += "]";
         }
         out += "]}}";
@@ -253,18 +230,18 @@ std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScanners
         const solvers::Mount& m = relative.mount.from_T_to;
         const Eigen::Matrix3d& c = relative.mount.covariance;
         out += std::string(i ? ",\n" : "\n") + "    {\"from\": " + JsonString(relative.from_id) +
-               ", \"to\": " + JsonString(relative.to_id) + ", \"x_m\": " + Num(m.x_m) +
-               ", \"y_m\": " + Num(m.y_m) + ", \"yaw_rad\": " + Num(m.yaw_rad) +
-               ", \"yaw_deg\": " + Num(m.yaw_rad * kRadToDeg) + ", \"sigma\": {\"x_m\": " +
-               Num(Sigma(c, 0)) + ", \"y_m\": " + Num(Sigma(c, 1)) + ", \"yaw_rad\": " +
-               Num(Sigma(c, 2)) + ", \"yaw_deg\": " + Num(Sigma(c, 2) * kRadToDeg) + "}}";
+               ", \"to\": " + JsonString(relative.to_id) + ", \"x_m\": " + JsonNum(m.x_m) +
+               ", \"y_m\": " + JsonNum(m.y_m) + ", \"yaw_rad\": " + JsonNum(m.yaw_rad) +
+               ", \"yaw_deg\": " + JsonNum(m.yaw_rad * kRadToDeg) + ", \"sigma\": {\"x_m\": " +
+               JsonNum(Sigma(c, 0)) + ", \"y_m\": " + JsonNum(Sigma(c, 1)) + ", \"yaw_rad\": " +
+               JsonNum(Sigma(c, 2)) + ", \"yaw_deg\": " + JsonNum(Sigma(c, 2) * kRadToDeg) + "}}";
       }
       out += "\n  ],\n";
       if (antenna) {
         const PlanarTransform& b = joints.front();
         out += "  \"base_link\": {\"parent_frame\": \"" + b.parent + "\", \"child_frame\": \"" +
-               b.child + "\", \"x_m\": " + Num(b.x_m) + ", \"y_m\": " + Num(b.y_m) +
-               ", \"z_m\": " + Num(b.z_m) + ", \"yaw_rad\": 0, \"yaw_deg\": 0}\n";
+               b.child + "\", \"x_m\": " + JsonNum(b.x_m) + ", \"y_m\": " + JsonNum(b.y_m) +
+               ", \"z_m\": " + JsonNum(b.z_m) + ", \"yaw_rad\": 0, \"yaw_deg\": 0}\n";
       } else {
         out += "  \"base_link\": null\n";
       }

@@ -138,6 +138,19 @@ struct SurveyFrame {
   }
 };
 
+// Where the crew surveys a wall (m, ENU): every survey_spacing_m (1 m when unset) from its first
+// end, the first end alone for a wall of zero length.
+std::vector<Eigen::Vector2d> SurveyStationsAlong(const SimWall& w) {
+  const Eigen::Vector2d w0(w.x0_m, w.y0_m), w1(w.x1_m, w.y1_m);
+  const double length_m = (w1 - w0).norm();
+  if (!(length_m > 0.0)) return {w0};
+  const double spacing_m = w.survey_spacing_m > 0.0 ? w.survey_spacing_m : 1.0;
+  const int steps = static_cast<int>(std::floor(length_m / spacing_m + 1e-9));
+  std::vector<Eigen::Vector2d> stations;
+  for (int k = 0; k <= steps; ++k) stations.push_back(w0 + (k * spacing_m / length_m) * (w1 - w0));
+  return stations;
+}
+
 }  // namespace
 
 io::ScannerPreset TrueScannerPreset(const sim::SimulationConfig& config,
@@ -311,13 +324,7 @@ SimulatedSession Simulate(const sim::SimulationConfig& config, const io::Scanner
     int number = 0;
     for (const auto& w : config.walls) {
       if (w.code.empty()) continue;
-      const Eigen::Vector2d w0(w.x0_m, w.y0_m), w1(w.x1_m, w.y1_m);
-      const double length_m = (w1 - w0).norm();
-      const double spacing_m = w.survey_spacing_m > 0.0 ? w.survey_spacing_m : 1.0;
-      const int steps = static_cast<int>(std::floor(length_m / spacing_m + 1e-9));
-      for (int k = 0; k <= steps; ++k) {
-        const Eigen::Vector2d p_enu =
-            length_m > 0.0 ? Eigen::Vector2d(w0 + (k * spacing_m / length_m) * (w1 - w0)) : w0;
+      for (const Eigen::Vector2d& p_enu : SurveyStationsAlong(w)) {
         io::SurveyPoint point;
         char id[16];
         std::snprintf(id, sizeof(id), "R%03d", ++number);
@@ -376,13 +383,7 @@ SimulatedSession Simulate(const sim::SimulationConfig& config, const io::Scanner
     int number = 0;
     for (const auto& w : config.walls) {
       if (w.code.empty()) continue;
-      const Eigen::Vector2d w0(w.x0_m, w.y0_m), w1(w.x1_m, w.y1_m);
-      const double length_m = (w1 - w0).norm();
-      const double spacing_m = w.survey_spacing_m > 0.0 ? w.survey_spacing_m : 1.0;
-      const int steps = static_cast<int>(std::floor(length_m / spacing_m + 1e-9));
-      for (int k = 0; k <= steps; ++k) {
-        const Eigen::Vector2d p_enu =
-            length_m > 0.0 ? Eigen::Vector2d(w0 + (k * spacing_m / length_m) * (w1 - w0)) : w0;
+      for (const Eigen::Vector2d& p_enu : SurveyStationsAlong(w)) {
         for (double z_m : {0.5, w.height_m - 0.5}) {
           char id[16];
           std::snprintf(id, sizeof(id), "W%03d", ++number);
