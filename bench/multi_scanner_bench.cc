@@ -236,12 +236,17 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
                   Show(axis, s.OwnRms()));
     }
   }
+  // The relative yaw in millidegrees (its errors are a few of them).
+  const auto show_relative = [](int axis, double value) {
+    return axis < 2 ? Show(axis, value) : 1000.0 * Show(axis, value);
+  };
   for (int axis = 0; axis < 3; ++axis) {
     const AxisStats& s = relative_stats[axis];
     const double bound = std::sqrt(relative_truth.covariance(axis, axis));
     std::printf("| relative | %s | %.3f %s | %.3f | %.2f | %.3f | %.2f | %.3f (differenced) |\n",
-                kAxisName[axis], Show(axis, s.Rms()), Unit(axis), Show(axis, s.MeanSigma()),
-                s.RmsZ(), Show(axis, bound), s.Rms() / bound, Show(axis, s.OwnRms()));
+                kAxisName[axis], show_relative(axis, s.Rms()), axis < 2 ? "mm" : "mdeg",
+                show_relative(axis, s.MeanSigma()), s.RmsZ(), show_relative(axis, bound),
+                s.Rms() / bound, show_relative(axis, s.OwnRms()));
   }
   std::printf("\nmean run time (both scanners and the joint adjustment): %.2f s\n",
               runs ? seconds / runs : 0.0);

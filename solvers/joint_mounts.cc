@@ -4,7 +4,10 @@
 // prior); the joint problem then takes every scanner's observation rows with their blocks
 // mapped onto one set of shared blocks, and states each shared prior once: the walls' joint
 // prior, one Gauss–Markov chain over the union of the GNSS-error slices, one prior per dwell's
-// heading offset, one drift prior.
+// heading offset, one drift prior. The white noise of each GNSS fix that standing scans were
+// interpolated from is a parameter of its own (EpochNoiseCost), not part of each standing scan's
+// covariance: two scanners' standing scans between the same fixes share it, and it cancels in
+// the transform between the scanners.
 
 #include "solvers/joint_mounts.h"
 
@@ -16,10 +19,12 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <set>
 #include <utility>
 
 #include "common/angles.h"
+#include "solvers/epoch_noise_cost.h"
 #include "solvers/information.h"
 #include "solvers/mount_problem.h"
 #include "solvers/prior_cost.h"
@@ -46,6 +51,9 @@ struct JointProblem {
   std::array<double, 1> drift{};
   std::array<double, 1> no_heading{};
   std::array<double, 2> no_bias{};
+  // The white noise [east_m, north_m] of the GNSS fixes standing scans lie between, by the fix's
+  // index in the GNSS stream (every scanner's poses come from the session's one stream).
+  std::map<int, std::array<double, 2>> fix_noise;
   MountProblem joint;  // only its ceres::Problem is used (for solvers/information.h)
 };
 
@@ -141,17 +149,32 @@ void AddBiasChain(const SolverOptions& options, JointProblem* jp) {
   }
 }
 
-// Scanner s's observation rows, grouped as BuildMountProblem groups them, on the joint blocks.
-// Returns the walls they use.
-std::set<int> AddObservations(size_t s, const SolverOptions& options, JointProblem* jp) {
+// Whether the joint problem carries this observation's GNSS white noise as the shared
+// parameters of its two fixes: a standing scan (its position is the linear interpolation of the
+// fixes at its stamp, exactly what EpochNoiseCost states) whose pose names its fixes. A moving
+// scan keeps the white noise in its own covariance, as one scanner has it: its pose is a cubic
+// through four fixes taken at its stamp and moved by v·dt to the scan's time, and with that
+// noise out of its covariance the model's small errors there (the weights, the path's curvature
+// over dt) decide the mounts. Two scanners stamped at different phases of the GNSS period
+// (different logger latencies) then look as if their poses told each fix's white error apart,
+// and the fast turns between stops give each mount information the data do not hold
+// (docs/method.md, "Several scanners").
+bool SharesFixNoise(const calib::WallObservation& observation, const SolverOptions& options) {
+  return options.gnss_white_sigma_m > 0.0 && UsesDwellHeading(observation) &&
+         observation.pose.gnss_fix >= 0;
+}
+
+// Scanner s's observations on the joint blocks. Standing scans whose fixes are shared: one
+// residual block each (EpochNoiseCost), their W made again without the GNSS white noise; the
+// others grouped as BuildMountProblem groups them. Returns the walls they use.
+std::set<int> AddObservations(size_t s, const ScannerObservations& scanner,
+                              const std::vector<calib::WallGeometry>& walls,
+                              const SolverOptions& options, JointProblem* jp) {
   MountProblem& part = *jp->parts[s];
+  const std::vector<calib::WallObservation>& observations = *scanner.observations;
   std::map<const double*, double*> joint_block;
-  joint_block[part.mount.data()] = jp->mounts[s].data();
-  joint_block[part.time_offset.data()] = jp->times[s].data();
   joint_block[part.no_bias.data()] = jp->no_bias.data();
   joint_block[part.no_heading_offset.data()] = jp->no_heading.data();
-  joint_block[part.heading_drift.data()] = jp->drift.data();
-  std::set<int> walls_used;
   for (size_t w = 0; w < part.wall_deltas.size(); ++w) {
     joint_block[part.wall_deltas[w].data()] = jp->walls[w].data();
   }
@@ -162,26 +185,45 @@ std::set<int> AddObservations(size_t s, const SolverOptions& options, JointProbl
     joint_block[part.heading_offsets[k].data()] =
         jp->headings[part.heading_station_ids[k]].data();
   }
+  const double scans_per_fix = MovingScansPerGnssFix(observations);
+  std::set<int> walls_used;
   std::map<std::array<const double*, 3>, size_t> open_group;
   std::vector<std::vector<int>> groups;
   for (size_t i = 0; i < part.measurements.size(); ++i) {
     if (!(part.weights[i] > 0.0)) continue;
-    const std::array<const double*, 3> key = {part.wall_block[i], part.bias_block[i],
-                                              part.heading_block[i]};
-    auto found = open_group.find(key);
-    if (found == open_group.end() || groups[found->second].size() >= kScansPerResidualBlock) {
-      found = open_group.insert_or_assign(key, groups.size()).first;
-      groups.emplace_back();
-    }
-    groups[found->second].push_back(static_cast<int>(i));
-  }
-  for (size_t w = 0; w < part.wall_deltas.size(); ++w) {
-    for (size_t i = 0; i < part.measurements.size(); ++i) {
-      if (part.weights[i] > 0.0 && part.wall_block[i] == part.wall_deltas[w].data()) {
-        walls_used.insert(static_cast<int>(w));
-        break;
+    const calib::WallObservation& observation = observations[i];
+    walls_used.insert(observation.wall_index);
+    if (!SharesFixNoise(observation, options)) {
+      const std::array<const double*, 3> key = {part.wall_block[i], part.bias_block[i],
+                                                part.heading_block[i]};
+      auto found = open_group.find(key);
+      if (found == open_group.end() || groups[found->second].size() >= kScansPerResidualBlock) {
+        found = open_group.insert_or_assign(key, groups.size()).first;
+        groups.emplace_back();
       }
+      groups[found->second].push_back(static_cast<int>(i));
+      continue;
     }
+    // BuildMountProblem checked this covariance with the white noise in; without it, it is the
+    // line fit's (and the bias σ's without a slice), positive definite where that was.
+    const Eigen::Matrix2d covariance = ObservationCovariance(
+        observation, walls[observation.wall_index], options, scanner.initial,
+        PoseBiasSigma(observation.pose, options), scans_per_fix, GnssWhite::kShared);
+    const Eigen::LLT<Eigen::Matrix2d> llt(covariance);
+    if (llt.info() == Eigen::Success && llt.matrixLLT().diagonal().minCoeff() > 0.0) {
+      part.measurements[i].sqrt_information =
+          std::sqrt(part.weights[i]) *
+          Eigen::Matrix2d(llt.matrixL().solve(Eigen::Matrix2d::Identity()));
+    }
+    const int fix = observation.pose.gnss_fix;
+    auto scan = std::make_unique<WallSliceCost>(
+        part.measurements, std::vector<int>{static_cast<int>(i)}, options.huber_scale);
+    jp->joint.problem.AddResidualBlock(
+        new EpochNoiseCost(std::move(scan), observation.pose.gnss_fix_fraction), nullptr,
+        std::vector<double*>{jp->mounts[s].data(), joint_block.at(part.wall_block[i]),
+                             joint_block.at(part.bias_block[i]), jp->times[s].data(),
+                             joint_block.at(part.heading_block[i]), jp->drift.data(),
+                             jp->fix_noise[fix].data(), jp->fix_noise[fix + 1].data()});
   }
   for (std::vector<int>& group : groups) {
     const int first = group.front();
@@ -192,6 +234,17 @@ std::set<int> AddObservations(size_t s, const SolverOptions& options, JointProbl
         joint_block.at(part.heading_block[first]), jp->drift.data());
   }
   return walls_used;
+}
+
+// The white noise of every GNSS fix a standing scan lies next to: a zero-mean prior of the
+// options' σ on each, the noise ObservationCovariance otherwise puts in every standing scan's
+// covariance.
+void AddFixNoisePriors(const SolverOptions& options, JointProblem* jp) {
+  for (auto& [fix, noise] : jp->fix_noise) {
+    jp->joint.problem.AddResidualBlock(
+        GaussianPriorCost::Create(Eigen::Vector2d::Constant(options.gnss_white_sigma_m)), nullptr,
+        noise.data());
+  }
 }
 
 // Scanner s's time block as its own problem has it: its prior (centred on what its poses
@@ -265,7 +318,7 @@ JointMountEstimate SolveJointMounts(const std::vector<ScannerObservations>& scan
 
   std::set<int> walls_used;
   for (size_t s = 0; s < n; ++s) {
-    const std::set<int> used = AddObservations(s, options, jp.get());
+    const std::set<int> used = AddObservations(s, scanners[s], walls, options, jp.get());
     walls_used.insert(used.begin(), used.end());
     AddTimeBlock(s, scanners[s], options, jp.get());
     for (size_t i = 0; i < jp->parts[s]->weights.size(); ++i) {
@@ -275,6 +328,7 @@ JointMountEstimate SolveJointMounts(const std::vector<ScannerObservations>& scan
   ceres::Problem& problem = jp->joint.problem;
   AddWallPrior(walls, walls_used, jp.get());
   AddBiasChain(options, jp.get());
+  AddFixNoisePriors(options, jp.get());
   // Heading offsets: one prior per dwell, σ as the first scanner that saw the dwell has it.
   std::set<int> stated;
   for (const auto& part : jp->parts) {

@@ -33,14 +33,12 @@ constexpr double kMaxSegmentCorrelation = 0.99999;
 // has 19; the cap bounds a block's Jacobian when slices are long.
 constexpr size_t kScansPerResidualBlock = 32;
 
-// The σ of the correlated GNSS error for one observation's position: the GST σ when the log has
-// one and the options allow it, the configured bias σ otherwise.
+}  // namespace
+
 double PoseBiasSigma(const calib::VehiclePose& pose, const solvers::SolverOptions& options) {
   if (options.use_gst_sigma && pose.gnss_sigma_m > 0.0) return pose.gnss_sigma_m;
   return options.gnss_bias_sigma_m;
 }
-
-}  // namespace
 
 double MovingScansPerGnssFix(const std::vector<calib::WallObservation>& observations) {
   std::vector<double> stamps;
@@ -124,7 +122,8 @@ double DrivesTimingSigma(const std::vector<calib::WallObservation>& observations
 Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       const calib::WallGeometry& wall,
                                       const solvers::SolverOptions& options, const Mount& lever_mount,
-                                      double bias_sigma_m, double scans_per_gnss_fix) {
+                                      double bias_sigma_m, double scans_per_gnss_fix,
+                                      GnssWhite gnss_white) {
   const calib::OrientedWall oriented = calib::OrientWall(wall, observation.pose.antenna_local_m);
   Eigen::Matrix2d covariance;
   covariance << observation.sigma_rho_m * observation.sigma_rho_m, observation.cov_rho_theta,
@@ -135,6 +134,11 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
   // (optimistic for that observation, but such observations are rare: moving scans outside
   // any segment).
   double position_variance_m2 = options.gnss_white_sigma_m * options.gnss_white_sigma_m;
+  // A standing scan whose fixes are shared parameters of the joint adjustment (EpochNoiseCost).
+  if (gnss_white == GnssWhite::kShared && UsesDwellHeading(observation) &&
+      observation.pose.gnss_fix >= 0) {
+    position_variance_m2 = 0.0;
+  }
   // A moving scan: the scans between the same two fixes share their white noise (the bias
   // slices, tied by the Gauss–Markov chain, do not take it up). Counted as white at the
   // variance times the scans per fix, the mean over those scans gets the fix's variance.

@@ -143,10 +143,22 @@ WarmStart WarmStartFrom(const MountProblem& mp);
 // A moving observation (one that does not use its dwell's heading) also gets
 // MovingPoseCovariance, and its GNSS white variance times scans_per_gnss_fix (>= 1; the scans
 // between two fixes share their noise: MovingScansPerGnssFix).
+//
+// GnssWhite::kShared leaves out the GNSS white noise of a standing observation whose pose names
+// its fixes (pose.gnss_fix >= 0): the joint adjustment of several scanners carries the white
+// noise of those fixes as parameters shared by every scanner's standing scans between them
+// (solvers/epoch_noise_cost.h). A moving observation keeps it in its covariance either way.
+enum class GnssWhite { kInCovariance, kShared };
 Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       const calib::WallGeometry& wall,
                                       const solvers::SolverOptions& options, const Mount& lever_mount,
-                                      double bias_sigma_m, double scans_per_gnss_fix = 1.0);
+                                      double bias_sigma_m, double scans_per_gnss_fix = 1.0,
+                                      GnssWhite gnss_white = GnssWhite::kInCovariance);
+
+// The σ of the correlated GNSS error an observation without a GNSS-error slice carries in its
+// own covariance (m): the GST σ when the log has one and the options allow it, the configured
+// bias σ otherwise (the `bias_sigma_m` BuildMountProblem gives ObservationCovariance).
+double PoseBiasSigma(const calib::VehiclePose& pose, const solvers::SolverOptions& options);
 
 // The pose uncertainty of a moving scan in its [rho; theta] (m², m·rad, rad²); zero for a scan
 // that uses its dwell's heading. The position and the heading samples each off in time by
