@@ -89,12 +89,15 @@ struct VehiclePose {
   // The median GNSS sample period of the stream the position was interpolated from (s; 0:
   // unknown): a moving scan's interpolation error and how many scans share one fix's noise.
   double gnss_period_s = 0.0;
-  // The GNSS fixes the position was interpolated between (linearly: the pose of a standing
-  // scan): the index of the one at or before stamp_s in the interpolator's stream (-1: unknown)
-  // and the fraction of the way to the next, in [0, 1]. Several scanners' standing scans between
-  // the same two fixes share those fixes' white noise (solvers/joint_mounts.cc).
+  // The GNSS fixes the position was interpolated between and the heading samples the yaw was
+  // (at stamp_s + heading_shift_s): the index of the one at or before that time in the
+  // interpolator's stream (-1: unknown) and the fraction of the way to the next, in [0, 1]. A
+  // moving pose from cubics counts as linear here. Several scanners' scans between the same
+  // samples share those samples' white noise (solvers/joint_mounts.cc).
   int gnss_fix = -1;
   double gnss_fix_fraction = 0.0;
+  int heading_sample = -1;
+  double heading_sample_fraction = 0.0;
   // Inside a dwell (stationary): the circular mean of the heading samples over the whole dwell
   // (rad, same frame as yaw_rad), how many samples it averages, and the dwell's middle time (s).
   // The vehicle's true yaw is constant over a dwell, so the solver uses this mean instead of the

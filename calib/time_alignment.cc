@@ -200,12 +200,18 @@ PoseStatus PoseInterpolator::At(double stamp_s, double heading_shift_s, VehicleP
   pose->yaw_rad = yaw_rad;
   pose->gnss_sigma_m = sigma_m;
   pose->gnss_period_s = gnss_period_s_;
-  // The fixes it lies between (PositionAt has checked the bracket).
+  // The fixes and heading samples it lies between (PositionAt and YawAt have checked the
+  // brackets).
+  const auto fraction = [](const auto& samples, size_t lo, double t_s) {
+    return std::clamp((t_s - samples[lo].stamp_s) / (samples[lo + 1].stamp_s - samples[lo].stamp_s),
+                      0.0, 1.0);
+  };
   const size_t fix = Bracket(positions_, stamp_s);
+  const size_t sample = Bracket(yaws_, yaw_stamp_s);
   pose->gnss_fix = static_cast<int>(fix);
-  pose->gnss_fix_fraction = std::clamp(
-      (stamp_s - positions_[fix].stamp_s) / (positions_[fix + 1].stamp_s - positions_[fix].stamp_s),
-      0.0, 1.0);
+  pose->gnss_fix_fraction = fraction(positions_, fix, stamp_s);
+  pose->heading_sample = static_cast<int>(sample);
+  pose->heading_sample_fraction = fraction(yaws_, sample, yaw_stamp_s);
   pose->stationary = false;
   // The last dwell starting at or before stamp_s is the only one that can contain it.
   const auto it = std::upper_bound(dwells_.begin(), dwells_.end(), stamp_s,

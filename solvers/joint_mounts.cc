@@ -51,9 +51,14 @@ struct JointProblem {
   std::array<double, 1> drift{};
   std::array<double, 1> no_heading{};
   std::array<double, 2> no_bias{};
-  // The white noise [east_m, north_m] of the GNSS fixes standing scans lie between, by the fix's
-  // index in the GNSS stream (every scanner's poses come from the session's one stream).
+  // The shared white noise of the GNSS fixes [east_m, north_m] and heading samples [rad] by
+  // their index in the streams (every scanner's poses come from the session's one GNSS and one
+  // heading stream; solvers/epoch_noise_cost.h), and the zero stand-ins (two of each: Ceres
+  // takes a block once per residual block).
   std::map<int, std::array<double, 2>> fix_noise;
+  std::map<int, std::array<double, 1>> heading_noise;
+  std::array<std::array<double, 2>, 2> no_fix_noise{};
+  std::array<std::array<double, 1>, 2> no_heading_noise{};
   MountProblem joint;  // only its ceres::Problem is used (for solvers/information.h)
 };
 
@@ -149,24 +154,35 @@ void AddBiasChain(const SolverOptions& options, JointProblem* jp) {
   }
 }
 
-// Whether the joint problem carries this observation's GNSS white noise as the shared
-// parameters of its two fixes: a standing scan (its position is the linear interpolation of the
-// fixes at its stamp, exactly what EpochNoiseCost states) whose pose names its fixes. A moving
-// scan keeps the white noise in its own covariance, as one scanner has it: its pose is a cubic
-// through four fixes taken at its stamp and moved by v·dt to the scan's time, and with that
-// noise out of its covariance the model's small errors there (the weights, the path's curvature
-// over dt) decide the mounts. Two scanners stamped at different phases of the GNSS period
-// (different logger latencies) then look as if their poses told each fix's white error apart,
-// and the fast turns between stops give each mount information the data do not hold
-// (docs/method.md, "Several scanners").
-bool SharesFixNoise(const calib::WallObservation& observation, const SolverOptions& options) {
-  return options.gnss_white_sigma_m > 0.0 && UsesDwellHeading(observation) &&
-         observation.pose.gnss_fix >= 0;
+// Which white noise the joint problem carries as parameters shared by the scanners for this
+// observation. A standing scan: the GNSS white noise of its two fixes (its position is their
+// linear interpolation at its stamp; its heading is the dwell's, whose error is the dwell's
+// offset). A moving scan: the white noise of its fixes and heading samples only when the clock
+// rounds have moved its pose to the estimated scan time (pose.clock_shift_s != 0): then every
+// scanner's scans of one instant are interpolated at that instant, from the same samples with
+// the same weights. A moving pose left at its stamp, moved to the scan's time by v·dt within
+// the adjustment, is interpolated at a phase of the GNSS period that differs from scanner to
+// scanner (their logger latencies differ): with the white noise as shared parameters its
+// weights would differ too, the scanners' difference would seem to tell each fix's white error
+// apart, and the fast turns between stops would give each mount information the data do not
+// hold (the linearisation and the cubic's weights are off by more than the line fits' σ). Such
+// a scan keeps the white noise in its covariance, as one scanner has it.
+SharedWhiteNoise SharedNoiseOf(const calib::WallObservation& observation,
+                               const SolverOptions& options) {
+  const calib::VehiclePose& pose = observation.pose;
+  const bool standing = UsesDwellHeading(observation);
+  const bool at_scan_time = pose.clock_shift_s != 0.0;
+  SharedWhiteNoise shared;
+  shared.gnss_fixes =
+      options.gnss_white_sigma_m > 0.0 && pose.gnss_fix >= 0 && (standing || at_scan_time);
+  shared.heading_samples =
+      options.heading_sigma_rad > 0.0 && pose.heading_sample >= 0 && !standing && at_scan_time;
+  return shared;
 }
 
-// Scanner s's observations on the joint blocks. Standing scans whose fixes are shared: one
-// residual block each (EpochNoiseCost), their W made again without the GNSS white noise; the
-// others grouped as BuildMountProblem groups them. Returns the walls they use.
+// Scanner s's observations on the joint blocks. Scans with shared white noise: one residual
+// block each (EpochNoiseCost), their W made again without that noise; the others grouped as
+// BuildMountProblem groups them. Returns the walls they use.
 std::set<int> AddObservations(size_t s, const ScannerObservations& scanner,
                               const std::vector<calib::WallGeometry>& walls,
                               const SolverOptions& options, JointProblem* jp) {
@@ -193,7 +209,8 @@ std::set<int> AddObservations(size_t s, const ScannerObservations& scanner,
     if (!(part.weights[i] > 0.0)) continue;
     const calib::WallObservation& observation = observations[i];
     walls_used.insert(observation.wall_index);
-    if (!SharesFixNoise(observation, options)) {
+    const SharedWhiteNoise shared = SharedNoiseOf(observation, options);
+    if (!shared.gnss_fixes && !shared.heading_samples) {
       const std::array<const double*, 3> key = {part.wall_block[i], part.bias_block[i],
                                                 part.heading_block[i]};
       auto found = open_group.find(key);
@@ -205,25 +222,34 @@ std::set<int> AddObservations(size_t s, const ScannerObservations& scanner,
       continue;
     }
     // BuildMountProblem checked this covariance with the white noise in; without it, it is the
-    // line fit's (and the bias σ's without a slice), positive definite where that was.
+    // line fit's plus what the pose keeps, positive definite where that was.
     const Eigen::Matrix2d covariance = ObservationCovariance(
         observation, walls[observation.wall_index], options, scanner.initial,
-        PoseBiasSigma(observation.pose, options), scans_per_fix, GnssWhite::kShared);
+        PoseBiasSigma(observation.pose, options), scans_per_fix, shared);
     const Eigen::LLT<Eigen::Matrix2d> llt(covariance);
     if (llt.info() == Eigen::Success && llt.matrixLLT().diagonal().minCoeff() > 0.0) {
       part.measurements[i].sqrt_information =
           std::sqrt(part.weights[i]) *
           Eigen::Matrix2d(llt.matrixL().solve(Eigen::Matrix2d::Identity()));
     }
-    const int fix = observation.pose.gnss_fix;
+    const calib::VehiclePose& pose = observation.pose;
+    const int fix = pose.gnss_fix, sample = pose.heading_sample;
+    double* fix_a = shared.gnss_fixes ? jp->fix_noise[fix].data() : jp->no_fix_noise[0].data();
+    double* fix_b = shared.gnss_fixes ? jp->fix_noise[fix + 1].data() : jp->no_fix_noise[1].data();
+    double* sample_a = shared.heading_samples ? jp->heading_noise[sample].data()
+                                              : jp->no_heading_noise[0].data();
+    double* sample_b = shared.heading_samples ? jp->heading_noise[sample + 1].data()
+                                              : jp->no_heading_noise[1].data();
     auto scan = std::make_unique<WallSliceCost>(
         part.measurements, std::vector<int>{static_cast<int>(i)}, options.huber_scale);
     jp->joint.problem.AddResidualBlock(
-        new EpochNoiseCost(std::move(scan), observation.pose.gnss_fix_fraction), nullptr,
+        new EpochNoiseCost(std::move(scan), shared.gnss_fixes ? pose.gnss_fix_fraction : 0.0,
+                           shared.heading_samples ? pose.heading_sample_fraction : 0.0),
+        nullptr,
         std::vector<double*>{jp->mounts[s].data(), joint_block.at(part.wall_block[i]),
                              joint_block.at(part.bias_block[i]), jp->times[s].data(),
-                             joint_block.at(part.heading_block[i]), jp->drift.data(),
-                             jp->fix_noise[fix].data(), jp->fix_noise[fix + 1].data()});
+                             joint_block.at(part.heading_block[i]), jp->drift.data(), fix_a,
+                             fix_b, sample_a, sample_b});
   }
   for (std::vector<int>& group : groups) {
     const int first = group.front();
@@ -236,14 +262,23 @@ std::set<int> AddObservations(size_t s, const ScannerObservations& scanner,
   return walls_used;
 }
 
-// The white noise of every GNSS fix a standing scan lies next to: a zero-mean prior of the
-// options' σ on each, the noise ObservationCovariance otherwise puts in every standing scan's
-// covariance.
-void AddFixNoisePriors(const SolverOptions& options, JointProblem* jp) {
+// The white noise of every GNSS fix and heading sample a scan shares: a zero-mean prior of the
+// options' σ on each (the noise ObservationCovariance otherwise puts in every scan's
+// covariance); the stand-ins for scans that share none held at 0.
+void AddEpochNoisePriors(const SolverOptions& options, JointProblem* jp) {
+  ceres::Problem& problem = jp->joint.problem;
   for (auto& [fix, noise] : jp->fix_noise) {
-    jp->joint.problem.AddResidualBlock(
+    problem.AddResidualBlock(
         GaussianPriorCost::Create(Eigen::Vector2d::Constant(options.gnss_white_sigma_m)), nullptr,
         noise.data());
+  }
+  for (auto& [sample, noise] : jp->heading_noise) {
+    problem.AddResidualBlock(ScalarPriorCost::Create(options.heading_sigma_rad), nullptr,
+                             noise.data());
+  }
+  for (double* block : {jp->no_fix_noise[0].data(), jp->no_fix_noise[1].data(),
+                        jp->no_heading_noise[0].data(), jp->no_heading_noise[1].data()}) {
+    if (problem.HasParameterBlock(block)) problem.SetParameterBlockConstant(block);
   }
 }
 
@@ -328,7 +363,7 @@ JointMountEstimate SolveJointMounts(const std::vector<ScannerObservations>& scan
   ceres::Problem& problem = jp->joint.problem;
   AddWallPrior(walls, walls_used, jp.get());
   AddBiasChain(options, jp.get());
-  AddFixNoisePriors(options, jp.get());
+  AddEpochNoisePriors(options, jp.get());
   // Heading offsets: one prior per dwell, σ as the first scanner that saw the dwell has it.
   std::set<int> stated;
   for (const auto& part : jp->parts) {

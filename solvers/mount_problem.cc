@@ -123,7 +123,7 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       const calib::WallGeometry& wall,
                                       const solvers::SolverOptions& options, const Mount& lever_mount,
                                       double bias_sigma_m, double scans_per_gnss_fix,
-                                      GnssWhite gnss_white) {
+                                      SharedWhiteNoise shared) {
   const calib::OrientedWall oriented = calib::OrientWall(wall, observation.pose.antenna_local_m);
   Eigen::Matrix2d covariance;
   covariance << observation.sigma_rho_m * observation.sigma_rho_m, observation.cov_rho_theta,
@@ -134,11 +134,7 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
   // (optimistic for that observation, but such observations are rare: moving scans outside
   // any segment).
   double position_variance_m2 = options.gnss_white_sigma_m * options.gnss_white_sigma_m;
-  // A standing scan whose fixes are shared parameters of the joint adjustment (EpochNoiseCost).
-  if (gnss_white == GnssWhite::kShared && UsesDwellHeading(observation) &&
-      observation.pose.gnss_fix >= 0) {
-    position_variance_m2 = 0.0;
-  }
+  if (shared.gnss_fixes) position_variance_m2 = 0.0;
   // A moving scan: the scans between the same two fixes share their white noise (the bias
   // slices, tied by the Gauss–Markov chain, do not take it up). Counted as white at the
   // variance times the scans per fix, the mean over those scans gets the fix's variance.
@@ -155,7 +151,7 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
   // A dwell's scans use the dwell's mean heading: its error is common to the dwell and lives
   // in the segment's heading-offset parameter (which turns the lever arm in the cost itself),
   // not in each scan's covariance.
-  const double heading_variance = UsesDwellHeading(observation)
+  const double heading_variance = UsesDwellHeading(observation) || shared.heading_samples
                                       ? 0.0
                                       : options.heading_sigma_rad * options.heading_sigma_rad;
 

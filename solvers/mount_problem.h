@@ -144,16 +144,19 @@ WarmStart WarmStartFrom(const MountProblem& mp);
 // MovingPoseCovariance, and its GNSS white variance times scans_per_gnss_fix (>= 1; the scans
 // between two fixes share their noise: MovingScansPerGnssFix).
 //
-// GnssWhite::kShared leaves out the GNSS white noise of a standing observation whose pose names
-// its fixes (pose.gnss_fix >= 0): the joint adjustment of several scanners carries the white
-// noise of those fixes as parameters shared by every scanner's standing scans between them
-// (solvers/epoch_noise_cost.h). A moving observation keeps it in its covariance either way.
-enum class GnssWhite { kInCovariance, kShared };
+// `shared` leaves out the white noise the joint adjustment of several scanners carries as
+// parameters shared by every scanner's scans between the same samples (solvers/joint_mounts.cc,
+// solvers/epoch_noise_cost.h): the GNSS white noise (with its scans-per-fix factor) and the
+// heading white noise of a moving observation.
+struct SharedWhiteNoise {
+  bool gnss_fixes = false;
+  bool heading_samples = false;
+};
 Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       const calib::WallGeometry& wall,
                                       const solvers::SolverOptions& options, const Mount& lever_mount,
                                       double bias_sigma_m, double scans_per_gnss_fix = 1.0,
-                                      GnssWhite gnss_white = GnssWhite::kInCovariance);
+                                      SharedWhiteNoise shared = SharedWhiteNoise());
 
 // The σ of the correlated GNSS error an observation without a GNSS-error slice carries in its
 // own covariance (m): the GST σ when the log has one and the options allow it, the configured

@@ -1,14 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
-// The standing scan whose position carries its two GNSS fixes' white noise as parameters
-// (solvers/epoch_noise_cost.h): its residual is the wrapped scan's at the bias plus the
-// interpolated white errors, and its Jacobians are the scan's (automatic differentiation) by
-// the chain rule.
+// The scan whose pose carries its fixes' and heading samples' white noise as parameters
+// (solvers/epoch_noise_cost.h): its residual is the wrapped scan's at the bias and heading
+// offset plus the interpolated white errors, and its Jacobians are the scan's (automatic
+// differentiation) by the chain rule.
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
 #include <array>
-#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -20,11 +19,13 @@
 namespace wallcal::solvers {
 namespace {
 
-// One standing scan 8 m in front of a wall along the local x axis.
+// One moving scan 8 m in front of a wall along the local x axis.
 std::vector<WallLineMeasurement> OneScan() {
   WallLineMeasurement m;
   m.antenna_local_m = Eigen::Vector2d(1.0, 2.0);
   m.vehicle_yaw_rad = 0.5 * kPi + 0.1;
+  m.velocity_local_mps = Eigen::Vector2d(0.2, 0.5);
+  m.yaw_rate_rps = 0.05;
   m.drift_time_s = 30.0;
   m.wall_normal_local = Eigen::Vector2d(0.0, 1.0);
   m.wall_centre_local_m = Eigen::Vector2d(0.0, 10.0);
@@ -44,27 +45,32 @@ struct Values {
   std::array<double, 1> drift{2e-4};
   std::array<double, 2> fix_a{0.003, 0.002};
   std::array<double, 2> fix_b{-0.001, 0.004};
+  std::array<double, 1> sample_a{0.0008};
+  std::array<double, 1> sample_b{-0.0004};
   std::vector<const double*> All() const {
-    return {mount.data(), wall.data(),  bias.data(),  time.data(),
-            heading.data(), drift.data(), fix_a.data(), fix_b.data()};
+    return {mount.data(), wall.data(),  bias.data(),  time.data(),     heading.data(),
+            drift.data(), fix_a.data(), fix_b.data(), sample_a.data(), sample_b.data()};
   }
 };
 
 constexpr double kFixFraction = 0.25;
-// b + 0.75 w_a + 0.25 w_b = (0.004 + 0.00225 − 0.00025, −0.007 + 0.0015 + 0.001).
-constexpr double kEffectiveBias[2] = {0.006, -0.0045};
+constexpr double kHeadingFraction = 0.6;
 
-TEST(EpochNoiseCostTest, ResidualIsTheScansAtTheInterpolatedWhiteError) {
+TEST(EpochNoiseCostTest, IsTheScanAtTheBiasAndHeadingPlusTheInterpolatedWhiteErrors) {
   const std::vector<WallLineMeasurement> scans = OneScan();
   const Values v;
   EpochNoiseCost cost(std::make_unique<WallSliceCost>(scans, std::vector<int>{0}, 0.0),
-                      kFixFraction);
-  ASSERT_EQ(cost.parameter_block_sizes().size(), 8u);
+                      kFixFraction, kHeadingFraction);
+  ASSERT_EQ(cost.parameter_block_sizes().size(), 10u);
   std::vector<double> residuals(cost.num_residuals());
   ASSERT_TRUE(cost.Evaluate(v.All().data(), residuals.data(), nullptr));
 
-  const double* at[6] = {v.mount.data(), v.wall.data(),    kEffectiveBias,
-                         v.time.data(),  v.heading.data(), v.drift.data()};
+  // By hand: b + 0.75 w_a + 0.25 w_b = (0.004 + 0.00225 − 0.00025, −0.007 + 0.0015 + 0.001);
+  // h + 0.4 η_a + 0.6 η_b = 0.001 + 0.00032 − 0.00024.
+  const double bias[2] = {0.006, -0.0045};
+  const double heading[1] = {0.00108};
+  const double* at[6] = {v.mount.data(), v.wall.data(), bias,
+                         v.time.data(),  heading,       v.drift.data()};
   WallSliceCost plain(scans, {0}, 0.0);
   std::vector<double> expected(plain.num_residuals());
   ASSERT_TRUE(plain.Evaluate(at, expected.data(), nullptr));
@@ -72,8 +78,7 @@ TEST(EpochNoiseCostTest, ResidualIsTheScansAtTheInterpolatedWhiteError) {
   for (size_t k = 0; k < expected.size(); ++k) {
     EXPECT_NEAR(residuals[k], expected[k], 1e-9 * (1.0 + std::abs(expected[k]))) << k;
   }
-  // The white errors move the residual: the same bias without them gives another one
-  // (0.0025 m along the normal, 0.75 in whitened units).
+  // The white errors move the residual: the same bias without them gives another one.
   const double* without[6] = {v.mount.data(), v.wall.data(),    v.bias.data(),
                               v.time.data(),  v.heading.data(), v.drift.data()};
   std::vector<double> other(plain.num_residuals());
@@ -85,20 +90,23 @@ TEST(EpochNoiseCostTest, JacobiansAreTheScansByTheChainRule) {
   const std::vector<WallLineMeasurement> scans = OneScan();
   const Values v;
   EpochNoiseCost cost(std::make_unique<WallSliceCost>(scans, std::vector<int>{0}, 0.0),
-                      kFixFraction);
+                      kFixFraction, kHeadingFraction);
   const int rows = cost.num_residuals();
-  const std::vector<int> sizes = {3, 2, 2, 2, 1, 1, 2, 2};
-  std::vector<std::vector<double>> j(sizes.size());
-  std::vector<double*> jp(sizes.size());
-  for (size_t b = 0; b < sizes.size(); ++b) {
+  const std::vector<int> sizes = {3, 2, 2, 2, 1, 1, 2, 2, 1, 1};
+  std::vector<std::vector<double>> j(10);
+  std::vector<double*> jp(10);
+  for (int b = 0; b < 10; ++b) {
     j[b].assign(static_cast<size_t>(rows * sizes[b]), 0.0);
     jp[b] = j[b].data();
   }
   std::vector<double> residuals(rows);
   ASSERT_TRUE(cost.Evaluate(v.All().data(), residuals.data(), jp.data()));
-  // The wrapped scan at the effective bias, by automatic differentiation.
-  const double* at[6] = {v.mount.data(), v.wall.data(),    kEffectiveBias,
-                         v.time.data(),  v.heading.data(), v.drift.data()};
+  // The wrapped scan at the effective bias and heading (as in the test above), by automatic
+  // differentiation.
+  const double bias[2] = {0.006, -0.0045};
+  const double heading[1] = {0.00108};
+  const double* at[6] = {v.mount.data(), v.wall.data(), bias,
+                         v.time.data(),  heading,       v.drift.data()};
   std::unique_ptr<ceres::CostFunction> scan(WallLineCost::CreateAutoDiff(scans[0]));
   double expected[6][6];
   double* ep[6] = {expected[0], expected[1], expected[2], expected[3], expected[4], expected[5]};
@@ -108,10 +116,14 @@ TEST(EpochNoiseCostTest, JacobiansAreTheScansByTheChainRule) {
   for (int b = 0; b < 6; ++b) {
     for (int k = 0; k < 2 * sizes[b]; ++k) EXPECT_TRUE(near(j[b][k], expected[b][k])) << b << " " << k;
   }
-  // The white errors' columns: the bias's, times the interpolation weights.
+  // The white errors' columns: the bias's and heading's, times the interpolation weights.
   for (int k = 0; k < 4; ++k) {
     EXPECT_TRUE(near(j[6][k], (1.0 - kFixFraction) * expected[2][k])) << k;
     EXPECT_TRUE(near(j[7][k], kFixFraction * expected[2][k])) << k;
+  }
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_TRUE(near(j[8][k], (1.0 - kHeadingFraction) * expected[4][k])) << k;
+    EXPECT_TRUE(near(j[9][k], kHeadingFraction * expected[4][k])) << k;
   }
 }
 
