@@ -13,7 +13,6 @@
 
 namespace {
 
-using namespace wallcal::io;
 using namespace wallcal::recording;
 
 template <class M, class Decode, class Encode>
