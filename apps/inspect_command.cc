@@ -10,10 +10,10 @@
 
 #include "apps/commands.h"
 #include "io/output_file.h"
-#include "io/recording/recording.h"
 #include "io/survey/survey_reader.h"
 #include "io/types.h"
 #include "preflight/inspect.h"
+#include "recording/recording.h"
 
 namespace wallcal::apps {
 
@@ -89,7 +89,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   }
   if (path.empty()) return Usage("no PATH given", err);
   return wallcal::apps::ExitStatusOf(wallcal::apps::InspectHelp(), [&] {
-    const bool recording = wallcal::io::IsRecording(path);
+    const bool recording = wallcal::recording::IsRecording(path);
     if (suggest) {
       if (!recording) {
         err << "inspect: --suggest-session needs a robot recording (ROS 1 .bag, MCAP, rosbag2); '"

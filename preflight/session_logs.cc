@@ -23,7 +23,7 @@ SessionLogs InspectSessionLogs(
     // A CARMEN log or a recording's LaserScan topic (checked against the preset).
     if (shared_scan_log) scans = shared_scan_log();
     if (!scans) {
-      const io::ScanOpener opener = io::MakeScanOpener(spec, preset);
+      const recording::ScanOpener opener = recording::MakeScanOpener(spec, preset);
       scans = ReadScanLog(spec.scanner_log, spec.scanner_time_offset_s, preset,
                           options.detector.min_range_m, options.detector.mixed_pixel_jump_m,
                           &opener);
@@ -72,7 +72,7 @@ SessionLogs InspectSessionLogs(
                                  const std::string& label) {
     std::optional<io::NmeaLog> log;
     try {
-      io::PoseLogs read = io::ReadPoseLogs(spec, gnss_stream, !gnss_stream);
+      recording::PoseLogs read = recording::ReadPoseLogs(spec, gnss_stream, !gnss_stream);
       log = std::move(gnss_stream ? read.gnss : read.headings);
       for (const std::string& w : read.warnings) warn(w);
     } catch (const io::InputError& e) {
