@@ -72,13 +72,9 @@ TEST(CalibrateOptionsTest, RejectsBadCalibrateOptions) {
       {"detector:\n  hough_rho_step_m: 0.0001\n  hough_theta_step_deg: 0.01\n",
        "calibrate.yaml:2: detector.hough_rho_step_m must be large enough"},
   };
-  for (const auto& [yaml, message] : kBad) {
-    SCOPED_TRACE(yaml);
-    testing_support::ExpectContains(testing_support::MessageOf<InputError>([&dir, yaml = yaml] {
-                                      ReadCalibrateOptions(WriteFile(dir + "/calibrate.yaml", yaml));
-                                    }),
-                                    {message});
-  }
+  testing_support::ExpectEachThrows<InputError>(kBad, [&dir](const char* yaml) {
+    ReadCalibrateOptions(WriteFile(dir + "/calibrate.yaml", yaml));
+  });
 }
 
 }  // namespace
