@@ -189,7 +189,8 @@ std::unique_ptr<MountProblem> BuildMountProblem(
   // in the problem. (Until the dwells got their end guard, alignment.dwell_guard_s, the scans
   // of a turn's last moments sat in the dwells, and with this model the offset came out 0.093 s
   // for a true 0.15 s; a per-scan heading model was used for such sessions then.)
-  const std::map<int, internal::DwellHeading> dwell_headings = internal::DwellHeadings(observations);
+  const std::map<int, internal::DwellHeading> dwell_headings =
+      internal::DwellHeadings(observations);
   double reference_s = std::numeric_limits<double>::infinity();
   for (const auto& observation : observations) {
     reference_s = std::min(reference_s, observation.pose.stamp_s);

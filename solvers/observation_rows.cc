@@ -31,8 +31,7 @@ double DwellHeading::yaw_rad() const {
 double DwellHeading::mid_s() const { return pose_samples > 0 ? pose_mid_s : stamp_sum / count; }
 int DwellHeading::samples() const { return pose_samples > 0 ? pose_samples : count; }
 
-std::map<int, DwellHeading> DwellHeadings(
-    const std::vector<calib::WallObservation>& observations) {
+std::map<int, DwellHeading> DwellHeadings(const std::vector<calib::WallObservation>& observations) {
   std::map<int, DwellHeading> dwells;
   for (const auto& observation : observations) {
     if (!UsesDwellHeading(observation)) continue;
@@ -83,8 +82,8 @@ bool MakeMeasurement(const calib::WallObservation& observation, size_t index,
     const double bias_sigma_m = options.use_gst_sigma && observation.pose.gnss_sigma_m > 0.0
                                     ? observation.pose.gnss_sigma_m
                                     : options.gnss_bias_sigma_m;
-    const Eigen::Matrix2d covariance = ObservationCovariance(
-        observation, wall, options, lever_mount, bias_sigma_m, scans_per_fix);
+    const Eigen::Matrix2d covariance =
+        ObservationCovariance(observation, wall, options, lever_mount, bias_sigma_m, scans_per_fix);
     const Eigen::LLT<Eigen::Matrix2d> llt(covariance);
     if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().minCoeff() > 0.0)) {
       if (error != nullptr) {

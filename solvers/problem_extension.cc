@@ -42,7 +42,8 @@ std::vector<double*> OwnBlocks(MountProblemExtension& extension) {
 
 // A dense symmetric matrix and a sparse one scattered into it, summed, as a sparse matrix of
 // size `size`: the dense one at the top left, the sparse one's row/column r at at[r].
-Eigen::SparseMatrix<double> Sum(const Eigen::MatrixXd& dense, const Eigen::SparseMatrix<double>& sparse,
+Eigen::SparseMatrix<double> Sum(const Eigen::MatrixXd& dense,
+                                const Eigen::SparseMatrix<double>& sparse,
                                 const std::vector<int>& at, int size) {
   std::vector<Eigen::Triplet<double>> triplets;
   for (int r = 0; r < dense.rows(); ++r) {
@@ -80,7 +81,7 @@ std::unique_ptr<MountProblemExtension> ExtendMountProblem(
   // after the base's last (the chain's order), a wall the base does not use (the walls' joint
   // prior).
   const std::set<int> base_stations(base.heading_station_ids.begin(),
-                                     base.heading_station_ids.end());
+                                    base.heading_station_ids.end());
   std::map<int, internal::SegmentSums> sums;
   for (size_t i = 0; i < extra.size(); ++i) {
     const calib::WallObservation& observation = extra[i];
@@ -131,8 +132,8 @@ std::unique_ptr<MountProblemExtension> ExtendMountProblem(
     WallLineMeasurement m;
     *outcome = ExtensionOutcome::kNoNoiseModel;
     if (!internal::MakeMeasurement(observation, i, walls[observation.wall_index], options,
-                                   lever_mount, weight_of(i), 1.0, dwells,
-                                   base.heading_reference_s, &m, nullptr)) {
+                                   lever_mount, weight_of(i), 1.0, dwells, base.heading_reference_s,
+                                   &m, nullptr)) {
       return nullptr;
     }
     *outcome = ExtensionOutcome::kChangesBase;
@@ -154,9 +155,9 @@ std::unique_ptr<MountProblemExtension> ExtendMountProblem(
        internal::ResidualGroups(wall_block, bias_block, heading_block, used_weights)) {
     const int first = group.front();
     extension->problem.AddResidualBlock(
-        new WallSliceCost(extension->measurements, std::move(group), options.huber_scale),
-        nullptr, base.mount.data(), wall_block[first], bias_block[first],
-        base.time_offset.data(), heading_block[first], base.heading_drift.data());
+        new WallSliceCost(extension->measurements, std::move(group), options.huber_scale), nullptr,
+        base.mount.data(), wall_block[first], bias_block[first], base.time_offset.data(),
+        heading_block[first], base.heading_drift.data());
   }
 
   // The GNSS-error chain goes on from the base's last slice (BuildMountProblem's chain over
@@ -179,10 +180,10 @@ std::unique_ptr<MountProblemExtension> ExtendMountProblem(
   for (size_t k = 0; k < order.size(); ++k) {
     const int index = order[k];
     const double sigma_m = extension->bias_sigma_m[index];
-    const double rho = (k == 0 && last_base < 0)
-                           ? 0.0
-                           : internal::SliceCorrelation(
-                                 extension->segment_mid_s[index] - previous_mid_s, options);
+    const double rho =
+        (k == 0 && last_base < 0)
+            ? 0.0
+            : internal::SliceCorrelation(extension->segment_mid_s[index] - previous_mid_s, options);
     previous_mid_s = extension->segment_mid_s[index];
     if (!(sigma_m > 0.0)) {
       previous_block = nullptr;
@@ -250,7 +251,8 @@ SharedInformation MarginalOntoShared(MountProblem& base, int threads) {
   for (auto& wall : base.wall_deltas) candidates.push_back(wall.data());
   candidates.push_back(base.time_offset.data());
   candidates.push_back(base.heading_drift.data());
-  if (!base.segment_order.empty()) candidates.push_back(base.biases[base.segment_order.back()].data());
+  if (!base.segment_order.empty())
+    candidates.push_back(base.biases[base.segment_order.back()].data());
   int size = 0;
   for (double* block : candidates) {
     if (!base.problem.HasParameterBlock(block) || base.problem.IsParameterBlockConstant(block)) {
@@ -297,7 +299,8 @@ Eigen::Matrix3d ExtendedMountInformation(const SharedInformation& shared,
   int size = static_cast<int>(shared.information.rows());
   for (double* block : OwnBlocks(extension)) {
     columns.push_back(block);
-    for (int c = 0; c < extension.problem.ParameterBlockTangentSize(block); ++c) at.push_back(size++);
+    for (int c = 0; c < extension.problem.ParameterBlockTangentSize(block); ++c)
+      at.push_back(size++);
   }
   // A block of the extension that is neither shared nor its own would be a column lost.
   std::vector<double*> used;
@@ -310,8 +313,7 @@ Eigen::Matrix3d ExtendedMountInformation(const SharedInformation& shared,
   }
   Eigen::SparseMatrix<double> normal;
   if (!ProblemNormalMatrix(extension.problem, columns, 1, &normal)) return Eigen::Matrix3d::Zero();
-  const Eigen::MatrixXd information =
-      SchurComplement(Sum(shared.information, normal, at, size), 3);
+  const Eigen::MatrixXd information = SchurComplement(Sum(shared.information, normal, at, size), 3);
   if (information.rows() != 3) return Eigen::Matrix3d::Zero();
   return information;
 }

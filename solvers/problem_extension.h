@@ -12,12 +12,12 @@
 // nuisance eliminated (ExtendedMountInformation). It equals MountInformation of the problem
 // built from both observation sets, up to rounding, at a cost of the extension's size.
 
+#include <ceres/ceres.h>
+
+#include <Eigen/Core>
 #include <array>
 #include <memory>
 #include <vector>
-
-#include <Eigen/Core>
-#include <ceres/ceres.h>
 
 #include "calib/observation.h"
 #include "solvers/mount_problem.h"

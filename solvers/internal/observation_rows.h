@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "calib/observation.h"
-#include "solvers/solver_options.h"
 #include "solvers/mount_solver.h"
+#include "solvers/solver_options.h"
 #include "solvers/wall_line_cost.h"
 
 namespace wallcal::solvers::internal {

@@ -2,6 +2,8 @@
 // Observations added to a built problem (solvers/problem_extension.h): the mount's information
 // from the base's marginal onto the shared blocks plus the extension equals the information of
 // the problem built from both sets; additions that would change the base are refused.
+#include "solvers/problem_extension.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -13,7 +15,6 @@
 #include "sim/synthetic_observations.h"
 #include "solvers/information.h"
 #include "solvers/mount_problem.h"
-#include "solvers/problem_extension.h"
 #include "test/support/synthetic_fixtures.h"
 
 namespace wallcal::solvers {
@@ -124,17 +125,17 @@ TEST(ProblemExtensionTest, RefusesObservationsThatWouldChangeTheBase) {
   for (const calib::WallObservation& o : split.base) {
     if (o.wall_index == 0) one_wall.push_back(o);
   }
-  auto first_wall_only = BuildMountProblem(one_wall, split.walls, split.options, split.start,
-                                           split.start, &error);
+  auto first_wall_only =
+      BuildMountProblem(one_wall, split.walls, split.options, split.start, split.start, &error);
   ASSERT_NE(first_wall_only, nullptr) << error;
   EXPECT_EQ(ExtendMountProblem(*first_wall_only, split.extra, split.walls, split.options,
                                split.start, {}, &outcome),
             nullptr);
   EXPECT_EQ(outcome, ExtensionOutcome::kChangesBase);
   // The same extra observations on the base itself are taken.
-  EXPECT_NE(ExtendMountProblem(*base, split.extra, split.walls, split.options, split.start, {},
-                               &outcome),
-            nullptr);
+  EXPECT_NE(
+      ExtendMountProblem(*base, split.extra, split.walls, split.options, split.start, {}, &outcome),
+      nullptr);
   EXPECT_EQ(outcome, ExtensionOutcome::kExtended);
 }
 
