@@ -84,7 +84,10 @@ const CommandHelp& CalibrateHelp() {
           {"--compare", "", "FILE", ValueKind::kFile, {},
            "an earlier offsets.yaml: the change since then (mm, degrees and combined\n"
            "sigma) in the summary, offsets.yaml and the report; the verdict says\n"
-           "REVIEW when it is beyond the acceptance tolerances"},
+           "REVIEW when it is beyond the acceptance tolerances. With scanners: in\n"
+           "session.yaml, each scanner is compared by id (with a one-scanner file,\n"
+           "the scanner whose frame is its child_frame) and each relative transform\n"
+           "by (from, to); a scanner found in one file only is named"},
           {"--allow-partial", "", "", ValueKind::kNone, {},
            "with several scanners (session.yaml scanners:), write the others when\n"
            "one is refused (by default the run fails, exit 1)"},

@@ -15,6 +15,7 @@
 #include "io/version.h"
 #include "outputs/json_text.h"
 #include "outputs/offsets_document.h"
+#include "outputs/summary.h"
 
 namespace wallcal::outputs {
 namespace {
@@ -75,6 +76,7 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
            ", headings_deg: {min: " + YamlNumber("%.4f", r.heading_min_deg) +
            ", max: " + YamlNumber("%.4f", r.heading_max_deg) + "}}\n";
     out += "    verdict: " + VerdictYaml(r) + "\n";
+    if (r.change) out += "    change_since_previous: " + ChangeYaml(*r.change) + "\n";
     for (const char* axis : {".x", ".y", ".yaw"}) order.push_back(run.spec.id + axis);
   }
   out += "# Pose of `to` in the frame of `from` (from = the scanner listed earlier).\n";
@@ -86,6 +88,9 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
       out += "  - from: " + YamlText(relative.from_id) + "\n";
       out += "    to: " + YamlText(relative.to_id) + "\n";
       out += MountKeys("    ", relative.mount.from_T_to, relative.mount.covariance);
+      if (relative.change) {
+        out += "    change_since_previous: " + ChangeYaml(*relative.change) + "\n";
+      }
     }
   }
   out += "joint_covariance:\n";
@@ -108,6 +113,17 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
                ", reason: " + YamlQuoted(run.result.estimate.message) + "}\n";
   }
   out += refused.empty() ? "refused: []\n" : "refused:\n" + refused;
+  if (!several.previous_input.role.empty()) {
+    const auto list = [](const std::vector<std::string>& ids) {
+      std::string text = "[";
+      for (size_t i = 0; i < ids.size(); ++i) text += (i ? ", " : "") + YamlText(ids[i]);
+      return text + "]";
+    };
+    out += "# --compare: the scanners found in one of the two files only.\n";
+    out += "compared_with: {previous: " + YamlQuoted(several.previous_input.path) +
+           ", not_in_previous: " + list(several.not_in_previous) +
+           ", only_in_previous: " + list(several.only_in_previous) + "}\n";
+  }
   out += "method: ceres\n";
   out += "source:\n";
   out += "  session: " + YamlQuoted(several.session.file) + "\n";
@@ -131,6 +147,12 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
                 "}\n";
     }
   }
+  const io::InputFileDigest& previous = several.previous_input;
+  if (!previous.role.empty() && seen.insert(previous.role + "\n" + previous.path).second) {
+    inputs += "    - {role: " + YamlQuoted(previous.role) + ", path: " +
+              YamlQuoted(previous.path) + ", sha256: " +
+              (previous.sha256.empty() ? std::string("null") : previous.sha256) + "}\n";
+  }
   if (!inputs.empty()) out += "  inputs:\n" + inputs;
   return out;
 }
@@ -152,6 +174,7 @@ std::string FormatSeveralSummary(const pipeline::SeveralScannersResult& several)
            Format(", clock offset %.4f s, %d observations, %lld scans used", r.time_offset_s,
                   r.estimate.observations_used, static_cast<long long>(r.scans_used)) +
            "\n";
+    if (r.change) out += "    change " + ChangeText(*r.change) + "\n";
   }
   for (const pipeline::RelativeMountResult& relative : several.relative) {
     const solvers::Mount& m = relative.mount.from_T_to;
@@ -160,6 +183,15 @@ std::string FormatSeveralSummary(const pipeline::SeveralScannersResult& several)
            Format("x %.4f ± %.4f m, y %.4f ± %.4f m, yaw %.3f ± %.3f deg", m.x_m, Sigma(c, 0),
                   m.y_m, Sigma(c, 1), m.yaw_rad * kRadToDeg, Sigma(c, 2) * kRadToDeg) +
            "\n";
+    if (relative.change) out += "    change " + ChangeText(*relative.change) + "\n";
+  }
+  for (const std::string& id : several.not_in_previous) {
+    out += "  scanner '" + id + "' is not in " + several.previous_input.path +
+           ": nothing to compare it with\n";
+  }
+  for (const std::string& id : several.only_in_previous) {
+    out += "  scanner '" + id + "' of " + several.previous_input.path +
+           " is not calibrated in this run\n";
   }
   if (!several.message.empty()) out += "  " + several.message + "\n";
   out += Format("  time       %.1f s\n", several.seconds);

@@ -303,6 +303,44 @@ TEST(MultiScannerTest, EmittedStaticTfAndUrdfFormOneTree) {
   EXPECT_EQ(offsets.find("\nscanner_mount:"), std::string::npos);
 }
 
+TEST(MultiScannerTest, CompareTakesEachScannerByIdAndNamesThoseInOneFileOnly) {
+  const fs::path dir = SessionAs("text", "compare");
+  const testing_support::ProgramRun first = RunCalibrate(dir, {"--quiet"});
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  // The previous calibration: front_left 30 mm further forward (beyond the default
+  // acceptance.max_change_xy_m, 20 mm, and 1.6 combined σ of 13 mm each), front_right under
+  // another id.
+  YAML::Node previous = YAML::LoadFile((dir / "offsets.yaml").string());
+  const double x_m = previous["scanner_mounts"][0]["x"].as<double>();
+  previous["scanner_mounts"][0]["x"] = x_m - 0.030;
+  previous["scanner_mounts"][1]["id"] = "rear_right";
+  const fs::path old = dir / "previous.yaml";
+  std::ofstream(old) << previous << "\n";
+  const testing_support::ProgramRun run =
+      RunCalibrate(dir, {"--quiet", "--compare", old.string(), "--output", (dir / "now.yaml").string()});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("front_left (REVIEW)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("front_right (ACCEPT)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("    change since " + old.string() + ": x +30.0 mm, y +0.0 mm"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("scanner 'front_right' is not in " + old.string()), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("scanner 'rear_right' of " + old.string() + " is not calibrated"),
+            std::string::npos)
+      << run.out;
+  const YAML::Node now = YAML::LoadFile((dir / "now.yaml").string());
+  const YAML::Node left = now["scanner_mounts"][0];
+  EXPECT_NEAR(left["change_since_previous"]["dx_mm"].as<double>(), 30.0, 0.01);
+  EXPECT_EQ(left["verdict"]["verdict"].as<std::string>(), "REVIEW");
+  EXPECT_FALSE(now["scanner_mounts"][1]["change_since_previous"].IsDefined());
+  // The relative transform is compared by (from, to): unchanged.
+  EXPECT_NEAR(now["relative_mounts"][0]["change_since_previous"]["dx_mm"].as<double>(), 0.0,
+              0.01);
+  EXPECT_EQ(now["compared_with"]["not_in_previous"][0].as<std::string>(), "front_right");
+  EXPECT_EQ(now["compared_with"]["only_in_previous"][0].as<std::string>(), "rear_right");
+}
+
 // ---- Bad input and refused scanners -----------------------------------------------------------
 
 // session.yaml of the text session with its scanners: block replaced by `scanners`.
