@@ -57,6 +57,8 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
   std::string out;
   out += "# Mounts of the scanners in the vehicle (GNSS antenna) frame: x forward, y left, yaw "
          "ccw.\n";
+  out += "# The run's verdict: the worst of the scanners' and the relative transforms' below.\n";
+  out += "verdict: " + DecisionYaml(several.decision) + "\n";
   out += "scanner_mounts:\n";
   std::vector<std::string> order;
   for (const pipeline::ScannerRun& run : several.scanners) {
@@ -88,6 +90,7 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
       out += "  - from: " + YamlText(relative.from_id) + "\n";
       out += "    to: " + YamlText(relative.to_id) + "\n";
       out += MountKeys("    ", relative.mount.from_T_to, relative.mount.covariance);
+      out += "    verdict: " + DecisionYaml(relative.decision) + "\n";
       if (relative.change) {
         out += "    change_since_previous: " + ChangeYaml(*relative.change) + "\n";
       }
@@ -160,6 +163,13 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
 std::string FormatSeveralSummary(const pipeline::SeveralScannersResult& several) {
   std::string out = "calibrate: " + several.session.name + ": " +
                     std::to_string(several.scanners.size()) + " scanners\n";
+  const auto reasons = [&out](const pipeline::Decision& decision) {
+    for (const std::string& reason : decision.reasons) out += "      - " + reason + "\n";
+  };
+  if (several.outcome != pipeline::SeveralOutcome::kFailed) {
+    out += std::string("  verdict    ") + pipeline::VerdictName(several.decision.verdict) +
+           " (the worst of the scanners and relative transforms below)\n";
+  }
   for (const pipeline::ScannerRun& run : several.scanners) {
     const pipeline::CalibrationResult& r = run.result;
     if (run.joint_index < 0) {
@@ -174,15 +184,18 @@ std::string FormatSeveralSummary(const pipeline::SeveralScannersResult& several)
            Format(", clock offset %.4f s, %d observations, %lld scans used", r.time_offset_s,
                   r.estimate.observations_used, static_cast<long long>(r.scans_used)) +
            "\n";
+    reasons(r.decision);
     if (r.change) out += "    change " + ChangeText(*r.change) + "\n";
   }
   for (const pipeline::RelativeMountResult& relative : several.relative) {
     const solvers::Mount& m = relative.mount.from_T_to;
     const Eigen::Matrix3d& c = relative.mount.covariance;
-    out += "  " + relative.to_id + " in " + relative.from_id + ": " +
+    out += "  " + relative.to_id + " in " + relative.from_id + " (" +
+           pipeline::VerdictName(relative.decision.verdict) + "): " +
            Format("x %.4f ± %.4f m, y %.4f ± %.4f m, yaw %.3f ± %.3f deg", m.x_m, Sigma(c, 0),
                   m.y_m, Sigma(c, 1), m.yaw_rad * kRadToDeg, Sigma(c, 2) * kRadToDeg) +
            "\n";
+    reasons(relative.decision);
     if (relative.change) out += "    change " + ChangeText(*relative.change) + "\n";
   }
   for (const std::string& id : several.not_in_previous) {

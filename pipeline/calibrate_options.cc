@@ -11,6 +11,11 @@ void AcceptanceOptions::Validate() const {
   CheckPositive("acceptance.max_change_xy_m", max_change_xy_m);
   CheckAnglePositive("acceptance.max_change_yaw_deg", max_change_yaw_rad, 180.0);
   CheckPositive("acceptance.max_change_sigmas", max_change_sigmas);
+  CheckPositive("acceptance.relative_max_sigma_xy_m", relative_max_sigma_xy_m);
+  CheckAnglePositive("acceptance.relative_max_sigma_yaw_deg", relative_max_sigma_yaw_rad, 180.0);
+  CheckPositive("acceptance.relative_max_change_xy_m", relative_max_change_xy_m);
+  CheckAnglePositive("acceptance.relative_max_change_yaw_deg", relative_max_change_yaw_rad,
+                     180.0);
 }
 
 void CalibrateOptions::Validate() const {

@@ -130,6 +130,11 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
   for (ScannerRun& run : several.scanners) {
     if (run.joint_index >= 0) run.result.decision = DecideCalibration(run.result, run.result.change);
   }
+  const AcceptanceOptions& acceptance = several.scanners.front().result.options.acceptance;
+  for (RelativeMountResult& relative : several.relative) {
+    relative.decision = DecideRelative(relative.mount, relative.change, acceptance);
+  }
+  several.decision = DecideSeveral(several);
   several.outcome = refused.empty() ? SeveralOutcome::kAll : SeveralOutcome::kPartial;
   if (!refused.empty()) several.message = "left out (--allow-partial): scanner " + refused_text;
   several.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

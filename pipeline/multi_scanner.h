@@ -42,6 +42,7 @@ struct RelativeMountResult {
   std::string from_id, to_id;  // from: the scanner listed earlier in session.yaml
   solvers::RelativeMount mount;
   std::optional<Change> change;  // since the --compare file's (from, to) entry, when it has one
+  Decision decision;             // against acceptance.relative_* (pipeline::DecideRelative)
 };
 
 struct SeveralScannersResult {
@@ -53,6 +54,9 @@ struct SeveralScannersResult {
   // for offsets.yaml's source.inputs (empty role: no --compare).
   std::vector<std::string> not_in_previous, only_in_previous;
   io::InputFileDigest previous_input;
+  // The run's verdict (pipeline::DecideSeveral): the worst of the scanners' and the relative
+  // transforms'. Decided when the joint adjustment gave a result.
+  Decision decision;
   SeveralOutcome outcome = SeveralOutcome::kFailed;
   std::string message;  // why kFailed or kPartial, naming the scanners
   double seconds = 0.0;

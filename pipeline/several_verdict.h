@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// What a run with several scanners (pipeline/multi_scanner.h) tells about the change since an
-// earlier calibration (calibrate --compare): each scanner compared by id, each relative
-// transform by (from, to), and the scanners found in one file only. Computed once here, shown
-// by the summary, offsets.yaml and the report.
+// The verdicts of a run with several scanners (pipeline/multi_scanner.h) and the change since
+// an earlier calibration (calibrate --compare): each scanner compared by id, each relative
+// transform by (from, to), the scanners found in one file only; a verdict on each scanner, on
+// each relative transform and on the whole run. Computed once here, shown by the summary,
+// offsets.yaml and the report.
 
 #include <optional>
 #include <string>
@@ -37,6 +38,16 @@ SeveralChanges CompareSeveral(const SeveralScannersResult& several,
 // flagged residual trends `result` holds, with `change`: a one-scanner run's on its own
 // estimate, a scanner of several's on the joint mount and σ.
 Decision DecideCalibration(const CalibrationResult& result, const std::optional<Change>& change);
+
+// The verdict of a relative transform against acceptance.relative_* (σ beyond them: REJECT;
+// a change beyond them or beyond max_change_sigmas combined σ: REVIEW).
+Decision DecideRelative(const solvers::RelativeMount& relative, const std::optional<Change>& change,
+                        const AcceptanceOptions& acceptance);
+
+// The run's verdict: the worst of the calibrated scanners' and the relative transforms', with
+// one reason per one that is not ACCEPT ("front_left: REVIEW"); a run that left a scanner out
+// (--allow-partial) is at least REVIEW. Reads each result's decision, so those come first.
+Decision DecideSeveral(const SeveralScannersResult& several);
 
 // The change of a relative transform since `previous` (CompareMounts on the pose of `to` in
 // `from` and its covariance).

@@ -33,6 +33,9 @@ alignment:
 solver:
   heading_sigma_deg: 0.2
   min_heading_spread_deg: 30
+acceptance:
+  relative_max_sigma_yaw_deg: 0.02
+  relative_max_change_xy_m: 0.004
 first_pass_max_scans: 500
 )");
   const CalibrateOptions options = ReadCalibrateOptions(path);
@@ -44,6 +47,10 @@ first_pass_max_scans: 500
   EXPECT_NEAR(options.solver.heading_sigma_rad, 0.2 * kDegToRad, 1e-15);
   EXPECT_NEAR(options.solver.min_heading_spread_rad, 30.0 * kDegToRad, 1e-15);
   EXPECT_EQ(options.first_pass_max_scans, 500);
+  EXPECT_NEAR(options.acceptance.relative_max_sigma_yaw_rad, 0.02 * kDegToRad, 1e-15);
+  EXPECT_DOUBLE_EQ(options.acceptance.relative_max_change_xy_m, 0.004);
+  EXPECT_DOUBLE_EQ(options.acceptance.relative_max_sigma_xy_m,
+                   AcceptanceOptions().relative_max_sigma_xy_m);  // default
 }
 
 TEST(CalibrateOptionsTest, RejectsBadCalibrateOptions) {
@@ -57,6 +64,8 @@ TEST(CalibrateOptionsTest, RejectsBadCalibrateOptions) {
       {"detector:\n  min_inliers: many\n", "calibrate.yaml:2: detector.min_inliers"},
       {"alignment:\n  use_moving_scans: maybe\n", "true or false"},
       {"detector: 3\n", "detector must be a map"},
+      {"acceptance:\n  relative_max_sigma_xy_m: 0\n",
+       "acceptance.relative_max_sigma_xy_m must be > 0"},
   };
   for (const auto& [yaml, message] : kBad) {
     SCOPED_TRACE(yaml);

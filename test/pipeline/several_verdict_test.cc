@@ -117,5 +117,59 @@ TEST(SeveralVerdictTest, ScannerVerdictFollowsTheSigmaAndChangeItIsGiven) {
   EXPECT_NE(decision.reasons[0].find("max_change_xy_m"), std::string::npos) << decision.reasons[0];
 }
 
+TEST(SeveralVerdictTest, RelativeTransformIsJudgedByItsOwnTolerances) {
+  const AcceptanceOptions acceptance;  // 5 mm, 0.05°; changes 10 mm, 0.1°
+  solvers::RelativeMount relative = TwoOfThree().relative[0].mount;  // σ 0.32 mm, 0.0018°
+  EXPECT_EQ(DecideRelative(relative, std::nullopt, acceptance).verdict, Verdict::kAccept);
+  relative.covariance(1, 1) = std::pow(0.006, 2);  // σ y 6 mm: merged scans part
+  Decision decision = DecideRelative(relative, std::nullopt, acceptance);
+  EXPECT_EQ(decision.verdict, Verdict::kReject);
+  ASSERT_EQ(decision.reasons.size(), 1u);
+  EXPECT_NE(decision.reasons[0].find("acceptance.relative_max_sigma_xy_m"), std::string::npos);
+  relative.covariance(1, 1) = 1e-7;
+  relative.covariance(2, 2) = std::pow(0.06 / kRadToDeg, 2);
+  EXPECT_EQ(DecideRelative(relative, std::nullopt, acceptance).verdict, Verdict::kReject);
+  relative.covariance(2, 2) = 1e-9;
+  // A change within the mm tolerances but of many combined σ: REVIEW by max_change_sigmas.
+  Change small;
+  small.previous_file = "old.yaml";
+  small.dx_m = 0.002;
+  small.x_sigmas = 4.5;
+  decision = DecideRelative(relative, small, acceptance);
+  EXPECT_EQ(decision.verdict, Verdict::kReview);
+  ASSERT_EQ(decision.reasons.size(), 1u);
+  EXPECT_NE(decision.reasons[0].find("max_change_sigmas"), std::string::npos);
+  Change turned;
+  turned.previous_file = "old.yaml";
+  turned.dyaw_rad = 0.15 / kRadToDeg;
+  decision = DecideRelative(relative, turned, acceptance);
+  EXPECT_EQ(decision.verdict, Verdict::kReview);
+  EXPECT_NE(decision.reasons[0].find("relative_max_change_yaw_deg"), std::string::npos);
+  small.x_sigmas = 1.0;
+  EXPECT_EQ(DecideRelative(relative, small, acceptance).verdict, Verdict::kAccept);
+}
+
+TEST(SeveralVerdictTest, RunVerdictIsTheWorstAndALeftOutScannerIsAtLeastReview) {
+  SeveralScannersResult several = TwoOfThree();
+  several.scanners[0].result.decision.verdict = Verdict::kAccept;
+  several.scanners[1].result.decision.verdict = Verdict::kAccept;
+  several.scanners[2].result.decision.verdict = Verdict::kReject;  // refused: left out
+  several.relative[0].decision.verdict = Verdict::kAccept;
+  Decision run = DecideSeveral(several);
+  EXPECT_EQ(run.verdict, Verdict::kReview);
+  ASSERT_EQ(run.reasons.size(), 1u);
+  EXPECT_EQ(run.reasons[0], "rear: left out (mount not determined)");
+  several.scanners.pop_back();
+  EXPECT_EQ(DecideSeveral(several).verdict, Verdict::kAccept);
+  several.relative[0].decision.verdict = Verdict::kReject;
+  run = DecideSeveral(several);
+  EXPECT_EQ(run.verdict, Verdict::kReject);
+  ASSERT_EQ(run.reasons.size(), 1u);
+  EXPECT_EQ(run.reasons[0], "right in left: REJECT");
+  several.scanners[0].result.decision.verdict = Verdict::kReview;
+  several.relative[0].decision.verdict = Verdict::kAccept;
+  EXPECT_EQ(DecideSeveral(several).verdict, Verdict::kReview);
+}
+
 }  // namespace
 }  // namespace wallcal::pipeline

@@ -314,12 +314,19 @@ TEST(MultiScannerTest, CompareTakesEachScannerByIdAndNamesThoseInOneFileOnly) {
   const double x_m = previous["scanner_mounts"][0]["x"].as<double>();
   previous["scanner_mounts"][0]["x"] = x_m - 0.030;
   previous["scanner_mounts"][1]["id"] = "rear_right";
+  // ... and front_right 15 mm further right of front_left (beyond
+  // acceptance.relative_max_change_xy_m, 10 mm).
+  const double relative_x_m = previous["relative_mounts"][0]["x"].as<double>();
+  previous["relative_mounts"][0]["x"] = relative_x_m + 0.015;
   const fs::path old = dir / "previous.yaml";
   std::ofstream(old) << previous << "\n";
   const testing_support::ProgramRun run =
       RunCalibrate(dir, {"--quiet", "--compare", old.string(), "--output", (dir / "now.yaml").string()});
   ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("  verdict    REVIEW"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("front_left (REVIEW)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("front_right in front_left (REVIEW)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("acceptance.relative_max_change_xy_m"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("front_right (ACCEPT)"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("    change since " + old.string() + ": x +30.0 mm, y +0.0 mm"),
             std::string::npos)
@@ -334,11 +341,32 @@ TEST(MultiScannerTest, CompareTakesEachScannerByIdAndNamesThoseInOneFileOnly) {
   EXPECT_NEAR(left["change_since_previous"]["dx_mm"].as<double>(), 30.0, 0.01);
   EXPECT_EQ(left["verdict"]["verdict"].as<std::string>(), "REVIEW");
   EXPECT_FALSE(now["scanner_mounts"][1]["change_since_previous"].IsDefined());
-  // The relative transform is compared by (from, to): unchanged.
-  EXPECT_NEAR(now["relative_mounts"][0]["change_since_previous"]["dx_mm"].as<double>(), 0.0,
-              0.01);
+  // The relative transform is compared by (from, to).
+  const YAML::Node relative = now["relative_mounts"][0];
+  EXPECT_NEAR(relative["change_since_previous"]["dx_mm"].as<double>(), -15.0, 0.01);
+  EXPECT_EQ(relative["verdict"]["verdict"].as<std::string>(), "REVIEW");
+  EXPECT_EQ(now["verdict"]["verdict"].as<std::string>(), "REVIEW");
   EXPECT_EQ(now["compared_with"]["not_in_previous"][0].as<std::string>(), "front_right");
   EXPECT_EQ(now["compared_with"]["only_in_previous"][0].as<std::string>(), "rear_right");
+}
+
+TEST(MultiScannerTest, RelativeTransformBeyondItsToleranceRejectsTheRun) {
+  const fs::path dir = SessionAs("text", "relative_tolerance");
+  // σ of the relative x, y here is 0.4-0.6 mm: a tolerance of 0.1 mm rejects it, while the
+  // mounts (σ 7-13 mm against 20 mm) are still accepted.
+  const fs::path config = dir / "tight.yaml";
+  std::ofstream(config) << "acceptance:\n  relative_max_sigma_xy_m: 0.0001\n";
+  const testing_support::ProgramRun run =
+      RunCalibrate(dir, {"--quiet", "--config", config.string()});
+  ASSERT_EQ(run.exit_code, 0) << run.err;  // written, as any determined mount: the verdict says
+  EXPECT_NE(run.out.find("  verdict    REJECT"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("front_left (ACCEPT)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("front_right in front_left (REJECT)"), std::string::npos) << run.out;
+  const YAML::Node offsets = YAML::LoadFile((dir / "offsets.yaml").string());
+  EXPECT_EQ(offsets["verdict"]["verdict"].as<std::string>(), "REJECT");
+  EXPECT_EQ(offsets["verdict"]["reasons"][0].as<std::string>(), "front_right in front_left: REJECT");
+  EXPECT_EQ(offsets["relative_mounts"][0]["verdict"]["verdict"].as<std::string>(), "REJECT");
+  EXPECT_EQ(offsets["scanner_mounts"][1]["verdict"]["verdict"].as<std::string>(), "ACCEPT");
 }
 
 // ---- Bad input and refused scanners -----------------------------------------------------------
@@ -403,6 +431,14 @@ TEST(MultiScannerTest, ScannerThatNeverSeesTheWallFailsTheRunUnlessPartialIsAllo
   EXPECT_EQ(partial.exit_code, 0) << partial.err;
   const std::string offsets = ReadText(dir / "offsets.yaml");
   EXPECT_NE(offsets.find("refused:\n  - {id: rear"), std::string::npos) << offsets;
+  // The run's verdict is at least REVIEW: a scanner is left out.
+  const YAML::Node verdict = YAML::LoadFile((dir / "offsets.yaml").string())["verdict"];
+  EXPECT_NE(verdict["verdict"].as<std::string>(), "ACCEPT");
+  bool named = false;
+  for (const YAML::Node& reason : verdict["reasons"]) {
+    named = named || reason.as<std::string>() == "rear: left out (mount not determined)";
+  }
+  EXPECT_TRUE(named) << offsets;
   EXPECT_NE(offsets.find("  - id: front_left\n"), std::string::npos);
   const pipeline::SeveralScannersResult result = Calibrate(dir, true);
   EXPECT_EQ(result.outcome, pipeline::SeveralOutcome::kPartial);
