@@ -10,11 +10,11 @@
 
 #include "apps/commands.h"
 #include "io/output_file.h"
-#include "io/recording/recording.h"
 #include "io/survey/survey_reader.h"
 #include "io/types.h"
 #include "io/version.h"
 #include "preflight/inspect.h"
+#include "recording/recording.h"
 
 namespace wallcal::apps {
 
@@ -98,7 +98,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     return 2;
   }
   try {
-    const bool recording = wallcal::io::IsRecording(path);
+    const bool recording = wallcal::recording::IsRecording(path);
     if (suggest) {
       if (!recording) {
         err << "inspect: --suggest-session needs a robot recording (ROS 1 .bag, MCAP, rosbag2); '"

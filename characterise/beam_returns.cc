@@ -10,8 +10,8 @@
 
 #include "common/angles.h"
 #include "common/circular.h"
-#include "io/recording/recording_streams.h"
 #include "io/scan_source.h"
+#include "recording/recording_streams.h"
 
 namespace wallcal::characterise {
 namespace {
@@ -113,7 +113,8 @@ BeamSet CollectBeams(const pipeline::CalibrationResult& calibration, const calib
   }
 
   // The scans again, in file order: the index is the detection pass's scan_index.
-  const io::ScanOpener open = io::MakeScanOpener(calibration.session, &calibration.preset);
+  const recording::ScanOpener open =
+      recording::MakeScanOpener(calibration.session, &calibration.preset);
   std::unique_ptr<io::ScanSource> source = open();
   io::ScanRecord scan;
   int index = -1;

@@ -2,10 +2,10 @@
 #include "guide/guide_session.h"
 
 #include <algorithm>
-#include <iterator>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 #include <utility>
@@ -13,9 +13,9 @@
 
 #include "analysis/repeatability.h"
 #include "calib/detection_pass.h"
-#include "io/recording/recording.h"
 #include "io/text/carmen_reader.h"
 #include "pipeline/steps.h"
+#include "recording/recording.h"
 
 namespace wallcal::guide {
 namespace {
@@ -142,7 +142,7 @@ GuideReport GuideSession::Refresh() {
     s.result.options = std::move(setup.options);
     s.result.preset = std::move(setup.preset);
     const std::string& scans = s.result.session.scanner_log;
-    s.incremental = !io::IsRecording(scans) && !IsGzip(scans);
+    s.incremental = !recording::IsRecording(scans) && !IsGzip(scans);
     if (s.incremental) {
       pipeline::SurveyStep survey =
           pipeline::TieSurveyAndFitWalls(s.result.session, s.result.options.solver);

@@ -5,10 +5,12 @@
 #include <cmath>
 #include <future>
 #include <limits>
+#include <memory>
 #include <string>
 
 #include "common/angles.h"
 #include "solvers/information.h"
+#include "solvers/problem_extension.h"
 
 namespace wallcal::guide {
 namespace {
@@ -24,6 +26,73 @@ std::vector<double> CandidateAngles() {
   return angles;
 }
 
+Prediction FromInformation(const Eigen::Matrix3d& information) {
+  Prediction prediction;
+  Eigen::MatrixXd covariance;
+  if (!solvers::CovarianceOfKept(information, &covariance)) return prediction;
+  prediction.known = true;
+  prediction.covariance = covariance;
+  return prediction;
+}
+
+// The problem of the evidence and `extra`, built as calibrate builds it, at the evidence's
+// solution (null: the observations have no noise model, or there are none).
+std::unique_ptr<solvers::MountProblem> BuildProblem(
+    const StopModel& model, const Evidence& evidence,
+    const std::vector<calib::WallObservation>& extra, const std::vector<double>& extra_weights) {
+  std::vector<calib::WallObservation> observations = evidence.observations;
+  std::vector<double> weights = evidence.weights;
+  weights.resize(observations.size(), 1.0);
+  observations.insert(observations.end(), extra.begin(), extra.end());
+  weights.insert(weights.end(), extra_weights.begin(), extra_weights.end());
+  weights.resize(observations.size(), 1.0);
+  if (observations.empty()) return nullptr;
+  std::string error;
+  std::unique_ptr<solvers::MountProblem> problem = solvers::BuildMountProblem(
+      observations, model.walls, model.solver, model.mount, model.mount, &error, weights);
+  if (problem && evidence.warm != nullptr) solvers::ApplyWarmStart(*evidence.warm, problem.get());
+  return problem;
+}
+
+// The evidence's problem, built once for every candidate stop, and its information
+// marginalised onto the blocks a candidate shares with it (solvers/problem_extension.h): a
+// candidate then costs its own observations only.
+struct PreparedEvidence {
+  std::unique_ptr<solvers::MountProblem> problem;
+  solvers::SharedInformation shared;
+  bool ready() const { return problem != nullptr && shared.information.rows() >= 3; }
+};
+
+PreparedEvidence Prepare(const StopModel& model, const Evidence& evidence) {
+  PreparedEvidence prepared;
+  prepared.problem = BuildProblem(model, evidence, {}, {});
+  if (prepared.problem) {
+    prepared.shared =
+        solvers::MarginalOntoShared(*prepared.problem, std::max(1, model.solver.num_threads));
+  }
+  return prepared;
+}
+
+// PredictMount on the prepared evidence: the same prediction (up to rounding), from the
+// extension's observations only when they extend the evidence's problem; built anew when they
+// would change it (solvers::ExtensionOutcome::kChangesBase).
+Prediction PredictWith(const StopModel& model, const Evidence& evidence,
+                       const PreparedEvidence& prepared,
+                       const std::vector<calib::WallObservation>& extra,
+                       const std::vector<double>& extra_weights) {
+  if (prepared.ready()) {
+    solvers::ExtensionOutcome outcome = solvers::ExtensionOutcome::kChangesBase;
+    const std::unique_ptr<solvers::MountProblemExtension> extension = solvers::ExtendMountProblem(
+        *prepared.problem, extra, model.walls, model.solver, model.mount, extra_weights, &outcome);
+    if (extension) {
+      if (evidence.warm != nullptr) solvers::ApplyWarmStart(*evidence.warm, extension.get());
+      return FromInformation(solvers::ExtendedMountInformation(prepared.shared, *extension));
+    }
+    if (outcome == solvers::ExtensionOutcome::kNoNoiseModel) return Prediction{};
+  }
+  return PredictMount(model, evidence, extra, extra_weights);
+}
+
 }  // namespace
 
 double Prediction::sigma_x_m() const { return known ? std::sqrt(covariance(0, 0)) : kInfinity; }
@@ -35,26 +104,11 @@ double Prediction::sigma_yaw_rad() const {
 Prediction PredictMount(const StopModel& model, const Evidence& evidence,
                         const std::vector<calib::WallObservation>& extra,
                         const std::vector<double>& extra_weights) {
-  Prediction prediction;
-  std::vector<calib::WallObservation> observations = evidence.observations;
-  std::vector<double> weights = evidence.weights;
-  weights.resize(observations.size(), 1.0);
-  observations.insert(observations.end(), extra.begin(), extra.end());
-  weights.insert(weights.end(), extra_weights.begin(), extra_weights.end());
-  weights.resize(observations.size(), 1.0);
-  if (observations.empty()) return prediction;
-  std::string error;
-  std::unique_ptr<solvers::MountProblem> problem = solvers::BuildMountProblem(
-      observations, model.walls, model.solver, model.mount, model.mount, &error, weights);
-  if (!problem) return prediction;
-  if (evidence.warm != nullptr) solvers::ApplyWarmStart(*evidence.warm, problem.get());
-  const Eigen::Matrix3d information =
-      solvers::MountInformation(*problem, std::max(1, model.solver.num_threads));
-  Eigen::MatrixXd covariance;
-  if (!solvers::CovarianceOfKept(information, &covariance)) return prediction;
-  prediction.known = true;
-  prediction.covariance = covariance;
-  return prediction;
+  std::unique_ptr<solvers::MountProblem> problem =
+      BuildProblem(model, evidence, extra, extra_weights);
+  if (!problem) return Prediction{};
+  return FromInformation(
+      solvers::MountInformation(*problem, std::max(1, model.solver.num_threads)));
 }
 
 double WorstSigmaRatio(const Prediction& prediction,
@@ -94,7 +148,10 @@ std::vector<Advice> NextStops(const StopModel& model, const Evidence& evidence, 
   std::vector<Advice> advice;
   std::vector<calib::WallObservation> chosen;
   std::vector<double> chosen_weights;
-  Prediction current = PredictMount(model, evidence);
+  const PreparedEvidence prepared = Prepare(model, evidence);
+  Prediction current = prepared.ready()
+                           ? FromInformation(solvers::MountInformation(prepared.shared))
+                           : PredictMount(model, evidence);
   std::vector<double> angles = evidence.station_angles_rad;
   StopSpec last = evidence.last_station;
   const StopSpec* previous = evidence.has_last_station ? &last : nullptr;
@@ -124,7 +181,7 @@ std::vector<Advice> NextStops(const StopModel& model, const Evidence& evidence, 
       const size_t old_size = obs.size();
       int ids = station_id;
       if (!AppendWaitAndStop(model, previous, stop, time_s, &ids, &obs, &w)) return scored;
-      const Prediction after = PredictMount(model, evidence, obs, w);
+      const Prediction after = PredictWith(model, evidence, prepared, obs, w);
       std::vector<double> angles_after = angles;
       angles_after.push_back(stop.vehicle_to_wall_rad);
       const double ratio = Shortfall(after, angles_after, model.solver, acceptance);

@@ -238,7 +238,7 @@ struct SessionSpec {
   double scanner_time_offset_s = 0.0;  // added to every scan time
   // scanner.topic: the sensor_msgs/LaserScan topic when scanner_log is a recording ("" for a
   // text log); likewise gnss_topic and heading_topic. The log is told apart by content
-  // (io::IsRecording), not by this key.
+  // (recording::IsRecording), not by this key.
   std::string scanner_topic;
   StampSource scanner_stamp = StampSource::kHeader;
   std::optional<MountGuess> mount_guess;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The steps of a calibration run (pipeline/steps.h).
 
+#include "pipeline/steps.h"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -15,16 +17,15 @@
 #include "common/angles.h"
 #include "common/circular.h"
 #include "common/format.h"
-#include "io/text/carmen_reader.h"
-#include "io/text/nmea_reader.h"
-#include "io/recording/recording_streams.h"
+#include "io/config/offsets_reader.h"
 #include "io/config/session_reader.h"
 #include "io/survey/survey_reader.h"
-#include "io/config/offsets_reader.h"
+#include "io/text/carmen_reader.h"
+#include "io/text/nmea_reader.h"
 #include "pipeline/checks.h"
 #include "pipeline/config_dirs.h"
 #include "pipeline/stream_delays.h"
-#include "pipeline/steps.h"
+#include "recording/recording_streams.h"
 #include "solvers/mount_problem.h"
 #include "solvers/solve_policy.h"
 
@@ -98,7 +99,7 @@ PoseStep ReadPoses(const CalibrationResult& result) {
   const CalibrateOptions& options = result.options;
   const bool one_log = session.heading_log == session.gnss_log;
   // Text logs or recording topics (one pass when GNSS and heading share a recording).
-  io::PoseLogs logs = io::ReadPoseLogs(session);
+  recording::PoseLogs logs = recording::ReadPoseLogs(session);
   step.gnss = std::move(logs.gnss);
   step.headings = std::move(logs.headings);
   for (std::string& w : logs.warnings) step.warnings.push_back({WarningKind::kPoseLog, std::move(w)});
@@ -217,7 +218,7 @@ PassSetup PreparePasses(const CalibrateRequest& request, const CalibrationResult
   const CalibrateOptions& options = result.options;
   calib::PassContext& pass = setup.pass;
   // A CARMEN log, or a recording's LaserScan topic checked against the preset.
-  pass.open_scans = io::MakeScanOpener(result.session, &result.preset);
+  pass.open_scans = recording::MakeScanOpener(result.session, &result.preset);
   pass.scanner_time_offset_s = result.session.scanner_time_offset_s;
   pass.preset = &result.preset;
   pass.detector = &options.detector;

@@ -6,12 +6,12 @@
 
 #include "calib/range_model.h"
 #include "common/angles.h"
-#include "io/text/carmen_reader.h"
-#include "io/recording/recording.h"
-#include "io/recording/recording_streams.h"
 #include "io/config/session_reader.h"
+#include "io/text/carmen_reader.h"
 #include "pipeline/config_dirs.h"
 #include "preflight/internal/inspect_internal.h"
+#include "recording/recording.h"
+#include "recording/recording_streams.h"
 
 namespace wallcal::preflight {
 
@@ -28,7 +28,7 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out) {
                                             : spec->scanner_log;
     if (kind == DumpKind::kScans) preset = pipeline::LoadSessionPreset(spec->scanner_model, spec->dir);
   }
-  if (io::IsRecording(log_path)) {
+  if (recording::IsRecording(log_path)) {
     if (!spec) return DumpRecording(log_path, kind, std::string(), out);
     WriteDumpCsv(*spec, kind, preset ? &*preset : nullptr, out);
     return;
@@ -54,7 +54,7 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out) {
 void WriteDumpCsv(const io::SessionSpec& spec, DumpKind kind, const io::ScannerPreset* preset,
                   std::ostream& out) {
   if (kind == DumpKind::kGnss) {
-    const io::NmeaLog log = io::ReadPoseLogs(spec, true, false).gnss;
+    const io::NmeaLog log = recording::ReadPoseLogs(spec, true, false).gnss;
     out << "time_s,lat_deg,lon_deg,height_m,quality,satellites,hdop,sigma_lat_m,sigma_lon_m,line\n";
     for (const io::GnssFix& f : log.fixes) {
       CsvNumber(out, "%.6f", f.stamp_s);
@@ -73,7 +73,7 @@ void WriteDumpCsv(const io::SessionSpec& spec, DumpKind kind, const io::ScannerP
       out << ',' << f.line << '\n';
     }
   } else if (kind == DumpKind::kHeading) {
-    const io::NmeaLog log = io::ReadPoseLogs(spec, false, true).headings;
+    const io::NmeaLog log = recording::ReadPoseLogs(spec, false, true).headings;
     out << "time_s,heading_deg,line\n";
     for (const io::HeadingSample& h : log.headings) {
       CsvNumber(out, "%.6f", h.stamp_s);
@@ -83,7 +83,7 @@ void WriteDumpCsv(const io::SessionSpec& spec, DumpKind kind, const io::ScannerP
     }
   } else {
     const double offset_s = spec.scanner_time_offset_s;
-    const std::unique_ptr<io::ScanSource> reader = io::MakeScanOpener(spec, preset)();
+    const std::unique_ptr<io::ScanSource> reader = recording::MakeScanOpener(spec, preset)();
     io::ScanRecord scan;
     out << "time_s,beams,valid,min_range_m,max_range_m,line\n";
     while (reader->Next(&scan)) {

@@ -87,7 +87,7 @@ enum class DumpKind { kGnss, kHeading, kScans };
 // the file is missing, unreadable or of the other kind.
 void Dump(const std::string& path, DumpKind kind, std::ostream& out);
 
-// ---- Robot recordings (ROS 1 bag, MCAP, rosbag2; recognised by io::IsRecording) ----------
+// ---- Robot recordings (ROS 1 bag, MCAP, rosbag2; recognised by recording::IsRecording) ----------
 
 // Every topic with its type, message count, rate, span and gaps (receive times), and for the
 // supported types the statistics of text logs (beams and readings, NavSatFix status and σ,

@@ -7,9 +7,9 @@
 
 #include "common/angles.h"
 #include "io/text/carmen_reader.h"
-#include "io/recording/recording_streams.h"
 #include "io/version.h"
 #include "preflight/internal/inspect_internal.h"
+#include "recording/recording_streams.h"
 
 namespace wallcal::preflight {
 
@@ -29,8 +29,8 @@ int LogValid(const io::ScanRecord& scan, float* min_m, float* max_m) {
 }
 
 ScanLogSummary ReadScanLog(const std::string& path, double time_offset_s,
-                           const io::ScannerPreset* preset, double min_range_m,
-                           double mixed_jump_m, const io::ScanOpener* opener) {
+                           const io::ScannerPreset* preset, double min_range_m, double mixed_jump_m,
+                           const recording::ScanOpener* opener) {
   ScanLogSummary summary;
   const std::unique_ptr<io::ScanSource> source =
       opener != nullptr ? (*opener)() : std::make_unique<io::CarmenReader>(path);

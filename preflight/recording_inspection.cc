@@ -11,13 +11,13 @@
 #include <sstream>
 
 #include "common/angles.h"
-#include "io/recording/recording.h"
-#include "io/recording/recording_streams.h"
 #include "io/config/session_reader.h"
 #include "io/scanner_geometry.h"
 #include "io/version.h"
 #include "pipeline/config_dirs.h"
 #include "preflight/internal/inspect_internal.h"
+#include "recording/recording.h"
+#include "recording/recording_streams.h"
 
 namespace wallcal::preflight {
 
@@ -29,8 +29,8 @@ namespace fs = std::filesystem;
 
 // What one pass over a recording learns about each topic.
 struct TopicSummary {
-  const io::TopicInfo* info = nullptr;
-  io::RosType type = io::RosType::kOther;
+  const recording::TopicInfo* info = nullptr;
+  recording::RosType type = recording::RosType::kOther;
   std::vector<double> receive_s;
   std::vector<int> lines;
   // LaserScan
@@ -47,26 +47,26 @@ struct TopicSummary {
   int64_t undecodable = 0;
 };
 
-std::map<std::string, TopicSummary> Summarise(io::Recording& recording) {
+std::map<std::string, TopicSummary> Summarise(recording::Recording& recording) {
   std::map<std::string, TopicSummary> topics;
   std::set<std::string> names;
-  for (const io::TopicInfo& info : recording.topics()) {
+  for (const recording::TopicInfo& info : recording.topics()) {
     TopicSummary& t = topics[info.name];
     t.info = &info;
-    t.type = io::RosTypeFromName(info.type);
+    t.type = recording::RosTypeFromName(info.type);
     names.insert(info.name);
   }
-  io::LaserScanMsg scan;
-  io::NavSatFixMsg fix;
-  io::QuaternionMsg quaternion;
-  io::NmeaSentenceMsg sentence;
-  recording.ForEach(names, [&](const io::RecordedMessage& m) {
+  recording::LaserScanMsg scan;
+  recording::NavSatFixMsg fix;
+  recording::QuaternionMsg quaternion;
+  recording::NmeaSentenceMsg sentence;
+  recording.ForEach(names, [&](const recording::RecordedMessage& m) {
     TopicSummary& t = topics[m.topic->name];
     t.receive_s.push_back(m.receive_s);
     t.lines.push_back(static_cast<int>(std::min<int64_t>(m.index + 1, INT_MAX)));
     switch (t.type) {
-      case io::RosType::kLaserScan:
-        if (!io::DecodeLaserScan(m.data, m.size, m.wire, &scan).ok()) {
+      case recording::RosType::kLaserScan:
+        if (!recording::DecodeLaserScan(m.data, m.size, m.wire, &scan).ok()) {
           ++t.undecodable;
           break;
         }
@@ -81,38 +81,39 @@ std::map<std::string, TopicSummary> Summarise(io::Recording& recording) {
           t.in_range += std::isfinite(r) && r >= scan.range_min_m && r < scan.range_max_m;
         }
         break;
-      case io::RosType::kNavSatFix:
-        if (!io::DecodeNavSatFix(m.data, m.size, m.wire, &fix).ok()) {
+      case recording::RosType::kNavSatFix:
+        if (!recording::DecodeNavSatFix(m.data, m.size, m.wire, &fix).ok()) {
           ++t.undecodable;
           break;
         }
         ++t.status[fix.status];
         t.fixes_no_covariance += fix.position_covariance_type == 0;
         t.fixes_sigma_ok +=
-            io::FixFromNavSatFix(fix, 0.0, io::kDefaultGnssMaxSigmaM, 1).quality == 4 &&
+            recording::FixFromNavSatFix(fix, 0.0, io::kDefaultGnssMaxSigmaM, 1).quality == 4 &&
             fix.position_covariance_type != 0;
         break;
-      case io::RosType::kQuaternionStamped:
-      case io::RosType::kImu: {
-        const bool ok = t.type == io::RosType::kImu
-                            ? io::DecodeImu(m.data, m.size, m.wire, &quaternion).ok()
-                            : io::DecodeQuaternionStamped(m.data, m.size, m.wire, &quaternion).ok();
+      case recording::RosType::kQuaternionStamped:
+      case recording::RosType::kImu: {
+        const bool ok =
+            t.type == recording::RosType::kImu
+                ? recording::DecodeImu(m.data, m.size, m.wire, &quaternion).ok()
+                : recording::DecodeQuaternionStamped(m.data, m.size, m.wire, &quaternion).ok();
         if (!ok) {
           ++t.undecodable;
         } else if (quaternion.orientation_covariance[0] != -1.0) {
-          t.headings_rad.push_back(io::HeadingFromEnuQuaternion(quaternion.x, quaternion.y,
-                                                                quaternion.z, quaternion.w));
+          t.headings_rad.push_back(recording::HeadingFromEnuQuaternion(quaternion.x, quaternion.y,
+                                                                       quaternion.z, quaternion.w));
         }
         break;
       }
-      case io::RosType::kNmeaSentence:
-        if (!io::DecodeNmeaSentence(m.data, m.size, m.wire, &sentence).ok()) {
+      case recording::RosType::kNmeaSentence:
+        if (!recording::DecodeNmeaSentence(m.data, m.size, m.wire, &sentence).ok()) {
           ++t.undecodable;
         } else if (sentence.sentence.size() > 6 && sentence.sentence[0] == '$') {
           ++t.sentences[sentence.sentence.substr(3, 3)];
         }
         break;
-      case io::RosType::kOther:
+      case recording::RosType::kOther:
         break;
     }
   });
@@ -126,13 +127,13 @@ bool HasSentence(const TopicSummary& t, const char* type) {
 
 // Topics that fit a role, best first: by type preference, then message count, then name.
 std::vector<const TopicSummary*> Candidates(const std::map<std::string, TopicSummary>& topics,
-                                            const std::vector<io::RosType>& preference,
+                                            const std::vector<recording::RosType>& preference,
                                             const char* sentence_type) {
   std::vector<const TopicSummary*> out;
   for (const auto& [name, t] : topics) {
     const auto rank = std::find(preference.begin(), preference.end(), t.type);
     if (rank == preference.end() || t.info->count == 0) continue;
-    if (t.type == io::RosType::kNmeaSentence && !HasSentence(t, sentence_type)) continue;
+    if (t.type == recording::RosType::kNmeaSentence && !HasSentence(t, sentence_type)) continue;
     out.push_back(&t);
   }
   auto rank_of = [&](const TopicSummary* t) {
@@ -256,11 +257,12 @@ std::string FormatTopic(const TopicSummary& t, const std::string& path) {
 }  // namespace
 
 std::string InspectRecording(const std::string& path) {
-  std::unique_ptr<io::Recording> recording = io::OpenRecording(path);
+  std::unique_ptr<recording::Recording> recording = recording::OpenRecording(path);
   const std::map<std::string, TopicSummary> topics = Summarise(*recording);
   std::ostringstream out;
   out << "wallcal inspect " << io::kToolVersion << ": " << path << " ("
-      << io::RecordingFormatName(recording->format()) << ", " << topics.size() << " topics)\n";
+      << recording::RecordingFormatName(recording->format()) << ", " << topics.size()
+      << " topics)\n";
   for (const auto& [name, t] : topics) out << FormatTopic(t, path);
   for (const std::string& w : recording->warnings()) out << "  warning: " << w << "\n";
   out << "  (run with --suggest-session for a session.yaml naming the topics)\n";
@@ -268,13 +270,16 @@ std::string InspectRecording(const std::string& path) {
 }
 
 std::string SuggestSession(const std::string& path) {
-  std::unique_ptr<io::Recording> recording = io::OpenRecording(path);
+  std::unique_ptr<recording::Recording> recording = recording::OpenRecording(path);
   const std::map<std::string, TopicSummary> topics = Summarise(*recording);
-  const auto scans = Candidates(topics, io::AcceptedScanTypes(), "");
-  const auto gnss = Candidates(topics, {io::RosType::kNavSatFix, io::RosType::kNmeaSentence}, "GGA");
-  auto heading = Candidates(
-      topics, {io::RosType::kQuaternionStamped, io::RosType::kImu, io::RosType::kNmeaSentence}, "HDT");
-  if (heading.empty()) heading = Candidates(topics, {io::RosType::kNmeaSentence}, "THS");
+  const auto scans = Candidates(topics, recording::AcceptedScanTypes(), "");
+  const auto gnss = Candidates(
+      topics, {recording::RosType::kNavSatFix, recording::RosType::kNmeaSentence}, "GGA");
+  auto heading = Candidates(topics,
+                            {recording::RosType::kQuaternionStamped, recording::RosType::kImu,
+                             recording::RosType::kNmeaSentence},
+                            "HDT");
+  if (heading.empty()) heading = Candidates(topics, {recording::RosType::kNmeaSentence}, "THS");
   const std::string log = fs::path(path).filename().string();
   auto topic_line = [](const std::vector<const TopicSummary*>& c, const char* type) {
     return c.empty() ? std::string("  topic: NONE  # no ") + type + " topic in the recording\n"
@@ -317,7 +322,7 @@ std::string SuggestSession(const std::string& path) {
   }
   out << "gnss:\n  log: " << log << "\n" << topic_line(gnss, "sensor_msgs/NavSatFix or GGA sentence")
       << Why(gnss, "GNSS");
-  if (!gnss.empty() && gnss.front()->type == io::RosType::kNavSatFix) {
+  if (!gnss.empty() && gnss.front()->type == recording::RosType::kNavSatFix) {
     out << "  max_sigma_m: " << Fmt("%.2f", io::kDefaultGnssMaxSigmaM)
         << "  # fixes with a larger horizontal σ (RTK float) are not used\n";
   } else {
@@ -335,15 +340,16 @@ std::string SuggestSession(const std::string& path) {
 
 void DumpRecording(const std::string& path, DumpKind kind, const std::string& topic,
                    std::ostream& out) {
-  std::unique_ptr<io::Recording> recording = io::OpenRecording(path);
-  const std::vector<io::RosType> accepted = kind == DumpKind::kScans  ? io::AcceptedScanTypes()
-                                            : kind == DumpKind::kGnss ? io::AcceptedGnssTypes()
-                                                                      : io::AcceptedHeadingTypes();
+  std::unique_ptr<recording::Recording> recording = recording::OpenRecording(path);
+  const std::vector<recording::RosType> accepted =
+      kind == DumpKind::kScans  ? recording::AcceptedScanTypes()
+      : kind == DumpKind::kGnss ? recording::AcceptedGnssTypes()
+                                : recording::AcceptedHeadingTypes();
   std::string chosen = topic;
   if (chosen.empty()) {
     std::vector<std::string> fit;
-    for (const io::TopicInfo& info : recording->topics()) {
-      if (std::find(accepted.begin(), accepted.end(), io::RosTypeFromName(info.type)) !=
+    for (const recording::TopicInfo& info : recording->topics()) {
+      if (std::find(accepted.begin(), accepted.end(), recording::RosTypeFromName(info.type)) !=
           accepted.end()) {
         fit.push_back(info.name + " (" + info.type + ")");
         chosen = info.name;

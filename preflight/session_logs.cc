@@ -23,7 +23,7 @@ SessionLogs InspectSessionLogs(
     // A CARMEN log or a recording's LaserScan topic (checked against the preset).
     if (shared_scan_log) scans = shared_scan_log();
     if (!scans) {
-      const io::ScanOpener opener = io::MakeScanOpener(spec, preset);
+      const recording::ScanOpener opener = recording::MakeScanOpener(spec, preset);
       scans = ReadScanLog(spec.scanner_log, spec.scanner_time_offset_s, preset,
                           options.detector.min_range_m, options.detector.mixed_pixel_jump_m,
                           &opener);
@@ -69,7 +69,8 @@ SessionLogs InspectSessionLogs(
 
   std::optional<io::NmeaLog>& gnss = logs.gnss;
   try {
-    io::PoseLogs read = io::ReadPoseLogs(spec, true, false);  // NMEA text or a recording topic
+    recording::PoseLogs read =
+        recording::ReadPoseLogs(spec, true, false);  // NMEA text or a recording topic
     gnss = std::move(read.gnss);
     for (const std::string& w : read.warnings) warn(w);
   } catch (const io::InputError& e) {
@@ -133,7 +134,7 @@ SessionLogs InspectSessionLogs(
     heading_log = gnss;
   } else {
     try {
-      io::PoseLogs read = io::ReadPoseLogs(spec, false, true);
+      recording::PoseLogs read = recording::ReadPoseLogs(spec, false, true);
       heading_log = std::move(read.headings);
       for (const std::string& w : read.warnings) warn(w);
     } catch (const io::InputError& e) {

@@ -2,26 +2,26 @@
 #include "sim/recording_session.h"
 
 #include <cmath>
-#include <limits>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <sstream>
 #include <vector>
 
+#include "common/angles.h"
 #include "io/config/session_reader.h"
 #include "io/output_file.h"
-#include "io/recording/recording.h"
-#include "io/recording/ros/ros_messages.h"
 #include "io/text/carmen_reader.h"
 #include "io/text/nmea_reader.h"
 #include "io/types.h"
-#include "io/writers/mcap_writer.h"
-#include "io/writers/rosbag1_writer.h"
-#include "io/writers/rosbag2_sqlite_writer.h"
 #include "io/writers/writers.h"
-#include "common/angles.h"
+#include "recording/recording.h"
+#include "recording/ros/ros_messages.h"
+#include "recording/writers/mcap_writer.h"
+#include "recording/writers/rosbag1_writer.h"
+#include "recording/writers/rosbag2_sqlite_writer.h"
 
 namespace wallcal::sim {
 namespace {
@@ -29,8 +29,8 @@ namespace {
 namespace fs = std::filesystem;
 
 // "sensor_msgs/LaserScan" -> "sensor_msgs/msg/LaserScan" (the ROS 2 name).
-std::string Ros2Name(io::RosType type) {
-  const std::string name = io::RosTypeName(type);
+std::string Ros2Name(recording::RosType type) {
+  const std::string name = recording::RosTypeName(type);
   const size_t slash = name.find('/');
   return name.substr(0, slash) + "/msg" + name.substr(slash);
 }
@@ -39,59 +39,60 @@ std::string Ros2Name(io::RosType type) {
 class Sink {
  public:
   virtual ~Sink() = default;
-  virtual int Add(const std::string& topic, io::RosType type) = 0;
-  virtual io::WireFormat wire() const = 0;
+  virtual int Add(const std::string& topic, recording::RosType type) = 0;
+  virtual recording::WireFormat wire() const = 0;
   virtual void Write(int id, double stamp_s, const std::vector<uint8_t>& payload) = 0;
   virtual void Close() = 0;
 };
 
 class Ros1Sink : public Sink {
  public:
-  Ros1Sink(const std::string& path, io::ChunkCompression c) : writer_(path, c) {}
-  int Add(const std::string& topic, io::RosType type) override {
+  Ros1Sink(const std::string& path, recording::ChunkCompression c) : writer_(path, c) {}
+  int Add(const std::string& topic, recording::RosType type) override {
     return writer_.AddConnection(topic, type);
   }
-  io::WireFormat wire() const override { return io::WireFormat::kRos1; }
+  recording::WireFormat wire() const override { return recording::WireFormat::kRos1; }
   void Write(int id, double stamp_s, const std::vector<uint8_t>& payload) override {
     writer_.Write(id, stamp_s, payload);
   }
   void Close() override { writer_.Close(); }
 
  private:
-  io::Ros1BagWriter writer_;
+  recording::Ros1BagWriter writer_;
 };
 
 class McapSink : public Sink {
  public:
-  McapSink(const std::string& path, io::ChunkCompression c) : writer_(path, c) {}
-  int Add(const std::string& topic, io::RosType type) override {
-    return writer_.AddChannel(topic, Ros2Name(type), io::RosTypeDefinition(type, io::WireFormat::kCdr));
+  McapSink(const std::string& path, recording::ChunkCompression c) : writer_(path, c) {}
+  int Add(const std::string& topic, recording::RosType type) override {
+    return writer_.AddChannel(topic, Ros2Name(type),
+                              recording::RosTypeDefinition(type, recording::WireFormat::kCdr));
   }
-  io::WireFormat wire() const override { return io::WireFormat::kCdr; }
+  recording::WireFormat wire() const override { return recording::WireFormat::kCdr; }
   void Write(int id, double stamp_s, const std::vector<uint8_t>& payload) override {
     writer_.Write(static_cast<uint16_t>(id), stamp_s, stamp_s, payload);
   }
   void Close() override { writer_.Close(); }
 
  private:
-  io::McapWriter writer_;
+  recording::McapWriter writer_;
 };
 
 class Db3Sink : public Sink {
  public:
-  explicit Db3Sink(const std::string& path) : writer_(path, io::Rosbag2Layout::kIron) {}
-  int Add(const std::string& topic, io::RosType type) override {
-    return static_cast<int>(
-        writer_.AddTopic(topic, Ros2Name(type), io::RosTypeDefinition(type, io::WireFormat::kCdr)));
+  explicit Db3Sink(const std::string& path) : writer_(path, recording::Rosbag2Layout::kIron) {}
+  int Add(const std::string& topic, recording::RosType type) override {
+    return static_cast<int>(writer_.AddTopic(
+        topic, Ros2Name(type), recording::RosTypeDefinition(type, recording::WireFormat::kCdr)));
   }
-  io::WireFormat wire() const override { return io::WireFormat::kCdr; }
+  recording::WireFormat wire() const override { return recording::WireFormat::kCdr; }
   void Write(int id, double stamp_s, const std::vector<uint8_t>& payload) override {
     writer_.Write(id, stamp_s, payload);
   }
   void Close() override { writer_.Close(); }
 
  private:
-  io::Rosbag2SqliteWriter writer_;
+  recording::Rosbag2SqliteWriter writer_;
 };
 
 std::unique_ptr<Sink> MakeSink(const std::string& dir, SessionFormat format, std::string* name) {
@@ -100,17 +101,19 @@ std::unique_ptr<Sink> MakeSink(const std::string& dir, SessionFormat format, std
     case SessionFormat::kRos1Bz2:
     case SessionFormat::kRos1Lz4: {
       *name = "session.bag";
-      const io::ChunkCompression c = format == SessionFormat::kRos1Bz2   ? io::ChunkCompression::kBz2
-                                     : format == SessionFormat::kRos1Lz4 ? io::ChunkCompression::kLz4
-                                                                         : io::ChunkCompression::kNone;
+      const recording::ChunkCompression c =
+          format == SessionFormat::kRos1Bz2   ? recording::ChunkCompression::kBz2
+          : format == SessionFormat::kRos1Lz4 ? recording::ChunkCompression::kLz4
+                                              : recording::ChunkCompression::kNone;
       return std::make_unique<Ros1Sink>((fs::path(dir) / *name).string(), c);
     }
     case SessionFormat::kMcap:
     case SessionFormat::kMcapLz4:
       *name = "session.mcap";
       return std::make_unique<McapSink>((fs::path(dir) / *name).string(),
-                                        format == SessionFormat::kMcap ? io::ChunkCompression::kZstd
-                                                                       : io::ChunkCompression::kLz4);
+                                        format == SessionFormat::kMcap
+                                            ? recording::ChunkCompression::kZstd
+                                            : recording::ChunkCompression::kLz4);
     case SessionFormat::kDb3:
       *name = "session.db3";
       return std::make_unique<Db3Sink>((fs::path(dir) / *name).string());
@@ -169,7 +172,7 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
   const std::string heading_path = (fs::path(dir) / "heading.nmea").string();
   std::string name;
   std::unique_ptr<Sink> sink = MakeSink(dir, format, &name);
-  const io::WireFormat wire = sink->wire();
+  const recording::WireFormat wire = sink->wire();
   // The scan streams: /scan from scans.clf, or /<id>/scan from each scanner's scans_<id>.clf.
   struct ScanStream {
     std::string log, topic, frame;
@@ -187,20 +190,20 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
   }
   std::vector<int> scan_ids;
   for (const ScanStream& stream : streams) {
-    scan_ids.push_back(sink->Add(stream.topic, io::RosType::kLaserScan));
+    scan_ids.push_back(sink->Add(stream.topic, recording::RosType::kLaserScan));
   }
-  const int fix_id = sink->Add("/fix", io::RosType::kNavSatFix);
-  const int heading_id = sink->Add("/heading", io::RosType::kQuaternionStamped);
+  const int fix_id = sink->Add("/fix", recording::RosType::kNavSatFix);
+  const int heading_id = sink->Add("/heading", recording::RosType::kQuaternionStamped);
   // The messages in time order, as a recorder writes them: a recording cut short (still being
   // written) then holds every stream up to its cut, not the scans alone.
   const io::NmeaLog gnss = io::ReadNmea(gnss_path);
   const io::NmeaLog headings = io::ReadNmea(heading_path);
   size_t next_fix = 0, next_heading = 0;
-  io::NavSatFixMsg fix_msg;
+  recording::NavSatFixMsg fix_msg;
   fix_msg.header.frame_id = "gps";
   fix_msg.service = 1;
   fix_msg.position_covariance_type = 2;  // diagonal known
-  io::QuaternionMsg heading_msg;
+  recording::QuaternionMsg heading_msg;
   heading_msg.header.frame_id = "base_link";
   // Writes the fixes and headings stamped before `until_s`.
   auto write_until = [&](double until_s) {
@@ -224,7 +227,7 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
         fix_msg.position_covariance[0] = s_lon * s_lon;
         fix_msg.position_covariance[4] = s_lat * s_lat;
         fix_msg.position_covariance[8] = 4.0 * std::max(s_lat * s_lat, s_lon * s_lon);
-        sink->Write(fix_id, fix.stamp_s, io::EncodeNavSatFix(fix_msg, wire));
+        sink->Write(fix_id, fix.stamp_s, recording::EncodeNavSatFix(fix_msg, wire));
       } else if (heading_left && heading_s < until_s) {
         const io::HeadingSample& h = headings.headings[next_heading++];
         heading_msg.header.stamp_s = h.stamp_s;
@@ -233,7 +236,7 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
         heading_msg.x = heading_msg.y = 0.0;
         heading_msg.z = std::sin(yaw / 2.0);
         heading_msg.w = std::cos(yaw / 2.0);
-        sink->Write(heading_id, h.stamp_s, io::EncodeQuaternionStamped(heading_msg, wire));
+        sink->Write(heading_id, h.stamp_s, recording::EncodeQuaternionStamped(heading_msg, wire));
       } else {
         return;
       }
@@ -248,7 +251,7 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
     readers.push_back(std::make_unique<io::CarmenReader>(streams[k].log));
     left[k] = readers[k]->Next(&pending[k]);
   }
-  io::LaserScanMsg msg;
+  recording::LaserScanMsg msg;
   std::vector<uint32_t> seq(streams.size(), 0);
   while (true) {
     size_t k = streams.size();
@@ -270,7 +273,7 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
     msg.range_min_m = 0.0f;
     msg.range_max_m = static_cast<float>(scan.max_range_m);
     msg.ranges_m = scan.ranges_m;
-    sink->Write(scan_ids[k], scan.stamp_s, io::EncodeLaserScan(msg, wire));
+    sink->Write(scan_ids[k], scan.stamp_s, recording::EncodeLaserScan(msg, wire));
     left[k] = readers[k]->Next(&pending[k]);
   }
   write_until(std::numeric_limits<double>::infinity());

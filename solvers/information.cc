@@ -32,7 +32,12 @@ Eigen::MatrixXd MarginalInformation(MountProblem& mp, const std::vector<double*>
   }
   Eigen::SparseMatrix<double> h;
   if (!ProblemNormalMatrix(mp.problem, columns, threads, &h)) return Eigen::MatrixXd();
+  return SchurComplement(h, k);
+}
+
+Eigen::MatrixXd SchurComplement(const Eigen::SparseMatrix<double>& h, int k) {
   const int n = static_cast<int>(h.rows()) - k;
+  if (n < 0 || h.cols() != h.rows()) return Eigen::MatrixXd();
   Eigen::MatrixXd information = Eigen::MatrixXd(h.topLeftCorner(k, k));
   if (n > 0) {
     // Schur complement: the nuisance block has priors on every coordinate, so it is positive

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include "solvers/mount_problem.h"
 
@@ -19,6 +20,11 @@ namespace wallcal::solvers {
 // be evaluated or the nuisance block cannot be factored.
 Eigen::MatrixXd MarginalInformation(MountProblem& problem, const std::vector<double*>& kept,
                                     int threads = 1);
+
+// The information of the first k coordinates of a symmetric normal matrix (both triangles
+// stored), the others marginalised (a Schur complement, the rest factored as a Jacobi-scaled
+// sparse LDLᵀ). Empty when the rest cannot be factored.
+Eigen::MatrixXd SchurComplement(const Eigen::SparseMatrix<double>& normal, int k);
 
 // The mount's own information (x, y, yaw), everything else marginalised (clock offset and drift
 // included). Singular when a mount direction is not determined at all; zero on failure.

@@ -16,32 +16,13 @@
 
 #include "calib/wall_geometry.h"
 #include "common/angles.h"
+#include "solvers/internal/observation_rows.h"
 #include "solvers/mount_problem.h"
 #include "solvers/prior_cost.h"
 #include "solvers/wall_line_cost.h"
 #include "solvers/wall_slice_cost.h"
 
 namespace wallcal::solvers {
-namespace {
-
-// Slices closer in time than ~τ/10⁵ are one GNSS error: ρ is capped so that the chain step's
-// σ (σ_b √(1 − ρ²) ≥ 0.0045 σ_b) stays a usable weight. Slices are 0.25 s by default, so
-// ρ = 0.99958 at τ = 600 s must pass uncapped.
-constexpr double kMaxSegmentCorrelation = 0.99999;
-
-// Scans in one residual block at most (wall_slice_cost.h): a 0.25 s slice of a 75 Hz scanner
-// has 19; the cap bounds a block's Jacobian when slices are long.
-constexpr size_t kScansPerResidualBlock = 32;
-
-// The σ of the correlated GNSS error for one observation's position: the GST σ when the log has
-// one and the options allow it, the configured bias σ otherwise.
-double PoseBiasSigma(const calib::VehiclePose& pose, const solvers::SolverOptions& options) {
-  if (options.use_gst_sigma && pose.gnss_sigma_m > 0.0) return pose.gnss_sigma_m;
-  return options.gnss_bias_sigma_m;
-}
-
-}  // namespace
-
 double MovingScansPerGnssFix(const std::vector<calib::WallObservation>& observations) {
   std::vector<double> stamps;
   double period_s = 0.0;
@@ -201,48 +182,22 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     return i < weights.size() ? std::max(0.0, weights[i]) : 1.0;
   };
 
-  // GNSS segments and their bias σ: the mean GST σ over the segment's observations (when
-  // allowed and present), else the configured σ; and their mean time, for the Gauss–Markov
-  // chain below.
-  struct SegmentSums {
-    double gst_sum = 0.0;
-    int gst_count = 0;
-    double stamp_sum = 0.0;
-    int count = 0;
-  };
-  // The heading a dwell's scans use, per segment, over every observation whatever its weight
-  // (so that the bootstrap's resamples share it): the dwell's mean heading from the pose when
-  // the pose interpolator filled it, else the circular mean of the observations' yaws (each
-  // observation counted as one heading sample).
-  struct DwellHeading {
-    double sin_sum = 0.0, cos_sum = 0.0, stamp_sum = 0.0;
-    int count = 0;
-    double pose_yaw_rad = 0.0, pose_mid_s = 0.0;
-    int pose_samples = 0;
-  };
-  std::map<int, DwellHeading> dwell_headings;
+  // The dwells' headings (over every observation whatever its weight), the drift's zero time
+  // (the earliest stamp) and the GNSS slices (their σ and mean time, for the Gauss–Markov chain
+  // below).
   // Every dwell's scans use the dwell's heading, also when moving scans and a clock offset are
   // in the problem. (Until the dwells got their end guard, alignment.dwell_guard_s, the scans
   // of a turn's last moments sat in the dwells, and with this model the offset came out 0.093 s
   // for a true 0.15 s; a per-scan heading model was used for such sessions then.)
+  const std::map<int, internal::DwellHeading> dwell_headings =
+      internal::DwellHeadings(observations);
   double reference_s = std::numeric_limits<double>::infinity();
   for (const auto& observation : observations) {
     reference_s = std::min(reference_s, observation.pose.stamp_s);
-    if (!UsesDwellHeading(observation)) continue;
-    DwellHeading& entry = dwell_headings[observation.pose.segment];
-    entry.sin_sum += std::sin(observation.pose.yaw_rad);
-    entry.cos_sum += std::cos(observation.pose.yaw_rad);
-    entry.stamp_sum += observation.pose.stamp_s;
-    entry.count += 1;
-    if (observation.pose.dwell_yaw_samples > 0) {
-      entry.pose_yaw_rad = observation.pose.dwell_yaw_rad;
-      entry.pose_mid_s = observation.pose.dwell_mid_s;
-      entry.pose_samples = observation.pose.dwell_yaw_samples;
-    }
   }
   if (!std::isfinite(reference_s)) reference_s = 0.0;
   mp->heading_reference_s = reference_s;
-  std::map<int, SegmentSums> sums;
+  std::map<int, internal::SegmentSums> sums;
   int moving = 0;
   for (size_t i = 0; i < observations.size(); ++i) {
     const auto& observation = observations[i];
@@ -250,21 +205,14 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     if (!observation.pose.stationary) ++moving;
     const int segment = calib::GnssSegment(observation);
     if (segment < 0) continue;
-    SegmentSums& entry = sums[segment];
-    if (options.use_gst_sigma && observation.pose.gnss_sigma_m > 0.0) {
-      entry.gst_sum += observation.pose.gnss_sigma_m;
-      entry.gst_count += 1;
-    }
-    entry.stamp_sum += observation.pose.stamp_s;
-    entry.count += 1;
+    sums[segment].Add(observation, options);
   }
   std::map<int, int> segment_index;
   for (const auto& [segment, entry] : sums) {
     segment_index[segment] = static_cast<int>(mp->segment_ids.size());
     mp->segment_ids.push_back(segment);
-    mp->bias_sigma_m.push_back(entry.gst_count > 0 ? entry.gst_sum / entry.gst_count
-                                                   : options.gnss_bias_sigma_m);
-    mp->segment_mid_s.push_back(entry.stamp_sum / entry.count);
+    mp->bias_sigma_m.push_back(entry.sigma_m(options));
+    mp->segment_mid_s.push_back(entry.mid_s());
   }
   mp->biases.assign(mp->segment_ids.size(), {0.0, 0.0});
   // Heading offsets: a dwell's mean heading is off by the mean of its samples' white errors,
@@ -276,7 +224,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
     heading_index[station] = static_cast<int>(mp->heading_offsets.size());
     mp->heading_offsets.push_back({0.0});
     mp->heading_station_ids.push_back(station);
-    const int samples = entry.pose_samples > 0 ? entry.pose_samples : entry.count;
+    const int samples = entry.samples();
     mp->heading_offset_sigma_rad.push_back(options.heading_sigma_rad /
                                            std::sqrt(std::max(1, samples)));
   }
@@ -291,10 +239,7 @@ std::unique_ptr<MountProblem> BuildMountProblem(
   for (size_t k = 1; k < mp->segment_order.size(); ++k) {
     const double dt_s = mp->segment_mid_s[mp->segment_order[k]] -
                         mp->segment_mid_s[mp->segment_order[k - 1]];
-    mp->segment_rho[k] = options.gnss_bias_tau_s > 0.0
-                             ? std::min(kMaxSegmentCorrelation,
-                                        std::exp(-std::max(0.0, dt_s) / options.gnss_bias_tau_s))
-                             : 0.0;
+    mp->segment_rho[k] = internal::SliceCorrelation(dt_s, options);
   }
   mp->time_offset_estimated = options.time_offset_sigma_s > 0.0 && moving >= kMinMovingObservations;
   const double scans_per_fix = MovingScansPerGnssFix(observations);
@@ -309,63 +254,12 @@ std::unique_ptr<MountProblem> BuildMountProblem(
   for (size_t i = 0; i < observations.size(); ++i) {
     const calib::WallObservation& observation = observations[i];
     const calib::WallGeometry& wall = walls[observation.wall_index];
-    const calib::OrientedWall oriented = calib::OrientWall(wall, observation.pose.antenna_local_m);
     const double weight = weight_of(i);
-    // An observation of weight 0 gets no residual block: its noise model is never used (the
-    // re-solves of the repeatability pass most observations with weight 0).
-    Eigen::Matrix2d sqrt_information = Eigen::Matrix2d::Identity();
-    if (weight > 0.0) {
-      const Eigen::Matrix2d covariance =
-          ObservationCovariance(observation, wall, options, lever_mount,
-                                PoseBiasSigma(observation.pose, options), scans_per_fix);
-      const Eigen::LLT<Eigen::Matrix2d> llt(covariance);
-      if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().minCoeff() > 0.0)) {
-        if (error != nullptr) {
-          *error = "observation " + std::to_string(i) + " (scan " +
-                   std::to_string(observation.scan_index) +
-                   ") has no usable noise model: its covariance is not positive definite (line "
-                   "fit σ and every noise σ in the options are zero?)";
-        }
-        return nullptr;
-      }
-      sqrt_information =
-          std::sqrt(weight) * Eigen::Matrix2d(llt.matrixL().solve(Eigen::Matrix2d::Identity()));
-    }
     WallLineMeasurement m;
-    m.antenna_local_m = observation.pose.antenna_local_m;
-    m.vehicle_yaw_rad = observation.pose.yaw_rad;
-    m.drift_time_s = observation.pose.stamp_s - reference_s;
-    m.velocity_local_mps = observation.pose.velocity_local_mps;
-    m.yaw_rate_rps = observation.pose.yaw_rate_rps;
-    if (UsesDwellHeading(observation)) {
-      // The true yaw is constant over a dwell: use the dwell's mean heading (and its time for
-      // the drift), not this scan's noisy sample. A per-scan heading in the lever-arm rotation
-      // would correlate the mount's Jacobian with the residual (errors in variables) and bias
-      // x in proportion to the number of scans (docs/results.md, solver scaling).
-      // The dwell's yaw is constant by definition: no yaw-rate term (a rate from a window that
-      // reaches past the dwell's end would tie the clock offset to the dwell's exact heading).
-      m.yaw_rate_rps = 0.0;
-      m.velocity_local_mps.setZero();
-      const DwellHeading& entry = dwell_headings.at(observation.pose.segment);
-      if (entry.pose_samples > 0) {
-        m.vehicle_yaw_rad = entry.pose_yaw_rad;
-        m.drift_time_s = entry.pose_mid_s - reference_s;
-      } else {
-        m.vehicle_yaw_rad = std::atan2(entry.sin_sum, entry.cos_sum);
-        m.drift_time_s = entry.stamp_sum / entry.count - reference_s;
-      }
+    if (!internal::MakeMeasurement(observation, i, wall, options, lever_mount, weight,
+                                   scans_per_fix, dwell_headings, reference_s, &m, error)) {
+      return nullptr;
     }
-    m.sign = oriented.sign;
-    m.wall_normal_local = wall.normal_local;
-    // The rotation centre: the middle of the surveyed extent, projected onto the line.
-    const Eigen::Vector2d middle = 0.5 * (wall.end_a_local + wall.end_b_local);
-    m.wall_centre_local_m =
-        middle - (wall.normal_local.dot(middle) - wall.offset_m) * wall.normal_local;
-    m.wall_normal_angle_rad = oriented.normal_angle_rad;
-    m.rho_m = observation.rho_m;
-    m.theta_rad = observation.theta_rad;
-    m.sqrt_information = sqrt_information;
-    if (weight > 0.0) m.weight = weight;
     mp->measurements.push_back(m);
     mp->weights.push_back(weight);
     if (weight > 0.0) walls_used.insert(observation.wall_index);
@@ -392,19 +286,8 @@ std::unique_ptr<MountProblem> BuildMountProblem(
   // Observation blocks, robustified scan by scan in whitened units (wall_slice_cost.h): the
   // observations that share every parameter block, up to kScansPerResidualBlock of them, form
   // one residual block. Observations of weight 0 get none.
-  std::map<std::array<const double*, 3>, size_t> open_group;  // (wall, bias, heading) -> group
-  std::vector<std::vector<int>> groups;
-  for (size_t i = 0; i < mp->measurements.size(); ++i) {
-    if (!(mp->weights[i] > 0.0)) continue;
-    const std::array<const double*, 3> key = {mp->wall_block[i], mp->bias_block[i],
-                                              mp->heading_block[i]};
-    auto found = open_group.find(key);
-    if (found == open_group.end() || groups[found->second].size() >= kScansPerResidualBlock) {
-      found = open_group.insert_or_assign(key, groups.size()).first;
-      groups.emplace_back();
-    }
-    groups[found->second].push_back(static_cast<int>(i));
-  }
+  std::vector<std::vector<int>> groups =
+      internal::ResidualGroups(mp->wall_block, mp->bias_block, mp->heading_block, mp->weights);
   for (std::vector<int>& group : groups) {
     const int first = group.front();
     mp->problem.AddResidualBlock(

@@ -15,10 +15,10 @@
 #include "calib/detection_pass.h"
 #include "calib/range_model.h"
 #include "io/text/nmea_reader.h"
-#include "pipeline/calibrate_options.h"
-#include "io/recording/recording_streams.h"
 #include "io/types.h"
+#include "pipeline/calibrate_options.h"
 #include "preflight/inspect.h"
+#include "recording/recording_streams.h"
 
 namespace wallcal::preflight::internal {
 
@@ -79,8 +79,8 @@ struct ScanLogSummary {
 // Valid readings of a scan without a preset: finite, positive and below the log's maximum.
 int LogValid(const io::ScanRecord& scan, float* min_m, float* max_m);
 ScanLogSummary ReadScanLog(const std::string& path, double time_offset_s,
-                           const io::ScannerPreset* preset, double min_range_m,
-                           double mixed_jump_m, const io::ScanOpener* opener = nullptr);
+                           const io::ScannerPreset* preset, double min_range_m, double mixed_jump_m,
+                           const recording::ScanOpener* opener = nullptr);
 // The same summary from a detection pass's tally of the log (calib/detection_pass.h) and what
 // its scan source passed over: the preview's second pass read every scan already.
 ScanLogSummary SummaryFromTally(const std::string& path, calib::ScanLogTally tally,

@@ -10,15 +10,15 @@
 #include <string>
 #include <vector>
 
-#include "io/recording/mcap/internal/mcap_reader.h"
 #include "io/types.h"
+#include "recording/mcap/internal/mcap_reader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  wallcal::io::McapLimits limits;
+  wallcal::recording::McapLimits limits;
   limits.max_chunk_bytes = uint64_t{64} << 20;  // well inside libFuzzer's -rss_limit_mb
   try {
     auto rec =
-        wallcal::io::OpenMcapBuffer("fuzz.mcap", std::vector<uint8_t>(data, data + size), limits);
+        wallcal::recording::OpenMcapBuffer("fuzz.mcap", std::vector<uint8_t>(data, data + size), limits);
     const auto& topics = rec->topics();
     std::set<std::string> names;
     for (size_t i = 0; i < topics.size(); ++i) {
@@ -27,7 +27,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (topics[i].encoding == "cdr") names.insert(topics[i].name);
     }
     uint64_t checksum = 0;
-    rec->ForEach(names, [&](const wallcal::io::RecordedMessage& m) {
+    rec->ForEach(names, [&](const wallcal::recording::RecordedMessage& m) {
       if (m.topic < topics.data() || m.topic >= topics.data() + topics.size()) std::abort();
       if (names.count(m.topic->name) == 0 || m.index < 0) std::abort();
       if (m.size > 0 && m.data == nullptr) std::abort();

@@ -9,11 +9,11 @@
 #include <cstdlib>
 #include <vector>
 
-#include "io/recording/ros/ros_messages.h"
+#include "recording/ros/ros_messages.h"
 
 namespace {
 
-using namespace wallcal::io;
+using namespace wallcal::recording;
 
 template <class M, class Decode, class Encode>
 void Check(const uint8_t* data, size_t size, WireFormat wire, Decode decode, Encode encode) {

@@ -10,14 +10,15 @@
 #include <map>
 #include <vector>
 
-#include "io/recording/ros/ros_messages.h"
-#include "io/recording/rosbag1/internal/rosbag1_reader.h"
 #include "io/types.h"
+#include "recording/ros/ros_messages.h"
+#include "recording/rosbag1/internal/rosbag1_reader.h"
 
 namespace {
 
-void Decode(const wallcal::io::RecordedMessage& m) {
+void Decode(const wallcal::recording::RecordedMessage& m) {
   using namespace wallcal::io;
+  using namespace wallcal::recording;
   DecodeResult r;
   switch (RosTypeFromName(m.topic->type)) {
     case RosType::kLaserScan: {
@@ -57,6 +58,7 @@ void Decode(const wallcal::io::RecordedMessage& m) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace wallcal::io;
+  using namespace wallcal::recording;
   try {
     const auto bag = OpenRos1BagFromMemory(std::vector<uint8_t>(data, data + size), "fuzz.bag");
     std::set<std::string> names;

@@ -11,6 +11,8 @@
 // of the observations left out, a small part of σ: within one σ of the calibration (measured
 // 0.37 σ in x, the largest).
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -19,14 +21,12 @@
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "analysis/repeatability.h"
-#include "io/recording/recording_streams.h"
 #include "io/config/session_reader.h"
 #include "pipeline/calibration.h"
 #include "pipeline/config_dirs.h"
 #include "preflight/internal/inspect_internal.h"
+#include "recording/recording_streams.h"
 #include "sim/simulated_session.h"
 #include "test/support/scratch_dir.h"
 
@@ -117,7 +117,7 @@ TEST(PreviewTest, SecondPassTallyIsTheScanLogSummary) {
 
   const io::SessionSpec spec = io::ReadSession(dir.string());
   const io::ScannerPreset preset = io::LoadScannerPreset(spec.scanner_model, pipeline::PresetDirs());
-  const io::ScanOpener opener = io::MakeScanOpener(spec, &preset);
+  const recording::ScanOpener opener = recording::MakeScanOpener(spec, &preset);
   const calib::DetectorOptions& detector = preview.options.detector;
   const preflight::internal::ScanLogSummary read = preflight::internal::ReadScanLog(
       spec.scanner_log, spec.scanner_time_offset_s, &preset, detector.min_range_m,

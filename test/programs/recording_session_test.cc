@@ -10,6 +10,9 @@
 // (σ ×10 = 0.15 m in GST): the text session drops them by quality (min_fix_quality 4), the
 // recordings by gnss.max_sigma_m (0.05 m), so both paths must drop the same fixes.
 
+#include "sim/recording_session.h"
+
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -20,15 +23,12 @@
 #include <sstream>
 #include <string>
 
-#include <gtest/gtest.h>
-
 #include "common/angles.h"
-#include "io/text/nmea_reader.h"
-#include "io/recording/recording_streams.h"
-#include "io/writers/rosbag1_writer.h"
 #include "io/config/session_reader.h"
+#include "io/text/nmea_reader.h"
 #include "pipeline/calibration.h"
-#include "sim/recording_session.h"
+#include "recording/recording_streams.h"
+#include "recording/writers/rosbag1_writer.h"
 #include "sim/simulated_session.h"
 #include "test/support/expect_text.h"
 #include "test/support/program_runner.h"
@@ -110,32 +110,33 @@ TEST(RecordingSessionTest, SentencesImuAndReceiveStamps) {
   const io::NmeaLog text_gnss = io::ReadNmea((dir / "gnss.nmea").string());
   const io::NmeaLog text_heading = io::ReadNmea((dir / "heading.nmea").string());
   {
-    io::Ros1BagWriter bag((dir / "poses.bag").string(), io::ChunkCompression::kNone);
-    const int nmea = bag.AddConnection("/nmea", io::RosType::kNmeaSentence);
-    const int imu = bag.AddConnection("/imu", io::RosType::kImu);
+    recording::Ros1BagWriter bag((dir / "poses.bag").string(), recording::ChunkCompression::kNone);
+    const int nmea = bag.AddConnection("/nmea", recording::RosType::kNmeaSentence);
+    const int imu = bag.AddConnection("/imu", recording::RosType::kImu);
     std::ifstream in(dir / "gnss.nmea");
     std::string line;
     while (std::getline(in, line)) {
-      io::NmeaSentenceMsg msg;
+      recording::NmeaSentenceMsg msg;
       const size_t space = line.find(' ');
       msg.header.stamp_s = std::stod(line.substr(0, space));
       msg.sentence = line.substr(space + 1);
-      bag.Write(nmea, msg.header.stamp_s + 0.25, io::EncodeNmeaSentence(msg, io::WireFormat::kRos1));
+      bag.Write(nmea, msg.header.stamp_s + 0.25,
+                recording::EncodeNmeaSentence(msg, recording::WireFormat::kRos1));
     }
     for (const io::HeadingSample& h : text_heading.headings) {
-      io::QuaternionMsg msg;
+      recording::QuaternionMsg msg;
       msg.header.stamp_s = h.stamp_s;
       const double yaw = kPi / 2 - h.heading_rad;
       msg.z = std::sin(yaw / 2);
       msg.w = std::cos(yaw / 2);
-      bag.Write(imu, h.stamp_s + 0.25, io::EncodeImu(msg, io::WireFormat::kRos1));
+      bag.Write(imu, h.stamp_s + 0.25, recording::EncodeImu(msg, recording::WireFormat::kRos1));
     }
     bag.Close();
   }
   ReplaceInFile(dir / "session.yaml", "  log: gnss.nmea\n", "  log: poses.bag\n  topic: /nmea\n");
   ReplaceInFile(dir / "session.yaml", "  log: heading.nmea\n", "  log: poses.bag\n  topic: /imu\n");
   io::SessionSpec spec = io::ReadSession(dir.string());
-  io::PoseLogs logs = io::ReadPoseLogs(spec);
+  recording::PoseLogs logs = recording::ReadPoseLogs(spec);
   ASSERT_EQ(logs.gnss.fixes.size(), text_gnss.fixes.size());
   ASSERT_EQ(logs.headings.headings.size(), text_heading.headings.size());
   EXPECT_EQ(logs.gnss.fixes_by_quality, text_gnss.fixes_by_quality);  // GGA qualities kept
@@ -150,7 +151,7 @@ TEST(RecordingSessionTest, SentencesImuAndReceiveStamps) {
   }
   spec.gnss_stamp = io::StampSource::kReceive;
   spec.heading_stamp = io::StampSource::kReceive;
-  logs = io::ReadPoseLogs(spec);
+  logs = recording::ReadPoseLogs(spec);
   ASSERT_FALSE(logs.gnss.fixes.empty());
   EXPECT_NEAR(logs.gnss.fixes[3].stamp_s - text_gnss.fixes[3].stamp_s, 0.25, 1e-6);
   EXPECT_NEAR(logs.headings.headings[3].stamp_s - text_heading.headings[3].stamp_s, 0.25, 1e-6);
@@ -206,13 +207,13 @@ TEST(RecordingSessionTest, TopicOnATextLogIsAnError) {
 }
 
 TEST(RecordingStreamsTest, LaserScanOutOfRangeIsNoReturnAndNegativeIncrementKept) {
-  io::LaserScanMsg msg;
+  recording::LaserScanMsg msg;
   msg.angle_min_rad = 1.0f;
   msg.angle_increment_rad = -0.5f;
   msg.range_min_m = 0.1f;
   msg.range_max_m = 30.0f;
   msg.ranges_m = {5.0f, NAN, INFINITY, -INFINITY, 0.05f, 31.0f, 29.5f};
-  const io::ScanRecord scan = io::ScanFromLaserScan(msg, 12.5, 7);
+  const io::ScanRecord scan = recording::ScanFromLaserScan(msg, 12.5, 7);
   EXPECT_DOUBLE_EQ(scan.stamp_s, 12.5);
   EXPECT_EQ(scan.line, 7);
   EXPECT_DOUBLE_EQ(scan.angular_step_rad, -0.5);
@@ -224,7 +225,7 @@ TEST(RecordingStreamsTest, LaserScanOutOfRangeIsNoReturnAndNegativeIncrementKept
 }
 
 TEST(RecordingStreamsTest, NavSatFixAcceptedBySigmaAndStatus) {
-  io::NavSatFixMsg msg;
+  recording::NavSatFixMsg msg;
   msg.status = 2;
   msg.latitude_deg = 43.0;
   msg.longitude_deg = 141.0;
@@ -232,25 +233,26 @@ TEST(RecordingStreamsTest, NavSatFixAcceptedBySigmaAndStatus) {
   msg.position_covariance_type = 2;
   msg.position_covariance[0] = 0.02 * 0.02;  // east
   msg.position_covariance[4] = 0.03 * 0.03;  // north
-  io::GnssFix fix = io::FixFromNavSatFix(msg, 1.0, 0.05, 1);
+  io::GnssFix fix = recording::FixFromNavSatFix(msg, 1.0, 0.05, 1);
   EXPECT_EQ(fix.quality, 4);
   EXPECT_NEAR(fix.sigma_lat_m, 0.03, 1e-12);
   EXPECT_NEAR(fix.sigma_lon_m, 0.02, 1e-12);
   EXPECT_DOUBLE_EQ(fix.height_m, 70.0);
   msg.position_covariance[0] = 0.3 * 0.3;  // float: σ east 0.3 m
-  EXPECT_EQ(io::FixFromNavSatFix(msg, 1.0, 0.05, 1).quality, 1);
-  EXPECT_EQ(io::FixFromNavSatFix(msg, 1.0, 0.5, 1).quality, 4);
+  EXPECT_EQ(recording::FixFromNavSatFix(msg, 1.0, 0.05, 1).quality, 1);
+  EXPECT_EQ(recording::FixFromNavSatFix(msg, 1.0, 0.5, 1).quality, 4);
   msg.status = -1;
-  EXPECT_EQ(io::FixFromNavSatFix(msg, 1.0, 0.5, 1).quality, 0);
+  EXPECT_EQ(recording::FixFromNavSatFix(msg, 1.0, 0.5, 1).quality, 0);
   msg.status = 0;
   msg.position_covariance_type = 0;
-  EXPECT_EQ(io::FixFromNavSatFix(msg, 1.0, 0.05, 1).quality, 4);
+  EXPECT_EQ(recording::FixFromNavSatFix(msg, 1.0, 0.05, 1).quality, 4);
 }
 
 TEST(RecordingStreamsTest, EnuYawBecomesHeadingClockwiseFromNorth) {
   auto heading_deg = [](double yaw_deg) {
     const double yaw = yaw_deg * kDegToRad;
-    return io::HeadingFromEnuQuaternion(0, 0, std::sin(yaw / 2), std::cos(yaw / 2)) * kRadToDeg;
+    return recording::HeadingFromEnuQuaternion(0, 0, std::sin(yaw / 2), std::cos(yaw / 2)) *
+           kRadToDeg;
   };
   EXPECT_NEAR(heading_deg(0.0), 90.0, 1e-9);     // facing east
   EXPECT_NEAR(heading_deg(90.0), 0.0, 1e-9);     // facing north
@@ -344,13 +346,13 @@ TEST(InspectRecordingTest, DumpsOfATopicMatchTheTextLogs) {
 TEST(InspectRecordingTest, SeveralCandidateTopicsAreListed) {
   const fs::path dir = FreshScratchDir("two_fixes");
   {
-    io::Ros1BagWriter bag((dir / "two.bag").string(), io::ChunkCompression::kNone);
-    const int a = bag.AddConnection("/fix", io::RosType::kNavSatFix);
-    const int b = bag.AddConnection("/gps/fix", io::RosType::kNavSatFix);
-    io::NavSatFixMsg msg;
+    recording::Ros1BagWriter bag((dir / "two.bag").string(), recording::ChunkCompression::kNone);
+    const int a = bag.AddConnection("/fix", recording::RosType::kNavSatFix);
+    const int b = bag.AddConnection("/gps/fix", recording::RosType::kNavSatFix);
+    recording::NavSatFixMsg msg;
     msg.header.stamp_s = 100.0;
-    bag.Write(a, 100.0, io::EncodeNavSatFix(msg, io::WireFormat::kRos1));
-    bag.Write(b, 100.0, io::EncodeNavSatFix(msg, io::WireFormat::kRos1));
+    bag.Write(a, 100.0, recording::EncodeNavSatFix(msg, recording::WireFormat::kRos1));
+    bag.Write(b, 100.0, recording::EncodeNavSatFix(msg, recording::WireFormat::kRos1));
     bag.Close();
   }
   const CommandRun run = RunCommand(kInspect + " " + (dir / "two.bag").string() + " --dump gnss");

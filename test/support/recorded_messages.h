@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "io/recording/recording.h"
+#include "recording/recording.h"
 #include "test/support/scratch_files.h"
 
 namespace wallcal::testing_support {
@@ -24,14 +24,14 @@ struct GotMessage {
   std::vector<uint8_t> data;
   int64_t index = 0;
   uint64_t file_offset = 0;
-  io::WireFormat wire = io::WireFormat::kCdr;
+  recording::WireFormat wire = recording::WireFormat::kCdr;
 };
 
 // Every message of `topics`, in the order the recording hands them out.
-inline std::vector<GotMessage> CollectMessages(io::Recording& rec,
+inline std::vector<GotMessage> CollectMessages(recording::Recording& rec,
                                                const std::set<std::string>& topics) {
   std::vector<GotMessage> out;
-  rec.ForEach(topics, [&](const io::RecordedMessage& m) {
+  rec.ForEach(topics, [&](const recording::RecordedMessage& m) {
     out.push_back({m.topic->name, m.receive_s, std::vector<uint8_t>(m.data, m.data + m.size),
                    m.index, m.file_offset, m.wire});
   });

@@ -1,0 +1,380 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "recording/recording_streams.h"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "common/angles.h"
+#include "io/scanner_geometry.h"
+#include "io/text/carmen_reader.h"
+#include "io/text/nmea_reader.h"
+
+namespace wallcal::recording {
+namespace {
+
+int LineOf(int64_t index) { return static_cast<int>(std::min<int64_t>(index + 1, INT_MAX)); }
+
+std::string TypeList(const std::vector<RosType>& types) {
+  std::string text;
+  for (size_t i = 0; i < types.size(); ++i) {
+    text += (i == 0 ? "" : i + 1 == types.size() ? " or " : ", ");
+    text += RosTypeName(types[i]);
+  }
+  return text;
+}
+
+std::string Describe(const RecordedMessage& m) {
+  return "topic " + m.topic->name + " message " + std::to_string(m.index + 1);
+}
+
+// Throws the decoder's failure as an io::InputError naming the file, topic, message and byte.
+void Require(const DecodeResult& result, const Recording& recording, const RecordedMessage& m,
+             RosType type) {
+  if (result.ok()) return;
+  const char* why = result.failure == DecodeFailure::kTooShort    ? "message shorter than its type"
+                    : result.failure == DecodeFailure::kBadLength ? "string without its NUL"
+                    : result.failure == DecodeFailure::kBadEncapsulation
+                        ? "unknown CDR encapsulation"
+                        : "bytes after the last field";
+  throw io::InputError(io::Where(recording.path(), 0,
+                                 Describe(m) + " (byte " + std::to_string(result.offset) + " of " +
+                                     std::to_string(m.size) + "): " + why + " (" + result.detail +
+                                     "); expected a whole " + RosTypeName(type)));
+}
+
+double StampOf(const RosHeader& header, const RecordedMessage& m, io::StampSource stamp) {
+  return stamp == io::StampSource::kReceive ? m.receive_s : header.stamp_s;
+}
+
+// One session stream on a recording topic.
+struct TopicStream {
+  std::string topic;
+  io::StampSource stamp = io::StampSource::kHeader;
+  RosType type = RosType::kOther;
+};
+
+// The sentences of an nmea_msgs/Sentence topic as logger-stamped text lines.
+struct SentenceText {
+  std::ostringstream text;
+  int64_t messages = 0;
+};
+
+io::NmeaLog ParseSentences(SentenceText* sentences, const std::string& name) {
+  std::istringstream in(sentences->text.str());
+  return io::ParseNmea(in, name);
+}
+
+void AppendSentence(const NmeaSentenceMsg& msg, double stamp_s, SentenceText* out) {
+  std::string sentence = msg.sentence;
+  for (char& c : sentence) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  char prefix[48];
+  std::snprintf(prefix, sizeof(prefix), "%.9f ", stamp_s);
+  // A negative or non-finite stamp cannot be a logger prefix: the line is then counted by the
+  // NMEA reader as it would count it in a text log.
+  out->text << (std::isfinite(stamp_s) && stamp_s >= 0 ? prefix : "") << sentence << '\n';
+  ++out->messages;
+}
+
+// Reads the GNSS stream (gnss != nullptr) and/or the heading stream of one recording, in one
+// pass over both topics.
+void ReadRecordedPoses(const std::string& path, const TopicStream* gnss, double max_sigma_m,
+                       const TopicStream* heading, PoseLogs* out) {
+  std::unique_ptr<Recording> recording = OpenRecording(path);
+  TopicStream g, h;
+  std::set<std::string> topics;
+  if (gnss != nullptr) {
+    g = *gnss;
+    g.type = CheckTopic(*recording, g.topic, AcceptedGnssTypes(), "gnss.topic");
+    topics.insert(g.topic);
+  }
+  if (heading != nullptr) {
+    h = *heading;
+    h.type = CheckTopic(*recording, h.topic, AcceptedHeadingTypes(), "heading.topic");
+    topics.insert(h.topic);
+  }
+  SentenceText gnss_sentences, heading_sentences;
+  bool gnss_without_covariance = false;
+  double last_fix_s = -INFINITY, last_heading_s = -INFINITY;
+  NavSatFixMsg fix_msg;
+  NmeaSentenceMsg sentence_msg;
+  QuaternionMsg quaternion_msg;
+  recording->ForEach(topics, [&](const RecordedMessage& m) {
+    const bool for_gnss = gnss != nullptr && m.topic->name == g.topic;
+    const bool for_heading = heading != nullptr && m.topic->name == h.topic;
+    const RosType type = for_gnss ? g.type : h.type;
+    if (type == RosType::kNmeaSentence) {
+      Require(DecodeNmeaSentence(m.data, m.size, m.wire, &sentence_msg), *recording, m, type);
+      if (for_gnss)
+        AppendSentence(sentence_msg, StampOf(sentence_msg.header, m, g.stamp), &gnss_sentences);
+      if (for_heading) {
+        AppendSentence(sentence_msg, StampOf(sentence_msg.header, m, h.stamp), &heading_sentences);
+      }
+      return;
+    }
+    if (for_gnss && type == RosType::kNavSatFix) {
+      Require(DecodeNavSatFix(m.data, m.size, m.wire, &fix_msg), *recording, m, type);
+      ++out->gnss.lines_read;
+      const double stamp_s = StampOf(fix_msg.header, m, g.stamp);
+      const io::GnssFix fix = FixFromNavSatFix(fix_msg, stamp_s, max_sigma_m, LineOf(m.index));
+      if (fix.quality == 0) {
+        out->gnss.skipped.Add("NavSatFix without a fix (status -1)", fix.line);
+        return;
+      }
+      if (fix_msg.position_covariance_type == 0) gnss_without_covariance = true;
+      ++out->gnss.fixes_by_quality[fix.quality];
+      if (!(stamp_s > last_fix_s)) {
+        out->gnss.skipped.Add("time not increasing", fix.line);
+        return;
+      }
+      last_fix_s = stamp_s;
+      out->gnss.fixes.push_back(fix);
+      return;
+    }
+    if (for_heading) {
+      const DecodeResult r = type == RosType::kImu
+                                 ? DecodeImu(m.data, m.size, m.wire, &quaternion_msg)
+                                 : DecodeQuaternionStamped(m.data, m.size, m.wire, &quaternion_msg);
+      Require(r, *recording, m, type);
+      ++out->headings.lines_read;
+      const int line = LineOf(m.index);
+      if (type == RosType::kImu && quaternion_msg.orientation_covariance[0] == -1.0) {
+        out->headings.skipped.Add("Imu without orientation (covariance[0] = -1)", line);
+        return;
+      }
+      const double norm =
+          std::sqrt(quaternion_msg.x * quaternion_msg.x + quaternion_msg.y * quaternion_msg.y +
+                    quaternion_msg.z * quaternion_msg.z + quaternion_msg.w * quaternion_msg.w);
+      if (!std::isfinite(norm) || norm < 1e-6) {
+        out->headings.skipped.Add("quaternion not finite or zero", line);
+        return;
+      }
+      const double stamp_s = StampOf(quaternion_msg.header, m, h.stamp);
+      if (!(stamp_s > last_heading_s)) {
+        out->headings.skipped.Add("time not increasing", line);
+        return;
+      }
+      last_heading_s = stamp_s;
+      io::HeadingSample sample;
+      sample.stamp_s = stamp_s;
+      sample.heading_rad = HeadingFromEnuQuaternion(quaternion_msg.x, quaternion_msg.y,
+                                                    quaternion_msg.z, quaternion_msg.w);
+      sample.line = line;
+      out->headings.headings.push_back(sample);
+    }
+  });
+  if (gnss != nullptr && g.type == RosType::kNmeaSentence) {
+    out->gnss = ParseSentences(&gnss_sentences, path + " " + g.topic);
+  }
+  if (heading != nullptr && h.type == RosType::kNmeaSentence) {
+    out->headings = ParseSentences(&heading_sentences, path + " " + h.topic);
+  }
+  if (gnss_without_covariance) {
+    out->warnings.push_back(path + ": " + g.topic +
+                            ": NavSatFix without position covariance: RTK float fixes cannot be "
+                            "told apart from fixed ones (all fixes with status >= 0 are used)");
+  }
+  for (const std::string& w : recording->warnings()) out->warnings.push_back(w);
+}
+
+void RequireNoTopic(const std::string& topic, const std::string& log, const std::string& key) {
+  if (topic.empty()) return;
+  throw io::InputError(
+      io::Where(log, 0,
+                key + " '" + topic +
+                    "' given, but this is a text log, not a recording; expected a ROS 1 "
+                    "bag, an MCAP file or a rosbag2 .db3 / folder"));
+}
+
+// Scans of a recording, decoded once and replayed for every pass.
+class ReplayedScans : public io::ScanSource {
+ public:
+  ReplayedScans(std::shared_ptr<const std::vector<io::ScanRecord>> scans, std::string path)
+      : scans_(std::move(scans)), path_(std::move(path)) {}
+  bool Next(io::ScanRecord* scan) override {
+    if (next_ >= scans_->size()) return false;
+    *scan = (*scans_)[next_++];
+    return true;
+  }
+  const io::SkipCounts& skipped() const override { return skipped_; }
+  int64_t scans_read() const override { return static_cast<int64_t>(next_); }
+  const std::string& path() const override { return path_; }
+
+ private:
+  std::shared_ptr<const std::vector<io::ScanRecord>> scans_;
+  std::string path_;
+  io::SkipCounts skipped_;
+  size_t next_ = 0;
+};
+
+// Why a LaserScan message comes from another scanner than the preset's; "" when its geometry
+// is the preset's or within the family's limits (io/scanner_geometry.h).
+std::string PresetMismatch(const LaserScanMsg& msg, const io::ScannerPreset& preset) {
+  const io::GeometryCheck check = io::CheckScanGeometry(
+      static_cast<int64_t>(msg.ranges_m.size()), msg.angle_increment_rad, msg.range_max_m, preset);
+  return check.fit == io::GeometryFit::kOtherScanner ? check.what : std::string();
+}
+
+std::vector<io::ScanRecord> ReadRecordedScans(const io::SessionSpec& spec,
+                                              const io::ScannerPreset* preset) {
+  std::unique_ptr<Recording> recording = OpenRecording(spec.scanner_log);
+  const RosType type =
+      CheckTopic(*recording, spec.scanner_topic, AcceptedScanTypes(), "scanner.topic");
+  std::vector<io::ScanRecord> scans;
+  LaserScanMsg msg;
+  recording->ForEach({spec.scanner_topic}, [&](const RecordedMessage& m) {
+    Require(DecodeLaserScan(m.data, m.size, m.wire, &msg), *recording, m, type);
+    if (preset != nullptr) {
+      if (const std::string why = PresetMismatch(msg, *preset); !why.empty()) {
+        throw io::InputError(
+            io::Where(spec.scanner_log, 0,
+                      Describe(m) + ": " + why +
+                          "; expected the scanner.model preset to match the scanner "
+                          "(pick another preset or write one)"));
+      }
+    }
+    scans.push_back(
+        ScanFromLaserScan(msg, StampOf(msg.header, m, spec.scanner_stamp), LineOf(m.index)));
+  });
+  return scans;
+}
+
+}  // namespace
+
+std::vector<RosType> AcceptedScanTypes() { return {RosType::kLaserScan}; }
+std::vector<RosType> AcceptedGnssTypes() { return {RosType::kNavSatFix, RosType::kNmeaSentence}; }
+std::vector<RosType> AcceptedHeadingTypes() {
+  return {RosType::kQuaternionStamped, RosType::kImu, RosType::kNmeaSentence};
+}
+
+RosType CheckTopic(const Recording& recording, const std::string& topic,
+                   const std::vector<RosType>& accepted, const std::string& key) {
+  const TopicInfo* found = nullptr;
+  for (const TopicInfo& info : recording.topics()) {
+    if (info.name == topic) found = &info;
+  }
+  if (found == nullptr) {
+    std::string present;
+    for (const TopicInfo& info : recording.topics()) {
+      present += (present.empty() ? "" : ", ") + info.name + " (" + info.type + ")";
+    }
+    throw io::InputError(
+        io::Where(recording.path(), 0,
+                  (topic.empty() ? key + " is missing" : key + ": no topic '" + topic + "'") +
+                      "; expected a topic of type " + TypeList(accepted) + "; the recording has " +
+                      (present.empty() ? std::string("no topics") : present)));
+  }
+  const RosType type = RosTypeFromName(found->type);
+  const bool type_ok = std::find(accepted.begin(), accepted.end(), type) != accepted.end();
+  if (!type_ok) {
+    throw io::InputError(io::Where(recording.path(), 0,
+                                   key + ": topic " + topic + " has type " + found->type +
+                                       "; expected " + TypeList(accepted)));
+  }
+  if (!found->md5sum.empty() && found->md5sum != "*" && found->md5sum != RosTypeMd5(type)) {
+    throw io::InputError(io::Where(recording.path(), 0,
+                                   key + ": topic " + topic + " has type " + found->type +
+                                       " with md5sum " + found->md5sum + "; expected " +
+                                       RosTypeMd5(type) + " (another definition of the type)"));
+  }
+  return type;
+}
+
+io::ScanRecord ScanFromLaserScan(const LaserScanMsg& msg, double stamp_s, int line) {
+  io::ScanRecord scan;
+  scan.stamp_s = stamp_s;
+  scan.start_angle_rad = msg.angle_min_rad;
+  scan.angular_step_rad = msg.angle_increment_rad;
+  scan.max_range_m = msg.range_max_m;
+  scan.line = line;
+  scan.ranges_m = msg.ranges_m;
+  for (float& r : scan.ranges_m) {
+    if (!std::isfinite(r) || r < msg.range_min_m || r > msg.range_max_m) r = msg.range_max_m;
+  }
+  return scan;
+}
+
+io::GnssFix FixFromNavSatFix(const NavSatFixMsg& msg, double stamp_s, double max_sigma_m,
+                             int line) {
+  io::GnssFix fix;
+  fix.stamp_s = stamp_s;
+  fix.lat_deg = msg.latitude_deg;
+  fix.lon_deg = msg.longitude_deg;
+  fix.height_m = msg.altitude_m;
+  fix.line = line;
+  const bool position_ok = std::isfinite(msg.latitude_deg) && std::isfinite(msg.longitude_deg) &&
+                           std::abs(msg.latitude_deg) <= 90.0 &&
+                           std::abs(msg.longitude_deg) <= 180.0 && std::isfinite(msg.altitude_m);
+  if (msg.status < 0 || !position_ok) {
+    fix.quality = 0;
+    return fix;
+  }
+  if (msg.position_covariance_type == 0) {
+    fix.quality = 4;  // nothing to judge by: accepted, with the caller's warning
+    return fix;
+  }
+  const double var_east = msg.position_covariance[0], var_north = msg.position_covariance[4];
+  fix.sigma_lon_m = var_east >= 0 ? std::sqrt(var_east) : io::kNaN;
+  fix.sigma_lat_m = var_north >= 0 ? std::sqrt(var_north) : io::kNaN;
+  const double sigma_m = std::sqrt(std::max(var_east, var_north));
+  fix.quality = std::isfinite(sigma_m) && sigma_m <= max_sigma_m ? 4 : 1;
+  return fix;
+}
+
+double HeadingFromEnuQuaternion(double x, double y, double z, double w) {
+  const double yaw = std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
+  return WrapTwoPi(HeadingFromYaw(yaw));  // the grid heading of an ENU yaw
+}
+
+PoseLogs ReadPoseLogs(const io::SessionSpec& spec, bool read_gnss, bool read_heading) {
+  PoseLogs out;
+  const bool gnss_recorded = read_gnss && IsRecording(spec.gnss_log);
+  const bool heading_recorded = read_heading && IsRecording(spec.heading_log);
+  if (read_gnss && !gnss_recorded) {
+    RequireNoTopic(spec.gnss_topic, spec.gnss_log, "gnss.topic");
+    out.gnss = io::ReadNmea(spec.gnss_log);
+  }
+  if (read_heading && !heading_recorded) {
+    RequireNoTopic(spec.heading_topic, spec.heading_log, "heading.topic");
+    out.headings = (read_gnss && !gnss_recorded && spec.heading_log == spec.gnss_log)
+                       ? out.gnss
+                       : io::ReadNmea(spec.heading_log);
+  }
+  const TopicStream gnss{spec.gnss_topic, spec.gnss_stamp, RosType::kOther};
+  const TopicStream heading{spec.heading_topic, spec.heading_stamp, RosType::kOther};
+  if (gnss_recorded && heading_recorded && spec.gnss_log == spec.heading_log) {
+    ReadRecordedPoses(spec.gnss_log, &gnss, spec.gnss_max_sigma_m, &heading, &out);
+  } else {
+    if (gnss_recorded)
+      ReadRecordedPoses(spec.gnss_log, &gnss, spec.gnss_max_sigma_m, nullptr, &out);
+    if (heading_recorded) {
+      ReadRecordedPoses(spec.heading_log, nullptr, spec.gnss_max_sigma_m, &heading, &out);
+    }
+  }
+  return out;
+}
+
+ScanOpener MakeScanOpener(const io::SessionSpec& spec, const io::ScannerPreset* preset) {
+  if (!IsRecording(spec.scanner_log)) {
+    RequireNoTopic(spec.scanner_topic, spec.scanner_log, "scanner.topic");
+    const std::string log = spec.scanner_log;
+    return [log]() -> std::unique_ptr<io::ScanSource> {
+      return std::make_unique<io::CarmenReader>(log);
+    };
+  }
+  auto cache = std::make_shared<std::shared_ptr<const std::vector<io::ScanRecord>>>();
+  return [spec, preset, cache]() -> std::unique_ptr<io::ScanSource> {
+    if (!*cache) {
+      *cache = std::make_shared<const std::vector<io::ScanRecord>>(ReadRecordedScans(spec, preset));
+    }
+    return std::make_unique<ReplayedScans>(*cache, spec.scanner_log);
+  };
+}
+
+}  // namespace wallcal::recording

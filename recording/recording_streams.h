@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// A session's streams (scans, GNSS, heading) whatever holds them: the text logs of old (CARMEN,
+// NMEA), or topics of a robot recording (ROS 1 bag, MCAP, rosbag2), told apart by content
+// (recording::IsRecording). Recorded messages become the plain records of io/types.h, so everything
+// downstream (time model, clock offset, detection) is the same for both.
+//
+// Messages -> records (line = the message's 1-based index on its topic, so errors name it):
+// - sensor_msgs/LaserScan -> io::ScanRecord: bearings angle_min + i·angle_increment (a negative
+//   increment, an upside-down scanner, is kept as is); max_range_m = range_max; a range that is
+//   NaN, ±inf or outside [range_min, range_max] is written as range_max, which the range model
+//   (calib/range_model.cc) counts as "no return", as it does a CARMEN reading at the maximum.
+// - sensor_msgs/NavSatFix -> io::GnssFix: height_m = altitude; sigma_lat_m / sigma_lon_m from the
+//   ENU position_covariance (north, east variances). NavSatFix cannot tell RTK fixed from float,
+//   so a fix is accepted by its horizontal σ = sqrt(max(var_east, var_north)) <=
+//   gnss.max_sigma_m and status >= 0. To keep the counts and gnss.min_fix_quality of the NMEA
+//   path meaningful, accepted fixes carry quality 4 (RTK fixed) and refused ones quality 1
+//   (never accepted); status -1 (no fix) is skipped as "NavSatFix without a fix". A topic with
+//   no covariance (type 0) accepts every fix with status >= 0, with a warning that float fixes
+//   cannot be told apart.
+// - nmea_msgs/Sentence: each sentence goes through the NMEA text reader (io::ParseNmea) as a
+//   logger-stamped line "<stamp> <sentence>", so every sentence it takes (GGA+GST, HDT, THS)
+//   works and gnss.min_fix_quality applies.
+// - geometry_msgs/QuaternionStamped, sensor_msgs/Imu -> io::HeadingSample: ENU yaw (REP 103: 0 =
+//   east, counter-clockwise) -> heading clockwise from north = π/2 − yaw, in [0, 2π);
+//   heading.reference says which north. An Imu with orientation_covariance[0] = -1 (no
+//   orientation) is skipped.
+// Stamps: header.stamp, or the receive time with `stamp: receive`.
+//
+// Errors (io::InputError, exit 2): a topic not in the recording (the topics present are listed), a
+// topic of another type (found and accepted types named; ROS 1 also checks the md5sum), a
+// message that does not decode (file, topic, message index, byte offset), a scanner preset
+// that does not match the LaserScan messages (beam count, increment, range_max: both named).
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/scan_source.h"
+#include "io/types.h"
+#include "recording/recording.h"
+#include "recording/ros/ros_messages.h"
+
+namespace wallcal::recording {
+
+// The types a session stream takes from a recording.
+std::vector<RosType> AcceptedScanTypes();     // LaserScan
+std::vector<RosType> AcceptedGnssTypes();     // NavSatFix, nmea_msgs/Sentence
+std::vector<RosType> AcceptedHeadingTypes();  // QuaternionStamped, Imu, nmea_msgs/Sentence
+
+// Checks that `topic` is in the recording and carries one of `accepted` (by name; in a ROS 1
+// bag also by md5sum). `key` names the session key in messages ("gnss.topic"). Returns the
+// type. Throws io::InputError naming the file, the topic, the type found and the types accepted,
+// or listing the topics present when it is missing (an empty `topic` too).
+RosType CheckTopic(const Recording& recording, const std::string& topic,
+                   const std::vector<RosType>& accepted, const std::string& key);
+
+// The GNSS and heading streams of a session. From text logs: io::ReadNmea (once when both are
+// the same file). From a recording: both topics in one pass (one ForEach) when they share the
+// recording. `warnings`: what the recording reader worked around, NavSatFix without covariance.
+struct PoseLogs {
+  io::NmeaLog gnss;      // fixes (and fixes_by_quality)
+  io::NmeaLog headings;  // headings
+  std::vector<std::string> warnings;
+};
+// `gnss` / `heading` false: that stream is not read (left empty).
+PoseLogs ReadPoseLogs(const io::SessionSpec& spec, bool gnss = true, bool heading = true);
+
+// Opens the session's scans as fresh streams, one per call (a detection pass each). A text log:
+// a io::CarmenReader each time. A recording: the LaserScan topic is decoded once, on the first
+// call, and checked against `preset` (when not null: it must outlive the opener); later calls
+// replay it from memory. The returned function throws io::InputError as the readers do.
+using ScanOpener = std::function<std::unique_ptr<io::ScanSource>()>;
+ScanOpener MakeScanOpener(const io::SessionSpec& spec, const io::ScannerPreset* preset);
+
+// One LaserScan message as a io::ScanRecord (see above); `line` = index + 1.
+io::ScanRecord ScanFromLaserScan(const LaserScanMsg& msg, double stamp_s, int line);
+// One NavSatFix as a io::GnssFix (quality 4 or 1 as above; status -1 gives quality 0).
+io::GnssFix FixFromNavSatFix(const NavSatFixMsg& msg, double stamp_s, double max_sigma_m, int line);
+// Heading clockwise from north, [0, 2π), of an ENU orientation quaternion.
+double HeadingFromEnuQuaternion(double x, double y, double z, double w);
+
+}  // namespace wallcal::recording
