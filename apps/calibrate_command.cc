@@ -23,6 +23,7 @@
 #include "io/output_file.h"
 #include "outputs/emit.h"
 #include "outputs/multi_offsets.h"
+#include "outputs/multi_report.h"
 #include "outputs/offsets_document.h"
 #include "outputs/report.h"
 #include "outputs/summary.h"
@@ -61,7 +62,9 @@ const CommandHelp& CalibrateHelp() {
            "also write DIR/report.html: one self-contained page (inline SVG plots, no\n"
            "script, nothing fetched) showing the mount and its uncertainty, the site,\n"
            "scans, the Hough accumulator, residuals, heading coverage and the counts\n"
-           "(docs/report.md). Written even when the mount is not determined."},
+           "(docs/report.md). Written even when the mount is not determined. With\n"
+           "scanners: in session.yaml, DIR/ID/report.html for each scanner and\n"
+           "DIR/index.html: every scanner, the relative transforms, one site map"},
           {"--emit", "", "FORMAT", ValueKind::kChoice, {"ros2-static-tf", "urdf", "json"},
            "print the mount for a navigation stack: ros2-static-tf (a\n"
            "`ros2 run tf2_ros static_transform_publisher ...` line), urdf (a fixed\n"
@@ -242,6 +245,16 @@ int CalibrateSeveral(wallcal::pipeline::CalibrateRequest request, bool allow_par
     } catch (const std::exception& error) {
       std::cerr << "calibrate: warning: report of scanner '" << run.spec.id
                 << "' not written: " << wallcal::io::EscapeControl(error.what()) << "\n";
+    }
+  }
+  // The run's page, REPORT/index.html: every scanner, the relative transforms, one site map.
+  if (!report_dir.empty()) {
+    try {
+      const std::string path = outputs::WriteSeveralReport(several, report_dir);
+      summary_out << "  report     " << wallcal::io::EscapeControl(path) << "\n";
+    } catch (const std::exception& error) {
+      std::cerr << "calibrate: warning: report index not written: "
+                << wallcal::io::EscapeControl(error.what()) << "\n";
     }
   }
   if (several.outcome == pipeline::SeveralOutcome::kFailed) {

@@ -320,9 +320,19 @@ TEST(MultiScannerTest, CompareTakesEachScannerByIdAndNamesThoseInOneFileOnly) {
   previous["relative_mounts"][0]["x"] = relative_x_m + 0.015;
   const fs::path old = dir / "previous.yaml";
   std::ofstream(old) << previous << "\n";
+  const fs::path report = dir / "report";
   const testing_support::ProgramRun run =
-      RunCalibrate(dir, {"--quiet", "--compare", old.string(), "--output", (dir / "now.yaml").string()});
+      RunCalibrate(dir, {"--quiet", "--compare", old.string(), "--output",
+                         (dir / "now.yaml").string(), "--report", report.string()});
   ASSERT_EQ(run.exit_code, 0) << run.err;
+  // The report: a page per scanner and the run's page with the same verdicts and changes.
+  EXPECT_TRUE(fs::exists(report / "front_left" / "report.html"));
+  EXPECT_TRUE(fs::exists(report / "front_right" / "report.html"));
+  const std::string index = ReadText(report / "index.html");
+  for (const char* text : {"front_right in front_left", "rear_right", "since " , ">REVIEW<",
+                           "front_left: detected wall lines", "front_right: detected wall lines"}) {
+    EXPECT_NE(index.find(text), std::string::npos) << text;
+  }
   EXPECT_NE(run.out.find("  verdict    REVIEW"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("front_left (REVIEW)"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("front_right in front_left (REVIEW)"), std::string::npos) << run.out;
