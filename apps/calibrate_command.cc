@@ -18,7 +18,6 @@
 #include "io/input_file.h"
 #include "io/output_file.h"
 #include "io/config/session_reader.h"
-#include "io/version.h"
 #include "io/config/config_writer.h"
 #include "io/output_file.h"
 #include "outputs/emit.h"
@@ -45,8 +44,7 @@ const CommandHelp& CalibrateHelp() {
       "antenna's frame: x forward, y left, yaw counter-clockwise) from a logged session in front of a\n"
       "surveyed wall, and writes offsets.yaml.\n",
       {
-          {"SESSION", "", "", ValueKind::kPath, {},
-           "a session.yaml, or the folder holding one (format: docs/session-format.md)"},
+          SessionArgument(),
           {"--output", "-o", "FILE", ValueKind::kFile, {},
            "where to write the offsets (default: offsets.yaml beside session.yaml);\n"
            "- writes them to stdout (the summary then goes to stderr). Only a regular\n"
@@ -56,8 +54,7 @@ const CommandHelp& CalibrateHelp() {
            "        the survey, control-point and correlated GNSS errors\n"
            "barawid the closed form of Barawid et al. 2007 (Eq. 8-16), for\n"
            "        comparison; its sigma treats every scan as independent"},
-          {"--config", "", "FILE", ValueKind::kFile, {},
-           "calibration options (YAML; defaults: configs/calibrate.yaml)"},
+          CalibrationConfigOption(),
           {"--report", "", "DIR", ValueKind::kFolder, {},
            "also write DIR/report.html: one self-contained page (inline SVG plots, no\n"
            "script, nothing fetched) showing the mount and its uncertainty, the site,\n"
@@ -102,8 +99,8 @@ const CommandHelp& CalibrateHelp() {
           {"--threads", "", "N", ValueKind::kWord, {},
            "threads for wall detection and the solve (default: every core); the\n"
            "result does not depend on N"},
-          {"--help", "-h", "", ValueKind::kNone, {}, "this text"},
-          {"--version", "", "", ValueKind::kNone, {}, "the tool version"},
+          HelpOption(),
+          VersionOption(),
       },
       "On a terminal (stderr is a tty) progress is shown on stderr: scans read / total, rate and time\n"
       "left, updated in place. When stderr is not a terminal, nothing but the summary and warnings.\n"
@@ -123,8 +120,7 @@ const CommandHelp& CalibrateHelp() {
 namespace {
 
 int Usage(const std::string& message) {
-  std::cerr << "calibrate: " << message << "\n(run 'wallcal calibrate --help' for usage)\n";
-  return 2;
+  return wallcal::apps::UsageError(wallcal::apps::CalibrateHelp(), message);
 }
 
 // offsets.yaml to `output` ("-": stdout, else replaced atomically), and where it went in the
@@ -297,11 +293,7 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
       *name = v;
       return 0;
     };
-    if (arg == "--help" || arg == "-h") {
-      std::cout << FormatHelp(CalibrateHelp());
-      return 0;
-    } else if (arg == "--version") {
-      std::cout << "wallcal calibrate " << wallcal::io::kToolVersion << "\n";
+    if (PrintHelpOrVersion(arg, CalibrateHelp(), std::cout)) {
       return 0;
     } else if (arg == "--output" || arg == "-o") {
       const char* v = value();

@@ -13,7 +13,6 @@
 #include "apps/commands.h"
 #include "characterise/characterisation.h"
 #include "io/output_file.h"
-#include "io/version.h"
 #include "io/config/config_writer.h"
 #include "io/output_file.h"
 
@@ -32,8 +31,7 @@ const CommandHelp& CharacteriseHelp() {
       "(y = k*z + b), the noise sigma and its growth with range and incidence, the range quantum, the\n"
       "incidence limit, the mixed-pixel rate at the wall's ends and the warm-up drift over time.\n",
       {
-          {"SESSION", "", "", ValueKind::kPath, {},
-           "a session.yaml, or the folder holding one (docs/session-format.md)"},
+          SessionArgument(),
           {"--mount", "", "FILE", ValueKind::kFile, {},
            "an earlier calibration's offsets.yaml: its scanner_mount (and covariance,\n"
            "when given) is used; without it the mount is estimated jointly"},
@@ -44,12 +42,11 @@ const CommandHelp& CharacteriseHelp() {
           {"--report", "", "DIR", ValueKind::kFolder, {},
            "also write SVG plots of the range error against true range, incidence\n"
            "and time into DIR"},
-          {"--config", "", "FILE", ValueKind::kFile, {},
-           "calibration options (YAML; defaults: configs/calibrate.yaml)"},
+          CalibrationConfigOption(),
           {"--threads", "", "N", ValueKind::kWord, {},
            "threads for the wall detection (default: every core)"},
-          {"--help", "-h", "", ValueKind::kNone, {}, "this text"},
-          {"--version", "", "", ValueKind::kNone, {}, "the tool version"},
+          HelpOption(),
+          VersionOption(),
       },
       "",
       "0 preset written; 1 a parameter not determined (the reason names it and what to\n"
@@ -59,15 +56,6 @@ const CommandHelp& CharacteriseHelp() {
 
 }  // namespace wallcal::apps
 
-namespace {
-
-int Usage(const std::string& message) {
-  std::cerr << "characterise: " << message << "\n(run 'wallcal characterise --help' for usage)\n";
-  return 2;
-}
-
-}  // namespace
-
 int wallcal::apps::RunCharacterise(int argc, char** argv) {
   namespace fs = std::filesystem;
   wallcal::characterise::CharacteriseRequest request;
@@ -76,17 +64,13 @@ int wallcal::apps::RunCharacterise(int argc, char** argv) {
   for (int i = 0; i < argc; ++i) request.command_line.push_back(argv[i]);
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      std::cout << wallcal::apps::FormatHelp(wallcal::apps::CharacteriseHelp());
-      return 0;
-    } else if (arg == "--version") {
-      std::cout << "wallcal characterise " << wallcal::io::kToolVersion << "\n";
+    if (wallcal::apps::PrintHelpOrVersion(arg, wallcal::apps::CharacteriseHelp(), std::cout)) {
       return 0;
     } else if (arg == "--mount" || arg == "--output" || arg == "--report" || arg == "--config" ||
                arg == "--threads") {
-      if (i + 1 >= argc) return Usage(arg + " needs a value");
+      if (i + 1 >= argc) return UsageError(CharacteriseHelp(), arg + " needs a value");
       const std::string v = argv[++i];
-      if (v.empty()) return Usage(arg + " needs a non-empty value");
+      if (v.empty()) return UsageError(CharacteriseHelp(), arg + " needs a non-empty value");
       if (arg == "--mount") request.mount_path = v;
       if (arg == "--output") output = v;
       if (arg == "--report") report_dir = v;
@@ -94,23 +78,28 @@ int wallcal::apps::RunCharacterise(int argc, char** argv) {
       if (arg == "--threads") {
         char* end = nullptr;
         const long n = std::strtol(v.c_str(), &end, 10);
-        if (*end != '\0' || n < 1 || n > 1024) return Usage("--threads: expected 1..1024, got '" + v + "'");
+        if (*end != '\0' || n < 1 || n > 1024) {
+          return UsageError(CharacteriseHelp(), "--threads: expected 1..1024, got '" + v + "'");
+        }
         request.threads = static_cast<int>(n);
       }
     } else if (!arg.empty() && arg[0] == '-') {
-      return Usage("unknown option '" + arg + "'");
+      return UsageError(CharacteriseHelp(), "unknown option '" + arg + "'");
     } else if (request.session_path.empty()) {
       request.session_path = arg;
     } else {
-      return Usage("more than one SESSION given ('" + request.session_path + "', '" + arg + "')");
+      return UsageError(CharacteriseHelp(), "more than one SESSION given ('" +
+                                                request.session_path + "', '" + arg + "')");
     }
   }
-  if (request.session_path.empty()) return Usage("SESSION is required");
-  try {
+  if (request.session_path.empty()) return UsageError(CharacteriseHelp(), "SESSION is required");
+  return wallcal::apps::ExitStatusOf(CharacteriseHelp(), [&] {
     const std::vector<std::string> inputs = {request.session_path, request.mount_path,
                                              request.config_path};
     if (!output.empty()) {
-      if (wallcal::io::IsStdoutPath(output)) return Usage("--output: a file is needed, not -");
+      if (wallcal::io::IsStdoutPath(output)) {
+        return UsageError(CharacteriseHelp(), "--output: a file is needed, not -");
+      }
       wallcal::io::CheckOutputPath("--output", output, inputs);
       request.preset_name = fs::path(output).stem().string();
     }
@@ -142,11 +131,5 @@ int wallcal::apps::RunCharacterise(int argc, char** argv) {
                                      wallcal::io::FormatScannerPreset(result.preset, header));
     std::cout << "characterise: preset written to " << output << "\n";
     return 0;
-  } catch (const wallcal::io::InputError& error) {
-    std::cerr << "characterise: " << error.what() << "\n";
-    return 2;
-  } catch (const std::exception& error) {
-    std::cerr << "characterise: internal error: " << error.what() << "\n";
-    return 3;
-  }
+  });
 }

@@ -5,6 +5,9 @@
 #include <cstddef>
 #include <sstream>
 
+#include "io/types.h"
+#include "io/version.h"
+
 namespace wallcal::apps {
 namespace {
 
@@ -274,6 +277,52 @@ std::string FormatBashCompletion(const std::vector<const CommandHelp*>& commands
   }
   out += "  esac\n}\ncomplete -F _wallcal wallcal\n";
   return out;
+}
+
+ArgumentHelp SessionArgument() {
+  return {"SESSION", "", "", ValueKind::kPath, {},
+          "a session.yaml, or the folder holding one (format: docs/session-format.md)"};
+}
+
+ArgumentHelp CalibrationConfigOption() {
+  return {"--config", "", "FILE", ValueKind::kFile, {},
+          "calibration options (YAML; defaults: configs/calibrate.yaml)"};
+}
+
+ArgumentHelp HelpOption() { return {"--help", "-h", "", ValueKind::kNone, {}, "this text"}; }
+
+ArgumentHelp VersionOption() {
+  return {"--version", "", "", ValueKind::kNone, {}, "the tool version"};
+}
+
+bool PrintHelpOrVersion(const std::string& arg, const CommandHelp& command, std::ostream& out) {
+  if (arg == "--help" || arg == "-h") {
+    out << FormatHelp(command);
+  } else if (arg == "--version") {
+    out << "wallcal " << command.name << " " << io::kToolVersion << "\n";
+  } else {
+    return false;
+  }
+  return true;
+}
+
+int ExitStatusOf(const CommandHelp& command, const std::function<int()>& work,
+                 std::ostream& err) {
+  try {
+    return work();
+  } catch (const io::InputError& error) {
+    err << command.name << ": " << error.what() << "\n";
+    return 2;
+  } catch (const std::exception& error) {
+    err << command.name << ": internal error: " << error.what() << "\n";
+    return 3;
+  }
+}
+
+int UsageError(const CommandHelp& command, const std::string& message, std::ostream& err) {
+  err << command.name << ": " << message << "\n(run 'wallcal " << command.name
+      << " --help' for usage)\n";
+  return 2;
 }
 
 }  // namespace wallcal::apps

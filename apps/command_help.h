@@ -5,6 +5,8 @@
 // page and the completion at build time, by `wallcal --print-man` and
 // `wallcal --print-completion`), so they cannot disagree.
 
+#include <functional>
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -43,6 +45,28 @@ struct CommandHelp {
   std::string notes;                  // paragraphs after the options, or empty
   std::string exit_status;            // the text after "Exit status: "
 };
+
+// Rows several commands share, one text each.
+ArgumentHelp SessionArgument();        // SESSION: a session.yaml or its folder
+ArgumentHelp CalibrationConfigOption();  // --config FILE: configs/calibrate.yaml's keys
+ArgumentHelp HelpOption();             // --help, -h
+ArgumentHelp VersionOption();          // --version
+
+// What every command does with --help (or -h) and --version: prints its help, or
+// "wallcal NAME VERSION", on `out` and returns true (the command then exits 0); false for any
+// other argument.
+bool PrintHelpOrVersion(const std::string& arg, const CommandHelp& command, std::ostream& out);
+
+// A bad command line: "NAME: message" and where to find the usage on `err`. Returns 2, the
+// exit status of bad usage.
+int UsageError(const CommandHelp& command, const std::string& message,
+               std::ostream& err = std::cerr);
+
+// Runs a command's work and returns its exit status. The one place a command catches: an
+// io::InputError prints "NAME: message" on `err` (bad input: exit 2), any other exception
+// "NAME: internal error: message" (a bug: exit 3).
+int ExitStatusOf(const CommandHelp& command, const std::function<int()>& work,
+                 std::ostream& err = std::cerr);
 
 // `wallcal COMMAND --help`: usage, description, arguments, notes and exit status.
 std::string FormatHelp(const CommandHelp& command);

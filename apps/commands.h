@@ -3,7 +3,9 @@
 // The subcommands of `wallcal`: each a help table (apps/command_help.h) and a Run function.
 // Run takes the arguments after `wallcal`: argv[0] is the subcommand's name, then its own
 // arguments; it returns the exit status and is the one place in the command that catches
-// io::InputError (exit 2) and any other exception (exit 3, an internal error).
+// io::InputError (exit 2) and any other exception (exit 3, an internal error): through
+// ExitStatusOf (apps/command_help.h), or, in calibrate, itself (it closes its progress line
+// first).
 
 #include <vector>
 

@@ -17,7 +17,6 @@
 #include "guide/guide_session.h"
 #include "guide/guide_text.h"
 #include "io/types.h"
-#include "io/version.h"
 
 namespace wallcal::apps {
 
@@ -54,8 +53,8 @@ const CommandHelp& GuideHelp() {
            "calibrate options (acceptance tolerances, noise model), as calibrate's"},
           {"--next", "", "N", ValueKind::kWord, {}, "how many stops to advise, 1..3 (default 3)"},
           {"--threads", "", "N", ValueKind::kWord, {}, "threads (default 0: every core)"},
-          {"--help", "-h", "", ValueKind::kNone, {}, "this text"},
-          {"--version", "", "", ValueKind::kNone, {}, "the tool version"},
+          HelpOption(),
+          VersionOption(),
       },
       "",
       "0 printed (with --follow: enough, or stopped); 2 bad input or usage; 3 an\n"
@@ -66,8 +65,7 @@ const CommandHelp& GuideHelp() {
 namespace {
 
 int Usage(const std::string& message) {
-  std::cerr << "guide: " << message << "\n(run 'wallcal guide --help' for usage)\n";
-  return 2;
+  return UsageError(GuideHelp(), message);
 }
 
 bool ParseNumber(const std::string& text, double* value) {
@@ -139,18 +137,11 @@ std::string Render(const guide::GuideReport& report, bool json) {
 int RunGuideCommand(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   for (const std::string& arg : args) {
-    if (arg == "--help" || arg == "-h") {
-      std::cout << FormatHelp(GuideHelp());
-      return 0;
-    }
-    if (arg == "--version") {
-      std::cout << "wallcal guide " << io::kToolVersion << "\n";
-      return 0;
-    }
+    if (PrintHelpOrVersion(arg, GuideHelp(), std::cout)) return 0;
   }
   GuideCommandLine line;
   if (const int status = Parse(args, &line); status != 0) return status;
-  try {
+  return ExitStatusOf(GuideHelp(), [&] {
     if (line.plan_minutes > 0.0) {
       std::cout << Render(guide::PlanSession(line.options, line.plan_minutes * 60.0), line.json);
       return 0;
@@ -173,13 +164,7 @@ int RunGuideCommand(int argc, char** argv) {
           if (!line.json) std::cout << "guide: waiting for the logs: " << message << "\n" << std::flush;
         });
     return 0;
-  } catch (const io::InputError& e) {
-    std::cerr << "guide: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "guide: internal error: " << e.what() << "\n";
-    return 3;
-  }
+  });
 }
 
 }  // namespace wallcal::apps

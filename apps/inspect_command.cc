@@ -12,7 +12,6 @@
 #include "io/output_file.h"
 #include "io/survey/survey_reader.h"
 #include "io/types.h"
-#include "io/version.h"
 #include "preflight/inspect.h"
 #include "recording/recording.h"
 
@@ -46,8 +45,8 @@ const CommandHelp& InspectHelp() {
            "by type (and why, when several fit)"},
           {"--config", "", "FILE", ValueKind::kFile, {},
            "calibrate options used for the detection and the checks (as calibrate)"},
-          {"--help", "-h", "", ValueKind::kNone, {}, "this text"},
-          {"--version", "", "", ValueKind::kNone, {}, "the version"},
+          HelpOption(),
+          VersionOption(),
       },
       "On a session: each log's time span, rate, gaps and their overlap; GNSS fix qualities and time\n"
       "RTK fixed; survey control residuals; stations and how well the wall was detected at each; the\n"
@@ -64,40 +63,32 @@ const CommandHelp& InspectHelp() {
 
 namespace {
 
+int Usage(const std::string& message, std::ostream& err) {
+  return wallcal::apps::UsageError(wallcal::apps::InspectHelp(), message, err);
+}
+
 int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
   std::string path, dump, config, topic;
   bool suggest = false;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
-    if (arg == "--help" || arg == "-h") {
-      out << wallcal::apps::FormatHelp(wallcal::apps::InspectHelp());
-      return 0;
-    } else if (arg == "--version") {
-      out << "wallcal inspect " << wallcal::io::kToolVersion << "\n";
+    if (wallcal::apps::PrintHelpOrVersion(arg, wallcal::apps::InspectHelp(), out)) {
       return 0;
     } else if (arg == "--suggest-session") {
       suggest = true;
     } else if (arg == "--dump" || arg == "--config" || arg == "--topic") {
-      if (i + 1 >= args.size()) {
-        err << "inspect: " << arg << " needs a value (run 'wallcal inspect --help' for usage)\n";
-        return 2;
-      }
+      if (i + 1 >= args.size()) return Usage(arg + " needs a value", err);
       (arg == "--dump" ? dump : arg == "--topic" ? topic : config) = args[++i];
     } else if (!arg.empty() && arg[0] == '-') {
-      err << "inspect: unknown option '" << arg << "' (run 'wallcal inspect --help' for usage)\n";
-      return 2;
+      return Usage("unknown option '" + arg + "'", err);
     } else if (path.empty()) {
       path = arg;
     } else {
-      err << "inspect: more than one PATH given ('" << path << "' and '" << arg << "')\n";
-      return 2;
+      return Usage("more than one PATH given ('" + path + "' and '" + arg + "')", err);
     }
   }
-  if (path.empty()) {
-    err << "inspect: no PATH given (run 'wallcal inspect --help' for usage)\n";
-    return 2;
-  }
-  try {
+  if (path.empty()) return Usage("no PATH given", err);
+  return wallcal::apps::ExitStatusOf(wallcal::apps::InspectHelp(), [&] {
     const bool recording = wallcal::recording::IsRecording(path);
     if (suggest) {
       if (!recording) {
@@ -149,13 +140,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       out << wallcal::preflight::InspectLogFile(path);
     }
     return 0;
-  } catch (const wallcal::io::InputError& error) {
-    err << "inspect: " << error.what() << "\n";
-    return 2;
-  } catch (const std::exception& error) {
-    err << "inspect: internal error: " << error.what() << "\n";
-    return 3;
-  }
+  }, err);
 }
 
 }  // namespace

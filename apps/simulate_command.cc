@@ -11,7 +11,6 @@
 #include "sim/recording_session.h"
 #include "sim/simulated_session.h"
 #include "io/config/session_reader.h"
-#include "io/version.h"
 
 namespace wallcal::apps {
 
@@ -46,8 +45,8 @@ const CommandHelp& SimulateHelp() {
            "A config with `scanners:` (several scanners, e.g.\n"
            "configs/simulate/two_corner_scanners.yaml) writes one scan log per scanner,\n"
            "scans_ID.clf, or topic /ID/scan in a recording, and a scanners: session"},
-          {"--help", "-h", "", ValueKind::kNone, {}, "this text"},
-          {"--version", "", "", ValueKind::kNone, {}, "the tool version"},
+          HelpOption(),
+          VersionOption(),
       },
       "",
       "0 written; 2 bad input or usage; 3 an internal error (a bug: please report it).\n"};
@@ -56,35 +55,23 @@ const CommandHelp& SimulateHelp() {
 
 }  // namespace wallcal::apps
 
-namespace {
-
-int Usage(const std::string& message) {
-  std::cerr << "simulate: " << message << "\n(run 'wallcal simulate --help' for usage)\n";
-  return 2;
-}
-
-}  // namespace
-
 int wallcal::apps::RunSimulate(int argc, char** argv) {
   std::string config_path, output;
   uint64_t seed = 1;
   wallcal::sim::SessionFormat format = wallcal::sim::SessionFormat::kText;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      std::cout << wallcal::apps::FormatHelp(wallcal::apps::SimulateHelp());
-      return 0;
-    } else if (arg == "--version") {
-      std::cout << "wallcal simulate " << wallcal::io::kToolVersion << "\n";
+    if (wallcal::apps::PrintHelpOrVersion(arg, wallcal::apps::SimulateHelp(), std::cout)) {
       return 0;
     } else if (arg == "--config" || arg == "--seed" || arg == "--output" || arg == "--format") {
-      if (i + 1 >= argc) return Usage(arg + " needs a value");
+      if (i + 1 >= argc) return UsageError(SimulateHelp(), arg + " needs a value");
       const std::string v = argv[++i];
       if (arg == "--format") {
         const auto parsed = wallcal::sim::ParseSessionFormat(v);
         if (!parsed) {
-          return Usage("--format: unknown format '" + v + "'; expected one of " +
-                       wallcal::sim::SessionFormatNames());
+          return UsageError(SimulateHelp(), "--format: unknown format '" + v +
+                                                "'; expected one of " +
+                                                wallcal::sim::SessionFormatNames());
         }
         format = *parsed;
       } else if (arg == "--config") {
@@ -95,16 +82,17 @@ int wallcal::apps::RunSimulate(int argc, char** argv) {
         char* end = nullptr;
         const unsigned long long parsed = std::strtoull(v.c_str(), &end, 10);
         if (v.empty() || *end != '\0' || v[0] == '-') {
-          return Usage("--seed: '" + v + "' is not a non-negative whole number");
+          return UsageError(SimulateHelp(),
+                            "--seed: '" + v + "' is not a non-negative whole number");
         }
         seed = parsed;
       }
     } else {
-      return Usage("unknown argument '" + arg + "'");
+      return UsageError(SimulateHelp(), "unknown argument '" + arg + "'");
     }
   }
-  if (output.empty()) return Usage("--output DIR is required");
-  try {
+  if (output.empty()) return UsageError(SimulateHelp(), "--output DIR is required");
+  return wallcal::apps::ExitStatusOf(SimulateHelp(), [&] {
     wallcal::sim::SimulationConfig config;
     if (!config_path.empty()) config = wallcal::sim::ReadSimulationConfig(config_path);
     const wallcal::sim::SimulateSummary s = wallcal::sim::WriteSimulatedSession(config, seed, output, format);
@@ -113,11 +101,5 @@ int wallcal::apps::RunSimulate(int argc, char** argv) {
               << " headings, " << s.survey_points << " survey points, " << s.duration_s
               << " s of driving\n";
     return 0;
-  } catch (const wallcal::io::InputError& error) {
-    std::cerr << "simulate: " << error.what() << "\n";
-    return 2;
-  } catch (const std::exception& error) {
-    std::cerr << "simulate: internal error: " << error.what() << "\n";
-    return 3;
-  }
+  });
 }

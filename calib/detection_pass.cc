@@ -93,8 +93,11 @@ struct PendingScan {
   ScanSkip why = ScanSkip::kWallNotDetected;
 };
 
-// Scans detected together: enough to keep the threads busy, few enough to bound memory.
-constexpr size_t kBatchScans = 256;
+// Scans detected together: enough to keep the threads busy, few enough to bound memory. Each
+// batch starts its detection threads and the reader of the next one: at 1024 scans (0.7 MB of
+// LMS 291 ranges) an hour's log starts 300 of each instead of 1 200, which was a fifth of the
+// run's system time.
+constexpr size_t kBatchScans = 1024;
 
 // The walls in one scan: an observation per wall found in scan->observations; scan->why says
 // why when there is none.

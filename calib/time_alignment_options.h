@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Pose interpolation and dwell detection options (`alignment:` in configs/calibrate.yaml) and
-// their YAML keys. Angles are radians here and degrees in the file.
+// Pose interpolation and dwell detection options (`alignment:` in configs/calibrate.yaml), their
+// YAML keys and the check of each. Angles are radians here and degrees in the file.
 
 #include "common/angles.h"
 #include "io/config/options_map.h"
@@ -45,21 +45,21 @@ struct AlignmentOptions {
   void Validate() const;
 };
 
-// The `alignment:` keys, for any visitor of io/config/options_map.h.
+// The `alignment:` keys and their checks, for any visitor of io/config/options_map.h.
 template <class V>
 void VisitAlignmentOptions(V& v, AlignmentOptions& o) {
-  v.Number("max_gap_periods", o.max_gap_periods);
-  v.Number("stationary_speed_mps", o.stationary_speed_mps);
-  v.Scaled("stationary_yaw_rate_deg_per_s", o.stationary_yaw_rate_rps, kRadToDeg);
-  v.Number("stationary_window_s", o.stationary_window_s);
-  v.Number("min_dwell_s", o.min_dwell_s);
-  v.Number("dwell_guard_s", o.dwell_guard_s);
+  v.Number("max_gap_periods", o.max_gap_periods, io::Positive());
+  v.Number("stationary_speed_mps", o.stationary_speed_mps, io::Positive());
+  v.Scaled("stationary_yaw_rate_deg_per_s", o.stationary_yaw_rate_rps, kRadToDeg, io::Positive());
+  v.Number("stationary_window_s", o.stationary_window_s, io::Positive());
+  v.Number("min_dwell_s", o.min_dwell_s, io::NonNegative());
+  v.Number("dwell_guard_s", o.dwell_guard_s, io::NonNegative());
   v.Boolean("use_moving_scans", o.use_moving_scans);
-  v.Number("segment_max_s", o.segment_max_s);
+  v.Number("segment_max_s", o.segment_max_s, io::Positive());
   v.Boolean("moving_scans_if_few_stations", o.moving_scans_if_few_stations);
   v.Boolean("gnss_epoch_time", o.gnss_epoch_time);
   v.Boolean("moving_scans_in_stop_and_go", o.moving_scans_in_stop_and_go);
-  v.Number("moving_max_time_offset_sigma_s", o.moving_max_time_offset_sigma_s);
+  v.Number("moving_max_time_offset_sigma_s", o.moving_max_time_offset_sigma_s, io::NonNegative());
 }
 
 }  // namespace wallcal::calib

@@ -19,20 +19,7 @@ double HoughCells(double angle_gate_rad, double offset_gate_m, double theta_step
 }  // namespace
 
 void DetectorOptions::Validate() const {
-  CheckPositive("detector.hough_rho_step_m", hough_rho_step_m);
-  CheckRange("detector.hough_theta_step_deg", hough_theta_step_rad * kRadToDeg, 0.001, 10.0);
-  CheckAtLeast("detector.min_inliers", min_inliers, 3);
-  CheckAtLeast("detector.tight_min_inliers", tight_min_inliers, 3);
-  CheckPositive("detector.inlier_band_m", inlier_band_m);
-  CheckPositive("detector.refine_sigma_factor", refine_sigma_factor);
-  CheckPositive("detector.mixed_pixel_jump_m", mixed_pixel_jump_m);
-  CheckNonNegative("detector.min_range_m", min_range_m);
-  CheckAnglePositive("detector.wide_angle_gate_deg", wide_angle_gate_rad, 90.0);
-  CheckPositive("detector.wide_offset_gate_m", wide_offset_gate_m);
-  CheckAnglePositive("detector.tight_angle_gate_deg", tight_angle_gate_rad, 90.0);
-  CheckPositive("detector.tight_offset_gate_m", tight_offset_gate_m);
-  CheckNonNegative("detector.wall_extent_margin_m", wall_extent_margin_m);
-  CheckRange("detector.hough_rho_step_m", hough_rho_step_m, 1e-4, 1.0);
+  io::CheckOptions("detector.", *this, VisitDetectorOptions<io::OptionChecker>);
   // Tiny steps make an accumulator no memory holds (an OpenCV assertion, once): bounded here.
   for (const auto& [angle_rad, offset_m, name] :
        {std::tuple{wide_angle_gate_rad, wide_offset_gate_m, "wide"},

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The wall detector's options (`detector:` in configs/calibrate.yaml) and their YAML keys.
-// Angles are radians here and degrees in the file (keys ending in _deg).
+// The wall detector's options (`detector:` in configs/calibrate.yaml), their YAML keys and the
+// check of each. Angles are radians here and degrees in the file (keys ending in _deg).
 
 #include "common/angles.h"
 #include "io/config/options_map.h"
@@ -33,22 +33,22 @@ struct DetectorOptions {
   void Validate() const;
 };
 
-// The `detector:` keys, for any visitor of io/config/options_map.h.
+// The `detector:` keys and their checks, for any visitor of io/config/options_map.h.
 template <class V>
 void VisitDetectorOptions(V& v, DetectorOptions& o) {
-  v.Number("hough_rho_step_m", o.hough_rho_step_m);
-  v.Scaled("hough_theta_step_deg", o.hough_theta_step_rad, kRadToDeg);
-  v.Integer("min_inliers", o.min_inliers);
-  v.Number("inlier_band_m", o.inlier_band_m);
-  v.Number("refine_sigma_factor", o.refine_sigma_factor);
-  v.Number("mixed_pixel_jump_m", o.mixed_pixel_jump_m);
-  v.Number("min_range_m", o.min_range_m);
-  v.Scaled("wide_angle_gate_deg", o.wide_angle_gate_rad, kRadToDeg);
-  v.Number("wide_offset_gate_m", o.wide_offset_gate_m);
-  v.Scaled("tight_angle_gate_deg", o.tight_angle_gate_rad, kRadToDeg);
-  v.Number("tight_offset_gate_m", o.tight_offset_gate_m);
-  v.Integer("tight_min_inliers", o.tight_min_inliers);
-  v.Number("wall_extent_margin_m", o.wall_extent_margin_m);
+  v.Number("hough_rho_step_m", o.hough_rho_step_m, io::InRange(1e-4, 1.0));
+  v.Scaled("hough_theta_step_deg", o.hough_theta_step_rad, kRadToDeg, io::InRange(0.001, 10.0));
+  v.Integer("min_inliers", o.min_inliers, io::AtLeast(3));
+  v.Number("inlier_band_m", o.inlier_band_m, io::Positive());
+  v.Number("refine_sigma_factor", o.refine_sigma_factor, io::Positive());
+  v.Number("mixed_pixel_jump_m", o.mixed_pixel_jump_m, io::Positive());
+  v.Number("min_range_m", o.min_range_m, io::NonNegative());
+  v.Scaled("wide_angle_gate_deg", o.wide_angle_gate_rad, kRadToDeg, io::AboveUpTo(0.0, 90.0));
+  v.Number("wide_offset_gate_m", o.wide_offset_gate_m, io::Positive());
+  v.Scaled("tight_angle_gate_deg", o.tight_angle_gate_rad, kRadToDeg, io::AboveUpTo(0.0, 90.0));
+  v.Number("tight_offset_gate_m", o.tight_offset_gate_m, io::Positive());
+  v.Integer("tight_min_inliers", o.tight_min_inliers, io::AtLeast(3));
+  v.Number("wall_extent_margin_m", o.wall_extent_margin_m, io::NonNegative());
 }
 
 }  // namespace wallcal::calib

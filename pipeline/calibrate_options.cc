@@ -3,19 +3,18 @@
 
 namespace wallcal::pipeline {
 
-using namespace io::option_checks;  // NOLINT: the checks every Validate() makes
+namespace {
+
+// The top-level keys beside the modules' sections.
+template <class V>
+void VisitRunOptions(V& v, CalibrateOptions& o) {
+  v.Integer("first_pass_max_scans", o.first_pass_max_scans, io::AtLeast(1));
+}
+
+}  // namespace
 
 void AcceptanceOptions::Validate() const {
-  CheckPositive("acceptance.max_sigma_xy_m", max_sigma_xy_m);
-  CheckAnglePositive("acceptance.max_sigma_yaw_deg", max_sigma_yaw_rad, 180.0);
-  CheckPositive("acceptance.max_change_xy_m", max_change_xy_m);
-  CheckAnglePositive("acceptance.max_change_yaw_deg", max_change_yaw_rad, 180.0);
-  CheckPositive("acceptance.max_change_sigmas", max_change_sigmas);
-  CheckPositive("acceptance.relative_max_sigma_xy_m", relative_max_sigma_xy_m);
-  CheckAnglePositive("acceptance.relative_max_sigma_yaw_deg", relative_max_sigma_yaw_rad, 180.0);
-  CheckPositive("acceptance.relative_max_change_xy_m", relative_max_change_xy_m);
-  CheckAnglePositive("acceptance.relative_max_change_yaw_deg", relative_max_change_yaw_rad,
-                     180.0);
+  io::CheckOptions("acceptance.", *this, VisitAcceptanceOptions<io::OptionChecker>);
 }
 
 void CalibrateOptions::Validate() const {
@@ -23,7 +22,7 @@ void CalibrateOptions::Validate() const {
   alignment.Validate();
   solver.Validate();
   acceptance.Validate();
-  CheckAtLeast("first_pass_max_scans", first_pass_max_scans, 1);
+  io::CheckOptions("", *this, VisitRunOptions<io::OptionChecker>);
 }
 
 CalibrateOptions ReadCalibrateOptions(const std::string& file) {
@@ -39,7 +38,7 @@ CalibrateOptions ReadCalibrateOptions(const std::string& file) {
                     [&](io::OptionsMap& m) { solvers::VisitSolverOptions(m, options.solver); });
         top.Section("acceptance",
                     [&](io::OptionsMap& m) { VisitAcceptanceOptions(m, options.acceptance); });
-        top.Integer("first_pass_max_scans", options.first_pass_max_scans);
+        VisitRunOptions(top, options);
       },
       [&options] { options.Validate(); });
   return options;

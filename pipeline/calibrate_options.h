@@ -38,18 +38,20 @@ struct AcceptanceOptions {
   void Validate() const;
 };
 
-// The `acceptance:` keys, for any visitor of io/config/options_map.h.
+// The `acceptance:` keys and their checks, for any visitor of io/config/options_map.h.
 template <class V>
 void VisitAcceptanceOptions(V& v, AcceptanceOptions& o) {
-  v.Number("max_sigma_xy_m", o.max_sigma_xy_m);
-  v.Scaled("max_sigma_yaw_deg", o.max_sigma_yaw_rad, kRadToDeg);
-  v.Number("max_change_xy_m", o.max_change_xy_m);
-  v.Scaled("max_change_yaw_deg", o.max_change_yaw_rad, kRadToDeg);
-  v.Number("max_change_sigmas", o.max_change_sigmas);
-  v.Number("relative_max_sigma_xy_m", o.relative_max_sigma_xy_m);
-  v.Scaled("relative_max_sigma_yaw_deg", o.relative_max_sigma_yaw_rad, kRadToDeg);
-  v.Number("relative_max_change_xy_m", o.relative_max_change_xy_m);
-  v.Scaled("relative_max_change_yaw_deg", o.relative_max_change_yaw_rad, kRadToDeg);
+  v.Number("max_sigma_xy_m", o.max_sigma_xy_m, io::Positive());
+  v.Scaled("max_sigma_yaw_deg", o.max_sigma_yaw_rad, kRadToDeg, io::AboveUpTo(0.0, 180.0));
+  v.Number("max_change_xy_m", o.max_change_xy_m, io::Positive());
+  v.Scaled("max_change_yaw_deg", o.max_change_yaw_rad, kRadToDeg, io::AboveUpTo(0.0, 180.0));
+  v.Number("max_change_sigmas", o.max_change_sigmas, io::Positive());
+  v.Number("relative_max_sigma_xy_m", o.relative_max_sigma_xy_m, io::Positive());
+  v.Scaled("relative_max_sigma_yaw_deg", o.relative_max_sigma_yaw_rad, kRadToDeg,
+           io::AboveUpTo(0.0, 180.0));
+  v.Number("relative_max_change_xy_m", o.relative_max_change_xy_m, io::Positive());
+  v.Scaled("relative_max_change_yaw_deg", o.relative_max_change_yaw_rad, kRadToDeg,
+           io::AboveUpTo(0.0, 180.0));
 }
 
 // configs/calibrate.yaml: one section per module, each optional.

@@ -67,16 +67,23 @@ SessionLogs InspectSessionLogs(
     out << "  scans: unreadable: " << e.what() << "\n";
   }
 
+  // The GNSS or the heading stream (NMEA text or a recording topic); an unreadable one blocks.
+  const auto read_pose_log = [&](bool gnss_stream, const std::string& what,
+                                 const std::string& label) {
+    std::optional<io::NmeaLog> log;
+    try {
+      recording::PoseLogs read = recording::ReadPoseLogs(spec, gnss_stream, !gnss_stream);
+      log = std::move(gnss_stream ? read.gnss : read.headings);
+      for (const std::string& w : read.warnings) warn(w);
+    } catch (const io::InputError& e) {
+      block(what + ": " + e.what());
+      out << "  " << label << ": unreadable: " << e.what() << "\n";
+    }
+    return log;
+  };
+
   std::optional<io::NmeaLog>& gnss = logs.gnss;
-  try {
-    recording::PoseLogs read =
-        recording::ReadPoseLogs(spec, true, false);  // NMEA text or a recording topic
-    gnss = std::move(read.gnss);
-    for (const std::string& w : read.warnings) warn(w);
-  } catch (const io::InputError& e) {
-    block(std::string("GNSS log: ") + e.what());
-    out << "  GNSS fixes: unreadable: " << e.what() << "\n";
-  }
+  gnss = read_pose_log(true, "GNSS log", "GNSS fixes");
   std::optional<StreamStats>& fix_stats = logs.fix_stats;
   int64_t& accepted_fixes = logs.accepted_fixes;
   if (gnss) {
@@ -133,14 +140,7 @@ SessionLogs InspectSessionLogs(
   if (spec.heading_log == spec.gnss_log && spec.heading_topic == spec.gnss_topic) {
     heading_log = gnss;
   } else {
-    try {
-      recording::PoseLogs read = recording::ReadPoseLogs(spec, false, true);
-      heading_log = std::move(read.headings);
-      for (const std::string& w : read.warnings) warn(w);
-    } catch (const io::InputError& e) {
-      block(std::string("heading log: ") + e.what());
-      out << "  headings: unreadable: " << e.what() << "\n";
-    }
+    heading_log = read_pose_log(false, "heading log", "headings");
   }
   std::optional<StreamStats>& heading_stats = logs.heading_stats;
   if (heading_log) {

@@ -11,138 +11,68 @@ namespace {
 
 using namespace io::option_checks;  // NOLINT: the checks every Validate() makes
 
-// The keys a scenario carries beside the visitor's: the per-stream delays, the car-like drives
-// and the scanner's true range model, which truth.yaml writes only when set.
-void ReadOptionalKeys(io::OptionsMap& section, SimulationConfig& config) {
-  section.Number("gnss_latency_s", config.gnss_latency_s);
-  section.Number("gnss_jitter_s", config.gnss_jitter_s);
-  section.Number("heading_latency_s", config.heading_latency_s);
-  section.Number("scanner_latency_s", config.scanner_latency_s);
-  section.Number("station_distance_far_m", config.station_distance_far_m);
-  section.Number("drive_reverse_m", config.drive_reverse_m);
-  section.Scaled("weave_turn_deg", config.weave_turn_rad, kRadToDeg);
-  section.List("scanners", config.scanners, [](io::OptionsMap& item, SimScanner& scanner) {
-    item.Text("id", scanner.id);
-    item.Number("mount_x_m", scanner.mount_x_m);
-    item.Number("mount_y_m", scanner.mount_y_m);
-    item.Scaled("mount_yaw_deg", scanner.mount_yaw_rad, kRadToDeg);
-    item.Number("scanner_time_offset_s", scanner.scanner_time_offset_s);
-    item.Number("scanner_latency_s", scanner.scanner_latency_s);
-  });
-  std::string survey_mode =
-      config.survey_mode == SurveyMode::kRover ? "rover" : "total_station";
-  section.Text("survey_mode", survey_mode);
+// The keys a scenario carries beside VisitSimulationConfig's, and their checks: the per-stream
+// delays, the car-like drives, more scanners and the scanner's true range model (NaN: the
+// preset's), which truth.yaml writes only when set (FormatTruthYaml).
+template <class V>
+void VisitOptionalKeys(V& v, SimulationConfig& c) {
+  v.Number("gnss_latency_s", c.gnss_latency_s, io::InRange(0.0, 10.0));
+  v.Number("gnss_jitter_s", c.gnss_jitter_s, io::InRange(0.0, 1.0));
+  v.Number("heading_latency_s", c.heading_latency_s, io::InRange(0.0, 10.0));
+  v.Number("scanner_latency_s", c.scanner_latency_s, io::InRange(0.0, 10.0));
+  v.Number("station_distance_far_m", c.station_distance_far_m, io::NonNegative());
+  v.Number("drive_reverse_m", c.drive_reverse_m, io::InRange(0.0, 100.0));
+  v.Scaled("weave_turn_deg", c.weave_turn_rad, kRadToDeg, io::InRange(0.0, 90.0));
+  v.List("scanners", c.scanners, [](V& item, SimScanner& s) { VisitSimScanner(item, s); });
+  std::string survey_mode = c.survey_mode == SurveyMode::kRover ? "rover" : "total_station";
+  v.Text("survey_mode", survey_mode);
   if (survey_mode == "rover") {
-    config.survey_mode = SurveyMode::kRover;
+    c.survey_mode = SurveyMode::kRover;
   } else if (survey_mode == "total_station") {
-    config.survey_mode = SurveyMode::kTotalStation;
+    c.survey_mode = SurveyMode::kTotalStation;
   } else {
     Fail("simulation.survey_mode", "total_station or rover", survey_mode);
   }
-  section.Number("rover_sigma_m", config.rover_sigma_m);
-  section.Section("scanner_truth", [&config](io::OptionsMap& truth) {
-    truth.Number("n", config.truth_scale_n);
-    truth.Number("c_m", config.truth_offset_c_m);
-    truth.Number("sigma_m", config.truth_sigma_m);
-    truth.Number("resolution_m", config.truth_resolution_m);
-    truth.Scaled("max_incidence_deg", config.truth_max_incidence_rad, kRadToDeg);
-    truth.Section("drift", [&config](io::OptionsMap& drift) {
-      drift.Number("amplitude_m", config.truth_drift_amplitude_m);
-      drift.Number("time_constant_s", config.truth_drift_time_constant_s);
+  v.Number("rover_sigma_m", c.rover_sigma_m, io::InRange(1e-4, 1.0));
+  v.Section("scanner_truth", [&c](auto& truth) {
+    truth.Number("n", c.truth_scale_n, io::InRange(0.5, 1.5).OrUnset());
+    truth.Number("c_m", c.truth_offset_c_m, io::InRange(-1.0, 1.0).OrUnset());
+    truth.Number("sigma_m", c.truth_sigma_m, io::InRange(0.0, 1.0).OrUnset());
+    truth.Number("resolution_m", c.truth_resolution_m, io::InRange(1e-6, 1.0).OrUnset());
+    truth.Scaled("max_incidence_deg", c.truth_max_incidence_rad, kRadToDeg,
+                 io::InRange(1.0, 90.0).OrUnset());
+    truth.Section("drift", [&c](auto& drift) {
+      drift.Number("amplitude_m", c.truth_drift_amplitude_m, io::InRange(-1.0, 1.0));
+      drift.Number("time_constant_s", c.truth_drift_time_constant_s, io::NonNegative());
     });
   });
+}
+
+void ReadKeys(io::OptionsMap& section, SimulationConfig& config) {
+  VisitSimulationConfig(section, config);
+  VisitOptionalKeys(section, config);
 }
 
 }  // namespace
 
 void SimulationConfig::Validate() const {
-  const std::string s = "simulation.";
-  CheckRange(s + "site_lat_deg", site_lat_deg, -80.0, 84.0);  // UTM's latitude band
-  CheckRange(s + "site_lon_deg", site_lon_deg, -180.0, 180.0);
-  CheckFinite(s + "site_height_m", site_height_m);
-  if (name.empty()) Fail(s + "name", "non-empty", "\"\"");
-  if (scanner_model.empty()) Fail(s + "scanner_model", "non-empty", "\"\"");
-  if (!(std::isfinite(log_every_n) && log_every_n >= 1.0)) {
-    Fail(s + "log_every_n", ">= 1", Number(log_every_n));
-  }
-  CheckFinite(s + "scanner_time_offset_s", scanner_time_offset_s);
-  CheckFinite(s + "mount_x_m", mount_x_m);
-  CheckFinite(s + "mount_y_m", mount_y_m);
-  CheckRange(s + "mount_yaw_deg", mount_yaw_rad * kRadToDeg, -180.0, 180.0);
+  io::CheckOptions("simulation.", *this, VisitSimulationConfig<io::OptionChecker>);
+  io::CheckOptions("simulation.", *this, VisitOptionalKeys<io::OptionChecker>);
   for (size_t i = 0; i < walls.size(); ++i) {
     const SimWall& wall = walls[i];
-    const std::string w = s + "walls[" + std::to_string(i) + "].";
-    if (wall.id.empty()) Fail(w + "id", "non-empty", "\"\"");
-    CheckFinite(w + "x0_m", wall.x0_m);
-    CheckFinite(w + "y0_m", wall.y0_m);
-    CheckFinite(w + "x1_m", wall.x1_m);
-    CheckFinite(w + "y1_m", wall.y1_m);
     const double length_m = std::hypot(wall.x1_m - wall.x0_m, wall.y1_m - wall.y0_m);
-    if (!(length_m > 0.0)) Fail(w + "x1_m/y1_m", "a different point from x0_m/y0_m", "the same");
-    CheckPositive(w + "height_m", wall.height_m);
-    CheckPositive(w + "survey_spacing_m", wall.survey_spacing_m);
-  }
-  for (size_t i = 0; i < obstacles.size(); ++i) {
-    const std::string o = s + "obstacles[" + std::to_string(i) + "].";
-    CheckFinite(o + "x_m", obstacles[i].x_m);
-    CheckFinite(o + "y_m", obstacles[i].y_m);
-    CheckPositive(o + "radius_m", obstacles[i].radius_m);
-  }
-  CheckAtLeast(s + "num_stations", num_stations, 1);
-  CheckPositive(s + "station_distance_m", station_distance_m);
-  CheckRange(s + "heading_spread_deg", heading_spread_rad * kRadToDeg, 0.0, 360.0);
-  CheckNonNegative(s + "dwell_s", dwell_s);
-  CheckPositive(s + "drive_speed_mps", drive_speed_mps);
-  CheckNonNegative(s + "lateral_spread_m", lateral_spread_m);
-  CheckPositive(s + "gnss_rate_hz", gnss_rate_hz);
-  CheckNonNegative(s + "gnss_bias_sigma_m", gnss_bias_sigma_m);
-  CheckPositive(s + "gnss_bias_tau_s", gnss_bias_tau_s);
-  CheckNonNegative(s + "gnss_white_sigma_m", gnss_white_sigma_m);
-  CheckRange(s + "float_fraction", float_fraction, 0.0, 1.0);
-  CheckPositive(s + "heading_rate_hz", heading_rate_hz);
-  CheckNonNegative(s + "heading_white_sigma_deg", heading_white_sigma_rad * kRadToDeg);
-  CheckFinite(s + "heading_drift_deg_per_h", heading_drift_rad_per_s * kRadToDeg * 3600.0);
-  CheckFinite(s + "heading_bias_deg", heading_bias_rad * kRadToDeg);
-  CheckNonNegative(s + "total_station_sigma_m", total_station_sigma_m);
-  CheckNonNegative(s + "control_sigma_m", control_sigma_m);
-  CheckFinite(s + "survey_rotation_deg", survey_rotation_rad * kRadToDeg);
-  CheckFinite(s + "survey_origin_x_m", survey_origin_x_m);
-  CheckFinite(s + "survey_origin_y_m", survey_origin_y_m);
-  if (!(lost_scan_fraction >= 0.0 && lost_scan_fraction < 1.0)) {
-    Fail(s + "lost_scan_fraction", "in [0, 1)", Number(lost_scan_fraction));
-  }
-  CheckRange(s + "mixed_pixel_probability", mixed_pixel_probability, 0.0, 1.0);
-  CheckNonNegative(s + "start_time_s", start_time_s);
-  CheckRange(s + "gnss_latency_s", gnss_latency_s, 0.0, 10.0);
-  CheckRange(s + "gnss_jitter_s", gnss_jitter_s, 0.0, 1.0);
-  CheckRange(s + "heading_latency_s", heading_latency_s, 0.0, 10.0);
-  CheckRange(s + "scanner_latency_s", scanner_latency_s, 0.0, 10.0);
-  const std::string t = s + "scanner_truth.";
-  if (!std::isnan(truth_scale_n)) CheckRange(t + "n", truth_scale_n, 0.5, 1.5);
-  if (!std::isnan(truth_offset_c_m)) CheckRange(t + "c_m", truth_offset_c_m, -1.0, 1.0);
-  if (!std::isnan(truth_sigma_m)) CheckRange(t + "sigma_m", truth_sigma_m, 0.0, 1.0);
-  if (!std::isnan(truth_resolution_m)) CheckRange(t + "resolution_m", truth_resolution_m, 1e-6, 1.0);
-  if (!std::isnan(truth_max_incidence_rad)) {
-    CheckRange(t + "max_incidence_deg", truth_max_incidence_rad * kRadToDeg, 1.0, 90.0);
-  }
-  CheckRange(t + "drift.amplitude_m", truth_drift_amplitude_m, -1.0, 1.0);
-  CheckNonNegative(t + "drift.time_constant_s", truth_drift_time_constant_s);
-  CheckNonNegative(s + "station_distance_far_m", station_distance_far_m);
-  CheckRange(s + "drive_reverse_m", drive_reverse_m, 0.0, 100.0);
-  CheckRange(s + "weave_turn_deg", weave_turn_rad * kRadToDeg, 0.0, 90.0);
-  CheckRange(s + "rover_sigma_m", rover_sigma_m, 1e-4, 1.0);
-  for (size_t i = 0; i < scanners.size(); ++i) {
-    const SimScanner& scanner = scanners[i];
-    const std::string k = s + "scanners[" + std::to_string(i) + "].";
-    if (scanner.id.empty()) Fail(k + "id", "non-empty", "\"\"");
-    for (size_t j = 0; j < i; ++j) {
-      if (scanners[j].id == scanner.id) Fail(k + "id", "unique", "'" + scanner.id + "' twice");
+    if (!(length_m > 0.0)) {
+      Fail("simulation.walls[" + std::to_string(i) + "].x1_m/y1_m",
+           "a different point from x0_m/y0_m", "the same");
     }
-    CheckFinite(k + "mount_x_m", scanner.mount_x_m);
-    CheckFinite(k + "mount_y_m", scanner.mount_y_m);
-    CheckRange(k + "mount_yaw_deg", scanner.mount_yaw_rad * kRadToDeg, -180.0, 180.0);
-    CheckFinite(k + "scanner_time_offset_s", scanner.scanner_time_offset_s);
-    CheckRange(k + "scanner_latency_s", scanner.scanner_latency_s, 0.0, 10.0);
+  }
+  for (size_t i = 0; i < scanners.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      if (scanners[j].id == scanners[i].id) {
+        Fail("simulation.scanners[" + std::to_string(i) + "].id", "unique",
+             "'" + scanners[i].id + "' twice");
+      }
+    }
   }
 }
 
@@ -163,10 +93,7 @@ SimulationConfig ReadSimulationConfig(const std::string& file) {
   SimulationConfig config;
   io::ReadOptionsFile(
       file,
-      [&config](io::OptionsMap& top) {
-        VisitSimulationConfig(top, config);
-        ReadOptionalKeys(top, config);
-      },
+      [&config](io::OptionsMap& top) { ReadKeys(top, config); },
       [&config] { config.Validate(); });
   return config;
 }
@@ -176,10 +103,8 @@ SimulationConfig ReadTruthYaml(const std::string& file) {
   io::ReadOptionsFile(
       file,
       [&config](io::OptionsMap& top) {
-        top.RequiredSection("simulation", "the simulation settings", [&config](io::OptionsMap& s) {
-          VisitSimulationConfig(s, config);
-          ReadOptionalKeys(s, config);
-        });
+        top.RequiredSection("simulation", "the simulation settings",
+                            [&config](io::OptionsMap& s) { ReadKeys(s, config); });
         // The truth mount in radians is exact; simulation.mount_yaw_deg went through degrees.
         top.Section("truth", [&config](io::OptionsMap& mount) {
           mount.Number("x", config.mount_x_m);
@@ -228,13 +153,10 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
   }
   if (!config.scanners.empty()) {
     out += "  scanners:\n";
-    for (const SimScanner& scanner : config.scanners) {
-      out += "    - {id: " + io::YamlText(scanner.id) +
-             ", mount_x_m: " + io::ShortestNumber(scanner.mount_x_m) +
-             ", mount_y_m: " + io::ShortestNumber(scanner.mount_y_m) +
-             ", mount_yaw_deg: " + io::ShortestNumber(scanner.mount_yaw_rad * kRadToDeg) +
-             ", scanner_time_offset_s: " + io::ShortestNumber(scanner.scanner_time_offset_s) +
-             ", scanner_latency_s: " + io::ShortestNumber(scanner.scanner_latency_s) + "}\n";
+    for (SimScanner& scanner : copy.scanners) {
+      io::OptionsText item;
+      VisitSimScanner(item, scanner);
+      out += "    - " + item.Flow() + "\n";
     }
   }
   if (config.survey_mode == SurveyMode::kRover) {

@@ -179,69 +179,81 @@ struct SimulationConfig {
   void Validate() const;
 };
 
-// The keys every scenario and truth.yaml carry, for any visitor of io/config/options_map.h.
-// The per-stream delays, the car-like drives and the scanner's true range model are read
-// beside them (ReadSimulationConfig) and written only when set.
+// The keys every scenario and truth.yaml carry and their checks, for any visitor of
+// io/config/options_map.h. The per-stream delays, the car-like drives, more scanners and the
+// scanner's true range model are read beside them (ReadSimulationConfig) and written only when
+// set.
 template <class V>
 void VisitSimWall(V& v, SimWall& w) {
-  v.Text("id", w.id);
+  v.Text("id", w.id, io::NonEmpty());
   v.Text("code", w.code);
-  v.Number("x0_m", w.x0_m);
-  v.Number("y0_m", w.y0_m);
-  v.Number("x1_m", w.x1_m);
-  v.Number("y1_m", w.y1_m);
-  v.Number("height_m", w.height_m);
-  v.Number("survey_spacing_m", w.survey_spacing_m);
+  v.Number("x0_m", w.x0_m, io::Finite());
+  v.Number("y0_m", w.y0_m, io::Finite());
+  v.Number("x1_m", w.x1_m, io::Finite());
+  v.Number("y1_m", w.y1_m, io::Finite());
+  v.Number("height_m", w.height_m, io::Positive());
+  v.Number("survey_spacing_m", w.survey_spacing_m, io::Positive());
 }
 
 template <class V>
 void VisitSimObstacle(V& v, SimObstacle& o) {
-  v.Number("x_m", o.x_m);
-  v.Number("y_m", o.y_m);
-  v.Number("radius_m", o.radius_m);
+  v.Number("x_m", o.x_m, io::Finite());
+  v.Number("y_m", o.y_m, io::Finite());
+  v.Number("radius_m", o.radius_m, io::Positive());
+}
+
+template <class V>
+void VisitSimScanner(V& v, SimScanner& s) {
+  v.Text("id", s.id, io::NonEmpty());
+  v.Number("mount_x_m", s.mount_x_m, io::Finite());
+  v.Number("mount_y_m", s.mount_y_m, io::Finite());
+  v.Scaled("mount_yaw_deg", s.mount_yaw_rad, kRadToDeg, io::InRange(-180.0, 180.0));
+  v.Number("scanner_time_offset_s", s.scanner_time_offset_s, io::Finite());
+  v.Number("scanner_latency_s", s.scanner_latency_s, io::InRange(0.0, 10.0));
 }
 
 template <class V>
 void VisitSimulationConfig(V& v, SimulationConfig& c) {
-  v.Number("site_lat_deg", c.site_lat_deg);
-  v.Number("site_lon_deg", c.site_lon_deg);
-  v.Number("site_height_m", c.site_height_m);
-  v.Text("name", c.name);
-  v.Text("scanner_model", c.scanner_model);
-  v.Number("log_every_n", c.log_every_n);
-  v.Number("scanner_time_offset_s", c.scanner_time_offset_s);
-  v.Number("mount_x_m", c.mount_x_m);
-  v.Number("mount_y_m", c.mount_y_m);
-  v.Scaled("mount_yaw_deg", c.mount_yaw_rad, kRadToDeg);
+  v.Number("site_lat_deg", c.site_lat_deg, io::InRange(-80.0, 84.0));  // UTM's latitude band
+  v.Number("site_lon_deg", c.site_lon_deg, io::InRange(-180.0, 180.0));
+  v.Number("site_height_m", c.site_height_m, io::Finite());
+  v.Text("name", c.name, io::NonEmpty());
+  v.Text("scanner_model", c.scanner_model, io::NonEmpty());
+  v.Number("log_every_n", c.log_every_n, io::AtLeast(1.0));
+  v.Number("scanner_time_offset_s", c.scanner_time_offset_s, io::Finite());
+  v.Number("mount_x_m", c.mount_x_m, io::Finite());
+  v.Number("mount_y_m", c.mount_y_m, io::Finite());
+  v.Scaled("mount_yaw_deg", c.mount_yaw_rad, kRadToDeg, io::InRange(-180.0, 180.0));
   v.List("walls", c.walls, [](V& item_v, SimWall& w) { VisitSimWall(item_v, w); });
   v.List("obstacles", c.obstacles, [](V& item_v, SimObstacle& o) { VisitSimObstacle(item_v, o); });
-  v.Integer("num_stations", c.num_stations);
-  v.Number("station_distance_m", c.station_distance_m);
-  v.Scaled("heading_spread_deg", c.heading_spread_rad, kRadToDeg);
-  v.Number("dwell_s", c.dwell_s);
-  v.Number("drive_speed_mps", c.drive_speed_mps);
-  v.Number("lateral_spread_m", c.lateral_spread_m);
+  v.Integer("num_stations", c.num_stations, io::AtLeast(1));
+  v.Number("station_distance_m", c.station_distance_m, io::Positive());
+  v.Scaled("heading_spread_deg", c.heading_spread_rad, kRadToDeg, io::InRange(0.0, 360.0));
+  v.Number("dwell_s", c.dwell_s, io::NonNegative());
+  v.Number("drive_speed_mps", c.drive_speed_mps, io::Positive());
+  v.Number("lateral_spread_m", c.lateral_spread_m, io::NonNegative());
   v.Boolean("continuous", c.continuous);
   v.Number("weave_amplitude_m", c.weave_amplitude_m);
   v.Number("continuous_duration_s", c.continuous_duration_s);
-  v.Number("gnss_rate_hz", c.gnss_rate_hz);
-  v.Number("gnss_bias_sigma_m", c.gnss_bias_sigma_m);
-  v.Number("gnss_bias_tau_s", c.gnss_bias_tau_s);
-  v.Number("gnss_white_sigma_m", c.gnss_white_sigma_m);
-  v.Number("float_fraction", c.float_fraction);
+  v.Number("gnss_rate_hz", c.gnss_rate_hz, io::Positive());
+  v.Number("gnss_bias_sigma_m", c.gnss_bias_sigma_m, io::NonNegative());
+  v.Number("gnss_bias_tau_s", c.gnss_bias_tau_s, io::Positive());
+  v.Number("gnss_white_sigma_m", c.gnss_white_sigma_m, io::NonNegative());
+  v.Number("float_fraction", c.float_fraction, io::InRange(0.0, 1.0));
   v.Boolean("write_gst", c.write_gst);
-  v.Number("heading_rate_hz", c.heading_rate_hz);
-  v.Scaled("heading_white_sigma_deg", c.heading_white_sigma_rad, kRadToDeg);
-  v.Scaled("heading_drift_deg_per_h", c.heading_drift_rad_per_s, kDegPerHourPerRadPerS);
-  v.Scaled("heading_bias_deg", c.heading_bias_rad, kRadToDeg);
-  v.Number("total_station_sigma_m", c.total_station_sigma_m);
-  v.Number("control_sigma_m", c.control_sigma_m);
-  v.Scaled("survey_rotation_deg", c.survey_rotation_rad, kRadToDeg);
-  v.Number("survey_origin_x_m", c.survey_origin_x_m);
-  v.Number("survey_origin_y_m", c.survey_origin_y_m);
-  v.Number("lost_scan_fraction", c.lost_scan_fraction);
-  v.Number("mixed_pixel_probability", c.mixed_pixel_probability);
-  v.Number("start_time_s", c.start_time_s);
+  v.Number("heading_rate_hz", c.heading_rate_hz, io::Positive());
+  v.Scaled("heading_white_sigma_deg", c.heading_white_sigma_rad, kRadToDeg, io::NonNegative());
+  v.Scaled("heading_drift_deg_per_h", c.heading_drift_rad_per_s, kDegPerHourPerRadPerS,
+           io::Finite());
+  v.Scaled("heading_bias_deg", c.heading_bias_rad, kRadToDeg, io::Finite());
+  v.Number("total_station_sigma_m", c.total_station_sigma_m, io::NonNegative());
+  v.Number("control_sigma_m", c.control_sigma_m, io::NonNegative());
+  v.Scaled("survey_rotation_deg", c.survey_rotation_rad, kRadToDeg, io::Finite());
+  v.Number("survey_origin_x_m", c.survey_origin_x_m, io::Finite());
+  v.Number("survey_origin_y_m", c.survey_origin_y_m, io::Finite());
+  v.Number("lost_scan_fraction", c.lost_scan_fraction, io::UpToBelow(0.0, 1.0));
+  v.Number("mixed_pixel_probability", c.mixed_pixel_probability, io::InRange(0.0, 1.0));
+  v.Number("start_time_s", c.start_time_s, io::NonNegative());
 }
 
 // A simulation configuration: the SimulationConfig keys at the top level, `walls:` a list of

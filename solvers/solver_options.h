@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The mount solve's noise model and limits (`solver:` in configs/calibrate.yaml) and their YAML
-// keys. Angles are radians here and degrees in the file; σ values are 1σ.
+// The mount solve's noise model and limits (`solver:` in configs/calibrate.yaml), their YAML
+// keys and the check of each. Angles are radians here and degrees in the file; σ values are 1σ.
 
 #include "common/angles.h"
 #include "calib/survey_tie.h"
@@ -63,31 +63,31 @@ struct SolverOptions {
   void Validate() const;
 };
 
-// The `solver:` keys, for any visitor of io/config/options_map.h.
+// The `solver:` keys and their checks, for any visitor of io/config/options_map.h.
 template <class V>
 void VisitSolverOptions(V& v, SolverOptions& o) {
-  v.Number("gnss_white_sigma_m", o.gnss_white_sigma_m);
-  v.Number("gnss_bias_sigma_m", o.gnss_bias_sigma_m);
+  v.Number("gnss_white_sigma_m", o.gnss_white_sigma_m, io::Positive());
+  v.Number("gnss_bias_sigma_m", o.gnss_bias_sigma_m, io::Positive());
   v.Boolean("use_gst_sigma", o.use_gst_sigma);
-  v.Scaled("heading_sigma_deg", o.heading_sigma_rad, kRadToDeg);
+  v.Scaled("heading_sigma_deg", o.heading_sigma_rad, kRadToDeg, io::AboveUpTo(0.0, 90.0));
   v.Boolean("use_measured_white_noise", o.use_measured_white_noise);
   v.Scaled("heading_drift_sigma_deg_per_h", o.heading_drift_sigma_rad_per_s,
-           kDegPerHourPerRadPerS);
-  v.Number("control_sigma_m", o.control_sigma_m);
-  v.Number("total_station_sigma_m", o.total_station_sigma_m);
-  v.Scaled("rotation_sigma_deg", o.rotation_sigma_rad, kRadToDeg);
-  v.Number("huber_scale", o.huber_scale);
-  v.Integer("max_iterations", o.max_iterations);
-  v.Scaled("min_heading_spread_deg", o.min_heading_spread_rad, kRadToDeg);
-  v.Integer("min_observations", o.min_observations);
-  v.Integer("min_stations", o.min_stations);
-  v.Number("gnss_bias_tau_s", o.gnss_bias_tau_s);
-  v.Number("time_offset_sigma_s", o.time_offset_sigma_s);
-  v.Number("heading_delay_sigma_s", o.heading_delay_sigma_s);
-  v.Number("moving_timing_sigma_s", o.moving_timing_sigma_s);
-  v.Number("max_sigma_xy_m", o.max_sigma_xy_m);
-  v.Scaled("max_sigma_yaw_deg", o.max_sigma_yaw_rad, kRadToDeg);
-  v.Integer("bootstrap_samples", o.bootstrap_samples);
+           kDegPerHourPerRadPerS, io::NonNegative());
+  v.Number("control_sigma_m", o.control_sigma_m, io::Positive());
+  v.Number("total_station_sigma_m", o.total_station_sigma_m, io::Positive());
+  v.Scaled("rotation_sigma_deg", o.rotation_sigma_rad, kRadToDeg, io::AboveUpTo(0.0, 90.0));
+  v.Number("huber_scale", o.huber_scale, io::Positive());
+  v.Integer("max_iterations", o.max_iterations, io::AtLeast(1));
+  v.Scaled("min_heading_spread_deg", o.min_heading_spread_rad, kRadToDeg, io::InRange(0.0, 360.0));
+  v.Integer("min_observations", o.min_observations, io::AtLeast(1));
+  v.Integer("min_stations", o.min_stations, io::AtLeast(1));
+  v.Number("gnss_bias_tau_s", o.gnss_bias_tau_s, io::NonNegative());
+  v.Number("time_offset_sigma_s", o.time_offset_sigma_s, io::NonNegative());
+  v.Number("heading_delay_sigma_s", o.heading_delay_sigma_s, io::NonNegative());
+  v.Number("moving_timing_sigma_s", o.moving_timing_sigma_s, io::NonNegative());
+  v.Number("max_sigma_xy_m", o.max_sigma_xy_m, io::Positive());
+  v.Scaled("max_sigma_yaw_deg", o.max_sigma_yaw_rad, kRadToDeg, io::AboveUpTo(0.0, 180.0));
+  v.Integer("bootstrap_samples", o.bootstrap_samples, io::AtLeast(0));
 }
 
 }  // namespace wallcal::solvers

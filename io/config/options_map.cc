@@ -22,6 +22,12 @@ void Fail(const std::string& key, const std::string& requirement, const std::str
   throw OptionError(key, key + " must be " + requirement + ", got " + got);
 }
 
+}  // namespace option_checks
+
+using namespace option_checks;  // NOLINT: Check::Apply makes these checks
+
+namespace {
+
 void CheckFinite(const std::string& key, double value) {
   if (!std::isfinite(value)) Fail(key, "a finite number", Number(value));
 }
@@ -36,17 +42,49 @@ void CheckRange(const std::string& key, double value, double lo, double hi) {
     Fail(key, "in [" + Number(lo) + ", " + Number(hi) + "]", Number(value));
   }
 }
-void CheckAtLeast(const std::string& key, int value, int lo) {
-  if (value < lo) Fail(key, ">= " + std::to_string(lo), std::to_string(value));
-}
-void CheckAnglePositive(const std::string& key_deg, double rad, double max_deg) {
-  const double deg = rad * kRadToDeg;
-  if (!(std::isfinite(deg) && deg > 0.0 && deg <= max_deg)) {
-    Fail(key_deg, "in (0, " + Number(max_deg) + "]", Number(deg));
+
+}  // namespace
+
+void Check::Apply(const std::string& key, double value) const {
+  if (nan_is_unset && std::isnan(value)) return;
+  switch (kind) {
+    case Kind::kAny:
+    case Kind::kNonEmpty:
+      return;
+    case Kind::kFinite:
+      return CheckFinite(key, value);
+    case Kind::kPositive:
+      return CheckPositive(key, value);
+    case Kind::kNonNegative:
+      return CheckNonNegative(key, value);
+    case Kind::kAtLeast:
+      if (!(std::isfinite(value) && value >= lo)) Fail(key, ">= " + Number(lo), Number(value));
+      return;
+    case Kind::kInRange:
+      return CheckRange(key, value, lo, hi);
+    case Kind::kAboveUpTo:
+      if (!(std::isfinite(value) && value > lo && value <= hi)) {
+        Fail(key, "in (" + Number(lo) + ", " + Number(hi) + "]", Number(value));
+      }
+      return;
+    case Kind::kUpToBelow:
+      if (!(std::isfinite(value) && value >= lo && value < hi)) {
+        Fail(key, "in [" + Number(lo) + ", " + Number(hi) + ")", Number(value));
+      }
+      return;
   }
 }
 
-}  // namespace option_checks
+void Check::Apply(const std::string& key, int value) const {
+  if (kind == Kind::kAtLeast && value < lo) {
+    Fail(key, ">= " + Number(lo), std::to_string(value));
+  }
+  if (kind != Kind::kAtLeast) Apply(key, static_cast<double>(value));
+}
+
+void Check::Apply(const std::string& key, const std::string& value) const {
+  if (kind == Kind::kNonEmpty && value.empty()) Fail(key, "non-empty", "\"\"");
+}
 
 void ReadOptionsFile(const std::string& file, const std::function<void(OptionsMap&)>& read,
                      const std::function<void()>& validate) {

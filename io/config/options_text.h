@@ -6,19 +6,28 @@
 #include <string>
 #include <vector>
 
+#include "io/config/options_map.h"
 #include "io/config/yaml_text.h"
 
 namespace wallcal::io {
 
 class OptionsText {
  public:
-  void Number(const std::string& key, double& value) { Add(key, ShortestNumber(value)); }
-  void Scaled(const std::string& key, double& value, double file_per_unit) {
+  // The checks are Validate()'s: what is written is the struct as it stands.
+  void Number(const std::string& key, double& value, const Check& /*check*/ = {}) {
+    Add(key, ShortestNumber(value));
+  }
+  void Scaled(const std::string& key, double& value, double file_per_unit,
+              const Check& /*check*/ = {}) {
     Add(key, ShortestNumber(value * file_per_unit));
   }
-  void Integer(const std::string& key, int& value) { Add(key, std::to_string(value)); }
+  void Integer(const std::string& key, int& value, const Check& /*check*/ = {}) {
+    Add(key, std::to_string(value));
+  }
   void Boolean(const std::string& key, bool& value) { Add(key, value ? "true" : "false"); }
-  void Text(const std::string& key, std::string& value) { Add(key, YamlText(value)); }
+  void Text(const std::string& key, std::string& value, const Check& /*check*/ = {}) {
+    Add(key, YamlText(value));
+  }
   template <class T, class F>
   void List(const std::string& key, std::vector<T>& items, F visit_item) {
     Entry entry;

@@ -2,7 +2,6 @@
 #include "io/survey/internal/geodetic_csv.h"
 
 #include <algorithm>
-#include <array>
 #include <cctype>
 #include <cmath>
 
@@ -13,59 +12,32 @@
 namespace wallcal::io {
 namespace {
 
-// The quantities a rover row carries, in the order of the arrays below.
+// The quantities a rover row carries, in the order of kRoles.
 enum Role { kId = 0, kLatitude, kLongitude, kHeight, kCode, kSigma, kRoleCount };
-
-constexpr std::array<const char*, kRoleCount> kRoleNames = {
-    "point id", "latitude", "longitude", "ellipsoidal height", "code", "precision"};
 
 // Header names, compared after dropping a bracketed unit ("Latitude (deg)", "H prec [m]"),
 // lower-casing and dropping blanks, '_', '-' and '.'. Rover apps name the height above the
 // ellipsoid in many ways; an orthometric "Elevation" is not it and is ignored with the other
 // extra columns (heights play no part: the scan plane is horizontal).
-const std::array<std::vector<std::string>, kRoleCount> kAliases = {{
-    {"id", "point", "pointid", "pointno", "pointnumber", "pointname", "pt", "ptid", "name"},
-    {"lat", "latitude", "latdeg", "latitudedeg", "phi"},
-    {"lon", "long", "lng", "longitude", "londeg", "longitudedeg", "lambda"},
-    {"ellipsoidalheight", "ellipsoidheight", "ellheight", "hell", "hae", "heightellipsoidal",
-     "ellipsoidalh", "ellipsoidalht", "ellht", "heightaboveellipsoid"},
-    {"code", "description", "desc", "pointcode", "feature", "featurecode"},
-    {"sigma", "sigmam", "sigmah", "hsigma", "hprec", "hprecision", "horizontalprecision",
-     "precisionh", "hrms", "horizontalrms", "hacc", "horizontalaccuracy", "haccuracy",
-     "sigmahorizontal"},
-}};
-
-int RoleOf(const std::string& field) {
-  const std::string normal = SurveyHeaderName(field);
-  for (int role = 0; role < kRoleCount; ++role) {
-    const std::vector<std::string>& aliases = kAliases[static_cast<size_t>(role)];
-    if (std::find(aliases.begin(), aliases.end(), normal) != aliases.end()) return role;
-  }
-  return -1;
-}
+const std::vector<HeaderRole> kRoles = {
+    {"point id",
+     {"id", "point", "pointid", "pointno", "pointnumber", "pointname", "pt", "ptid", "name"}},
+    {"latitude", {"lat", "latitude", "latdeg", "latitudedeg", "phi"}},
+    {"longitude", {"lon", "long", "lng", "longitude", "londeg", "longitudedeg", "lambda"}},
+    {"ellipsoidal height",
+     {"ellipsoidalheight", "ellipsoidheight", "ellheight", "hell", "hae", "heightellipsoidal",
+      "ellipsoidalh", "ellipsoidalht", "ellht", "heightaboveellipsoid"}},
+    {"code", {"code", "description", "desc", "pointcode", "feature", "featurecode"}},
+    {"precision",
+     {"sigma", "sigmam", "sigmah", "hsigma", "hprec", "hprecision", "horizontalprecision",
+      "precisionh", "hrms", "horizontalrms", "hacc", "horizontalaccuracy", "haccuracy",
+      "sigmahorizontal"}},
+};
 
 bool IsContent(std::string_view line) {
   size_t first = 0;
   while (first < line.size() && std::isspace(static_cast<unsigned char>(line[first]))) ++first;
   return first < line.size() && line[first] != '#';
-}
-
-std::string Column(int index) { return "column " + std::to_string(index + 1); }
-
-double Number(std::string text, int column, Role role, char delimiter, const std::string& name,
-              int line, const char* expected) {
-  const std::string label = Column(column) + " (" + kRoleNames[static_cast<size_t>(role)] + ")";
-  // A semicolon- or tab-separated export may write decimal commas (European instrument
-  // software), as the survey CSV reader takes them.
-  if (delimiter != ',') text = WithDecimalPoint(std::move(text));
-  double value = 0.0;
-  if (text.empty()) throw InputError(Where(name, line, label + " is empty; expected " + expected));
-  if (!ParseDecimal(text, &value) || !std::isfinite(value)) {
-    throw InputError(Where(name, line,
-                           label + " is not a finite number (" + std::to_string(text.size()) +
-                               " characters); expected " + expected));
-  }
-  return value;
 }
 
 }  // namespace
@@ -80,7 +52,7 @@ bool LooksLikeGeodeticSurvey(std::string_view text) {
   if (!SplitCsvRow(header, &fields, SurveyCsvDelimiter(header))) return false;
   bool latitude = false, longitude = false;
   for (const std::string& field : fields) {
-    const int role = RoleOf(field);
+    const int role = HeaderRoleOf(field, kRoles);
     latitude = latitude || role == kLatitude;
     longitude = longitude || role == kLongitude;
   }
@@ -88,8 +60,7 @@ bool LooksLikeGeodeticSurvey(std::string_view text) {
 }
 
 std::vector<SurveyPoint> ParseGeodeticSurveyCsv(std::string_view text, const std::string& name) {
-  std::array<int, kRoleCount> column_of;
-  column_of.fill(-1);
+  std::vector<int> column_of;
   size_t width = 0;
   char delimiter = ',';
   bool have_header = false;
@@ -107,23 +78,9 @@ std::vector<SurveyPoint> ParseGeodeticSurveyCsv(std::string_view text, const std
                              "line"));
     }
     if (!have_header) {
-      for (size_t i = 0; i < fields.size(); ++i) {
-        const int role = RoleOf(fields[i]);
-        if (role < 0) continue;
-        int& column = column_of[static_cast<size_t>(role)];
-        if (column >= 0) {
-          throw InputError(Where(name, line_number,
-                                 Column(column) + " and " + Column(static_cast<int>(i)) +
-                                     " both name the " + kRoleNames[static_cast<size_t>(role)] +
-                                     "; expected one column for it"));
-        }
-        column = static_cast<int>(i);
-      }
-      std::string missing;
-      for (Role role : {kId, kLatitude, kLongitude, kCode}) {
-        if (column_of[role] >= 0) continue;
-        missing += std::string(missing.empty() ? "" : ", ") + kRoleNames[role];
-      }
+      column_of = MatchHeaderRoles(fields, kRoles, name, line_number);
+      const std::string missing =
+          MissingRoles(column_of, kRoles, {kId, kLatitude, kLongitude, kCode});
       if (!missing.empty()) {
         throw InputError(Where(
             name, line_number,
@@ -144,37 +101,36 @@ std::vector<SurveyPoint> ParseGeodeticSurveyCsv(std::string_view text, const std
     SurveyPoint point;
     point.frame = SurveyFrame::kGeodetic;
     point.line = line_number;
-    point.id = fields[static_cast<size_t>(column_of[kId])];
-    if (point.id.empty()) {
-      throw InputError(Where(name, line_number,
-                             Column(column_of[kId]) + " (point id) is empty; expected an id"));
-    }
-    CheckPrintableField(point.id, "point id", name, line_number);
+    point.id = SurveyPointId(fields, column_of[kId], name, line_number);
     point.code = fields[static_cast<size_t>(column_of[kCode])];
     CheckPrintableField(point.code, "code", name, line_number);
+    // A ';'- or tab-separated export may write decimal commas (European instrument software),
+    // as the survey CSV reader takes them.
     const auto number = [&](Role role, const char* expected) {
-      return Number(fields[static_cast<size_t>(column_of[role])], column_of[role], role, delimiter,
-                    name, line_number, expected);
+      const int column = column_of[role];
+      return SurveyNumber(fields[static_cast<size_t>(column)], column, kRoles[role].name,
+                          delimiter != ',', name, line_number, expected);
     };
     point.lat_deg = number(kLatitude, "decimal degrees, north positive");
     point.lon_deg = number(kLongitude, "decimal degrees, east positive");
     if (std::abs(point.lat_deg) > 90.0) {
       throw InputError(Where(name, line_number,
-                             Column(column_of[kLatitude]) + " (latitude) is beyond ±90°; expected "
-                                                            "decimal degrees, north positive"));
+                             SurveyColumn(column_of[kLatitude]) +
+                                 " (latitude) is beyond ±90°; expected decimal degrees, north "
+                                 "positive"));
     }
     if (std::abs(point.lon_deg) > 180.0) {
       throw InputError(Where(name, line_number,
-                             Column(column_of[kLongitude]) + " (longitude) is beyond ±180°; "
-                                                             "expected decimal degrees, east "
-                                                             "positive"));
+                             SurveyColumn(column_of[kLongitude]) +
+                                 " (longitude) is beyond ±180°; expected decimal degrees, east "
+                                 "positive"));
     }
     if (column_of[kHeight] >= 0) point.z_m = number(kHeight, "metres above the ellipsoid");
     if (column_of[kSigma] >= 0) {
       point.sigma_m = number(kSigma, "the horizontal 1σ in metres, e.g. 0.010");
       if (!(point.sigma_m > 0.0) || point.sigma_m > 1.0) {
         throw InputError(Where(name, line_number,
-                               Column(column_of[kSigma]) +
+                               SurveyColumn(column_of[kSigma]) +
                                    " (precision) is not in (0, 1] m; expected the rover's "
                                    "horizontal 1σ in metres, e.g. 0.010"));
       }

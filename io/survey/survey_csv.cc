@@ -2,7 +2,6 @@
 #include "io/survey/internal/survey_csv.h"
 
 #include <algorithm>
-#include <array>
 #include <cctype>
 #include <cmath>
 
@@ -12,54 +11,29 @@
 namespace wallcal::io {
 namespace {
 
-// The quantities a survey row carries, in the order of the arrays below.
+// The quantities a survey row carries, in the order of kRoles.
 enum Role { kId = 0, kEasting, kNorthing, kElevation, kCode, kRoleCount };
-
-constexpr std::array<const char*, kRoleCount> kRoleNames = {"point id", "easting", "northing",
-                                                            "elevation", "code"};
 
 // Header names accepted for each role, compared after lower-casing and dropping blanks, '_',
 // '-' and '.' ("Point ID", "point_id" and "PointID" are one name; x_m is the dump's x). x is
-// east and y north: the
-// survey frame is right-handed with z up (docs/survey-files.md).
-const std::array<std::vector<std::string>, kRoleCount> kAliases = {{
-    {"id", "point", "pointid", "pointno", "pointnumber", "pointname", "pt", "ptid", "pnt",
-     "name"},
-    {"x", "xm", "e", "east", "easting"},
-    {"y", "ym", "n", "north", "northing"},
-    {"z", "zm", "h", "el", "elev", "elevation", "height", "rl"},
-    {"code", "description", "desc", "pointcode", "feature", "featurecode"},
-}};
+// east and y north: the survey frame is right-handed with z up (docs/survey-files.md).
+const std::vector<HeaderRole> kRoles = {
+    {"point id",
+     {"id", "point", "pointid", "pointno", "pointnumber", "pointname", "pt", "ptid", "pnt",
+      "name"}},
+    {"easting", {"x", "xm", "e", "east", "easting"}},
+    {"northing", {"y", "ym", "n", "north", "northing"}},
+    {"elevation", {"z", "zm", "h", "el", "elev", "elevation", "height", "rl"}},
+    {"code", {"code", "description", "desc", "pointcode", "feature", "featurecode"}},
+};
 
-std::string Column(int index) { return "column " + std::to_string(index + 1); }
-
-// Which column holds each role (-1: none). Throws when two columns name the same role.
-std::array<int, kRoleCount> MatchHeader(const std::vector<std::string>& fields,
-                                        const std::string& name, int line) {
-  std::array<int, kRoleCount> columns;
-  columns.fill(-1);
-  for (size_t i = 0; i < fields.size(); ++i) {
-    const std::string normal = SurveyHeaderName(fields[i]);
-    for (int role = 0; role < kRoleCount; ++role) {
-      const std::vector<std::string>& aliases = kAliases[static_cast<size_t>(role)];
-      if (std::find(aliases.begin(), aliases.end(), normal) == aliases.end()) continue;
-      int& column = columns[static_cast<size_t>(role)];
-      if (column >= 0) {
-        throw InputError(Where(name, line,
-                               Column(column) + " and " + Column(static_cast<int>(i)) +
-                                   " both name the " + kRoleNames[static_cast<size_t>(role)] +
-                                   "; expected one column for it"));
-      }
-      column = static_cast<int>(i);
-    }
-  }
-  std::string missing;
-  int missing_count = 0;
-  for (int role = 0; role < kRoleCount; ++role) {
-    if (columns[static_cast<size_t>(role)] >= 0) continue;
-    missing += std::string(missing_count++ > 0 ? ", " : "") + kRoleNames[static_cast<size_t>(role)];
-  }
-  if (missing_count > 0) {
+// Which column holds each role. Throws when two columns name the same role or one is missing.
+std::vector<int> MatchHeader(const std::vector<std::string>& fields, const std::string& name,
+                             int line) {
+  std::vector<int> columns = MatchHeaderRoles(fields, kRoles, name, line);
+  const std::string missing =
+      MissingRoles(columns, kRoles, {kId, kEasting, kNorthing, kElevation, kCode});
+  if (!missing.empty()) {
     throw InputError(Where(
         name, line,
         "the header's " + std::to_string(fields.size()) + " columns name no " + missing +
@@ -71,25 +45,75 @@ std::array<int, kRoleCount> MatchHeader(const std::vector<std::string>& fields,
   return columns;
 }
 
-// `decimal_comma`: the file separates fields with ';' or a tab, and "12,345" is 12.345 (as
-// European instrument software writes it).
-double Number(std::string text, int column, Role role, const std::string& name, int line,
-              const std::string& hint, bool decimal_comma) {
-  const std::string label = Column(column) + " (" + kRoleNames[role] + ")";
-  if (decimal_comma) text = WithDecimalPoint(std::move(text));
-  if (text.empty()) {
-    throw InputError(Where(name, line, label + " is empty; expected a number in metres" + hint));
+}  // namespace
+
+int HeaderRoleOf(const std::string& field, const std::vector<HeaderRole>& roles) {
+  const std::string normal = SurveyHeaderName(field);
+  for (size_t role = 0; role < roles.size(); ++role) {
+    const std::vector<std::string>& aliases = roles[role].aliases;
+    if (std::find(aliases.begin(), aliases.end(), normal) != aliases.end()) {
+      return static_cast<int>(role);
+    }
   }
+  return -1;
+}
+
+std::vector<int> MatchHeaderRoles(const std::vector<std::string>& fields,
+                                  const std::vector<HeaderRole>& roles, const std::string& name,
+                                  int line) {
+  std::vector<int> columns(roles.size(), -1);
+  for (size_t i = 0; i < fields.size(); ++i) {
+    const int role = HeaderRoleOf(fields[i], roles);
+    if (role < 0) continue;
+    int& column = columns[static_cast<size_t>(role)];
+    if (column >= 0) {
+      throw InputError(Where(name, line,
+                             SurveyColumn(column) + " and " +
+                                 SurveyColumn(static_cast<int>(i)) + " both name the " +
+                                 roles[static_cast<size_t>(role)].name +
+                                 "; expected one column for it"));
+    }
+    column = static_cast<int>(i);
+  }
+  return columns;
+}
+
+std::string MissingRoles(const std::vector<int>& columns, const std::vector<HeaderRole>& roles,
+                         std::initializer_list<int> required) {
+  std::string missing;
+  for (const int role : required) {
+    if (columns[static_cast<size_t>(role)] >= 0) continue;
+    missing += std::string(missing.empty() ? "" : ", ") + roles[static_cast<size_t>(role)].name;
+  }
+  return missing;
+}
+
+std::string SurveyColumn(int index) { return "column " + std::to_string(index + 1); }
+
+double SurveyNumber(std::string text, int column, const char* role, bool decimal_comma,
+                    const std::string& name, int line, const std::string& expected) {
+  const std::string label = SurveyColumn(column) + " (" + role + ")";
+  if (decimal_comma) text = WithDecimalPoint(std::move(text));
+  if (text.empty()) throw InputError(Where(name, line, label + " is empty; expected " + expected));
   double value = 0.0;
   if (!ParseDecimal(text, &value) || !std::isfinite(value)) {
     throw InputError(Where(name, line,
                            label + " is not a finite number (" + std::to_string(text.size()) +
-                               " characters); expected a number in metres" + hint));
+                               " characters); expected " + expected));
   }
   return value;
 }
 
-}  // namespace
+std::string SurveyPointId(const std::vector<std::string>& fields, int column,
+                          const std::string& name, int line) {
+  const std::string& id = fields[static_cast<size_t>(column)];
+  if (id.empty()) {
+    throw InputError(
+        Where(name, line, SurveyColumn(column) + " (point id) is empty; expected an id"));
+  }
+  CheckPrintableField(id, "point id", name, line);
+  return id;
+}
 
 std::string SurveyHeaderName(const std::string& field) {
   std::string name;
@@ -188,7 +212,7 @@ bool SplitCsvRow(std::string_view row, std::vector<std::string>* fields, char de
 
 std::vector<SurveyPoint> ParseSurveyCsv(std::string_view text, const std::string& name,
                                         SurveyColumns columns) {
-  std::array<int, kRoleCount> column_of = {-1, -1, -1, -1, -1};
+  std::vector<int> column_of = {-1, -1, -1, -1, -1};
   size_t width = 0;  // fields a row must have (header mode)
   bool have_columns = columns != SurveyColumns::kHeader;
   if (columns == SurveyColumns::kPNEZD) column_of = {0, 2, 1, 3, 4};
@@ -239,21 +263,19 @@ std::vector<SurveyPoint> ParseSurveyCsv(std::string_view text, const std::string
     first_row = false;
     SurveyPoint point;
     point.line = line_number;
-    point.id = fields[static_cast<size_t>(column_of[kId])];
-    if (point.id.empty()) {
-      throw InputError(Where(name, line_number,
-                             Column(column_of[kId]) + " (point id) is empty; expected an id"));
-    }
-    CheckPrintableField(point.id, "point id", name, line_number);
+    point.id = SurveyPointId(fields, column_of[kId], name, line_number);
     const size_t code_column = static_cast<size_t>(column_of[kCode]);
     if (code_column < fields.size()) point.code = fields[code_column];
     CheckPrintableField(point.code, "code", name, line_number);
-    point.x_m = Number(fields[static_cast<size_t>(column_of[kEasting])], column_of[kEasting],
-                       kEasting, name, line_number, hint, delimiter != ',');
-    point.y_m = Number(fields[static_cast<size_t>(column_of[kNorthing])], column_of[kNorthing],
-                       kNorthing, name, line_number, hint, delimiter != ',');
-    point.z_m = Number(fields[static_cast<size_t>(column_of[kElevation])], column_of[kElevation],
-                       kElevation, name, line_number, hint, delimiter != ',');
+    // A ';'- or tab-separated file may write "12,345" for 12.345 (European instrument software).
+    const auto number = [&](Role role) {
+      const int column = column_of[role];
+      return SurveyNumber(fields[static_cast<size_t>(column)], column, kRoles[role].name,
+                          delimiter != ',', name, line_number, "a number in metres" + hint);
+    };
+    point.x_m = number(kEasting);
+    point.y_m = number(kNorthing);
+    point.z_m = number(kElevation);
     points.push_back(std::move(point));
   }
   if (!have_columns) {

@@ -12,6 +12,11 @@
 
 namespace wallcal::recording {
 namespace mcap {
+
+std::string At(const std::string& path, uint64_t offset, const std::string& message) {
+  return path + ":" + std::to_string(offset) + ": " + message;
+}
+
 namespace {
 
 // Loose messages are grouped in runs of at most this many bytes: ForEach holds a run in memory.
@@ -509,12 +514,12 @@ void McapRecording::BuildTopics() {
 }  // namespace mcap
 
 std::unique_ptr<Recording> OpenMcap(const std::string& path, const McapLimits& limits) {
-  return std::make_unique<mcap::McapRecording>(path, mcap::OpenFileSource(path), limits);
+  return std::make_unique<mcap::McapRecording>(path, OpenFileSource(path), limits);
 }
 
 std::unique_ptr<Recording> OpenMcapBuffer(const std::string& name, std::vector<uint8_t> bytes,
                                           const McapLimits& limits) {
-  return std::make_unique<mcap::McapRecording>(name, mcap::MemorySource(std::move(bytes)), limits);
+  return std::make_unique<mcap::McapRecording>(name, MemorySource(std::move(bytes)), limits);
 }
 
 }  // namespace wallcal::recording

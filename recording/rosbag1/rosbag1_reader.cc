@@ -32,17 +32,17 @@ std::string Quoted(std::string_view text) {
 }  // namespace
 
 std::unique_ptr<Recording> OpenRos1Bag(const std::string& path) {
-  return std::make_unique<Ros1Bag>(bag1::OpenFileSource(path), path);
+  return std::make_unique<Ros1Bag>(OpenFileSource(path), path);
 }
 
 std::unique_ptr<Recording> OpenRos1BagFromMemory(std::vector<uint8_t> bytes,
                                                  const std::string& name) {
-  return std::make_unique<Ros1Bag>(bag1::MemorySource(std::move(bytes)), name);
+  return std::make_unique<Ros1Bag>(MemorySource(std::move(bytes)), name);
 }
 
 Ros1Bag::~Ros1Bag() = default;
 
-Ros1Bag::Ros1Bag(std::unique_ptr<bag1::ByteSource> source, const std::string& path)
+Ros1Bag::Ros1Bag(std::unique_ptr<ByteSource> source, const std::string& path)
     : source_(std::move(source)) {
   path_ = path;
   file_size_ = source_->size();
@@ -117,7 +117,7 @@ std::string Ros1Bag::ReadIndex(uint64_t index_pos, Index* index) const {
     if (bag1::ReadRecord(*source_, pos, file_size_, &record, &why) != RecordStatus::kOk) {
       return "index record at byte " + std::to_string(pos) + ": " + why;
     }
-    const std::vector<uint8_t> data = source_->ReadVector(record.data_pos, record.data_len);
+    const std::vector<uint8_t> data = source_->Bytes(record.data_pos, record.data_len);
     if (record.op == bag1::kOpConnection) {
       uint32_t conn = 0;
       const std::string_view* topic = record.fields.Find("topic");
@@ -207,7 +207,7 @@ std::string Ros1Bag::ReadChunkIndex(uint64_t chunk_pos, const std::map<uint32_t,
       if (index->length_mismatches++ == 0) index->first_mismatch_pos = pos;
     }
     const std::vector<uint8_t> bytes =
-        source_->ReadVector(entry_record.data_pos, static_cast<size_t>(entry_bytes));
+        source_->Bytes(entry_record.data_pos, static_cast<size_t>(entry_bytes));
     for (uint32_t i = 0; i < count; ++i) {
       const uint8_t* e = &bytes[kIndexEntryBytes * i];
       chunk.entries.push_back({bag1::LoadTimeNs(e), bag1::LoadU32(e + 8), conn});
@@ -255,7 +255,7 @@ void Ros1Bag::AddConnection(uint64_t pos, const std::string& record_topic, uint3
 
 std::vector<uint8_t> Ros1Bag::LoadChunk(const Chunk& chunk) const {
   const std::vector<uint8_t> stored =
-      source_->ReadVector(chunk.data_pos, static_cast<size_t>(chunk.data_len));
+      source_->Bytes(chunk.data_pos, static_cast<size_t>(chunk.data_len));
   if (chunk.compression == ChunkCompression::kNone) {
     if (!chunk.cut && stored.size() != chunk.size) {
       Fail(chunk.record_pos, "uncompressed chunk holds " + std::to_string(stored.size()) +
@@ -320,7 +320,7 @@ void Ros1Bag::WalkRecords(Index* index) {
       if (!record.fields.U32("conn", &conn) || topic == nullptr) {
         Fail(pos, "connection record lacks conn or topic");
       }
-      const std::vector<uint8_t> data = source_->ReadVector(record.data_pos, record.data_len);
+      const std::vector<uint8_t> data = source_->Bytes(record.data_pos, record.data_len);
       AddConnection(pos, std::string(*topic), conn, data.data(), data.size(), index);
     } else if (record.op == bag1::kOpIndexData) {
       uint32_t version = 0, count = 0;

@@ -9,49 +9,6 @@
 namespace wallcal::recording::bag1 {
 namespace {
 
-class FileSource : public ByteSource {
- public:
-  explicit FileSource(const std::string& path) : path_(path) {
-    file_ = std::fopen(path.c_str(), "rb");
-    if (file_ == nullptr) {
-      throw io::InputError(io::Where(path, 0, std::string("cannot open: ") + std::strerror(errno)));
-    }
-    if (fseeko(file_, 0, SEEK_END) != 0) {
-      std::fclose(file_);
-      throw io::InputError(io::Where(path, 0, "cannot seek (not a regular file?)"));
-    }
-    size_ = static_cast<uint64_t>(ftello(file_));
-  }
-  ~FileSource() override { std::fclose(file_); }
-  FileSource(const FileSource&) = delete;
-  FileSource& operator=(const FileSource&) = delete;
-
-  uint64_t size() const override { return size_; }
-  void Read(uint64_t offset, size_t count, uint8_t* out) const override {
-    if (fseeko(file_, static_cast<off_t>(offset), SEEK_SET) != 0 ||
-        std::fread(out, 1, count, file_) != count) {
-      throw io::InputError(io::Where(path_, 0, "read error at byte " + std::to_string(offset)));
-    }
-  }
-
- private:
-  std::string path_;
-  std::FILE* file_ = nullptr;
-  uint64_t size_ = 0;
-};
-
-class BufferSource : public ByteSource {
- public:
-  explicit BufferSource(std::vector<uint8_t> bytes) : bytes_(std::move(bytes)) {}
-  uint64_t size() const override { return bytes_.size(); }
-  void Read(uint64_t offset, size_t count, uint8_t* out) const override {
-    if (count > 0) std::memcpy(out, bytes_.data() + offset, count);
-  }
-
- private:
-  std::vector<uint8_t> bytes_;
-};
-
 RecordStatus FinishRecord(uint64_t pos, uint64_t header_end, uint32_t data_len, uint64_t limit,
                           RecordRef* record, std::string* why) {
   record->pos = pos;
@@ -135,14 +92,6 @@ std::string ParseFields(const uint8_t* data, size_t size, Fields* fields) {
   return "";
 }
 
-std::unique_ptr<ByteSource> OpenFileSource(const std::string& path) {
-  return std::make_unique<FileSource>(path);
-}
-
-std::unique_ptr<ByteSource> MemorySource(std::vector<uint8_t> bytes) {
-  return std::make_unique<BufferSource>(std::move(bytes));
-}
-
 RecordStatus ReadRecord(const ByteSource& source, uint64_t pos, uint64_t limit, RecordRef* record,
                         std::string* why) {
   record->pos = pos;
@@ -164,7 +113,7 @@ RecordStatus ReadRecord(const ByteSource& source, uint64_t pos, uint64_t limit, 
     *why = "record header of " + std::to_string(header_len) + " bytes cut off";
     return RecordStatus::kCut;
   }
-  record->header_bytes = source.ReadVector(pos + 4, header_len);
+  record->header_bytes = source.Bytes(pos + 4, header_len);
   source.Read(pos + 4 + header_len, 4, word);
   return FinishRecord(pos, pos + 4 + header_len, LoadU32(word), limit, record, why);
 }

@@ -16,42 +16,39 @@
 
 namespace {
 
-void Decode(const wallcal::recording::RecordedMessage& m) {
-  using namespace wallcal::io;
+using wallcal::recording::DecodeResult;
+using wallcal::recording::RecordedMessage;
+
+// Decodes the payload as an M: a failure must point inside the payload, a success must not hold
+// more than the payload could (fits(msg)).
+template <class M, class DecodeFn, class Fits>
+void DecodeAs(const RecordedMessage& m, DecodeFn decode, Fits fits) {
+  M msg;
+  const DecodeResult r = decode(m.data, m.size, m.wire, &msg);
+  if (r.offset > m.size || (r.ok() && !fits(msg))) std::abort();
+}
+
+void Decode(const RecordedMessage& m) {
   using namespace wallcal::recording;
-  DecodeResult r;
+  const auto any = [](const auto&) { return true; };
   switch (RosTypeFromName(m.topic->type)) {
-    case RosType::kLaserScan: {
-      LaserScanMsg msg;
-      r = DecodeLaserScan(m.data, m.size, m.wire, &msg);
-      if (r.ok() && msg.ranges_m.size() * 4 > m.size) std::abort();
-      break;
-    }
-    case RosType::kNavSatFix: {
-      NavSatFixMsg msg;
-      r = DecodeNavSatFix(m.data, m.size, m.wire, &msg);
-      break;
-    }
-    case RosType::kNmeaSentence: {
-      NmeaSentenceMsg msg;
-      r = DecodeNmeaSentence(m.data, m.size, m.wire, &msg);
-      if (r.ok() && msg.sentence.size() > m.size) std::abort();
-      break;
-    }
-    case RosType::kQuaternionStamped: {
-      QuaternionMsg msg;
-      r = DecodeQuaternionStamped(m.data, m.size, m.wire, &msg);
-      break;
-    }
-    case RosType::kImu: {
-      QuaternionMsg msg;
-      r = DecodeImu(m.data, m.size, m.wire, &msg);
-      break;
-    }
+    case RosType::kLaserScan:
+      return DecodeAs<LaserScanMsg>(m, DecodeLaserScan, [&m](const LaserScanMsg& msg) {
+        return msg.ranges_m.size() * 4 <= m.size;
+      });
+    case RosType::kNavSatFix:
+      return DecodeAs<NavSatFixMsg>(m, DecodeNavSatFix, any);
+    case RosType::kNmeaSentence:
+      return DecodeAs<NmeaSentenceMsg>(m, DecodeNmeaSentence, [&m](const NmeaSentenceMsg& msg) {
+        return msg.sentence.size() <= m.size;
+      });
+    case RosType::kQuaternionStamped:
+      return DecodeAs<QuaternionMsg>(m, DecodeQuaternionStamped, any);
+    case RosType::kImu:
+      return DecodeAs<QuaternionMsg>(m, DecodeImu, any);
     case RosType::kOther:
       return;
   }
-  if (r.offset > m.size) std::abort();
 }
 
 }  // namespace

@@ -64,16 +64,26 @@ TEST(CalibrateOptionsTest, RejectsBadCalibrateOptions) {
       {"detector:\n  min_inliers: many\n", "calibrate.yaml:2: detector.min_inliers"},
       {"alignment:\n  use_moving_scans: maybe\n", "true or false"},
       {"detector: 3\n", "detector must be a map"},
+      // Each key's check, named by its key with the value as the file spells it.
+      {"solver:\n  max_sigma_yaw_deg: 0\n",
+       "calibrate.yaml:2: solver.max_sigma_yaw_deg must be in (0, 180], got 0"},
+      {"solver:\n  heading_drift_sigma_deg_per_h: -2\n",
+       "calibrate.yaml:2: solver.heading_drift_sigma_deg_per_h must be >= 0, got -2"},
+      {"detector:\n  hough_rho_step_m: 2\n",
+       "calibrate.yaml:2: detector.hough_rho_step_m must be in [0.0001, 1], got 2"},
+      {"acceptance:\n  max_change_sigmas: -3\n",
+       "calibrate.yaml:2: acceptance.max_change_sigmas must be > 0, got -3"},
+      {"alignment:\n  min_dwell_s: -1\n", "calibrate.yaml:2: alignment.min_dwell_s must be >= 0"},
+      {"first_pass_max_scans: 0\n", "calibrate.yaml:1: first_pass_max_scans must be >= 1, got 0"},
+      // A check across keys: the accumulator the steps ask for.
+      {"detector:\n  hough_rho_step_m: 0.0001\n  hough_theta_step_deg: 0.01\n",
+       "calibrate.yaml:2: detector.hough_rho_step_m must be large enough"},
       {"acceptance:\n  relative_max_sigma_xy_m: 0\n",
-       "acceptance.relative_max_sigma_xy_m must be > 0"},
+       "calibrate.yaml:2: acceptance.relative_max_sigma_xy_m must be > 0, got 0"},
   };
-  for (const auto& [yaml, message] : kBad) {
-    SCOPED_TRACE(yaml);
-    testing_support::ExpectContains(testing_support::MessageOf<InputError>([&dir, yaml = yaml] {
-                                      ReadCalibrateOptions(WriteFile(dir + "/calibrate.yaml", yaml));
-                                    }),
-                                    {message});
-  }
+  testing_support::ExpectEachThrows<InputError>(kBad, [&dir](const char* yaml) {
+    ReadCalibrateOptions(WriteFile(dir + "/calibrate.yaml", yaml));
+  });
 }
 
 }  // namespace

@@ -19,7 +19,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "test/support/program_runner.h"
-#include "test/support/scratch_dir.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal {
 namespace {
@@ -40,18 +40,9 @@ void WriteText(const fs::path& path, const std::string& text) {
   std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
 }
 
-// An empty folder in this process's scratch folder.
-fs::path FreshDir(const std::string& name) {
-  static const testing_support::ScratchDir scratch("wallcal_rover_");
-  const fs::path dir = scratch.path() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 // The simulated rover session of `seed`, written once per test.
 fs::path SimulatedRoverSession(int seed) {
-  const fs::path dir = FreshDir("rover_" + std::to_string(seed));
+  const fs::path dir = testing_support::FreshScratchDir("rover_" + std::to_string(seed));
   const testing_support::ProgramRun run = testing_support::RunWallcal(
       {"simulate", "--config", kScenario.string(), "--seed", std::to_string(seed), "--output",
        dir.string()});
@@ -167,7 +158,7 @@ TEST(RoverSessionTest, ControlPointsWithARoverSurveyAreRefused) {
 }
 
 TEST(RoverSessionTest, TotalStationSurveyWithoutControlIsRefused) {
-  const fs::path dir = FreshDir("no_control");
+  const fs::path dir = testing_support::FreshScratchDir("no_control");
   fs::copy(kSample, dir, fs::copy_options::recursive);
   std::string session = ReadText(dir / "session.yaml");
   const size_t control = session.find("  control:\n");

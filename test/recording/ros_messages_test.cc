@@ -274,29 +274,29 @@ INSTANTIATE_TEST_SUITE_P(BothWires, RoundTripTest,
                          });
 
 TEST(DecodeFailureTest, TruncatedLaserScanStopsWhereTheFieldStarts) {
-  const std::vector<uint8_t> ros1 = EncodeLaserScan(TinyScan(), WireFormat::kRos1);
-  LaserScanMsg m;
-  // Cut inside the ranges (they start at 50, after their count at 46).
-  DecodeResult r = DecodeLaserScan(ros1.data(), 54, WireFormat::kRos1, &m);
-  EXPECT_EQ(r.failure, DecodeFailure::kTooShort);
-  EXPECT_EQ(r.offset, 50u);
-  EXPECT_NE(r.detail.find("ranges"), std::string::npos) << r.detail;
-  // Cut inside the frame id's bytes (they start at 16).
-  r = DecodeLaserScan(ros1.data(), 17, WireFormat::kRos1, &m);
-  EXPECT_EQ(r.failure, DecodeFailure::kTooShort);
-  EXPECT_EQ(r.offset, 16u);
-  // CDR cut inside the padding before angle_min (padding at 19, the float at 20).
-  const std::vector<uint8_t> cdr = EncodeLaserScan(TinyScan(), WireFormat::kCdr);
-  r = DecodeLaserScan(cdr.data(), 19, WireFormat::kCdr, &m);
-  EXPECT_EQ(r.failure, DecodeFailure::kTooShort);
-  EXPECT_EQ(r.offset, 19u);
-  r = DecodeLaserScan(cdr.data(), 22, WireFormat::kCdr, &m);
-  EXPECT_EQ(r.failure, DecodeFailure::kTooShort);
-  EXPECT_EQ(r.offset, 20u);
-  EXPECT_NE(r.detail.find("angle_min"), std::string::npos) << r.detail;
-  r = DecodeLaserScan(cdr.data(), 2, WireFormat::kCdr, &m);
-  EXPECT_EQ(r.failure, DecodeFailure::kTooShort);
-  EXPECT_EQ(r.offset, 0u);
+  // A cut of TinyScan's bytes: where the decode stops and the field it names ("": any).
+  struct Cut {
+    WireFormat wire;
+    size_t size;
+    size_t offset;
+    const char* field;
+  };
+  const Cut cuts[] = {
+      {WireFormat::kRos1, 54, 50, "ranges"},    // in the ranges (at 50, after their count at 46)
+      {WireFormat::kRos1, 17, 16, ""},          // in the frame id's bytes (they start at 16)
+      {WireFormat::kCdr, 19, 19, ""},           // in the padding before angle_min (at 19)
+      {WireFormat::kCdr, 22, 20, "angle_min"},  // in angle_min (at 20)
+      {WireFormat::kCdr, 2, 0, ""},             // in the encapsulation header
+  };
+  for (const Cut& cut : cuts) {
+    SCOPED_TRACE(cut.size);
+    const std::vector<uint8_t> bytes = EncodeLaserScan(TinyScan(), cut.wire);
+    LaserScanMsg m;
+    const DecodeResult r = DecodeLaserScan(bytes.data(), cut.size, cut.wire, &m);
+    EXPECT_EQ(r.failure, DecodeFailure::kTooShort);
+    EXPECT_EQ(r.offset, cut.offset);
+    EXPECT_NE(r.detail.find(cut.field), std::string::npos) << r.detail;
+  }
 }
 
 TEST(DecodeFailureTest, EveryPrefixOfEveryTypeFailsWithinItsLength) {

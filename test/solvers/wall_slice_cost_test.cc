@@ -114,34 +114,51 @@ WallSliceCost* AddSlice(const std::vector<WallLineMeasurement>& scans, double hu
   return cost;
 }
 
-void ExpectSame(double huber_scale, bool both_regions, bool standing = false,
-                double tolerance = 1e-12) {
-  std::mt19937 rng(11);
+// The slice (the form under test) against the reference: each scan of Scans(19) its own
+// WallLineCost block, `weight` times over, with a Huber loss of `huber_scale` (0: none). The
+// slice takes each scan once as an observation standing for `weight` scans (W carries
+// √weight): the loss applies per scan, not to the weighted residual. Same cost, gradient and
+// normal matrix within `tolerance`. both_regions: at least 4 scans on each side of the loss's
+// corner.
+void ExpectSliceIsPerScanBlocks(double huber_scale, int weight, bool both_regions, bool standing,
+                                double tolerance, unsigned seed) {
+  std::mt19937 rng(seed);
   Blocks per_scan_blocks, slice_blocks;
   const std::vector<WallLineMeasurement> scans = Scans(19, per_scan_blocks, &rng, standing);
   ceres::Problem per_scan;
   ceres::LossFunction* loss = huber_scale > 0.0 ? new ceres::HuberLoss(huber_scale) : nullptr;
   int beyond = 0;
-  for (const WallLineMeasurement& m : scans) {
+  std::vector<WallLineMeasurement> weighted = scans;
+  for (size_t i = 0; i < scans.size(); ++i) {
     double r[2];
     const double* p[6] = {per_scan_blocks.mount.data(), per_scan_blocks.wall.data(),
                           per_scan_blocks.bias.data(),  per_scan_blocks.time.data(),
                           per_scan_blocks.heading.data(), per_scan_blocks.drift.data()};
-    EvaluateWallLine(m, p, r, nullptr);
+    EvaluateWallLine(scans[i], p, r, nullptr);
+    // Beyond the corner per scan, though a weighted residual of scans within it may not be.
     if (std::hypot(r[0], r[1]) > huber_scale) ++beyond;
-    per_scan.AddResidualBlock(WallLineCost::Create(m), loss, per_scan_blocks.mount.data(),
-                              per_scan_blocks.wall.data(), per_scan_blocks.bias.data(),
-                              per_scan_blocks.time.data(), per_scan_blocks.heading.data(),
-                              per_scan_blocks.drift.data());
+    for (int c = 0; c < weight; ++c) {
+      per_scan.AddResidualBlock(WallLineCost::Create(scans[i]), loss,
+                                per_scan_blocks.mount.data(), per_scan_blocks.wall.data(),
+                                per_scan_blocks.bias.data(), per_scan_blocks.time.data(),
+                                per_scan_blocks.heading.data(), per_scan_blocks.drift.data());
+    }
+    weighted[i].sqrt_information *= std::sqrt(static_cast<double>(weight));
+    weighted[i].weight = weight;
   }
   if (both_regions) {  // both regions of the loss are exercised
     ASSERT_GE(beyond, 4);
     ASSERT_LE(beyond, static_cast<int>(scans.size()) - 4);
   }
   ceres::Problem slice;
-  // The form under test.
-  ASSERT_EQ(AddSlice(scans, huber_scale, slice_blocks, &slice)->compressed(), standing);
+  ASSERT_EQ(AddSlice(weighted, huber_scale, slice_blocks, &slice)->compressed(), standing);
   ExpectAgree(Evaluate(per_scan, per_scan_blocks), Evaluate(slice, slice_blocks), tolerance);
+}
+
+// One block per scan against the slice, observations of weight 1 (seed 11).
+void ExpectSame(double huber_scale, bool both_regions, bool standing = false,
+                double tolerance = 1e-12) {
+  ExpectSliceIsPerScanBlocks(huber_scale, 1, both_regions, standing, tolerance, 11);
 }
 
 TEST(WallSliceCostTest, SameCostGradientAndNormalMatrixAsOneHuberBlockPerScan) {
@@ -182,43 +199,9 @@ TEST(WallSliceCostTest, CompressedOnlyWhenEveryScanSharesTheRows) {
 
 // A re-solve's observation standing for 3 scans (W carries √3) against 3 copies of it, one
 // Huber block each: the loss applies per scan, not to the weighted residual. In both forms.
-void ExpectWeightedIsCopies(bool standing, double tolerance) {
-  constexpr double kHuber = 2.0;
-  constexpr int kWeight = 3;
-  std::mt19937 rng(5);
-  Blocks copies_blocks, weighted_blocks;
-  const std::vector<WallLineMeasurement> scans = Scans(19, copies_blocks, &rng, standing);
-  ceres::Problem copies;
-  ceres::LossFunction* loss = new ceres::HuberLoss(kHuber);
-  int beyond = 0;
-  std::vector<WallLineMeasurement> weighted = scans;
-  for (size_t i = 0; i < scans.size(); ++i) {
-    double r[2];
-    const double* p[6] = {copies_blocks.mount.data(), copies_blocks.wall.data(),
-                          copies_blocks.bias.data(),  copies_blocks.time.data(),
-                          copies_blocks.heading.data(), copies_blocks.drift.data()};
-    EvaluateWallLine(scans[i], p, r, nullptr);
-    // Beyond the corner per scan, but the weighted residual of the scans within it would not be.
-    if (std::hypot(r[0], r[1]) > kHuber) ++beyond;
-    for (int c = 0; c < kWeight; ++c) {
-      copies.AddResidualBlock(WallLineCost::Create(scans[i]), loss, copies_blocks.mount.data(),
-                              copies_blocks.wall.data(), copies_blocks.bias.data(),
-                              copies_blocks.time.data(), copies_blocks.heading.data(),
-                              copies_blocks.drift.data());
-    }
-    weighted[i].sqrt_information *= std::sqrt(static_cast<double>(kWeight));
-    weighted[i].weight = kWeight;
-  }
-  ASSERT_GE(beyond, 4);
-  ASSERT_LE(beyond, static_cast<int>(scans.size()) - 4);
-  ceres::Problem slice;
-  ASSERT_EQ(AddSlice(weighted, kHuber, weighted_blocks, &slice)->compressed(), standing);
-  ExpectAgree(Evaluate(copies, copies_blocks), Evaluate(slice, weighted_blocks), tolerance);
-}
-
 TEST(WallSliceCostTest, AnObservationOfWeightWIsWScansEachWithItsOwnLoss) {
-  ExpectWeightedIsCopies(/*standing=*/false, 1e-12);
-  ExpectWeightedIsCopies(/*standing=*/true, 1e-10);
+  ExpectSliceIsPerScanBlocks(2.0, 3, true, /*standing=*/false, 1e-12, 5);
+  ExpectSliceIsPerScanBlocks(2.0, 3, true, /*standing=*/true, 1e-10, 5);
 }
 
 }  // namespace

@@ -44,6 +44,16 @@ std::string MessageOf(Call&& call) {
   return message;
 }
 
+// For each {input, part} of `cases`: `read(input)` throws an `Error` whose message contains
+// `part` (a bad file's text and what its message must say).
+template <class Error, class Cases, class Read>
+void ExpectEachThrows(const Cases& cases, Read&& read) {
+  for (const auto& [input, part] : cases) {
+    SCOPED_TRACE(input);
+    ExpectContains(MessageOf<Error>([&read, input = input] { read(input); }), {part});
+  }
+}
+
 // Expects a program to have exited with `expected_status` (`status` is what it exited with) and
 // `text`, what it printed, to contain every one of `parts`.
 inline void ExpectExitSaying(int status, int expected_status, const std::string& text,

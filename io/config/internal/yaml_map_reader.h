@@ -121,16 +121,18 @@ class MapReader : public OptionsMap {
     }
   }
 
-  // --- the visitor interface of io/config/options_map.h (all keys optional) ---
-  void Number(const std::string& key, double& out) override {
+  // --- the visitor interface of io/config/options_map.h (all keys optional; the checks are
+  // Validate()'s) ---
+  void Number(const std::string& key, double& out, const Check& /*check*/ = {}) override {
     const YAML::Node value = Find(key);
     if (value.IsDefined()) out = ToNumber(value, key);
   }
-  void Scaled(const std::string& key, double& out, double file_per_unit) override {
+  void Scaled(const std::string& key, double& out, double file_per_unit,
+              const Check& /*check*/ = {}) override {
     const YAML::Node value = Find(key);
     if (value.IsDefined()) out = ToNumber(value, key) / file_per_unit;
   }
-  void Integer(const std::string& key, int& out) override {
+  void Integer(const std::string& key, int& out, const Check& /*check*/ = {}) override {
     const YAML::Node value = Find(key);
     if (value.IsDefined()) out = ToInteger(value, key);
   }
@@ -143,7 +145,7 @@ class MapReader : public OptionsMap {
     }
     out = flag;
   }
-  void Text(const std::string& key, std::string& out) override {
+  void Text(const std::string& key, std::string& out, const Check& /*check*/ = {}) override {
     const YAML::Node value = Find(key);
     if (!value.IsDefined()) return;
     if (value.IsNull()) {

@@ -14,7 +14,7 @@
 
 #include "recording/mcap/internal/mcap_reader.h"
 #include "recording/mcap/internal/mcap_records.h"
-#include "recording/mcap/internal/mcap_source.h"
+#include "recording/internal/byte_source.h"
 
 namespace wallcal::recording::mcap {
 

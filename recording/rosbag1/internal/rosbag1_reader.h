@@ -32,9 +32,7 @@
 
 namespace wallcal::recording {
 
-namespace bag1 {
 class ByteSource;
-}
 
 // Opens a bag file. Throws io::InputError (see above).
 std::unique_ptr<Recording> OpenRos1Bag(const std::string& path);
@@ -44,7 +42,7 @@ std::unique_ptr<Recording> OpenRos1BagFromMemory(std::vector<uint8_t> bytes,
 
 class Ros1Bag : public Recording {
  public:
-  Ros1Bag(std::unique_ptr<bag1::ByteSource> source, const std::string& path);
+  Ros1Bag(std::unique_ptr<ByteSource> source, const std::string& path);
   ~Ros1Bag() override;
   Ros1Bag(const Ros1Bag&) = delete;
   Ros1Bag& operator=(const Ros1Bag&) = delete;
@@ -104,7 +102,7 @@ class Ros1Bag : public Recording {
   std::vector<uint8_t> LoadChunk(const Chunk& chunk) const;
   void BuildTopics(Index* index);
 
-  std::unique_ptr<bag1::ByteSource> source_;
+  std::unique_ptr<ByteSource> source_;
   uint64_t file_size_ = 0;
   uint64_t first_record_pos_ = 0;  // after the bag header record
   uint64_t index_pos_ = 0;

@@ -15,6 +15,8 @@
 #include <string_view>
 #include <vector>
 
+#include "recording/internal/byte_source.h"
+
 namespace wallcal::recording::bag1 {
 
 inline constexpr char kMagic[] = "#ROSBAG V2.0\n";
@@ -69,25 +71,6 @@ struct Fields {
 // Splits a header into fields. Returns "" on success, else what is wrong (a field length past
 // the end, a field without '=').
 std::string ParseFields(const uint8_t* data, size_t size, Fields* fields);
-
-// Random access to the bag's bytes: a file or a buffer in memory.
-class ByteSource {
- public:
-  virtual ~ByteSource() = default;
-  virtual uint64_t size() const = 0;
-  // Copies [offset, offset + count) into out; the caller keeps the range inside size().
-  // Throws io::InputError on a read error.
-  virtual void Read(uint64_t offset, size_t count, uint8_t* out) const = 0;
-  std::vector<uint8_t> ReadVector(uint64_t offset, size_t count) const {
-    std::vector<uint8_t> bytes(count);
-    if (count > 0) Read(offset, count, bytes.data());
-    return bytes;
-  }
-};
-
-// Throws io::InputError naming `path` when it cannot be opened.
-std::unique_ptr<ByteSource> OpenFileSource(const std::string& path);
-std::unique_ptr<ByteSource> MemorySource(std::vector<uint8_t> bytes);
 
 // One record located in a byte range: where its parts are, and its header fields. Not
 // copyable: `fields` views into `header_bytes`.

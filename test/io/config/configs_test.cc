@@ -28,9 +28,15 @@ const fs::path kConfigs = fs::path(WALLCAL_SOURCE_DIR) / "configs";
 struct KeyValues {
   std::vector<std::pair<std::string, double>> values;
   std::string section;
-  void Number(const std::string& key, double& value) { values.push_back({section + key, value}); }
-  void Scaled(const std::string& key, double& value, double) { Number(key, value); }
-  void Integer(const std::string& key, int& value) { values.push_back({section + key, value}); }
+  void Number(const std::string& key, double& value, const io::Check& = {}) {
+    values.push_back({section + key, value});
+  }
+  void Scaled(const std::string& key, double& value, double, const io::Check& = {}) {
+    Number(key, value);
+  }
+  void Integer(const std::string& key, int& value, const io::Check& = {}) {
+    values.push_back({section + key, value});
+  }
   void Boolean(const std::string& key, bool& value) { values.push_back({section + key, value}); }
 };
 

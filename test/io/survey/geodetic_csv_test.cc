@@ -7,9 +7,12 @@
 
 #include "io/survey/survey_reader.h"
 #include "test/support/scratch_dir.h"
+#include "test/support/survey_points.h"
 
 namespace wallcal::io {
 namespace {
+
+using testing_support::ExpectPoint;
 
 std::string WriteFile(const std::string& name, const std::string& content) {
   static const testing_support::ScratchDir scratch("geodetic_csv_test_");
@@ -35,14 +38,9 @@ TEST(GeodeticCsvTest, ReadsARoverExport) {
                 "R001,43.071308123,141.339712345,72.5012,WALL1\n"
                 "R002,-34.600000001,-58.400000002,25.25,WALL1\n"));
   ASSERT_EQ(points.size(), 2u);
-  EXPECT_EQ(points[0].frame, SurveyFrame::kGeodetic);
-  EXPECT_EQ(points[0].id, "R001");
-  EXPECT_EQ(points[0].code, "WALL1");
-  EXPECT_DOUBLE_EQ(points[0].lat_deg, 43.071308123);
-  EXPECT_DOUBLE_EQ(points[0].lon_deg, 141.339712345);
-  EXPECT_DOUBLE_EQ(points[0].z_m, 72.5012);
-  EXPECT_EQ(points[0].sigma_m, 0.0);  // not given: the session's applies
-  EXPECT_EQ(points[0].line, 2);
+  // No precision column: sigma_m 0, the session's applies.
+  ExpectPoint(points[0], {SurveyFrame::kGeodetic, "R001", "WALL1",
+                          {43.071308123, 141.339712345, 72.5012}, 0.0, 2});
   EXPECT_DOUBLE_EQ(points[1].lat_deg, -34.600000001);
   EXPECT_DOUBLE_EQ(points[1].lon_deg, -58.400000002);
 }
@@ -68,13 +66,8 @@ TEST(GeodeticCsvTest, AcceptsRoverAppVariants) {
     const std::vector<SurveyPoint> points =
         ReadSurvey(WriteFile("variant" + std::to_string(index++) + ".csv", content));
     ASSERT_EQ(points.size(), 1u);
-    EXPECT_EQ(points[0].frame, SurveyFrame::kGeodetic);
-    EXPECT_EQ(points[0].id, "R001");
-    EXPECT_EQ(points[0].code, "WALL1");
-    EXPECT_DOUBLE_EQ(points[0].lat_deg, 43.0713);
-    EXPECT_DOUBLE_EQ(points[0].lon_deg, 141.3397);
-    EXPECT_DOUBLE_EQ(points[0].z_m, 72.5);
-    EXPECT_DOUBLE_EQ(points[0].sigma_m, 0.012);
+    ExpectPoint(points[0],
+                {SurveyFrame::kGeodetic, "R001", "WALL1", {43.0713, 141.3397, 72.5}, 0.012});
   }
 }
 

@@ -13,6 +13,7 @@
 
 #include "io/survey/survey_reader.h"
 #include "test/support/expect_text.h"
+#include "test/support/survey_points.h"
 
 namespace wallcal::io {
 namespace {
@@ -147,11 +148,8 @@ TEST(LeicaGsiTest, EveryLineEndIsRecognised) {
     std::istringstream in(lines[0] + eol + lines[1] + eol);
     const std::vector<SurveyPoint> points = ParseSurvey(in, "job.gsi");
     ASSERT_EQ(points.size(), 2u);
-    EXPECT_EQ(points[1].id, "W001");
-    EXPECT_EQ(points[1].code, "WALL1");
-    EXPECT_DOUBLE_EQ(points[1].x_m, 110.0);
-    EXPECT_DOUBLE_EQ(points[1].y_m, 205.0);
-    EXPECT_EQ(points[1].line, 2);
+    testing_support::ExpectPoint(
+        points[1], {SurveyFrame::kLocal, "W001", "WALL1", {110.0, 205.0, 1.5}, 0.0, 2});
   }
 }
 
@@ -268,11 +266,8 @@ TEST(LeicaGsiTest, RealGsi8JobReductionAgreesWithItsStoredCoordinates) {
   EXPECT_EQ(stored, 689);
   EXPECT_EQ(from_setup, 4);   // lines 525, 526, 529, 530
   EXPECT_EQ(from_origin, 2);  // lines 496, 497, before the first set-up
-  EXPECT_EQ(points[0].id, "1");
-  EXPECT_EQ(points[0].code, "1");
-  EXPECT_DOUBLE_EQ(points[0].x_m, 515.836);
-  EXPECT_DOUBLE_EQ(points[0].y_m, 525.871);
-  EXPECT_DOUBLE_EQ(points[0].z_m, 3.079);
+  testing_support::ExpectPoint(points[0],
+                               {SurveyFrame::kLocal, "1", "1", {515.836, 525.871, 3.079}});
 
   // Ids 1.. are used twice for different points (11.7 m to 114 m apart): nothing is averaged.
   const SurveyCombination combined = CombineSurveyObservations(points);

@@ -2,6 +2,7 @@
 #include "io/survey/survey_reader.h"
 #include "test/support/expect_text.h"
 #include "test/support/scratch_files.h"
+#include "test/support/survey_points.h"
 
 #include <gtest/gtest.h>
 
@@ -14,6 +15,7 @@ namespace wallcal::io {
 namespace {
 
 namespace fs = std::filesystem;
+using testing_support::ExpectPoint;
 using testing_support::WriteScratchFile;
 
 TEST(SurveyReaderTest, ReadsTheSessionExample) {
@@ -22,12 +24,7 @@ TEST(SurveyReaderTest, ReadsTheSessionExample) {
   ASSERT_EQ(points.size(), 2u);
   EXPECT_EQ(points[0].id, "C1");
   EXPECT_EQ(points[0].code, "CTRL");
-  EXPECT_EQ(points[1].id, "W001");
-  EXPECT_EQ(points[1].code, "WALL1");
-  EXPECT_DOUBLE_EQ(points[1].x_m, 1.002);
-  EXPECT_DOUBLE_EQ(points[1].y_m, 10.013);
-  EXPECT_DOUBLE_EQ(points[1].z_m, 0.512);
-  EXPECT_EQ(points[1].line, 3);
+  ExpectPoint(points[1], {SurveyFrame::kLocal, "W001", "WALL1", {1.002, 10.013, 0.512}, 0.0, 3});
   EXPECT_EQ(points[1].source, SurveySource::kCoordinates);
   EXPECT_EQ(points[1].observations, 1);
 }
@@ -40,10 +37,7 @@ TEST(SurveyReaderTest, ReadsEveryLineEnd) {
         "eol.csv", "# job" + eol + "id,x,y,z,code" + eol + "C1,0.000,0.000,0.000,CTRL" + eol +
                        eol + "W001,1.002,10.013,0.512,WALL1" + eol));
     ASSERT_EQ(points.size(), 2u);
-    EXPECT_EQ(points[1].id, "W001");
-    EXPECT_EQ(points[1].code, "WALL1");
-    EXPECT_DOUBLE_EQ(points[1].y_m, 10.013);
-    EXPECT_EQ(points[1].line, 5);
+    ExpectPoint(points[1], {SurveyFrame::kLocal, "W001", "WALL1", {1.002, 10.013, 0.512}, 0.0, 5});
   }
 }
 
@@ -52,11 +46,7 @@ TEST(SurveyReaderTest, ReadsEveryLineEnd) {
 // 0.512).
 void ExpectOnlyW001(const std::vector<SurveyPoint>& points) {
   ASSERT_EQ(points.size(), 1u);
-  EXPECT_EQ(points[0].id, "W001");
-  EXPECT_EQ(points[0].code, "WALL1");
-  EXPECT_DOUBLE_EQ(points[0].x_m, 1.002);
-  EXPECT_DOUBLE_EQ(points[0].y_m, 10.013);
-  EXPECT_DOUBLE_EQ(points[0].z_m, 0.512);
+  ExpectPoint(points[0], {SurveyFrame::kLocal, "W001", "WALL1", {1.002, 10.013, 0.512}});
 }
 
 TEST(SurveyReaderTest, ReadsUnitsSemicolonsDecimalCommasAndTabs) {

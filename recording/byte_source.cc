@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "recording/mcap/internal/mcap_source.h"
+#include "recording/internal/byte_source.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -9,14 +9,21 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <stdexcept>
 
 #include "io/types.h"
-#include "recording/mcap/internal/mcap_records.h"
 
-namespace wallcal::recording::mcap {
+namespace wallcal::recording {
 
-std::string At(const std::string& path, uint64_t offset, const std::string& message) {
-  return path + ":" + std::to_string(offset) + ": " + message;
+std::vector<uint8_t> ByteSource::Bytes(uint64_t offset, uint64_t n) const {
+  if (offset > size() || n > size() - offset) {
+    throw std::logic_error("recording reader: bytes [" + std::to_string(offset) + ", +" +
+                           std::to_string(n) + ") asked of a " + std::to_string(size()) +
+                           "-byte source");
+  }
+  std::vector<uint8_t> out(static_cast<size_t>(n));
+  if (n > 0) Read(offset, static_cast<size_t>(n), out.data());
+  return out;
 }
 
 uint32_t ByteSource::Crc(uint64_t offset, uint64_t n, uint32_t crc) const {
@@ -46,9 +53,11 @@ class FileSource : public ByteSource {
       const ssize_t got = ::pread(fd_, out, n, static_cast<off_t>(offset));
       if (got < 0 && errno == EINTR) continue;
       if (got <= 0) {
-        throw io::InputError(At(path_, offset,
-                                got == 0 ? "file shorter than when it was opened"
-                                         : std::string("read failed: ") + std::strerror(errno)));
+        throw io::InputError(io::Where(
+            path_, 0,
+            "byte " + std::to_string(offset) + ": " +
+                (got == 0 ? "file shorter than when it was opened"
+                          : std::string("read failed: ") + std::strerror(errno))));
       }
       out += got;
       offset += static_cast<uint64_t>(got);
@@ -67,7 +76,7 @@ class BufferSource : public ByteSource {
   explicit BufferSource(std::vector<uint8_t> bytes) : bytes_(std::move(bytes)) {}
   uint64_t size() const override { return bytes_.size(); }
   void Read(uint64_t offset, size_t n, uint8_t* out) const override {
-    std::memcpy(out, bytes_.data() + offset, n);
+    if (n > 0) std::memcpy(out, bytes_.data() + offset, n);
   }
 
  private:
@@ -92,4 +101,4 @@ std::unique_ptr<ByteSource> MemorySource(std::vector<uint8_t> bytes) {
   return std::make_unique<BufferSource>(std::move(bytes));
 }
 
-}  // namespace wallcal::recording::mcap
+}  // namespace wallcal::recording
