@@ -32,25 +32,19 @@ Fate Classify(float raw_m, double corrected_m, const io::ScanRecord& scan,
   return Fate::kValid;
 }
 
-void CountFate(Fate fate, RangeCounts* counts) {
+// The counter of `fate` in *counts.
+int64_t& Counter(Fate fate, RangeCounts* counts) {
   switch (fate) {
-    case Fate::kValid:
-      ++counts->valid;
-      break;
-    case Fate::kNonFinite:
-      ++counts->non_finite;
-      break;
-    case Fate::kErrorCode:
-      ++counts->error_code;
-      break;
-    case Fate::kNoReturn:
-      ++counts->no_return;
-      break;
-    case Fate::kTooClose:
-      ++counts->too_close;
-      break;
+    case Fate::kNonFinite: return counts->non_finite;
+    case Fate::kErrorCode: return counts->error_code;
+    case Fate::kNoReturn: return counts->no_return;
+    case Fate::kTooClose: return counts->too_close;
+    case Fate::kValid: break;
   }
+  return counts->valid;
 }
+
+void CountFate(Fate fate, RangeCounts* counts) { ++Counter(fate, counts); }
 
 }  // namespace
 
