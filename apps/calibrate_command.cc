@@ -22,6 +22,7 @@
 #include "io/output_file.h"
 #include "outputs/emit.h"
 #include "outputs/multi_offsets.h"
+#include "outputs/multi_report.h"
 #include "outputs/offsets_document.h"
 #include "outputs/report.h"
 #include "outputs/summary.h"
@@ -58,7 +59,9 @@ const CommandHelp& CalibrateHelp() {
            "also write DIR/report.html: one self-contained page (inline SVG plots, no\n"
            "script, nothing fetched) showing the mount and its uncertainty, the site,\n"
            "scans, the Hough accumulator, residuals, heading coverage and the counts\n"
-           "(docs/report.md). Written even when the mount is not determined."},
+           "(docs/report.md). Written even when the mount is not determined. With\n"
+           "scanners: in session.yaml, DIR/ID/report.html for each scanner and\n"
+           "DIR/index.html: every scanner, the relative transforms, one site map"},
           {"--emit", "", "FORMAT", ValueKind::kChoice, {"ros2-static-tf", "urdf", "json"},
            "print the mount for a navigation stack: ros2-static-tf (a\n"
            "`ros2 run tf2_ros static_transform_publisher ...` line), urdf (a fixed\n"
@@ -81,7 +84,10 @@ const CommandHelp& CalibrateHelp() {
           {"--compare", "", "FILE", ValueKind::kFile, {},
            "an earlier offsets.yaml: the change since then (mm, degrees and combined\n"
            "sigma) in the summary, offsets.yaml and the report; the verdict says\n"
-           "REVIEW when it is beyond the acceptance tolerances"},
+           "REVIEW when it is beyond the acceptance tolerances. With scanners: in\n"
+           "session.yaml, each scanner is compared by id (with a one-scanner file,\n"
+           "the scanner whose frame is its child_frame) and each relative transform\n"
+           "by (from, to); a scanner found in one file only is named"},
           {"--allow-partial", "", "", ValueKind::kNone, {},
            "with several scanners (session.yaml scanners:), write the others when\n"
            "one is refused (by default the run fails, exit 1)"},
@@ -235,6 +241,16 @@ int CalibrateSeveral(wallcal::pipeline::CalibrateRequest request, bool allow_par
     } catch (const std::exception& error) {
       std::cerr << "calibrate: warning: report of scanner '" << run.spec.id
                 << "' not written: " << wallcal::io::EscapeControl(error.what()) << "\n";
+    }
+  }
+  // The run's page, REPORT/index.html: every scanner, the relative transforms, one site map.
+  if (!report_dir.empty()) {
+    try {
+      const std::string path = outputs::WriteSeveralReport(several, report_dir);
+      summary_out << "  report     " << wallcal::io::EscapeControl(path) << "\n";
+    } catch (const std::exception& error) {
+      std::cerr << "calibrate: warning: report index not written: "
+                << wallcal::io::EscapeControl(error.what()) << "\n";
     }
   }
   if (several.outcome == pipeline::SeveralOutcome::kFailed) {

@@ -344,4 +344,24 @@ struct PreviousOffsets {
   std::string created_utc;  // empty when the file does not say
 };
 
+// An earlier offsets.yaml as `calibrate --compare` of a session with several scanners reads it:
+// each scanner's mount by id and each relative transform by (from, to). A one-scanner file
+// (`scanner_mount:`) gives one scanner whose id is its child_frame (`laser` when not written),
+// matched against the scanners' frames.
+struct PreviousScannerOffsets {
+  std::string id;
+  PreviousOffsets offsets;
+};
+struct PreviousRelativeOffsets {
+  std::string from_id, to_id;
+  PreviousOffsets offsets;  // the pose of `to` in the frame of `from`
+};
+struct PreviousSeveralOffsets {
+  std::string file;
+  std::string created_utc;  // empty when the file does not say
+  bool several = false;     // scanner_mounts: (false: one scanner_mount, matched by frame)
+  std::vector<PreviousScannerOffsets> scanners;  // in the file's order
+  std::vector<PreviousRelativeOffsets> relative;
+};
+
 }  // namespace wallcal::io

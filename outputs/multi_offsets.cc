@@ -15,6 +15,7 @@
 #include "io/version.h"
 #include "outputs/json_text.h"
 #include "outputs/offsets_document.h"
+#include "outputs/summary.h"
 
 namespace wallcal::outputs {
 namespace {
@@ -56,6 +57,8 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
   std::string out;
   out += "# Mounts of the scanners in the vehicle (GNSS antenna) frame: x forward, y left, yaw "
          "ccw.\n";
+  out += "# The run's verdict: the worst of the scanners' and the relative transforms' below.\n";
+  out += "verdict: " + DecisionYaml(several.decision) + "\n";
   out += "scanner_mounts:\n";
   std::vector<std::string> order;
   for (const pipeline::ScannerRun& run : several.scanners) {
@@ -75,6 +78,7 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
            ", headings_deg: {min: " + YamlNumber("%.4f", r.heading_min_deg) +
            ", max: " + YamlNumber("%.4f", r.heading_max_deg) + "}}\n";
     out += "    verdict: " + VerdictYaml(r) + "\n";
+    if (r.change) out += "    change_since_previous: " + ChangeYaml(*r.change) + "\n";
     for (const char* axis : {".x", ".y", ".yaw"}) order.push_back(run.spec.id + axis);
   }
   out += "# Pose of `to` in the frame of `from` (from = the scanner listed earlier).\n";
@@ -86,6 +90,10 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
       out += "  - from: " + YamlText(relative.from_id) + "\n";
       out += "    to: " + YamlText(relative.to_id) + "\n";
       out += MountKeys("    ", relative.mount.from_T_to, relative.mount.covariance);
+      out += "    verdict: " + DecisionYaml(relative.decision) + "\n";
+      if (relative.change) {
+        out += "    change_since_previous: " + ChangeYaml(*relative.change) + "\n";
+      }
     }
   }
   out += "joint_covariance:\n";
@@ -108,6 +116,17 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
                ", reason: " + YamlQuoted(run.result.estimate.message) + "}\n";
   }
   out += refused.empty() ? "refused: []\n" : "refused:\n" + refused;
+  if (!several.previous_input.role.empty()) {
+    const auto list = [](const std::vector<std::string>& ids) {
+      std::string text = "[";
+      for (size_t i = 0; i < ids.size(); ++i) text += (i ? ", " : "") + YamlText(ids[i]);
+      return text + "]";
+    };
+    out += "# --compare: the scanners found in one of the two files only.\n";
+    out += "compared_with: {previous: " + YamlQuoted(several.previous_input.path) +
+           ", not_in_previous: " + list(several.not_in_previous) +
+           ", only_in_previous: " + list(several.only_in_previous) + "}\n";
+  }
   out += "method: ceres\n";
   out += "source:\n";
   out += "  session: " + YamlQuoted(several.session.file) + "\n";
@@ -131,6 +150,12 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
                 "}\n";
     }
   }
+  const io::InputFileDigest& previous = several.previous_input;
+  if (!previous.role.empty() && seen.insert(previous.role + "\n" + previous.path).second) {
+    inputs += "    - {role: " + YamlQuoted(previous.role) + ", path: " +
+              YamlQuoted(previous.path) + ", sha256: " +
+              (previous.sha256.empty() ? std::string("null") : previous.sha256) + "}\n";
+  }
   if (!inputs.empty()) out += "  inputs:\n" + inputs;
   return out;
 }
@@ -138,6 +163,13 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
 std::string FormatSeveralSummary(const pipeline::SeveralScannersResult& several) {
   std::string out = "calibrate: " + several.session.name + ": " +
                     std::to_string(several.scanners.size()) + " scanners\n";
+  const auto reasons = [&out](const pipeline::Decision& decision) {
+    for (const std::string& reason : decision.reasons) out += "      - " + reason + "\n";
+  };
+  if (several.outcome != pipeline::SeveralOutcome::kFailed) {
+    out += std::string("  verdict    ") + pipeline::VerdictName(several.decision.verdict) +
+           " (the worst of the scanners and relative transforms below)\n";
+  }
   for (const pipeline::ScannerRun& run : several.scanners) {
     const pipeline::CalibrationResult& r = run.result;
     if (run.joint_index < 0) {
@@ -152,14 +184,27 @@ std::string FormatSeveralSummary(const pipeline::SeveralScannersResult& several)
            Format(", clock offset %.4f s, %d observations, %lld scans used", r.time_offset_s,
                   r.estimate.observations_used, static_cast<long long>(r.scans_used)) +
            "\n";
+    reasons(r.decision);
+    if (r.change) out += "    change " + ChangeText(*r.change) + "\n";
   }
   for (const pipeline::RelativeMountResult& relative : several.relative) {
     const solvers::Mount& m = relative.mount.from_T_to;
     const Eigen::Matrix3d& c = relative.mount.covariance;
-    out += "  " + relative.to_id + " in " + relative.from_id + ": " +
+    out += "  " + relative.to_id + " in " + relative.from_id + " (" +
+           pipeline::VerdictName(relative.decision.verdict) + "): " +
            Format("x %.4f ± %.4f m, y %.4f ± %.4f m, yaw %.3f ± %.3f deg", m.x_m, Sigma(c, 0),
                   m.y_m, Sigma(c, 1), m.yaw_rad * kRadToDeg, Sigma(c, 2) * kRadToDeg) +
            "\n";
+    reasons(relative.decision);
+    if (relative.change) out += "    change " + ChangeText(*relative.change) + "\n";
+  }
+  for (const std::string& id : several.not_in_previous) {
+    out += "  scanner '" + id + "' is not in " + several.previous_input.path +
+           ": nothing to compare it with\n";
+  }
+  for (const std::string& id : several.only_in_previous) {
+    out += "  scanner '" + id + "' of " + several.previous_input.path +
+           " is not calibrated in this run\n";
   }
   if (!several.message.empty()) out += "  " + several.message + "\n";
   out += Format("  time       %.1f s\n", several.seconds);

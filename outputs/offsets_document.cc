@@ -22,14 +22,16 @@ std::string Deg(double rad) { return std::isfinite(rad) ? Format("%.4f", rad * k
 std::string Ratio(double v) { return std::isfinite(v) ? Format("%.2f", v) : "null"; }
 }  // namespace
 
-std::string VerdictYaml(const CalibrationResult& result) {
-  std::string out = std::string("{verdict: ") + pipeline::VerdictName(result.decision.verdict) +
+std::string DecisionYaml(const pipeline::Decision& decision) {
+  std::string out = std::string("{verdict: ") + pipeline::VerdictName(decision.verdict) +
                     ", reasons: [";
-  for (size_t i = 0; i < result.decision.reasons.size(); ++i) {
-    out += (i ? ", " : "") + Quoted(result.decision.reasons[i]);
+  for (size_t i = 0; i < decision.reasons.size(); ++i) {
+    out += (i ? ", " : "") + Quoted(decision.reasons[i]);
   }
   return out + "]}";
 }
+
+std::string VerdictYaml(const CalibrationResult& result) { return DecisionYaml(result.decision); }
 
 std::string BudgetYaml(const analysis::ErrorBudget& b) {
   // σ per source (the square root of the variance it explains), mm and degrees.

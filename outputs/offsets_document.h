@@ -16,6 +16,7 @@ io::OffsetsDocument MakeOffsetsDocument(const pipeline::CalibrationResult& resul
 
 // "{verdict: ACCEPT, reasons: [...]}" and the like, shared with the report's tests.
 std::string VerdictYaml(const pipeline::CalibrationResult& result);
+std::string DecisionYaml(const pipeline::Decision& decision);
 std::string BudgetYaml(const analysis::ErrorBudget& budget);
 std::string ChangeYaml(const pipeline::Change& change);
 

@@ -114,6 +114,28 @@ inline std::string Ramp(double t) {
 
 // ---- The page --------------------------------------------------------------------------------
 
+// The pages' style sheet (the one-scanner report and the page of several scanners).
+inline constexpr const char* kReportStyle =
+    "body{font-family:sans-serif;font-size:14px;color:#222;margin:16px 24px;max-width:1240px}\n"
+    "h1{font-size:22px;margin:4px 0}h2{font-size:18px;border-bottom:1px solid #ccc;"
+    "margin-top:28px}\n"
+    "p.meta{color:#555;margin:2px 0 8px 0}nav a{margin-right:12px}\n"
+    "table{border-collapse:collapse;margin:6px 0}th,td{border:1px solid #ddd;padding:3px 8px;"
+    "text-align:left;vertical-align:top}th{background:#f4f4f4;font-weight:normal}\n"
+    "td.num{text-align:right;font-variant-numeric:tabular-nums}\n"
+    ".flex{display:flex;flex-wrap:wrap;gap:12px;align-items:flex-start}\n"
+    "figure{margin:0;display:inline-block}figcaption{font-size:12px;color:#444;"
+    "max-width:600px;margin-top:2px}\n"
+    "svg.plot{border:1px solid #ddd;font-family:sans-serif;font-size:11px}\n"
+    "svg text.ptitle{font-size:13px;font-weight:bold}svg text.label{font-size:12px}\n"
+    "svg text.legend{font-size:11px}\n"
+    ".warn{color:#a15c00}.bad{color:#b00020;font-weight:bold}.ok{color:#1b7a1b}\n"
+    ".big td,.big th{font-size:16px}\n"
+    ".verdict{font-size:26px;font-weight:bold;padding:6px 14px;display:inline-block;"
+    "border-radius:4px;color:#fff}.v-accept{background:#1b7a1b}.v-review{background:#b36b00}"
+    ".v-reject{background:#b00020}\n"
+    "details{margin-top:28px}summary{font-size:16px;cursor:pointer}\n";
+
 class ReportBuilder {
  public:
   explicit ReportBuilder(const CalibrationResult& result)
@@ -126,26 +148,7 @@ class ReportBuilder {
   std::string Build();
 
  private:
-  static constexpr const char* kStyle =
-      "body{font-family:sans-serif;font-size:14px;color:#222;margin:16px 24px;max-width:1240px}\n"
-      "h1{font-size:22px;margin:4px 0}h2{font-size:18px;border-bottom:1px solid #ccc;"
-      "margin-top:28px}\n"
-      "p.meta{color:#555;margin:2px 0 8px 0}nav a{margin-right:12px}\n"
-      "table{border-collapse:collapse;margin:6px 0}th,td{border:1px solid #ddd;padding:3px 8px;"
-      "text-align:left;vertical-align:top}th{background:#f4f4f4;font-weight:normal}\n"
-      "td.num{text-align:right;font-variant-numeric:tabular-nums}\n"
-      ".flex{display:flex;flex-wrap:wrap;gap:12px;align-items:flex-start}\n"
-      "figure{margin:0;display:inline-block}figcaption{font-size:12px;color:#444;"
-      "max-width:600px;margin-top:2px}\n"
-      "svg.plot{border:1px solid #ddd;font-family:sans-serif;font-size:11px}\n"
-      "svg text.ptitle{font-size:13px;font-weight:bold}svg text.label{font-size:12px}\n"
-      "svg text.legend{font-size:11px}\n"
-      ".warn{color:#a15c00}.bad{color:#b00020;font-weight:bold}.ok{color:#1b7a1b}\n"
-      ".big td,.big th{font-size:16px}\n"
-      ".verdict{font-size:26px;font-weight:bold;padding:6px 14px;display:inline-block;"
-      "border-radius:4px;color:#fff}.v-accept{background:#1b7a1b}.v-review{background:#b36b00}"
-      ".v-reject{background:#b00020}\n"
-      "details{margin-top:28px}summary{font-size:16px;cursor:pointer}\n";
+  static constexpr const char* kStyle = kReportStyle;
 
   // ---- mount ----
   std::string MountSection();

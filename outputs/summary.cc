@@ -12,6 +12,20 @@ namespace wallcal::outputs {
 
 using pipeline::CalibrationResult;
 
+std::string ChangeText(const pipeline::Change& c) {
+  // A change below the printed digit is shown as +0.0, not −0.0 (the previous file's rounding
+  // alone makes the same data differ by a few µm).
+  const auto shown = [](double value, double digit) {
+    return std::abs(value) < 0.5 * digit ? 0.0 : value;
+  };
+  char line[512];
+  std::snprintf(line, sizeof(line),
+                "since %s: x %+.1f mm, y %+.1f mm, yaw %+.3f deg (%.1f, %.1f, %.1f combined sigma)",
+                c.previous_file.c_str(), shown(c.dx_m * 1e3, 0.1), shown(c.dy_m * 1e3, 0.1),
+                shown(c.dyaw_rad * kRadToDeg, 0.001), c.x_sigmas, c.y_sigmas, c.yaw_sigmas);
+  return line;
+}
+
 std::string FormatSummary(const CalibrationResult& result) {
   const solvers::MountEstimate& e = result.estimate;
   std::ostringstream out;
@@ -112,18 +126,7 @@ std::string FormatSummary(const CalibrationResult& result) {
       out << " (largest share of each variance)\n";
     }
     if (result.change) {
-      const pipeline::Change& c = *result.change;
-      // A change below the printed digit is shown as +0.0, not −0.0 (the previous file's
-      // rounding alone makes the same data differ by a few µm).
-      const auto shown = [](double value, double digit) {
-        return std::abs(value) < 0.5 * digit ? 0.0 : value;
-      };
-      std::snprintf(line, sizeof(line),
-                    "  change     since %s: x %+.1f mm, y %+.1f mm, yaw %+.3f deg (%.1f, %.1f, "
-                    "%.1f combined sigma)\n",
-                    c.previous_file.c_str(), shown(c.dx_m * 1e3, 0.1), shown(c.dy_m * 1e3, 0.1),
-                    shown(c.dyaw_rad * kRadToDeg, 0.001), c.x_sigmas, c.y_sigmas, c.yaw_sigmas);
-      out << line;
+      out << "  change     " << ChangeText(*result.change) << "\n";
     }
     std::snprintf(line, sizeof(line),
                   "  residuals  RMS %.4f m over %d of %zu wall observations (%d down-weighted as "

@@ -10,4 +10,8 @@ namespace wallcal::outputs {
 
 std::string FormatSummary(const pipeline::CalibrationResult& result);
 
+// "since FILE: x +1.2 mm, y -0.3 mm, yaw +0.012 deg (0.4, 0.1, 0.3 combined sigma)": the
+// change line of the summary (one scanner, each of several, each relative transform).
+std::string ChangeText(const pipeline::Change& change);
+
 }  // namespace wallcal::outputs

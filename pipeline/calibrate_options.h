@@ -24,6 +24,17 @@ struct AcceptanceOptions {
   // A change is also REVIEW when it exceeds this many combined σ (σ_now² + σ_previous²)^½:
   // larger than the two calibrations' errors explain.
   double max_change_sigmas = 3.0;
+  // The relative transforms of a session with several scanners (the pose of one scanner in
+  // another's frame: what merging their scans needs). Its σ beyond them is REJECT, a change
+  // since the previous calibration beyond them REVIEW (max_change_sigmas applies too).
+  // Defaults: a relative yaw of 0.05° moves the other scanner's points by 9 mm at 10 m and
+  // 5 mm of x or y by 5 mm: together about an LMS 291's 10 mm range noise, so the merged scans
+  // of one wall stay one line within the noise. A change of twice that (0.1°, 10 mm) is more
+  // than two such calibrations differ by: one scanner was moved against the other.
+  double relative_max_sigma_xy_m = 0.005;
+  double relative_max_sigma_yaw_rad = 0.00087266463;  // 0.05 deg
+  double relative_max_change_xy_m = 0.01;
+  double relative_max_change_yaw_rad = 0.0017453293;  // 0.1 deg
   void Validate() const;
 };
 
@@ -35,6 +46,12 @@ void VisitAcceptanceOptions(V& v, AcceptanceOptions& o) {
   v.Number("max_change_xy_m", o.max_change_xy_m, io::Positive());
   v.Scaled("max_change_yaw_deg", o.max_change_yaw_rad, kRadToDeg, io::AboveUpTo(0.0, 180.0));
   v.Number("max_change_sigmas", o.max_change_sigmas, io::Positive());
+  v.Number("relative_max_sigma_xy_m", o.relative_max_sigma_xy_m, io::Positive());
+  v.Scaled("relative_max_sigma_yaw_deg", o.relative_max_sigma_yaw_rad, kRadToDeg,
+           io::AboveUpTo(0.0, 180.0));
+  v.Number("relative_max_change_xy_m", o.relative_max_change_xy_m, io::Positive());
+  v.Scaled("relative_max_change_yaw_deg", o.relative_max_change_yaw_rad, kRadToDeg,
+           io::AboveUpTo(0.0, 180.0));
 }
 
 // configs/calibrate.yaml: one section per module, each optional.

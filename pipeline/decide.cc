@@ -12,6 +12,7 @@
 #include "io/version.h"
 #include "pipeline/checks.h"
 #include "pipeline/config_dirs.h"
+#include "pipeline/several_verdict.h"
 #include "pipeline/steps.h"
 
 namespace wallcal::pipeline {
@@ -133,16 +134,7 @@ DecideStep Decide(const CalibrateRequest& request, const CalibrationResult& resu
   if (inputs.previous && result.estimate.usable) {
     step.change = CompareMounts(result.estimate, *inputs.previous);
   }
-  DecisionInputs in;
-  in.estimate = &result.estimate;
-  in.forced = result.forced;
-  in.sigma_known = result.sigma_known;
-  in.change = &step.change;
-  in.acceptance = &result.options.acceptance;
-  for (const analysis::ResidualTrend& t : result.residual_analysis.trends) {
-    in.flagged_trends += t.flagged ? 1 : 0;
-  }
-  step.decision = pipeline::Decide(in);
+  step.decision = DecideCalibration(result, step.change);
 
   Provenance& p = step.provenance;
   p.created_utc = NowUtcIso8601();

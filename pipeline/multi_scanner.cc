@@ -6,6 +6,8 @@
 #include <chrono>
 #include <memory>
 
+#include "common/sha256.h"
+#include "io/config/offsets_reader.h"
 #include "io/config/session_reader.h"
 
 namespace wallcal::pipeline {
@@ -19,12 +21,21 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
     throw io::InputError(io::Where(several.session.file, 1,
                                    "no scanners: list; expected scanners: [{id, model, log}, ...]"));
   }
+  // The previous calibration is read now: a bad --compare file fails before the work. The
+  // scanners' own runs do not read it (it holds every scanner; the joint estimate is compared).
+  std::optional<io::PreviousSeveralOffsets> previous;
+  if (!request.compare_path.empty()) {
+    previous = io::ReadPreviousSeveralOffsets(request.compare_path);
+    several.previous_input = {"previous_offsets", request.compare_path,
+                              Sha256OfFile(request.compare_path)};
+  }
   std::vector<std::string> refused;
   for (size_t s = 0; s < several.session.scanners.size(); ++s) {
     ScannerRun run;
     run.spec = several.session.scanners[s];
     CalibrateRequest one = request;
     one.scanner_index = static_cast<int>(s);
+    one.compare_path.clear();
     const std::string prefix = "scanner '" + run.spec.id + "': ";
     ProgressFn named;
     if (progress) {
@@ -104,6 +115,26 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
       several.relative.push_back(relative);
     }
   }
+  if (previous) {
+    const SeveralChanges changes = CompareSeveral(several, *previous);
+    for (size_t s = 0; s < several.scanners.size(); ++s) {
+      several.scanners[s].result.change = changes.scanners[s];
+    }
+    for (size_t r = 0; r < several.relative.size(); ++r) {
+      several.relative[r].change = changes.relative[r];
+    }
+    several.not_in_previous = changes.not_in_previous;
+    several.only_in_previous = changes.only_in_previous;
+  }
+  // Each scanner's verdict on its joint estimate (σ, change), as its own run decides it.
+  for (ScannerRun& run : several.scanners) {
+    if (run.joint_index >= 0) run.result.decision = DecideCalibration(run.result, run.result.change);
+  }
+  const AcceptanceOptions& acceptance = several.scanners.front().result.options.acceptance;
+  for (RelativeMountResult& relative : several.relative) {
+    relative.decision = DecideRelative(relative.mount, relative.change, acceptance);
+  }
+  several.decision = DecideSeveral(several);
   several.outcome = refused.empty() ? SeveralOutcome::kAll : SeveralOutcome::kPartial;
   if (!refused.empty()) several.message = "left out (--allow-partial): scanner " + refused_text;
   several.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -7,6 +7,7 @@
 // errors, one mount and one time block per scanner. The joint covariance gives each mount's σ
 // and each pair's relative transform with its σ. Nothing is written here.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 
 #include "io/types.h"
 #include "pipeline/calibration.h"
+#include "pipeline/several_verdict.h"
 #include "solvers/joint_mounts.h"
 
 namespace wallcal::pipeline {
@@ -26,7 +28,8 @@ struct ScannerRun {
   io::ScannerSpec spec;
   // Its own run; when it is in the joint adjustment, result.estimate.mount and .covariance are
   // replaced by the joint ones (its σ then includes what the other scanners tell about the
-  // shared errors).
+  // shared errors), and result.change and result.decision are the joint estimate's (against
+  // the --compare file's entry of this scanner).
   CalibrationResult result;
   // Its own run's estimate, before the joint adjustment replaced the mount and σ: what a
   // calibration of this scanner alone gives (the benchmark differences two of them).
@@ -38,6 +41,8 @@ struct ScannerRun {
 struct RelativeMountResult {
   std::string from_id, to_id;  // from: the scanner listed earlier in session.yaml
   solvers::RelativeMount mount;
+  std::optional<Change> change;  // since the --compare file's (from, to) entry, when it has one
+  Decision decision;             // against acceptance.relative_* (pipeline::DecideRelative)
 };
 
 struct SeveralScannersResult {
@@ -45,6 +50,13 @@ struct SeveralScannersResult {
   std::vector<ScannerRun> scanners;  // in session.yaml's order
   solvers::JointMountEstimate joint;  // over the scanners with joint_index >= 0, in that order
   std::vector<RelativeMountResult> relative;  // every pair of scanners in the joint adjustment
+  // --compare: the scanners in one file only (pipeline::SeveralChanges), and the file's digest
+  // for offsets.yaml's source.inputs (empty role: no --compare).
+  std::vector<std::string> not_in_previous, only_in_previous;
+  io::InputFileDigest previous_input;
+  // The run's verdict (pipeline::DecideSeveral): the worst of the scanners' and the relative
+  // transforms'. Decided when the joint adjustment gave a result.
+  Decision decision;
   SeveralOutcome outcome = SeveralOutcome::kFailed;
   std::string message;  // why kFailed or kPartial, naming the scanners
   double seconds = 0.0;
@@ -52,8 +64,10 @@ struct SeveralScannersResult {
 
 // Runs every scanner of request.session_path's `scanners:` and the joint adjustment.
 // allow_partial: a refused scanner does not fail the run while at least one other is
-// calibrated. Throws io::InputError for bad input (with the scanner's name where it is the
-// scanner's), and when the session has no `scanners:` list.
+// calibrated. request.compare_path (optional) is read as io::ReadPreviousSeveralOffsets: each
+// scanner and relative transform is compared with its entry there, and each scanner's verdict
+// is decided on the joint estimate. Throws io::InputError for bad input (with the scanner's
+// name where it is the scanner's), and when the session has no `scanners:` list.
 SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool allow_partial,
                                          const ProgressFn& progress = nullptr);
 

@@ -21,7 +21,9 @@
 #include <vector>
 
 #include "io/config/session_reader.h"
+#include "outputs/multi_report.h"
 #include "pipeline/calibration.h"
+#include "pipeline/multi_scanner.h"
 #include "sim/simulated_session.h"
 #include "test/support/expect_text.h"
 #include "test/support/flow_names.h"
@@ -373,6 +375,90 @@ TEST(ReportUnusableTest, ARefusedEstimateStillGivesAWellFormedReport) {
   EXPECT_EQ(XmlProblem(html), "");
   EXPECT_EQ(SelfContainedProblem(html), "");
   testing_support::ExpectContains(html, {"NOT DETERMINED", "id=\"counts\""});
+}
+
+// ---- The page of several scanners (outputs/multi_report.h) ----------------------------------
+
+TEST(SeveralReportTest, IndexShowsEachScannerTheRelativeTransformAndOneSiteMap) {
+  const fs::path dir = FreshScratchDir("two_scanners");
+  sim::SimulationConfig config = sim::ReadSimulationConfig(
+      std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/two_corner_scanners.yaml");
+  config.num_stations = 6;
+  config.dwell_s = 3.0;
+  WriteSimulatedSession(config, 7, dir.string());
+  CalibrateRequest request;
+  request.session_path = dir.string();
+  request.collect_report_data = true;
+  const pipeline::SeveralScannersResult several = pipeline::RunSeveralScanners(request, false);
+  ASSERT_EQ(several.outcome, pipeline::SeveralOutcome::kAll) << several.message;
+  const std::string html = outputs::FormatSeveralReportHtml(several);
+  EXPECT_EQ(XmlProblem(html), "");
+  // The links to the scanners' own pages beside it (ID/report.html) are the only references out
+  // of the page; a link is followed by the reader, never fetched.
+  std::string own_links_removed = html;
+  for (const pipeline::ScannerRun& run : several.scanners) {
+    const std::string link = "href=\"" + run.spec.id + "/report.html\"";
+    for (size_t at = own_links_removed.find(link); at != std::string::npos;
+         at = own_links_removed.find(link, at)) {
+      own_links_removed.replace(at, link.size(), "href=\"#scanners\"");
+    }
+  }
+  EXPECT_EQ(SelfContainedProblem(own_links_removed), "");
+  for (const char* id : {"decision", "scanners", "relative", "site-map"}) {
+    EXPECT_EQ(Count(html, std::string("id=\"") + id + "\""), 1) << id;
+  }
+  // One site map holds both scanners' detections and their positions at the stations.
+  EXPECT_EQ(Count(html, "<svg "), 1);
+  for (const pipeline::ScannerRun& run : several.scanners) {
+    const size_t drawn = std::min<size_t>(run.result.observations.size(), 1500);
+    EXPECT_NE(html.find(run.spec.id + ": detected wall lines (" + std::to_string(drawn) + " drawn)"),
+              std::string::npos)
+        << run.spec.id;
+    EXPECT_NE(html.find("<a href=\"" + run.spec.id + "/report.html\">"), std::string::npos);
+  }
+  testing_support::ExpectContains(
+      html, {"front_right in front_left", ">ACCEPT<", "acceptance.relative_*", "x, grid east (m)"});
+  // Each drawn detection lies on the surveyed wall it was matched to: within 0.1 m of its line
+  // (the mount's σ, 13 mm and 0.05° (13 mm at 15 m), and the RTK error, 15 mm, give a few cm
+  // at 4.5 σ; a wrong side or frame puts it metres off) and within its ends.
+  for (const pipeline::ScannerRun& run : several.scanners) {
+    for (const calib::WallObservation& o : run.result.observations) {
+      const calib::WallGeometry& wall = run.result.walls.at(o.wall_index);
+      const auto [a, b] = outputs::DetectionSegmentLocal(o, wall, run.result.estimate.mount);
+      const Eigen::Vector2d along = (wall.end_b_local - wall.end_a_local).normalized();
+      const Eigen::Vector2d normal(-along.y(), along.x());
+      for (const Eigen::Vector2d& p : {a, b}) {
+        ASSERT_LT(std::abs(normal.dot(p - wall.end_a_local)), 0.1) << run.spec.id;
+        const double s_m = along.dot(p - wall.end_a_local);
+        ASSERT_GT(s_m, -0.1) << run.spec.id;
+        ASSERT_LT(s_m, (wall.end_b_local - wall.end_a_local).norm() + 0.1) << run.spec.id;
+      }
+    }
+  }
+  // The relative transform with the digits of its sub-millimetre σ.
+  const pipeline::RelativeMountResult& relative = several.relative.at(0);
+  char x_text[64];
+  std::snprintf(x_text, sizeof(x_text), "%.5f &#177; %.5f m", relative.mount.from_T_to.x_m,
+                std::sqrt(relative.mount.covariance(0, 0)));
+  EXPECT_NE(html.find(x_text), std::string::npos) << x_text;
+}
+
+TEST(SeveralReportTest, AFailedRunStillGivesAWellFormedPage) {
+  pipeline::SeveralScannersResult several;
+  several.session.name = "two <scanners>";
+  pipeline::ScannerRun refused;
+  refused.spec.id = "rear";
+  refused.spec.frame = "rear";
+  refused.refused = true;
+  refused.result.estimate.message = "the wall was not detected";
+  several.scanners.push_back(refused);
+  several.outcome = pipeline::SeveralOutcome::kFailed;
+  several.message = "mount not determined for scanner 'rear'";
+  const std::string html = outputs::FormatSeveralReportHtml(several);
+  EXPECT_EQ(XmlProblem(html), "");
+  testing_support::ExpectContains(
+      html, {"NOT WRITTEN", "REFUSED", "the wall was not detected", "two &lt;scanners&gt;",
+             "Nothing to draw"});
 }
 
 }  // namespace

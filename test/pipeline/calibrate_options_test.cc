@@ -33,6 +33,9 @@ alignment:
 solver:
   heading_sigma_deg: 0.2
   min_heading_spread_deg: 30
+acceptance:
+  relative_max_sigma_yaw_deg: 0.02
+  relative_max_change_xy_m: 0.004
 first_pass_max_scans: 500
 )");
   const CalibrateOptions options = ReadCalibrateOptions(path);
@@ -44,6 +47,10 @@ first_pass_max_scans: 500
   EXPECT_NEAR(options.solver.heading_sigma_rad, 0.2 * kDegToRad, 1e-15);
   EXPECT_NEAR(options.solver.min_heading_spread_rad, 30.0 * kDegToRad, 1e-15);
   EXPECT_EQ(options.first_pass_max_scans, 500);
+  EXPECT_NEAR(options.acceptance.relative_max_sigma_yaw_rad, 0.02 * kDegToRad, 1e-15);
+  EXPECT_DOUBLE_EQ(options.acceptance.relative_max_change_xy_m, 0.004);
+  EXPECT_DOUBLE_EQ(options.acceptance.relative_max_sigma_xy_m,
+                   AcceptanceOptions().relative_max_sigma_xy_m);  // default
 }
 
 TEST(CalibrateOptionsTest, RejectsBadCalibrateOptions) {
@@ -71,6 +78,8 @@ TEST(CalibrateOptionsTest, RejectsBadCalibrateOptions) {
       // A check across keys: the accumulator the steps ask for.
       {"detector:\n  hough_rho_step_m: 0.0001\n  hough_theta_step_deg: 0.01\n",
        "calibrate.yaml:2: detector.hough_rho_step_m must be large enough"},
+      {"acceptance:\n  relative_max_sigma_xy_m: 0\n",
+       "calibrate.yaml:2: acceptance.relative_max_sigma_xy_m must be > 0, got 0"},
   };
   testing_support::ExpectEachThrows<InputError>(kBad, [&dir](const char* yaml) {
     ReadCalibrateOptions(WriteFile(dir + "/calibrate.yaml", yaml));

@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: Apache-2.0
+// Changes and verdicts of a run with several scanners (pipeline/several_verdict.h).
+
+#include "pipeline/several_verdict.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "common/angles.h"
+#include "common/format.h"
+#include "pipeline/multi_scanner.h"
+
+namespace wallcal::pipeline {
+
+Decision DecideCalibration(const CalibrationResult& result, const std::optional<Change>& change) {
+  DecisionInputs in;
+  in.estimate = &result.estimate;
+  in.forced = result.forced;
+  in.sigma_known = result.sigma_known;
+  in.change = &change;
+  in.acceptance = &result.options.acceptance;
+  for (const analysis::ResidualTrend& t : result.residual_analysis.trends) {
+    in.flagged_trends += t.flagged ? 1 : 0;
+  }
+  return Decide(in);
+}
+
+Decision DecideRelative(const solvers::RelativeMount& relative, const std::optional<Change>& change,
+                        const AcceptanceOptions& a) {
+  Decision d;
+  d.verdict = Verdict::kAccept;
+  auto flag = [&d](Verdict verdict, const std::string& why) {
+    d.verdict = std::max(d.verdict, verdict);  // the enum runs ACCEPT < REVIEW < REJECT
+    d.reasons.push_back(why);
+  };
+  const Eigen::Matrix3d& c = relative.covariance;
+  const double sx = std::sqrt(c(0, 0)), sy = std::sqrt(c(1, 1)), syaw = std::sqrt(c(2, 2));
+  if (!(std::max(sx, sy) <= a.relative_max_sigma_xy_m)) {
+    flag(Verdict::kReject, Format("σ x %.2f mm, y %.2f mm: beyond "
+                                  "acceptance.relative_max_sigma_xy_m %.2f mm",
+                                  sx * 1e3, sy * 1e3, a.relative_max_sigma_xy_m * 1e3));
+  }
+  if (!(syaw <= a.relative_max_sigma_yaw_rad)) {
+    flag(Verdict::kReject, Format("σ yaw %.4f°: beyond acceptance.relative_max_sigma_yaw_deg %.4f°",
+                                  syaw * kRadToDeg, a.relative_max_sigma_yaw_rad * kRadToDeg));
+  }
+  if (change) {
+    const Change& ch = *change;
+    if (std::max(std::abs(ch.dx_m), std::abs(ch.dy_m)) > a.relative_max_change_xy_m) {
+      flag(Verdict::kReview,
+           Format("moved x %+.1f mm, y %+.1f mm against the other scanner since %s: beyond "
+                  "acceptance.relative_max_change_xy_m %.1f mm (was one of them moved or bumped?)",
+                  ch.dx_m * 1e3, ch.dy_m * 1e3, ch.previous_file.c_str(),
+                  a.relative_max_change_xy_m * 1e3));
+    }
+    if (std::abs(ch.dyaw_rad) > a.relative_max_change_yaw_rad) {
+      flag(Verdict::kReview,
+           Format("turned %+.3f° against the other scanner since %s: beyond "
+                  "acceptance.relative_max_change_yaw_deg %.3f°",
+                  ch.dyaw_rad * kRadToDeg, ch.previous_file.c_str(),
+                  a.relative_max_change_yaw_rad * kRadToDeg));
+    }
+    const double largest = std::max({ch.x_sigmas, ch.y_sigmas, ch.yaw_sigmas});
+    if (largest > a.max_change_sigmas) {
+      flag(Verdict::kReview, Format("the change is %.1f combined σ: more than the two "
+                                    "calibrations' errors explain (acceptance.max_change_sigmas "
+                                    "%.1f)",
+                                    largest, a.max_change_sigmas));
+    }
+  }
+  return d;
+}
+
+Decision DecideSeveral(const SeveralScannersResult& several) {
+  Decision d;
+  d.verdict = Verdict::kAccept;
+  auto take = [&d](const Decision& part, const std::string& name) {
+    if (part.verdict == Verdict::kAccept) return;
+    d.verdict = std::max(d.verdict, part.verdict);
+    d.reasons.push_back(name + ": " + VerdictName(part.verdict));
+  };
+  bool any = false;
+  for (const ScannerRun& run : several.scanners) {
+    if (run.joint_index < 0) {
+      d.verdict = std::max(d.verdict, Verdict::kReview);
+      d.reasons.push_back(run.spec.id + ": left out (mount not determined)");
+      continue;
+    }
+    any = true;
+    take(run.result.decision, run.spec.id);
+  }
+  for (const RelativeMountResult& relative : several.relative) {
+    take(relative.decision, relative.to_id + " in " + relative.from_id);
+  }
+  if (!any) d.verdict = Verdict::kReject;
+  return d;
+}
+
+Change CompareRelative(const solvers::RelativeMount& now, const io::PreviousOffsets& previous) {
+  solvers::MountEstimate estimate;
+  estimate.mount = now.from_T_to;
+  estimate.covariance = now.covariance;
+  estimate.usable = true;
+  return CompareMounts(estimate, previous);
+}
+
+SeveralChanges CompareSeveral(const SeveralScannersResult& several,
+                              const io::PreviousSeveralOffsets& previous) {
+  SeveralChanges changes;
+  changes.scanners.resize(several.scanners.size());
+  changes.relative.resize(several.relative.size());
+  std::set<std::string> matched;
+  for (size_t s = 0; s < several.scanners.size(); ++s) {
+    const ScannerRun& run = several.scanners[s];
+    if (run.joint_index < 0) continue;
+    // A one-scanner file names its scanner by the frame it was calibrated as.
+    const std::string& key = previous.several ? run.spec.id : run.spec.frame;
+    bool found = false;
+    for (const io::PreviousScannerOffsets& old : previous.scanners) {
+      if (old.id != key) continue;
+      changes.scanners[s] = CompareMounts(run.result.estimate, old.offsets);
+      matched.insert(old.id);
+      found = true;
+      break;
+    }
+    if (!found) changes.not_in_previous.push_back(run.spec.id);
+  }
+  for (const io::PreviousScannerOffsets& old : previous.scanners) {
+    if (matched.count(old.id) == 0) changes.only_in_previous.push_back(old.id);
+  }
+  for (size_t r = 0; r < several.relative.size(); ++r) {
+    for (const io::PreviousRelativeOffsets& old : previous.relative) {
+      if (old.from_id == several.relative[r].from_id && old.to_id == several.relative[r].to_id) {
+        changes.relative[r] = CompareRelative(several.relative[r].mount, old.offsets);
+        break;
+      }
+    }
+  }
+  return changes;
+}
+
+}  // namespace wallcal::pipeline

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// The verdicts of a run with several scanners (pipeline/multi_scanner.h) and the change since
+// an earlier calibration (calibrate --compare): each scanner compared by id, each relative
+// transform by (from, to), the scanners found in one file only; a verdict on each scanner, on
+// each relative transform and on the whole run. Computed once here, shown by the summary,
+// offsets.yaml and the report.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/types.h"
+#include "pipeline/calibration.h"
+#include "pipeline/verdict.h"
+#include "solvers/joint_mounts.h"
+
+namespace wallcal::pipeline {
+
+struct SeveralScannersResult;
+
+// The change of each scanner and relative transform since the previous file (now − previous;
+// σ units from both covariances, pipeline::CompareMounts).
+struct SeveralChanges {
+  std::vector<std::optional<Change>> scanners;  // one per SeveralScannersResult::scanners
+  std::vector<std::optional<Change>> relative;  // one per SeveralScannersResult::relative
+  std::vector<std::string> not_in_previous;     // calibrated now, absent from the previous file
+  std::vector<std::string> only_in_previous;    // in the previous file, not calibrated now
+};
+
+// Matches `several`'s calibrated scanners with `previous`: by id when it lists scanner_mounts,
+// by the scanner's frame (its child_frame) when it holds one scanner_mount; the relative
+// transforms by (from, to). A refused scanner gets no change and is not "not in previous".
+SeveralChanges CompareSeveral(const SeveralScannersResult& several,
+                              const io::PreviousSeveralOffsets& previous);
+
+// The verdict of a scanner's result (pipeline::Decide) on the estimate, forced flag, σ and
+// flagged residual trends `result` holds, with `change`: a one-scanner run's on its own
+// estimate, a scanner of several's on the joint mount and σ.
+Decision DecideCalibration(const CalibrationResult& result, const std::optional<Change>& change);
+
+// The verdict of a relative transform against acceptance.relative_* (σ beyond them: REJECT;
+// a change beyond them or beyond max_change_sigmas combined σ: REVIEW).
+Decision DecideRelative(const solvers::RelativeMount& relative, const std::optional<Change>& change,
+                        const AcceptanceOptions& acceptance);
+
+// The run's verdict: the worst of the calibrated scanners' and the relative transforms', with
+// one reason per one that is not ACCEPT ("front_left: REVIEW"); a run that left a scanner out
+// (--allow-partial) is at least REVIEW. Reads each result's decision, so those come first.
+Decision DecideSeveral(const SeveralScannersResult& several);
+
+// The change of a relative transform since `previous` (CompareMounts on the pose of `to` in
+// `from` and its covariance).
+Change CompareRelative(const solvers::RelativeMount& now, const io::PreviousOffsets& previous);
+
+}  // namespace wallcal::pipeline
