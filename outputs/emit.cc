@@ -80,6 +80,14 @@ std::string UrdfTree(const std::vector<PlanarTransform>& joints, bool z_known) {
   return UrdfDocument(joints, z_known);
 }
 
+std::string JsonBaseLinkMember(const PlanarTransform* base_t) {
+  if (base_t == nullptr) return "  \"base_link\": null\n";
+  return "  \"base_link\": {\"parent_frame\": " + JsonString(base_t->parent) +
+         ", \"child_frame\": " + JsonString(base_t->child) + ", \"x_m\": " + Num(base_t->x_m) +
+         ", \"y_m\": " + Num(base_t->y_m) + ", \"z_m\": " + Num(base_t->z_m) +
+         ", \"yaw_rad\": 0, \"yaw_deg\": 0}\n";
+}
+
 bool ParseEmitFormat(const std::string& name, EmitFormat* format) {
   if (name == "ros2-static-tf") {
     *format = EmitFormat::kRos2StaticTf;
@@ -196,14 +204,7 @@ std::string FormatEmit(EmitFormat format, const solvers::MountEstimate& estimate
       } else {
         out += "  \"sigma\": null,\n  \"covariance\": null,\n";
       }
-      if (base_t) {
-        out += "  \"base_link\": {\"parent_frame\": " + JsonString(base_t->parent) +
-               ", \"child_frame\": " + JsonString(base_t->child) + ", \"x_m\": " +
-               Num(base_t->x_m) + ", \"y_m\": " + Num(base_t->y_m) + ", \"z_m\": " +
-               Num(base_t->z_m) + ", \"yaw_rad\": 0, \"yaw_deg\": 0}\n";
-      } else {
-        out += "  \"base_link\": null\n";
-      }
+      out += JsonBaseLinkMember(base_t ? &*base_t : nullptr);
       out += "}\n";
       break;
     }

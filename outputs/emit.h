@@ -65,6 +65,9 @@ std::string Ros2StaticTfLine(const PlanarTransform& transform);
 // A whole URDF document with one <link> per frame and one fixed <joint> per transform; z_known
 // false adds the note that z is 0 because the height is not known.
 std::string UrdfTree(const std::vector<PlanarTransform>& joints, bool z_known);
+// --emit json's last member: `  "base_link": {...}` for base_T_antenna, or null without
+// antenna_in_base (ends with a newline).
+std::string JsonBaseLinkMember(const PlanarTransform* base_t);
 
 // The emitted text (ends with a newline). One tree: with antenna_in_base the transforms are
 // base -> parent (base_T_antenna) and parent -> child (the mount); a frame never has two

@@ -255,7 +255,8 @@ std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScanners
         const PlanarTransform& t = joints[antenna ? i + 1 : i];
         const Eigen::Matrix3d& c = run.result.estimate.covariance;
         out += std::string(i ? ",\n" : "\n") + "    {\"id\": " + JsonString(run.spec.id) +
-               ", \"child_frame\": \"" + t.child + "\", \"mount\": {\"x_m\": " + JsonNum(t.x_m) +
+               ", \"child_frame\": " + JsonString(t.child) +
+               ", \"mount\": {\"x_m\": " + JsonNum(t.x_m) +
                ", \"y_m\": " + JsonNum(t.y_m) + ", \"z_m\": " + JsonNum(t.z_m) + ", \"yaw_rad\": " +
                JsonNum(t.yaw_rad) + ", \"yaw_deg\": " + JsonNum(t.yaw_rad * kRadToDeg) +
                "}, \"z_known\": " + (run.spec.z_m ? "true" : "false") + ", \"sigma\": {\"x_m\": " +
@@ -282,14 +283,7 @@ std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScanners
                JsonNum(Sigma(c, 2)) + ", \"yaw_deg\": " + JsonNum(Sigma(c, 2) * kRadToDeg) + "}}";
       }
       out += "\n  ],\n";
-      if (antenna) {
-        const PlanarTransform& b = joints.front();
-        out += "  \"base_link\": {\"parent_frame\": \"" + b.parent + "\", \"child_frame\": \"" +
-               b.child + "\", \"x_m\": " + JsonNum(b.x_m) + ", \"y_m\": " + JsonNum(b.y_m) +
-               ", \"z_m\": " + JsonNum(b.z_m) + ", \"yaw_rad\": 0, \"yaw_deg\": 0}\n";
-      } else {
-        out += "  \"base_link\": null\n";
-      }
+      out += JsonBaseLinkMember(antenna ? &joints.front() : nullptr);
       out += "}\n";
       break;
     }
