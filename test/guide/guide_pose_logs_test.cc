@@ -39,10 +39,9 @@ void WriteUpTo(const fs::path& path, const std::string& content, size_t bytes) {
 TEST(GuideSessionTest, ReadsThePoseLogsOnFromWhereTheyStopped) {
   const testing_support::ScratchDir scratch("wallcal_guide_pose_logs_");
   const fs::path dir = scratch.path();
-  sim::WriteSimulatedSession(
-      sim::ReadSimulationConfig(std::string(WALLCAL_SOURCE_DIR) +
-                                "/configs/simulate/lms291_sapporo.yaml"),
-      11, dir.string(), sim::SessionFormat::kText);
+  sim::WriteSimulatedSession(sim::ReadSimulationConfig(std::string(WALLCAL_SOURCE_DIR) +
+                                                       "/configs/simulate/lms291_sapporo.yaml"),
+                             11, dir.string(), sim::SessionFormat::kText);
   const fs::path scans_path = dir / "scans.clf", gnss_path = dir / "gnss.nmea",
                  heading_path = dir / "heading.nmea";
   const std::string scans = ReadAll(scans_path), gnss = ReadAll(gnss_path),

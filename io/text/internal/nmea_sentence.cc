@@ -102,7 +102,6 @@ bool ParseInt(std::string_view token, int* value) {
   return result.ec == std::errc() && result.ptr == token.data() + token.size();
 }
 
-
 // hhmmss[.sss] -> seconds of the UTC day.
 bool ParseTimeOfDay(std::string_view field, double* tod_s) {
   if (field.size() < 6 || !AllDigits(field.substr(0, 6))) return false;
@@ -114,8 +113,6 @@ bool ParseTimeOfDay(std::string_view field, double* tod_s) {
   *tod_s = hours * 3600.0 + minutes * 60.0 + seconds;
   return true;
 }
-
-
 
 // The date of an RMC (field 9, ddmmyy) or ZDA (fields 2-4: dd, mm, yyyy) sentence.
 std::optional<int64_t> SentenceDate(std::string_view type, const Fields& fields) {

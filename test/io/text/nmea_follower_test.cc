@@ -91,7 +91,7 @@ std::string PlainCapture() {
   t += S("HEHDT,35.5,T") + "\r";  // a lone CR ends a line too
   t += S("GPGST,235959.00,0.02,0.01,0.01,0.0,0.013,0.014,0.03") + "\n";  // before its GGA
   t += S("GPGGA,235959.00,4304.2742,N,14120.3918,E,4,14,0.7,72.1,M,19.2,M,,") + "\n";
-  t += "$GPGGA,235959.50,4304.2742,N,14120.3918,E,4,14,0.7,72.1,M,19.2,M,,*00\n";  // checksum
+  t += "$GPGGA,235959.50,4304.2742,N,14120.3918,E,4,14,0.7,72.1,M,19.2,M,,*00\n";      // checksum
   t += S("GPGGA,235959.00,4304.2742,N,14120.3918,E,4,14,0.7,72.1,M,19.2,M,,") + "\n";  // again
   t += S("GPGSV,3,1,11,01,02,03,04") + "\n";
   t += S("HEHDT,,T") + "\n";
@@ -144,14 +144,13 @@ TEST(NmeaFollowerTest, ReadsOnAfterCutsBetweenSentencesThatBelongTogether) {
   ASSERT_EQ(text[inside_crlf], '\n');
   const size_t hdt_start = text.find("$HEHDT,35.5");
   const size_t after_cr = after("HEHDT,35.5,T*") + 3;  // a CR that a LF could still follow
-  const std::vector<int64_t> from = ReadInPieces(
-      text, {inside_crlf, gga_then_gst, after_cr, gst_then_gga}, "named_cuts.nmea");
+  const std::vector<int64_t> from =
+      ReadInPieces(text, {inside_crlf, gga_then_gst, after_cr, gst_then_gga}, "named_cuts.nmea");
   // Each read goes on from the start of the line it could not finish, never from the file's
   // start again (the date is on line 2, which the first read saw).
-  EXPECT_EQ(from, (std::vector<int64_t>{0, static_cast<int64_t>(gga_start),
-                                        static_cast<int64_t>(gga_then_gst),
-                                        static_cast<int64_t>(hdt_start),
-                                        static_cast<int64_t>(gst_then_gga)}));
+  EXPECT_EQ(from, (std::vector<int64_t>{
+                      0, static_cast<int64_t>(gga_start), static_cast<int64_t>(gga_then_gst),
+                      static_cast<int64_t>(hdt_start), static_cast<int64_t>(gst_then_gga)}));
 }
 
 // A logged capture (logger-time prefixes, no RMC/ZDA): the sample session's GNSS and heading
@@ -187,8 +186,7 @@ TEST(NmeaFollowerTest, ReadsAgainWhenTheFirstDateComesLate) {
   text += S("GPGGA,120001.00,4304.2742,N,14120.3918,E,4,14,0.7,72.1,M,19.2,M,,") + "\n";
   const size_t after_date = text.size();
   text += S("GPGGA,120002.00,4304.2743,N,14120.3919,E,4,14,0.7,72.2,M,19.2,M,,") + "\n";
-  const std::vector<int64_t> from =
-      ReadInPieces(text, {before_date, after_date}, "late_date.nmea");
+  const std::vector<int64_t> from = ReadInPieces(text, {before_date, after_date}, "late_date.nmea");
   EXPECT_EQ(from, (std::vector<int64_t>{0, 0, static_cast<int64_t>(after_date)}));
 }
 
