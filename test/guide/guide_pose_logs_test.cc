@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "guide/guide_session.h"
+#include "guide/pose_logs.h"
+#include "io/text/nmea_reader.h"
 #include "sim/recording_session.h"
 #include "sim/simulation_config.h"
 #include "test/support/scratch_dir.h"
@@ -107,6 +109,34 @@ TEST(GuideSessionTest, ReadsThePoseLogsOnFromWhereTheyStopped) {
   session.Refresh();
   EXPECT_EQ(session.last_read().gnss_log.from_byte, static_cast<int64_t>(gnss.size()));
   EXPECT_EQ(session.last_read().heading_log.from_byte, static_cast<int64_t>(heading.size()));
+}
+
+// GNSS and heading in one log: read once, its headings those of the same read.
+TEST(PoseLogFollowerTest, ReadsOneLogOnceForBoth) {
+  const testing_support::ScratchDir scratch("wallcal_pose_logs_one_");
+  const fs::path path = scratch.path() / "poses.nmea";
+  const std::string sample =
+      ReadAll(std::string(WALLCAL_SOURCE_DIR) + "/samples/lms291-sapporo/gnss.nmea");
+  const std::string headings = "1747031522.050 $HEHDT,35.0024,T*2F\n";
+  const size_t cut = sample.find('\n', sample.size() / 2) + 1;
+  WriteUpTo(path, sample, cut);
+  std::ofstream(path, std::ios::binary | std::ios::app) << headings;
+  io::SessionSpec session;
+  session.gnss_log = session.heading_log = path.string();
+  guide::PoseLogFollower follower(session);
+  recording::PoseLogs logs = follower.Read();
+  EXPECT_EQ(follower.gnss_read().from_byte, 0);
+  ASSERT_EQ(logs.headings.headings.size(), 1u);
+  EXPECT_EQ(logs.headings.fixes.size(), logs.gnss.fixes.size());
+
+  std::ofstream(path, std::ios::binary | std::ios::app) << sample.substr(cut);
+  logs = follower.Read();
+  const int64_t read_on_from = static_cast<int64_t>(cut + headings.size());
+  EXPECT_EQ(follower.gnss_read().from_byte, read_on_from);
+  EXPECT_EQ(follower.heading_read().from_byte, read_on_from);
+  EXPECT_EQ(logs.headings.headings.size(), 1u);
+  EXPECT_EQ(logs.gnss.fixes.size(), io::ReadNmea(path.string()).fixes.size());
+  EXPECT_EQ(logs.headings.fixes.size(), logs.gnss.fixes.size());
 }
 
 }  // namespace
