@@ -360,6 +360,41 @@ TEST(MultiScannerTest, CompareTakesEachScannerByIdAndNamesThoseInOneFileOnly) {
   EXPECT_EQ(now["compared_with"]["only_in_previous"][0].as<std::string>(), "rear_right");
 }
 
+TEST(MultiScannerTest, CompareInvertsARelativeTransformHeldTheOtherWayRound) {
+  const fs::path dir = SessionAs("text", "compare_swapped");
+  const testing_support::ProgramRun first =
+      RunCalibrate(dir, {"--quiet", "--output", (dir / "before.yaml").string()});
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  // The same session listing front_right first: its relative transform is front_left in
+  // front_right, the inverse of the file's front_right in front_left.
+  std::string session = ReadText(dir / "session.yaml");
+  const size_t left = session.find("  - id: front_left\n");
+  const size_t right = session.find("  - id: front_right\n");
+  const size_t end = session.find("gnss:\n");
+  ASSERT_TRUE(left < right && right < end && end != std::string::npos) << session;
+  session = session.substr(0, left) + session.substr(right, end - right) +
+            session.substr(left, right - left) + session.substr(end);
+  std::ofstream(dir / "session.yaml", std::ios::trunc) << session;
+  const testing_support::ProgramRun run =
+      RunCalibrate(dir, {"--quiet", "--compare", (dir / "before.yaml").string(), "--output",
+                         (dir / "after.yaml").string()});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const YAML::Node relative = YAML::LoadFile((dir / "after.yaml").string())["relative_mounts"][0];
+  EXPECT_EQ(relative["from"].as<std::string>(), "front_right");
+  const YAML::Node change = relative["change_since_previous"];
+  ASSERT_TRUE(change.IsDefined()) << ReadText(dir / "after.yaml");
+  EXPECT_TRUE(change["previous_inverted"].as<bool>());
+  // The same data in the other order: the change is within the combined σ (not inverted it
+  // would be the 1.5 m between the scanners, thousands of σ).
+  for (const char* axis : {"x", "y", "yaw"}) {
+    EXPECT_LT(change["combined_sigmas"][axis].as<double>(), 1.0) << axis;
+  }
+  EXPECT_NE(run.out.find("the previous file holds it the other way round, inverted"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("front_left in front_right (ACCEPT)"), std::string::npos) << run.out;
+}
+
 TEST(MultiScannerTest, RelativeTransformBeyondItsToleranceRejectsTheRun) {
   const fs::path dir = SessionAs("text", "relative_tolerance");
   // σ of the relative x, y here is 0.4-0.6 mm: a tolerance of 0.1 mm rejects it, while the
