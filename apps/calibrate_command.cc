@@ -432,7 +432,7 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
     if (emit) {
       summary_out << std::flush;
       std::cout << outputs::FormatEmit(*emit, result.estimate, result.session.antenna_in_base, frames,
-                                       result.session.scanner_z_m)
+                                       result.session.scanner_z_m, &result.decision)
                 << std::flush;
     }
     return 0;

@@ -27,6 +27,7 @@
 #include "pipeline/multi_scanner.h"
 #include "preflight/inspect.h"
 #include "sim/simulated_session.h"
+#include "test/support/json_value.h"
 #include "test/support/program_runner.h"
 #include "test/support/scratch_dir.h"
 
@@ -301,6 +302,41 @@ TEST(MultiScannerTest, EmittedStaticTfAndUrdfFormOneTree) {
             std::string::npos);
   EXPECT_NE(offsets.find("joint_covariance:\n"), std::string::npos);
   EXPECT_EQ(offsets.find("\nscanner_mount:"), std::string::npos);
+}
+
+TEST(MultiScannerTest, EmittedJsonCarriesTheVerdictsOfOffsetsYaml) {
+  const fs::path dir = SessionAs("text", "emit_json");
+  // A relative σ tolerance of 0.1 mm rejects the relative transform (σ 0.1-0.2 mm in x, y)
+  // while the mounts are accepted: each verdict has to come from its own entry.
+  const fs::path config = dir / "tight.yaml";
+  std::ofstream(config) << "acceptance:\n  relative_max_sigma_xy_m: 0.0001\n";
+  const testing_support::ProgramRun run =
+      RunCalibrate(dir, {"--quiet", "--config", config.string(), "--emit", "json"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  testing_support::Json j;
+  ASSERT_TRUE(testing_support::JsonParser(run.out).Parse(&j)) << run.out;
+  const YAML::Node offsets = YAML::LoadFile((dir / "offsets.yaml").string());
+  const auto expect_same = [](const testing_support::Json& json, const YAML::Node& yaml,
+                              const std::string& what) {
+    EXPECT_EQ(json["verdict"].text, yaml["verdict"].as<std::string>()) << what;
+    ASSERT_EQ(json["reasons"].items.size(), yaml["reasons"].size()) << what;
+    for (size_t i = 0; i < yaml["reasons"].size(); ++i) {
+      EXPECT_EQ(json["reasons"].items[i].text, yaml["reasons"][i].as<std::string>()) << what;
+    }
+  };
+  expect_same(j["verdict"], offsets["verdict"], "run");
+  EXPECT_EQ(j["verdict"]["verdict"].text, "REJECT");
+  const testing_support::Json& scanners = j["scanners"];
+  ASSERT_EQ(scanners.items.size(), 2u);
+  for (size_t s = 0; s < 2; ++s) {
+    EXPECT_EQ(scanners.items[s]["id"].text, offsets["scanner_mounts"][s]["id"].as<std::string>());
+    expect_same(scanners.items[s]["verdict"], offsets["scanner_mounts"][s]["verdict"],
+                scanners.items[s]["id"].text);
+  }
+  const testing_support::Json& relative = j["relative"];
+  ASSERT_EQ(relative.items.size(), 1u);
+  expect_same(relative.items[0]["verdict"], offsets["relative_mounts"][0]["verdict"], "relative");
+  EXPECT_EQ(relative.items[0]["verdict"]["verdict"].text, "REJECT");
 }
 
 TEST(MultiScannerTest, CompareTakesEachScannerByIdAndNamesThoseInOneFileOnly) {
