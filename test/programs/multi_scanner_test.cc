@@ -19,9 +19,11 @@
 #include <vector>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include "calib/detection_pass.h"
 #include "common/angles.h"
 #include "io/config/session_reader.h"
 #include "pipeline/multi_scanner.h"
@@ -101,9 +103,11 @@ fs::path SessionAs(const std::string& format, const std::string& name = "") {
   return Simulate(format, name.empty() ? format : name);
 }
 
-pipeline::SeveralScannersResult Calibrate(const fs::path& dir, bool allow_partial = false) {
+pipeline::SeveralScannersResult Calibrate(const fs::path& dir, bool allow_partial = false,
+                                          bool collect_report_data = false) {
   pipeline::CalibrateRequest request;
   request.session_path = dir.string();
+  request.collect_report_data = collect_report_data;
   return pipeline::RunSeveralScanners(request, allow_partial);
 }
 
@@ -133,6 +137,50 @@ TEST(MultiScannerTest, RelativeTransformIsTheDifferenceOfTheMounts) {
   ASSERT_EQ(c.rows(), 6);
   EXPECT_LT((c - c.transpose()).norm(), 1e-12 * c.norm());
   EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(c).eigenvalues().minCoeff(), 0.0);
+}
+
+TEST(MultiScannerTest, EachScannersPageIsDrawnWithItsJointMount) {
+  const pipeline::SeveralScannersResult result =
+      Calibrate(TextSession(), /*allow_partial=*/false, /*collect_report_data=*/true);
+  ASSERT_EQ(result.outcome, pipeline::SeveralOutcome::kAll) << result.message;
+  for (const pipeline::ScannerRun& run : result.scanners) {
+    const solvers::Mount& joint = run.result.estimate.mount;
+    const pipeline::ReportData& report = run.result.report;
+    ASSERT_TRUE(report.collected && report.have_mount) << run.spec.id;
+    // The joint adjustment moved the mount (else this test could not tell the two apart).
+    ASSERT_NE(joint.x_m, run.own_estimate.mount.x_m) << run.spec.id;
+    EXPECT_EQ(report.mount.x_m, joint.x_m) << run.spec.id;
+    EXPECT_EQ(report.mount.y_m, joint.y_m) << run.spec.id;
+    EXPECT_EQ(report.mount.yaw_rad, joint.yaw_rad) << run.spec.id;
+    EXPECT_NE(report.mount_source.find("joint"), std::string::npos) << report.mount_source;
+    // The scanner at each station and each panel's gate follow that mount.
+    ASSERT_FALSE(report.stations.empty()) << run.spec.id;
+    for (const pipeline::Station& station : report.stations) {
+      const Eigen::Vector2d expected =
+          station.antenna_local_m +
+          Eigen::Rotation2Dd(station.yaw_rad) * Eigen::Vector2d(joint.x_m, joint.y_m);
+      EXPECT_LT((station.scanner_local_m - expected).norm(), 1e-9) << run.spec.id;
+    }
+    int drawn = 0;
+    for (const pipeline::ScanPanel& panel : report.panels) {
+      if (!panel.have_scan) continue;
+      ++drawn;
+      const calib::WallObservation& o = run.result.observations[panel.observation];
+      const calib::LineGate gate =
+          calib::GateFor(o, run.result.walls[o.wall_index], joint, report.tight_gates);
+      EXPECT_EQ(panel.gate.rho_m, gate.rho_m) << run.spec.id;
+      EXPECT_EQ(panel.gate.theta_rad, gate.theta_rad) << run.spec.id;
+      EXPECT_TRUE(panel.detection.found) << run.spec.id << ": " << panel.detection.reason;
+    }
+    EXPECT_GT(drawn, 0) << run.spec.id;
+    ASSERT_TRUE(report.hough.have) << run.spec.id;
+    const pipeline::ScanPanel& middle = report.panels[report.hough.panel];
+    const calib::WallObservation& o = run.result.observations[middle.observation];
+    const calib::LineGate centre =
+        calib::GateFor(o, run.result.walls[o.wall_index], joint, report.tight_gates);
+    EXPECT_EQ(report.hough.window.rho_m, centre.rho_m) << run.spec.id;
+    EXPECT_EQ(report.hough.window.theta_rad, centre.theta_rad) << run.spec.id;
+  }
 }
 
 TEST(MultiScannerTest, InspectChecksEachScannerAndSuggestsEveryScanTopic) {
