@@ -113,7 +113,8 @@ TEST(GuideAdviceTest, JsonIsOneObjectWithTheDocumentedKeys) {
   const std::string number = R"((-?[0-9.]+|null))";
   const std::regex object(R"(\{"stations": [0-9]+, "predicted_sigma": \{"x_m": )" + number +
                           R"(, "y_m": )" + number + R"(, "yaw_deg": )" + number +
-                          R"(\}, "enough": (true|false), "next": \[(\{"vehicle_to_wall_deg": )"
+                          R"(\}, "forced": (true|false), "enough": (true|false), )"
+                          R"("next": \[(\{"vehicle_to_wall_deg": )"
                           R"(-?[0-9.]+, "distance_m": [0-9.]+, "dwell_s": [0-9]+, "wait_s": )"
                           R"([0-9]+\}(, )?)*\]\}\n)");
   for (const std::vector<std::string>& args :
@@ -125,6 +126,20 @@ TEST(GuideAdviceTest, JsonIsOneObjectWithTheDocumentedKeys) {
     ASSERT_EQ(run.exit_code, 0) << run.err;
     EXPECT_TRUE(std::regex_match(run.out, object)) << run.out;
   }
+}
+
+TEST(GuideAdviceTest, PlanTooShortSaysWhy) {
+  guide::GuideOptions options;
+  options.session_path = std::string(WALLCAL_SOURCE_DIR) + "/samples/lms291-sapporo";
+  const guide::GuideReport too_short = guide::PlanSession(options, 60.0);
+  ASSERT_TRUE(too_short.plan.has_value());
+  EXPECT_TRUE(too_short.plan->stops.empty());
+  EXPECT_EQ(too_short.not_yet, guide::NotYet::kBudgetTooShort);
+  EXPECT_FALSE(too_short.enough);
+  // The shortest plan: three stops of 10 s, 15 s apart (75 s).
+  const guide::GuideReport shortest = guide::PlanSession(options, 75.0);
+  EXPECT_EQ(static_cast<int>(shortest.plan->stops.size()), guide::kMinPlanStops);
+  EXPECT_EQ(shortest.not_yet, guide::NotYet::kNone);
 }
 
 TEST(GuideAdviceTest, UsageErrorsExitTwo) {
