@@ -19,6 +19,7 @@
 
 #include "common/angles.h"
 #include "guide/guide.h"
+#include "guide/guide_text.h"
 #include "guide/prediction.h"
 #include "guide/stop_model.h"
 #include "pipeline/calibration.h"
@@ -126,6 +127,24 @@ TEST(GuideAdviceTest, JsonIsOneObjectWithTheDocumentedKeys) {
     ASSERT_EQ(run.exit_code, 0) << run.err;
     EXPECT_TRUE(std::regex_match(run.out, object)) << run.out;
   }
+}
+
+TEST(GuideAdviceTest, OneStationIsForcedInTextAndJson) {
+  // One 4 s stop: the σ exists only forced past calibrate's station count.
+  sim::SimulationConfig config = sim::ReadSimulationConfig(
+      std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_guide_crew.yaml");
+  config.stops = {Stop(-30, 4, 0)};
+  const testing_support::ScratchDir scratch("wallcal_guide_forced_");
+  const std::string one = (scratch.path() / "one").string();
+  sim::WriteSimulatedSession(config, 31, one);
+  guide::GuideOptions request;
+  request.session_path = one;
+  const guide::GuideReport report = guide::AssessSession(request);
+  ASSERT_TRUE(report.predicted.known);
+  EXPECT_TRUE(report.forced);
+  EXPECT_FALSE(report.enough);
+  EXPECT_NE(guide::GuideText(report).find("note       FORCED"), std::string::npos);
+  EXPECT_NE(guide::GuideJson(report).find("\"forced\": true"), std::string::npos);
 }
 
 TEST(GuideAdviceTest, PlanTooShortSaysWhy) {
