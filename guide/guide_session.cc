@@ -123,6 +123,9 @@ GuideReport GuideSession::Refresh() {
     inputs.pass = std::move(passes.pass);
     inputs.moving_by_default = passes.moving_by_default;
     s.passes_prepared = true;
+    // The opener's copy of a recording's scans (the preset check's) is let go before the feed
+    // decodes its own: the passes read through the feed.
+    inputs.pass.open_scans = nullptr;
   }
   inputs.pass.poses = inputs.poses.get();
   {
