@@ -3,6 +3,8 @@
 // follows the guide stop by stop against the field guide's fixed pattern (--crew), and the time
 // of one update on an hour-long session (--speed). Figures in docs/results.md, "The guide".
 
+#include <zlib.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -105,15 +107,25 @@ size_t EndOfLinesUpTo(const std::string& text, size_t from, double t_s, bool sta
 }
 
 // One log of the session, written up to a time.
+// A gzip-compressed log grows by a gzip member per write (zlib reads the members as one stream).
 struct GrowingLog {
   fs::path path;
   std::string text;
   bool stamp_last = false;
   size_t written = 0;
+  bool gzip = false;
   void WriteUpTo(double t_s) {
     const size_t upto = EndOfLinesUpTo(text, written, t_s, stamp_last);
-    std::ofstream out(path, std::ios::binary | std::ios::app);
-    out.write(text.data() + written, static_cast<std::streamsize>(upto - written));
+    if (gzip) {
+      gzFile out = gzopen(path.string().c_str(), "ab6");
+      if (out != nullptr) {
+        gzwrite(out, text.data() + written, static_cast<unsigned>(upto - written));
+        gzclose(out);
+      }
+    } else {
+      std::ofstream out(path, std::ios::binary | std::ios::app);
+      out.write(text.data() + written, static_cast<std::streamsize>(upto - written));
+    }
     written = upto;
   }
 };
@@ -139,7 +151,8 @@ void PrintReport(const char* what, const guide::GuideReport& report, double s, d
 // (three stops advised at each update).
 // A recording (ROS 1 bag, MCAP) is grown by bytes instead, its last 60/3600 cut off for the
 // first read and 1/3600 added for each update (about a second of its messages).
-int Speed(const fs::path& scratch, int updates, sim::SessionFormat format) {
+// --gzip: the text scan log written gzip-compressed.
+int Speed(const fs::path& scratch, int updates, sim::SessionFormat format, bool gzip) {
   sim::SimulationConfig config = Scenario("bench_lms291_hour.yaml");
   const fs::path whole = scratch / "hour";
   sim::WriteSimulatedSession(config, 7, whole.string(), format);
@@ -149,8 +162,9 @@ int Speed(const fs::path& scratch, int updates, sim::SessionFormat format) {
   if (format == sim::SessionFormat::kText) {
     for (const auto& [name, stamp_last] : {std::pair<const char*, bool>{"scans.clf", true},
                                            {"gnss.nmea", false}, {"heading.nmea", false}}) {
-      original.push_back(GrowingLog{fs::path(name), ReadAll(whole / name), stamp_last, 0});
+      original.push_back(GrowingLog{fs::path(name), ReadAll(whole / name), stamp_last, 0, false});
     }
+    original[0].gzip = gzip;
     const std::string& gnss = original[1].text;
     first_s = std::strtod(gnss.c_str(), nullptr);
     last_s = std::strtod(gnss.c_str() + gnss.rfind('\n', gnss.size() - 2) + 1, nullptr);
@@ -224,6 +238,7 @@ int main(int argc, char** argv) {
   int stations = 0;
   int updates = 10;
   sim::SessionFormat format = sim::SessionFormat::kText;
+  bool gzip = false;
   std::vector<std::string> scenarios;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -233,6 +248,8 @@ int main(int argc, char** argv) {
       return bench::Transcript(argv[i + 1]);
     } else if (arg == "--seeds" && i + 1 < argc) {
       seeds = std::atoi(argv[++i]);
+    } else if (arg == "--gzip") {
+      gzip = true;
     } else if (arg == "--format" && i + 1 < argc) {
       const std::optional<sim::SessionFormat> parsed = sim::ParseSessionFormat(argv[++i]);
       if (!parsed) {
@@ -246,7 +263,7 @@ int main(int argc, char** argv) {
       stations = std::atoi(argv[++i]);
     } else if (arg == "--help") {
       std::cout << "usage: guide_bench --check [SCENARIO.yaml ...] [--stations N] | --crew | "
-                   "--speed [--updates N] [--format F] [--seeds N (default 20)]\n"
+                   "--speed [--updates N] [--format F | --gzip] [--seeds N (default 20)]\n"
                    "  --check     the guide's σ over calibrate's on sessions cut after 30, 60 and "
                    "100 % of their scans\n"
                    "              (scenarios from configs/simulate/; --stations overrides their "
@@ -254,7 +271,8 @@ int main(int argc, char** argv) {
                    "  --crew      a crew following the guide against the field guide's pattern\n"
                    "  --speed     an hour-long session followed as it grows: the first read of 59 minutes,\n"
                    "              then N updates (default 10), each after a second more of logs;\n"
-                   "              --format ros1, mcap, ...: recorded as one recording, grown by bytes\n"
+                   "              --format ros1, mcap, ...: recorded as one recording, grown by bytes;\n"
+                   "              --gzip: the CARMEN scan log gzip-compressed (a member per write)\n"
                    "  --transcript DIR  one guided crew, the guide's report after each stop\n";
       return 0;
     } else {
@@ -270,7 +288,7 @@ int main(int argc, char** argv) {
   } else if (mode == "--crew") {
     status = bench::RunCrew(seeds, scratch);
   } else if (mode == "--speed") {
-    status = Speed(scratch, updates, format);
+    status = Speed(scratch, updates, format, gzip);
   } else {
     std::cerr << "guide_bench: give --check, --crew or --speed\n";
   }

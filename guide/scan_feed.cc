@@ -2,7 +2,6 @@
 #include "guide/scan_feed.h"
 
 #include <filesystem>
-#include <fstream>
 #include <utility>
 
 #include "io/text/carmen_reader.h"
@@ -13,13 +12,6 @@ namespace wallcal::guide {
 namespace {
 
 namespace fs = std::filesystem;
-
-bool IsGzip(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char magic[2] = {0, 0};
-  in.read(reinterpret_cast<char*>(magic), 2);
-  return in.gcount() == 2 && magic[0] == 0x1f && magic[1] == 0x8b;
-}
 
 // A CARMEN log read on from a byte, noting where each scan's line starts (for the next read).
 class MarkedScans : public io::ScanSource {
@@ -47,6 +39,8 @@ class MarkedScans : public io::ScanSource {
   std::vector<ScanMark>* marks_;
 };
 
+// A CARMEN log, plain or gzip-compressed: read on from the text byte of the first scan not
+// settled (a gzip log is inflated from its start up to there, not parsed).
 class CarmenFeed : public ScanFeed {
  public:
   explicit CarmenFeed(std::string path) : path_(std::move(path)) {}
@@ -54,8 +48,13 @@ class CarmenFeed : public ScanFeed {
     FeedRead read;
     std::error_code error;
     read.log_bytes = static_cast<int64_t>(fs::file_size(path_, error));
-    read.restarted = !error && read.log_bytes < resume_byte_;
-    if (read.restarted) Restart();
+    // A log only grows while it is written: a shorter one is a new log under the same name.
+    read.restarted = !error && read.log_bytes < log_bytes_;
+    if (!error) log_bytes_ = read.log_bytes;
+    if (read.restarted) {
+      resume_byte_ = 0;
+      resume_line_ = 1;
+    }
     read.from_byte = resume_byte_;
     return read;
   }
@@ -72,13 +71,9 @@ class CarmenFeed : public ScanFeed {
   }
 
  private:
-  void Restart() {
-    resume_byte_ = 0;
-    resume_line_ = 1;
-  }
-
   std::string path_;
-  int64_t resume_byte_ = 0;
+  int64_t log_bytes_ = 0;    // the file's size at the last Update (compressed, for gzip)
+  int64_t resume_byte_ = 0;  // of the log's text
   int64_t resume_line_ = 1;
 };
 
@@ -149,7 +144,7 @@ std::unique_ptr<ScanFeed> ScanFeed::For(const io::SessionSpec& session,
                                         const io::ScannerPreset* preset) {
   const std::string& log = session.scanner_log;
   if (recording::ScanTail::Supports(log)) return std::make_unique<RecordingFeed>(session, preset);
-  if (recording::IsRecording(log) || IsGzip(log)) return nullptr;
+  if (recording::IsRecording(log)) return nullptr;  // rosbag2
   return std::make_unique<CarmenFeed>(log);
 }
 

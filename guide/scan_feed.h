@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The scans of a session that is still being recorded, read on from where the last refresh
-// stopped: a CARMEN text log from the byte of the first scan not yet settled, a ROS 1 bag or an
-// MCAP file from the end of the last whole record read (recording::ScanTail), its decoded scans
-// from the first not yet settled kept in memory. A gzip log and a rosbag2 folder have no feed:
-// the guide reads them whole at each refresh.
+// stopped: a CARMEN text log from the byte of the first scan not yet settled (a gzip-compressed
+// one is inflated from its start up to there, but not parsed), a ROS 1 bag or an MCAP file
+// from the end of the last whole record read (recording::ScanTail), its decoded scans from the
+// first not yet settled kept in memory. A rosbag2 folder has no feed: the guide reads it whole
+// at each refresh.
 
 #include <cstdint>
 #include <memory>
@@ -27,15 +28,16 @@ struct ScanMark {
 // What one Update read.
 struct FeedRead {
   bool restarted = false;  // the log shrank (a new recording under the same name): read anew
-  int64_t from_byte = 0;   // where the log was read on from (0: its start)
-  int64_t log_bytes = 0;   // the log's size when read
+  int64_t from_byte = 0;   // where the log was read on from (0: its start; a CARMEN log:
+                           // a byte of its text, of the inflated text when gzip-compressed)
+  int64_t log_bytes = 0;   // the log's file size when read
 };
 
 class ScanFeed {
  public:
   virtual ~ScanFeed() = default;
-  // A feed for the session's scan log, or nullptr when it is read whole at each refresh (gzip,
-  // rosbag2). `preset` (checked against a recording's scans) must outlive the feed.
+  // A feed for the session's scan log, or nullptr when it is read whole at each refresh (a
+  // rosbag2 folder or file). `preset` (checked against a recording's scans) must outlive the feed.
   static std::unique_ptr<ScanFeed> For(const io::SessionSpec& session,
                                        const io::ScannerPreset* preset);
 

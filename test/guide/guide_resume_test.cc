@@ -5,6 +5,9 @@
 // one, and reports what a fresh GuideSession reports on the same bytes. A last record cut off
 // (the recorder between two writes) is read at the next refresh, not reported as damage.
 //
+// A gzip-compressed CARMEN log is read on the same way (inflated up to where the last read
+// stopped, parsed from there).
+//
 // The sessions are simulated and written by the project's recording writers, then cut, as the
 // --follow tests do: a cut bag or MCAP file is what a recorder leaves on disk while it runs (no
 // index, no summary, a record half written at the end).
@@ -16,6 +19,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include "guide/guide_session.h"
 #include "sim/recording_session.h"
@@ -126,6 +130,47 @@ INSTANTIATE_TEST_SUITE_P(Recordings, GuideResumeTest,
                                   : param_info.param.format == sim::SessionFormat::kRos1 ? "Ros1Bag"
                                                                                   : "Ros1BagLz4";
                          });
+
+// A gzip-compressed CARMEN log being written: the compressed stream cut in the middle (as a
+// logger leaves it between two flushes), then whole. The second refresh inflates up to the
+// first scan not settled and parses from there.
+TEST(GuideResumeGzipTest, ReadsAGzipScanLogOnFromWhereItStopped) {
+  const testing_support::ScratchDir scratch("wallcal_guide_resume_gz_");
+  const fs::path dir = scratch.path();
+  sim::WriteSimulatedSession(Sapporo(), 11, dir.string(), sim::SessionFormat::kText);
+  const fs::path scans = dir / "scans.clf";
+  {
+    const std::string text = ReadAll(scans);
+    gzFile out = gzopen(scans.string().c_str(), "wb6");
+    ASSERT_NE(out, nullptr);
+    ASSERT_EQ(gzwrite(out, text.data(), static_cast<unsigned>(text.size())),
+              static_cast<int>(text.size()));
+    gzclose(out);
+  }
+  const std::string content = ReadAll(scans);
+  guide::GuideOptions options;
+  options.session_path = dir.string();
+  options.threads = 2;
+  // The pose logs are whole: the scans' share is what grows.
+  WriteFirst(scans, content, content.size() * 3 / 5);
+  guide::GuideSession session(options);
+  const guide::GuideReport part = session.Refresh();
+  EXPECT_EQ(session.last_read().scan_log_from_byte, 0);
+  EXPECT_GE(part.stations.size(), 3u);
+  WriteFirst(scans, content, content.size());
+  const guide::GuideReport grown = session.Refresh();
+  const guide::ReadCounts read = session.last_read();
+  guide::GuideSession fresh_session(options);
+  const guide::GuideReport fresh = fresh_session.Refresh();
+  const int64_t all_scans = fresh_session.last_read().scans_detected;
+  EXPECT_TRUE(read.incremental);
+  EXPECT_GT(read.scans_kept, all_scans / 5);
+  EXPECT_EQ(read.scans_kept + read.scans_detected, all_scans);
+  EXPECT_EQ(grown.stations.size(), fresh.stations.size());
+  EXPECT_NEAR(grown.predicted.sigma_x_m() / fresh.predicted.sigma_x_m(), 1.0, 0.01);
+  EXPECT_NEAR(grown.predicted.sigma_y_m() / fresh.predicted.sigma_y_m(), 1.0, 0.01);
+  EXPECT_NEAR(grown.predicted.sigma_yaw_rad() / fresh.predicted.sigma_yaw_rad(), 1.0, 0.01);
+}
 
 }  // namespace
 }  // namespace wallcal
