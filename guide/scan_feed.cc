@@ -13,6 +13,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The bytes that tell the containers apart (the longest magic: SQLite's 16).
+constexpr uintmax_t kTellingBytes = 16;
+
 // A CARMEN log read on from a byte, noting where each scan's line starts (for the next read).
 class MarkedScans : public io::ScanSource {
  public:
@@ -143,6 +146,12 @@ class RecordingFeed : public ScanFeed {
 std::unique_ptr<ScanFeed> ScanFeed::For(const io::SessionSpec& session,
                                         const io::ScannerPreset* preset) {
   const std::string& log = session.scanner_log;
+  std::error_code error;
+  if (!fs::is_directory(log, error) && fs::file_size(log, error) < kTellingBytes && !error) {
+    throw io::InputError(io::Where(log, 0,
+                                   "too short yet to tell a text log from a recording; expected "
+                                   "at least " + std::to_string(kTellingBytes) + " bytes"));
+  }
   if (recording::ScanTail::Supports(log)) return std::make_unique<RecordingFeed>(session, preset);
   if (recording::IsRecording(log)) return nullptr;  // rosbag2
   return std::make_unique<CarmenFeed>(log);

@@ -37,7 +37,8 @@ class ScanFeed {
  public:
   virtual ~ScanFeed() = default;
   // A feed for the session's scan log, or nullptr when it is read whole at each refresh (a
-  // rosbag2 folder or file). `preset` (checked against a recording's scans) must outlive the feed.
+  // rosbag2 folder or file). Throws io::InputError for a log too short yet to tell its kind
+  // (under 16 bytes): a caller following it tries again. `preset` (checked against a recording's scans) must outlive the feed.
   static std::unique_ptr<ScanFeed> For(const io::SessionSpec& session,
                                        const io::ScannerPreset* preset);
 
