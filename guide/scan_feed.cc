@@ -153,7 +153,7 @@ std::unique_ptr<ScanFeed> ScanFeed::For(const io::SessionSpec& session,
                                    "at least " + std::to_string(kTellingBytes) + " bytes"));
   }
   if (recording::ScanTail::Supports(log)) return std::make_unique<RecordingFeed>(session, preset);
-  if (recording::IsRecording(log)) return nullptr;  // rosbag2
+  if (recording::IsRecording(log)) return nullptr;  // a rosbag2 folder
   return std::make_unique<CarmenFeed>(log);
 }
 

@@ -4,8 +4,8 @@
 // stopped: a CARMEN text log from the byte of the first scan not yet settled (a gzip-compressed
 // one is inflated from its start up to there, but not parsed), a ROS 1 bag or an MCAP file
 // from the end of the last whole record read (recording::ScanTail), its decoded scans from the
-// first not yet settled kept in memory. A rosbag2 folder has no feed: the guide reads it whole
-// at each refresh.
+// first not yet settled kept in memory; a rosbag2 .db3 file from the rows after the last one
+// read. A rosbag2 folder has no feed: the guide reads it whole at each refresh.
 
 #include <cstdint>
 #include <memory>
@@ -37,7 +37,7 @@ class ScanFeed {
  public:
   virtual ~ScanFeed() = default;
   // A feed for the session's scan log, or nullptr when it is read whole at each refresh (a
-  // rosbag2 folder or file). Throws io::InputError for a log too short yet to tell its kind
+  // rosbag2 folder). Throws io::InputError for a log too short yet to tell its kind
   // (under 16 bytes): a caller following it tries again. `preset` (checked against a recording's scans) must outlive the feed.
   static std::unique_ptr<ScanFeed> For(const io::SessionSpec& session,
                                        const io::ScannerPreset* preset);

@@ -76,6 +76,7 @@ std::unique_ptr<RecordingTail> OpenRecordingTail(const std::string& path) {
     case Magic::kMcap:
       return OpenMcapTail(path);
     case Magic::kSqlite:
+      return OpenRosbag2SqliteTail(path);
     case Magic::kNone:
       break;
   }

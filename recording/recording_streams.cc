@@ -402,8 +402,9 @@ ScanOpener MakeScanOpener(const io::SessionSpec& spec, const io::ScannerPreset* 
 ScanTail::ScanTail(const io::SessionSpec& spec, const io::ScannerPreset* preset)
     : spec_(spec), preset_(preset), tail_(OpenRecordingTail(spec.scanner_log)) {
   if (!tail_) {
-    throw io::InputError(io::Where(spec.scanner_log, 0,
-                                   "not read on as it grows; expected a ROS 1 bag or an MCAP file"));
+    throw io::InputError(io::Where(
+        spec.scanner_log, 0,
+        "not read on as it grows; expected a ROS 1 bag, an MCAP file or a .db3 file"));
   }
 }
 

@@ -1,15 +1,19 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// A ROS 1 bag still being recorded or an MCAP file still being written, read on from where the
-// last read stopped: each read walks only the whole records the file gained since (a ROS 1
-// bag's closed chunks and connection records; an MCAP data section's chunks, loose messages,
-// schema and channel records), keeping the connections, channels and schemas met so far. A
-// record still being written at the end (a chunk whose lengths are not yet filled in, a record
-// cut off by the file's end) is left for the next read. Neither the index nor the summary is
-// read (a file still being written has none); an MCAP file's Data End or Footer ends the reads.
+// A ROS 1 bag still being recorded, an MCAP file or a rosbag2 sqlite3 file (.db3) still being
+// written, read on from where the last read stopped: each read walks only the whole records the
+// file gained since (a ROS 1 bag's chunks and connection records; an MCAP data section's chunks,
+// loose messages, schema and channel records; a .db3 file's rows after the last id read),
+// keeping the connections, channels, schemas and topics met so far. A record still being
+// written at the end (an MCAP record cut off by the file's end, a transaction not committed) is
+// left for the next read; a ROS 1 bag's open chunk (its lengths not yet filled in, or cut off)
+// is read as far as its whole records go and from its start again next time, passing over the
+// records read. Neither the index nor the summary is read (a file still being written has
+// none); an MCAP file's Data End or Footer ends the reads.
 //
 // Errors (io::InputError "file:byte N: what"): a file that is not a v2.0 bag or MCAP, a record
-// that does not parse, a closed chunk that does not decompress to its declared size.
+// that does not parse, a closed chunk that does not decompress to its declared size; a .db3
+// file without the tables topics and messages.
 
 #include <cstdint>
 #include <functional>
@@ -23,8 +27,9 @@ namespace wallcal::recording {
 
 // What one read covered.
 struct TailRead {
-  uint64_t from_byte = 0;   // where it started (0: the file's start)
+  uint64_t from_byte = 0;   // where it started (0: the file's start; .db3: the size last read)
   uint64_t to_byte = 0;     // after the last whole record read: the next read starts here
+                            // (.db3: the file's size)
   uint64_t file_bytes = 0;  // the file's size when read
   bool restarted = false;   // the file was shorter than what was read before (a new recording
                             // under the same name): read from its start, topics forgotten
@@ -64,9 +69,8 @@ class RecordingTail {
   uint64_t resume_byte_ = 0;
 };
 
-// Opens a ROS 1 bag or an MCAP file for reading on (nothing read yet; the file may not hold
-// its first record yet). nullptr for another container (a rosbag2 folder, an SQLite file) or
-// a text log. Throws io::InputError when `path` cannot be opened.
+// Opens a ROS 1 bag, an MCAP file or a .db3 file for reading on, by its magic (nothing read
+// yet; the file may not hold its first record yet). nullptr for a rosbag2 folder or a text log.
 std::unique_ptr<RecordingTail> OpenRecordingTail(const std::string& path);
 
 }  // namespace wallcal::recording

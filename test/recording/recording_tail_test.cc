@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// A ROS 1 bag and an MCAP file read on as they grow (recording::ScanTail over RecordingTail):
+// A ROS 1 bag, an MCAP file and a rosbag2 .db3 file read on as they grow (recording::ScanTail over RecordingTail):
 // the file is handed over in pieces that end anywhere (inside a record header, inside a chunk,
 // between records), and the scans read piece by piece are those a reader of the whole file
 // gives, each once, in the same order. A file that shrinks is read from its start.
@@ -18,6 +18,7 @@
 #include "recording/ros/ros_messages.h"
 #include "recording/writers/mcap_writer.h"
 #include "recording/writers/rosbag1_writer.h"
+#include "recording/writers/rosbag2_sqlite_writer.h"
 #include "test/support/scratch_dir.h"
 
 namespace wallcal::recording {
@@ -166,6 +167,48 @@ INSTANTIATE_TEST_SUITE_P(
                     Case{"Mcap", true, ChunkCompression::kNone},
                     Case{"McapZstd", true, ChunkCompression::kZstd}),
     [](const testing::TestParamInfo<Case>& param_info) { return param_info.param.name; });
+
+// A .db3 file grows by rows: each step is the file with more of the same messages (as SQLite
+// shows a database whose writer committed more), the rows after the last one read are read.
+TEST(RecordingTailTest, ReadsTheRowsADb3FileGained) {
+  const testing_support::ScratchDir scratch("wallcal_recording_tail_");
+  const fs::path growing = scratch.path() / "growing.db3";
+  const auto write_first = [&](int scans) {
+    const fs::path step = scratch.path() / "step.db3";
+    {
+      Rosbag2SqliteWriter writer(step.string(), Rosbag2Layout::kIron);
+      const int64_t scan = writer.AddTopic("/scan", "sensor_msgs/msg/LaserScan",
+                                           RosTypeDefinition(RosType::kLaserScan));
+      const int64_t fix = writer.AddTopic("/fix", "sensor_msgs/msg/NavSatFix",
+                                          RosTypeDefinition(RosType::kNavSatFix));
+      for (int i = 0; i < scans; ++i) {
+        const LaserScanMsg m = Scan(i);
+        writer.Write(scan, m.header.stamp_s + 0.002, EncodeLaserScan(m, WireFormat::kCdr));
+        if (i % 15 == 0) {
+          const NavSatFixMsg f = Fix(i / 15);
+          writer.Write(fix, f.header.stamp_s + 0.01, EncodeNavSatFix(f, WireFormat::kCdr));
+        }
+      }
+      writer.Close();
+    }
+    fs::rename(step, growing);
+  };
+  io::SessionSpec spec;
+  spec.scanner_log = growing.string();
+  spec.scanner_topic = "/scan";
+  write_first(0);
+  ScanTail tail(spec, nullptr);
+  std::vector<io::ScanRecord> read;
+  for (const int scans : {0, 40, 120, 121, kScans}) {
+    write_first(scans);
+    tail.ReadOn(&read);
+    ASSERT_EQ(read.size(), static_cast<size_t>(scans));
+  }
+  for (int i = 0; i < kScans; ++i) {
+    EXPECT_EQ(read[static_cast<size_t>(i)].stamp_s, Scan(i).header.stamp_s) << "scan " << i;
+    EXPECT_EQ(read[static_cast<size_t>(i)].line, i + 1) << "scan " << i;
+  }
+}
 
 TEST(RecordingTailTest, OtherContainersHaveNoTail) {
   const testing_support::ScratchDir scratch("wallcal_recording_tail_");
