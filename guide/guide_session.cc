@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <iterator>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -35,6 +36,7 @@ struct GuideSession::State {
   std::vector<calib::WallObservation> detected;
   int64_t scans_before = 0;
   bool solved_once = false;
+  std::optional<PoseLogFollower> pose_logs;  // read on from where the last refresh stopped
   // The pose logs' end and their dwells at the last refresh (for Repose).
   double poses_end_s = -1e300;
   std::vector<calib::Dwell> dwells;
@@ -94,6 +96,7 @@ GuideReport GuideSession::Refresh() {
     s.result.options = std::move(setup.options);
     s.result.preset = std::move(setup.preset);
     s.scans = ScanFeed::For(s.result.session, &s.result.preset);
+    s.pose_logs.emplace(s.result.session);
     if (s.scans) {
       pipeline::SurveyStep survey =
           pipeline::TieSurveyAndFitWalls(s.result.session, s.result.options.solver);
@@ -111,7 +114,11 @@ GuideReport GuideSession::Refresh() {
   pipeline::CalibrationResult& result = s.result;
   pipeline::RunInputs& inputs = s.inputs;
   {
-    pipeline::PoseStep poses = pipeline::ReadPoses(result);
+    pipeline::PoseStep poses = pipeline::PosesFromLogs(result, s.pose_logs->Read());
+    last_read_.gnss_log = s.pose_logs->gnss_read();
+    last_read_.heading_log = s.pose_logs->heading_read();
+    last_read_.fixes_used = poses.fixes_used;
+    last_read_.headings_used = poses.headings_used;
     result.num_dwells = poses.num_dwells;
     inputs.gnss = std::move(poses.gnss);
     inputs.headings = std::move(poses.headings);

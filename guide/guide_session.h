@@ -5,18 +5,19 @@
 // CARMEN text log from the line of the first scan not yet settled (a gzip-compressed one is
 // inflated up to there, not parsed), a ROS 1 bag, an MCAP file or a rosbag2 .db3 file from the
 // end of the last whole record read (a record still being written is read next time), with its
-// decoded scans from the first not yet settled kept in memory. The scans already read
-// keep their wall observations (detected once, with the gates of the first read's first pass)
-// and are only given their poses anew (a dwell that grew moves its mean pose); the scans of the
+// decoded scans from the first not yet settled kept in memory. The scans already read keep
+// their wall observations (detected once, with the gates of the first read's first pass) and
+// are only given their poses anew (a dwell that grew moves its mean pose); the scans of the
 // last seconds before the pose logs' end, whose poses may still change, are detected again next
-// time. The pose logs are read whole when they grew (a recording's GNSS and heading topics:
-// the whole recording walked). A session whose scans are in a rosbag2 folder is read whole at
-// each refresh.
+// time. The pose logs are read on from where the last read stopped too (guide/pose_logs.h; a
+// recording's GNSS and heading topics are read whole). A session whose scans are in a rosbag2
+// folder is read whole at each refresh, its pose logs with it.
 
 #include <cstdint>
 #include <memory>
 
 #include "guide/guide.h"
+#include "guide/pose_logs.h"
 
 namespace wallcal::guide {
 
@@ -28,6 +29,11 @@ struct ReadCounts {
   int64_t scan_log_bytes = 0;      // its size when read
   int64_t scans_detected = 0;      // scans read and run through the wall detector this time
   int64_t scans_kept = 0;          // scans read before, whose observations were kept
+  // The GNSS and heading logs (the same when they are one log): where each was read from.
+  PoseLogRead gnss_log;
+  PoseLogRead heading_log;
+  int64_t fixes_used = 0;    // GGA fixes of accepted quality they hold
+  int64_t headings_used = 0;  // headings they hold
 };
 
 class GuideSession {

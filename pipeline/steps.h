@@ -19,6 +19,7 @@
 #include "io/types.h"
 #include "pipeline/calibration.h"
 #include "pipeline/run_warnings.h"
+#include "recording/recording_streams.h"
 
 namespace wallcal::pipeline {
 
@@ -95,6 +96,10 @@ struct PoseStep {
   Warnings warnings;
 };
 PoseStep ReadPoses(const CalibrationResult& result);
+// ReadPoses on the GNSS and heading logs already read (ReadPoses reads them with
+// recording::ReadPoseLogs; the guide reads them on as they grow). Throws io::InputError as
+// ReadPoses does for what the logs hold.
+PoseStep PosesFromLogs(const CalibrationResult& result, recording::PoseLogs logs);
 
 // Which scans taken while moving the passes use, for a session with `num_dwells` dwells:
 // use_moving (the passes detect them) and moving_by_default (RunInputs::moving_by_default).
