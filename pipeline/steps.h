@@ -214,6 +214,13 @@ DecideStep Decide(const CalibrateRequest& request, const CalibrationResult& resu
 // The site map, stations and scan panels of the report (pipeline/report_collect.cc).
 ReportData CollectReportData(const CalibrationResult& result, const RunInputs& inputs);
 
+// The report's drawings again around `mount` (a scanner's joint mount among several): the
+// scanner at each station, each panel's gate and detection from the scan points it kept, the
+// Hough view; nothing is read. The site map's track and survey do not depend on the mount.
+// `data` must come from CollectReportData on `result` (not collected: left as it is).
+void RedrawReportWithMount(const CalibrationResult& result, const calib::Mount& mount,
+                           const std::string& mount_source, ReportData* data);
+
 // The gates of the second pass, from the first pass's covariance.
 calib::Gates TightGates(const CalibrationResult& result);
 
