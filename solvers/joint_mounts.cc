@@ -63,6 +63,29 @@ struct JointProblem {
   MountProblem joint;  // only its ceres::Problem is used (for solvers/information.h)
 };
 
+// Two scanners' heading delays are one: their totals δh + H are equal, with δh the second entry
+// of each time block [dt, δh] (s) and H the delay its poses already carry (s):
+//   r = (δh_b − δh_a − (H_a − H_b)) / σ_tie      (dimensionless; offset_s = H_a − H_b)
+// σ_tie (0.1 ms) is far below any delay's σ (milliseconds): to the solve and the covariance the
+// two are one.
+class HeadingDelayTieCost {
+ public:
+  explicit HeadingDelayTieCost(double offset_s) : offset_s_(offset_s) {}
+  template <typename T>
+  bool operator()(const T* const holder, const T* const tied, T* residual) const {
+    residual[0] = (tied[1] - holder[1] - offset_s_) / kTieSigmaS;
+    return true;
+  }
+  static ceres::CostFunction* Create(double offset_s) {
+    return new ceres::AutoDiffCostFunction<HeadingDelayTieCost, 1, 2, 2>(
+        new HeadingDelayTieCost(offset_s));
+  }
+
+ private:
+  static constexpr double kTieSigmaS = 1e-4;
+  double offset_s_;
+};
+
 void AddWallPrior(const std::vector<calib::WallGeometry>& walls, const std::set<int>& used,
                   JointProblem* jp) {
   ceres::Problem& problem = jp->joint.problem;
@@ -293,25 +316,43 @@ void AddEpochNoisePriors(const SolverOptions& options, JointProblem* jp) {
 }
 
 // Scanner s's time block as its own problem has it: its prior (centred on what its poses
-// already carry), or held constant.
-void AddTimeBlock(size_t s, const ScannerObservations& scanner, const SolverOptions& options,
-                  JointProblem* jp) {
+// already carry), or held constant. The heading delay is one for the session (one heading
+// stream, its delay after the GNSS epochs): the first scanner that estimates it states its
+// prior; each later one's total delay (what its poses carry plus its block's) is tied to that
+// one's (HeadingDelayTieCost) and its own block has no delay prior, so the prior counts once.
+// Returns the scanner whose prior holds the delay (-1 when none estimates it yet).
+int AddTimeBlock(size_t s, const ScannerObservations& scanner, const SolverOptions& options,
+                 int delay_holder, const std::vector<ScannerObservations>& scanners,
+                 JointProblem* jp) {
   const MountProblem& part = *jp->parts[s];
   ceres::Problem& problem = jp->joint.problem;
   double* block = jp->times[s].data();
-  if (!problem.HasParameterBlock(block)) return;
+  if (!problem.HasParameterBlock(block)) return delay_holder;
   if (!part.time_offset_estimated) {
     problem.SetParameterBlockConstant(block);
-    return;
+    return delay_holder;
   }
   const calib::VehiclePose& carried = scanner.observations->front().pose;
   const bool delay = part.heading_delay_estimated;
+  const bool tied = delay && delay_holder >= 0;
+  // A tied block's delay has no prior of its own: a σ so wide it adds no information.
+  constexpr double kNoPriorS = 1e3;
   problem.AddResidualBlock(
       GaussianPriorCost::Create(
-          Eigen::Vector2d(options.time_offset_sigma_s, delay ? options.heading_delay_sigma_s : 1.0),
+          Eigen::Vector2d(options.time_offset_sigma_s,
+                          delay ? (tied ? kNoPriorS : options.heading_delay_sigma_s) : 1.0),
           Eigen::Vector2d(-carried.clock_shift_s, delay ? -carried.heading_shift_s : 0.0)),
       nullptr, block);
-  if (!delay) problem.SetManifold(block, new ceres::SubsetManifold(2, {1}));
+  if (!delay) {
+    problem.SetManifold(block, new ceres::SubsetManifold(2, {1}));
+    return delay_holder;
+  }
+  if (!tied) return static_cast<int>(s);
+  const double holder_shift_s = scanners[delay_holder].observations->front().pose.heading_shift_s;
+  problem.AddResidualBlock(
+      HeadingDelayTieCost::Create(holder_shift_s - carried.heading_shift_s), nullptr,
+      jp->times[delay_holder].data(), block);
+  return delay_holder;
 }
 
 }  // namespace
@@ -362,10 +403,11 @@ JointMountEstimate SolveJointMounts(const std::vector<ScannerObservations>& scan
   }
 
   std::set<int> walls_used;
+  int delay_holder = -1;
   for (size_t s = 0; s < n; ++s) {
     const std::set<int> used = AddObservations(s, scanners[s], walls, options, jp.get());
     walls_used.insert(used.begin(), used.end());
-    AddTimeBlock(s, scanners[s], options, jp.get());
+    delay_holder = AddTimeBlock(s, scanners[s], options, delay_holder, scanners, jp.get());
     for (size_t i = 0; i < jp->parts[s]->weights.size(); ++i) {
       if (jp->parts[s]->weights[i] > 0.0) ++estimate.observations_used;
     }
