@@ -45,7 +45,7 @@ struct WallDetection {
   double sigma_rho_m = 0, sigma_theta_rad = 0, cov_rho_theta = 0;
   int num_inliers = 0;
   double range_min_m = 0, range_max_m = 0;  // range span of the inliers
-  double residual_rms_m = 0;                // RMS of the inliers about the line
+  double residual_rms_m = 0;                // RMS of the inliers' range residuals (m)
   int hough_votes = 0;                      // votes in the chosen accumulator cell
   std::vector<int> inliers;                 // indices into ScanPoints, ascending
   // For reports: the accumulator around the gate (rows = theta cells, cols = rho cells) and its

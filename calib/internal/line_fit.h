@@ -46,8 +46,8 @@ bool RefineAlongBeams(const ScanPoints& points, const std::vector<int>& idx, Lin
 // Fills *det (found, line, covariance, inliers = set, range span, residual RMS, votes) from the
 // final fit of the inliers `set`. Covariance σ² (Σ a_i a_iᵀ)⁻¹ with a_i the range model's
 // derivatives in (ρ, θ), i.e. each inlier weighted by 1/(σ cos i)² at incidence i, and
-// σ = max(range_sigma_m, RMS of the range residuals over N − 2) (m). residual_rms_m is the
-// inliers' RMS distance from the line.
+// σ = max(range_sigma_m, RMS of the range residuals over N − 2) (m). residual_rms_m is the RMS
+// of the range residuals over N.
 void FillDetection(const ScanPoints& points, const LineFit& fit, std::vector<int> set,
                    double range_sigma_m, int votes, WallDetection* det);
 
