@@ -33,9 +33,10 @@ constexpr double kMinBeamCos = 0.05;
 // optimum: each step shrinks the error by about the residuals' size over the ranges' (1e-3),
 // so two steps usually reach kBeamStepTolerance and a third is a margin.
 constexpr int kMaxBeamSteps = 3;
-// A step below this (rad in θ, m in ρ) ends the refinement: the next would be ~1e-11, against a
-// scan's σ of 1e-4 rad and 1e-3 m.
-constexpr double kBeamStepTolerance = 1e-8;
+// A step below this (rad in θ, m in ρ) ends the refinement after it is taken: what remains is
+// ~1e-9, against a scan's σ of 1e-4 rad and 1e-3 m and a relative mount's σ of 6e-6 rad. The
+// refinement runs on every scan of a session: each step is a pass over the inliers.
+constexpr double kBeamStepTolerance = 1e-6;
 
 // One inlier's row of the line's range model at (theta, rho): the prediction's derivatives
 // a = (∂/∂ρ, ∂/∂θ) and the range residual e. False when the beam runs nearly along the line.
@@ -101,6 +102,7 @@ bool FitLine(const ScanPoints& points, const std::vector<int>& idx, LineFit* fit
     rho = -rho;
   }
   fit->normal = n;
+  fit->has_beam_model = false;
   fit->rho_m = rho;
   return true;
 }
@@ -147,6 +149,9 @@ bool RefineAlongBeams(const ScanPoints& points, const std::vector<int>& idx, Lin
   if (!(rho > 0.0)) return false;
   fit->normal = Eigen::Vector2d(std::cos(theta), std::sin(theta));
   fit->rho_m = rho;
+  fit->has_beam_model = true;
+  fit->beam_information = eq.information;
+  fit->beam_sum_e2_m2 = eq.sum_e2_m2;
   return true;
 }
 
@@ -164,7 +169,10 @@ void FillDetection(const ScanPoints& points, const LineFit& fit, std::vector<int
   const int n = static_cast<int>(set.size());
   const double theta = WrapAngle(std::atan2(fit.normal.y(), fit.normal.x()));
   BeamNormalEquations eq;
-  if (!NormalEquationsAt(points, set, theta, fit.rho_m, &eq)) {
+  if (fit.has_beam_model) {
+    eq.information = fit.beam_information;
+    eq.sum_e2_m2 = fit.beam_sum_e2_m2;
+  } else if (!NormalEquationsAt(points, set, theta, fit.rho_m, &eq)) {
     // Only a degenerate set gets here (the refinement refused it): the perpendicular model,
     // every c_i taken as 1.
     const Eigen::Vector2d d(-fit.normal.y(), fit.normal.x());

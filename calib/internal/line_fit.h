@@ -20,6 +20,12 @@ namespace wallcal::calib::internal {
 struct LineFit {
   Eigen::Vector2d normal = Eigen::Vector2d::UnitX();
   double rho_m = 0.0;
+  // Set by RefineAlongBeams: the range model's information Σ a_i a_iᵀ (unit σ) and its sum of
+  // squared range residuals (m²), from its last step (within 1e-6 of the line: FillDetection
+  // takes them instead of another pass over the points).
+  bool has_beam_model = false;
+  Eigen::Matrix2d beam_information = Eigen::Matrix2d::Zero();
+  double beam_sum_e2_m2 = 0.0;
 };
 
 // Total-least-squares line through points[idx]: the normal is the eigenvector of the scatter
