@@ -65,13 +65,13 @@ const CommandHelp& CalibrateHelp() {
           {"--emit", "", "FORMAT", ValueKind::kChoice, {"ros2-static-tf", "urdf", "json"},
            "print the mount for a navigation stack: ros2-static-tf (a\n"
            "`ros2 run tf2_ros static_transform_publisher ...` line), urdf (a fixed\n"
-           "<joint>), json (mount, sigma, covariance, frames). With --emit, stdout\n"
-           "carries ONLY the emitted text (pipe it); the summary goes to stderr.\n"
-           "Emitted only when the mount is determined. One tree: when session.yaml\n"
-           "gives antenna_in_base, base frame -> antenna frame is emitted too, then\n"
-           "antenna frame -> scanner frame. The scanner's height relative to the\n"
-           "antenna is session.yaml's scanner.z_m (the calibration cannot see it);\n"
-           "without it z = 0 and the emitted text says so."},
+           "<joint>), json (mount, sigma, covariance, frames, verdict). With\n"
+           "--emit, stdout carries ONLY the emitted text (pipe it); the summary goes\n"
+           "to stderr. Emitted only when the mount is determined. One tree: when\n"
+           "session.yaml gives antenna_in_base, base frame -> antenna frame is\n"
+           "emitted too, then antenna frame -> scanner frame. The scanner's height\n"
+           "relative to the antenna is session.yaml's scanner.z_m (the calibration\n"
+           "cannot see it); without it z = 0 and the emitted text says so."},
           {"--parent-frame", "", "NAME", ValueKind::kWord, {},
            "the antenna frame's name (default gnss_antenna)"},
           {"--child-frame", "", "NAME", ValueKind::kWord, {},
@@ -87,7 +87,9 @@ const CommandHelp& CalibrateHelp() {
            "REVIEW when it is beyond the acceptance tolerances. With scanners: in\n"
            "session.yaml, each scanner is compared by id (with a one-scanner file,\n"
            "the scanner whose frame is its child_frame) and each relative transform\n"
-           "by (from, to); a scanner found in one file only is named"},
+           "by (from, to), or by (to, from) inverted when the earlier session listed\n"
+           "the two scanners the other way round; a scanner found in one file only\n"
+           "is named"},
           {"--allow-partial", "", "", ValueKind::kNone, {},
            "with several scanners (session.yaml scanners:), write the others when\n"
            "one is refused (by default the run fails, exit 1)"},
@@ -432,7 +434,7 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
     if (emit) {
       summary_out << std::flush;
       std::cout << outputs::FormatEmit(*emit, result.estimate, result.session.antenna_in_base, frames,
-                                       result.session.scanner_z_m)
+                                       result.session.scanner_z_m, &result.decision)
                 << std::flush;
     }
     return 0;

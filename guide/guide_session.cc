@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -83,6 +84,7 @@ struct GuideSession::State {
   int64_t resume_line = 1;
   int64_t scans_before = 0;
   bool solved_once = false;
+  std::optional<PoseLogFollower> pose_logs;  // read on from where the last refresh stopped
   // The pose logs' end and their dwells at the last refresh (for Repose).
   double poses_end_s = -1e300;
   std::vector<calib::Dwell> dwells;
@@ -143,6 +145,7 @@ GuideReport GuideSession::Refresh() {
     s.result.preset = std::move(setup.preset);
     const std::string& scans = s.result.session.scanner_log;
     s.incremental = !recording::IsRecording(scans) && !IsGzip(scans);
+    s.pose_logs.emplace(s.result.session);
     if (s.incremental) {
       pipeline::SurveyStep survey =
           pipeline::TieSurveyAndFitWalls(s.result.session, s.result.options.solver);
@@ -160,7 +163,11 @@ GuideReport GuideSession::Refresh() {
   pipeline::CalibrationResult& result = s.result;
   pipeline::RunInputs& inputs = s.inputs;
   {
-    pipeline::PoseStep poses = pipeline::ReadPoses(result);
+    pipeline::PoseStep poses = pipeline::PosesFromLogs(result, s.pose_logs->Read());
+    last_read_.gnss_log = s.pose_logs->gnss_read();
+    last_read_.heading_log = s.pose_logs->heading_read();
+    last_read_.fixes_used = poses.fixes_used;
+    last_read_.headings_used = poses.headings_used;
     result.num_dwells = poses.num_dwells;
     inputs.gnss = std::move(poses.gnss);
     inputs.headings = std::move(poses.headings);

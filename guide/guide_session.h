@@ -5,14 +5,16 @@
 // scans already read keep their wall observations (detected once, with the gates of the first
 // read's first pass) and are only given their poses anew (a dwell that grew moves its mean
 // pose); the scans of the last seconds before the pose logs' end, whose poses may still change,
-// are read again next time, as is a last line still being written. The pose logs (NMEA, a few
-// MB an hour) are read whole when they grew. A session whose scans are in a recording (ROS 1
-// bag, MCAP, rosbag2) or in a gzip-compressed log is read whole at each refresh.
+// are read again next time, as is a last line still being written. The pose logs are read on
+// from where the last read stopped too (guide/pose_logs.h). A session whose scans are in a
+// recording (ROS 1 bag, MCAP, rosbag2) or in a gzip-compressed log is read whole at each refresh,
+// its pose logs with it.
 
 #include <cstdint>
 #include <memory>
 
 #include "guide/guide.h"
+#include "guide/pose_logs.h"
 
 namespace wallcal::guide {
 
@@ -23,6 +25,11 @@ struct ReadCounts {
   int64_t scan_log_bytes = 0;      // its size when read
   int64_t scans_detected = 0;      // scans read and run through the wall detector this time
   int64_t scans_kept = 0;          // scans read before, whose observations were kept
+  // The GNSS and heading logs (the same when they are one log): where each was read from.
+  PoseLogRead gnss_log;
+  PoseLogRead heading_log;
+  int64_t fixes_used = 0;    // GGA fixes of accepted quality they hold
+  int64_t headings_used = 0;  // headings they hold
 };
 
 class GuideSession {

@@ -88,6 +88,15 @@ std::string JsonBaseLinkMember(const PlanarTransform* base_t) {
          ", \"yaw_rad\": 0, \"yaw_deg\": 0}\n";
 }
 
+std::string JsonDecision(const pipeline::Decision& decision) {
+  std::string out = std::string("{\"verdict\": \"") + pipeline::VerdictName(decision.verdict) +
+                    "\", \"reasons\": [";
+  for (size_t i = 0; i < decision.reasons.size(); ++i) {
+    out += (i ? ", " : "") + JsonString(decision.reasons[i]);
+  }
+  return out + "]}";
+}
+
 bool ParseEmitFormat(const std::string& name, EmitFormat* format) {
   if (name == "ros2-static-tf") {
     *format = EmitFormat::kRos2StaticTf;
@@ -158,7 +167,8 @@ PlanarTransform BaseToLaser(const solvers::Mount& mount, const io::AntennaInBase
 
 std::string FormatEmit(EmitFormat format, const solvers::MountEstimate& estimate,
                        const std::optional<io::AntennaInBase>& antenna_in_base,
-                       const EmitFrames& frames, const std::optional<double>& scanner_z_m) {
+                       const EmitFrames& frames, const std::optional<double>& scanner_z_m,
+                       const pipeline::Decision* verdict) {
   CheckFrames(frames);
   const bool z_known = scanner_z_m.has_value();
   const PlanarTransform antenna_t = AntennaToLaser(estimate.mount, frames, scanner_z_m.value_or(0.0));
@@ -204,6 +214,7 @@ std::string FormatEmit(EmitFormat format, const solvers::MountEstimate& estimate
       } else {
         out += "  \"sigma\": null,\n  \"covariance\": null,\n";
       }
+      out += "  \"verdict\": " + (verdict ? JsonDecision(*verdict) : std::string("null")) + ",\n";
       out += JsonBaseLinkMember(base_t ? &*base_t : nullptr);
       out += "}\n";
       break;

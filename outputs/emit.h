@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "io/types.h"
+#include "pipeline/verdict.h"
 #include "solvers/mount_solver.h"
 
 namespace wallcal::outputs {
@@ -68,6 +69,9 @@ std::string UrdfTree(const std::vector<PlanarTransform>& joints, bool z_known);
 // --emit json's last member: `  "base_link": {...}` for base_T_antenna, or null without
 // antenna_in_base (ends with a newline).
 std::string JsonBaseLinkMember(const PlanarTransform* base_t);
+// A verdict as offsets.yaml's `verdict:` map writes it: {"verdict": "ACCEPT"|"REVIEW"|"REJECT",
+// "reasons": ["...", ...]} (no newline).
+std::string JsonDecision(const pipeline::Decision& decision);
 
 // The emitted text (ends with a newline). One tree: with antenna_in_base the transforms are
 // base -> parent (base_T_antenna) and parent -> child (the mount); a frame never has two
@@ -83,14 +87,16 @@ std::string JsonBaseLinkMember(const PlanarTransform* base_t);
 //  kJson          one object: {"method", "parent_frame", "child_frame", "mount": {x_m, y_m, z_m,
 //                 yaw_rad, yaw_deg}, "z_known", "sigma": {x_m, y_m, yaw_rad, yaw_deg} or null,
 //                 "covariance": {"order": [...], "matrix": [[...], [...], [...]]} or null,
-//                 "base_link": null or {"parent_frame", "child_frame", x_m, y_m, z_m, yaw_rad,
-//                 yaw_deg} (base_T_antenna)}.
+//                 "verdict": {"verdict", "reasons"} (JsonDecision of `verdict`; null when not
+//                 given), "base_link": null or {"parent_frame", "child_frame", x_m, y_m, z_m,
+//                 yaw_rad, yaw_deg} (base_T_antenna)}.
 // Numbers are printed with 9 significant digits. σ is null when the covariance is not finite
 // (a method without an error model). Frame names must satisfy IsValidFrameName (invalid names
 // throw std::invalid_argument here).
 std::string FormatEmit(EmitFormat format, const solvers::MountEstimate& estimate,
                        const std::optional<io::AntennaInBase>& antenna_in_base,
                        const EmitFrames& frames,
-                       const std::optional<double>& scanner_z_m = std::nullopt);
+                       const std::optional<double>& scanner_z_m = std::nullopt,
+                       const pipeline::Decision* verdict = nullptr);
 
 }  // namespace wallcal::outputs

@@ -268,7 +268,7 @@ std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScanners
           for (int col = 0; col < 3; ++col) out += (col ? ", " : "") + JsonNum(c(r, col));
           out += "]";
         }
-        out += "]}}";
+        out += "]}, \"verdict\": " + JsonDecision(run.result.decision) + "}";
       }
       out += "\n  ],\n  \"relative\": [";
       for (size_t i = 0; i < several.relative.size(); ++i) {
@@ -280,9 +280,11 @@ std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScanners
                ", \"y_m\": " + JsonNum(m.y_m) + ", \"yaw_rad\": " + JsonNum(m.yaw_rad) +
                ", \"yaw_deg\": " + JsonNum(m.yaw_rad * kRadToDeg) + ", \"sigma\": {\"x_m\": " +
                JsonNum(Sigma(c, 0)) + ", \"y_m\": " + JsonNum(Sigma(c, 1)) + ", \"yaw_rad\": " +
-               JsonNum(Sigma(c, 2)) + ", \"yaw_deg\": " + JsonNum(Sigma(c, 2) * kRadToDeg) + "}}";
+               JsonNum(Sigma(c, 2)) + ", \"yaw_deg\": " + JsonNum(Sigma(c, 2) * kRadToDeg) +
+               "}, \"verdict\": " + JsonDecision(relative.decision) + "}";
       }
       out += "\n  ],\n";
+      out += "  \"verdict\": " + JsonDecision(several.decision) + ",\n";
       out += JsonBaseLinkMember(antenna ? &joints.front() : nullptr);
       out += "}\n";
       break;

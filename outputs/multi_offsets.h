@@ -36,8 +36,9 @@ std::string FormatSeveralSummary(const pipeline::SeveralScannersResult& several)
 // --emit for several scanners: one tree, base -> frames.parent (with antenna_in_base) and
 // frames.parent -> each calibrated scanner's frame (z from its z_m, 0 and a note when unknown).
 // The JSON is {"method", "parent_frame", "scanners": [{"id", "child_frame", "mount", "z_known",
-// "sigma", "covariance"}...], "relative": [{"from", "to", x_m, y_m, yaw_rad, yaw_deg, "sigma"}],
-// "base_link"}. Frame names must satisfy IsValidFrameName (std::invalid_argument otherwise).
+// "sigma", "covariance", "verdict"}...], "relative": [{"from", "to", x_m, y_m, yaw_rad, yaw_deg,
+// "sigma", "verdict"}], "verdict", "base_link"}: each verdict is offsets.yaml's
+// ({"verdict", "reasons"}, outputs::JsonDecision), the last the run's. Frame names must satisfy IsValidFrameName (std::invalid_argument otherwise).
 std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScannersResult& several,
                               const EmitFrames& frames);
 

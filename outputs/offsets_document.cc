@@ -53,7 +53,8 @@ std::string ChangeYaml(const pipeline::Change& c) {
          (c.previous_created_utc.empty() ? std::string() : ", previous_created_utc: " + Quoted(c.previous_created_utc)) +
          ", dx_mm: " + Mm(c.dx_m) + ", dy_mm: " + Mm(c.dy_m) + ", dyaw_deg: " + Deg(c.dyaw_rad) +
          ", combined_sigmas: {x: " + Ratio(c.x_sigmas) + ", y: " + Ratio(c.y_sigmas) +
-         ", yaw: " + Ratio(c.yaw_sigmas) + "}}";
+         ", yaw: " + Ratio(c.yaw_sigmas) + "}" +
+         (c.previous_inverted ? ", previous_inverted: true" : "") + "}";
 }
 
 io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const EmitFrames& frames) {

@@ -23,6 +23,9 @@ std::string ChangeText(const pipeline::Change& c) {
                 "since %s: x %+.1f mm, y %+.1f mm, yaw %+.3f deg (%.1f, %.1f, %.1f combined sigma)",
                 c.previous_file.c_str(), shown(c.dx_m * 1e3, 0.1), shown(c.dy_m * 1e3, 0.1),
                 shown(c.dyaw_rad * kRadToDeg, 0.001), c.x_sigmas, c.y_sigmas, c.yaw_sigmas);
+  if (c.previous_inverted) {
+    return std::string(line) + "; the previous file holds it the other way round, inverted";
+  }
   return line;
 }
 

@@ -9,6 +9,7 @@
 #include "common/sha256.h"
 #include "io/config/offsets_reader.h"
 #include "io/config/session_reader.h"
+#include "pipeline/steps.h"
 
 namespace wallcal::pipeline {
 
@@ -95,6 +96,9 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
     run.result.estimate.mount = several.joint.mounts[k];
     run.result.estimate.covariance = several.joint.covariance.block<3, 3>(3 * k, 3 * k);
     run.result.time_offset_s = several.joint.time_offset_s[k];
+    // Its page shows the joint numbers: its panels and site map are drawn with them too.
+    RedrawReportWithMount(run.result, run.result.estimate.mount,
+                          "joint estimate of all scanners", &run.result.report);
   }
   for (size_t a = 0; a < several.scanners.size(); ++a) {
     for (size_t b = a + 1; b < several.scanners.size(); ++b) {

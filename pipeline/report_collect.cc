@@ -47,6 +47,13 @@ void ChooseMount(const CalibrationResult& result, ReportData* data) {
   }
 }
 
+Eigen::Vector2d ScannerAtStation(const Station& station, const calib::Mount& mount) {
+  calib::VehiclePose pose;
+  pose.antenna_local_m = station.antenna_local_m;
+  pose.yaw_rad = station.yaw_rad;
+  return calib::ScannerPositionLocal(pose, mount);
+}
+
 // Stations: the dwells the observations came from, in time order.
 std::vector<Station> FindStations(const CalibrationResult& result, const calib::Mount& mount) {
   std::map<int, Station> by_segment;
@@ -67,10 +74,7 @@ std::vector<Station> FindStations(const CalibrationResult& result, const calib::
   for (auto& [segment, s] : by_segment) {
     s.antenna_local_m /= static_cast<double>(s.observations.size());
     s.yaw_rad = std::atan2(yaw_sums[segment].second, yaw_sums[segment].first);
-    calib::VehiclePose pose;
-    pose.antenna_local_m = s.antenna_local_m;
-    pose.yaw_rad = s.yaw_rad;
-    s.scanner_local_m = calib::ScannerPositionLocal(pose, mount);
+    s.scanner_local_m = ScannerAtStation(s, mount);
     stations.push_back(s);
   }
   std::sort(stations.begin(), stations.end(), [&](const Station& a, const Station& b) {
@@ -118,6 +122,17 @@ void CollectSiteMap(const CalibrationResult& result, const RunInputs& inputs, Re
   }
 }
 
+// Each read panel's scan detected around the report's mount with the second pass's gates.
+void DetectPanels(const CalibrationResult& result, ReportData* data) {
+  for (ScanPanel& panel : data->panels) {
+    if (!panel.have_scan) continue;
+    const calib::WallObservation& o = result.observations[panel.observation];
+    panel.gate = calib::GateFor(o, result.walls[o.wall_index], data->mount, data->tight_gates);
+    panel.detection = calib::DetectWall(panel.points, panel.gate, result.options.detector,
+                                        result.preset.range_sigma_m, false);
+  }
+}
+
 // One scan per chosen station (stations spread over the headings), re-read in one pass that
 // stops after the last one needed, and detected again around the report's mount.
 void CollectPanels(const CalibrationResult& result, const RunInputs& inputs, ReportData* data) {
@@ -162,22 +177,20 @@ void CollectPanels(const CalibrationResult& result, const RunInputs& inputs, Rep
       const auto it = panel_of_scan.find(index);
       if (it == panel_of_scan.end()) continue;
       ScanPanel& panel = data->panels[it->second];
-      const calib::WallObservation& o = result.observations[panel.observation];
       panel.have_scan = true;
       panel.line = scan.line;
       panel.points = calib::ToScanPoints(scan, result.preset, detector.min_range_m,
                                          detector.mixed_pixel_jump_m, nullptr);
-      panel.gate = calib::GateFor(o, result.walls[o.wall_index], data->mount, data->tight_gates);
-      panel.detection =
-          calib::DetectWall(panel.points, panel.gate, detector, result.preset.range_sigma_m, false);
     }
   } catch (const io::InputError& error) {
     data->notes.push_back(std::string("the scans could not be read again: ") + error.what());
   }
+  DetectPanels(result, data);
 }
 
 // The accumulator of the middle panel over a window wider than the gates.
 void CollectHough(const CalibrationResult& result, ReportData* data) {
+  data->hough = HoughView();
   if (data->panels.empty()) return;
   const int index = static_cast<int>(data->panels.size() / 2);
   const ScanPanel& panel = data->panels[static_cast<size_t>(index)];
@@ -219,6 +232,17 @@ ReportData CollectReportData(const CalibrationResult& result, const RunInputs& i
   CollectHough(result, &data);
   CollectTruth(result, &data);
   return data;
+}
+
+void RedrawReportWithMount(const CalibrationResult& result, const calib::Mount& mount,
+                           const std::string& mount_source, ReportData* data) {
+  if (!data->collected) return;
+  data->mount = mount;
+  data->mount_source = mount_source;
+  data->have_mount = true;
+  for (Station& station : data->stations) station.scanner_local_m = ScannerAtStation(station, mount);
+  DetectPanels(result, data);
+  CollectHough(result, data);
 }
 
 }  // namespace wallcal::pipeline

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <set>
 
+#include <Eigen/Core>
+
 #include "common/angles.h"
 #include "common/format.h"
 #include "pipeline/multi_scanner.h"
@@ -97,6 +99,23 @@ Decision DecideSeveral(const SeveralScannersResult& several) {
   return d;
 }
 
+io::PreviousOffsets InvertPrevious(const io::PreviousOffsets& a_T_b) {
+  io::PreviousOffsets b_T_a = a_T_b;
+  const double c = std::cos(a_T_b.yaw_rad), s = std::sin(a_T_b.yaw_rad);
+  b_T_a.x_m = -c * a_T_b.x_m - s * a_T_b.y_m;
+  b_T_a.y_m = s * a_T_b.x_m - c * a_T_b.y_m;
+  b_T_a.yaw_rad = WrapAngle(-a_T_b.yaw_rad);
+  Eigen::Matrix3d jacobian;
+  jacobian << -c, -s, b_T_a.y_m,  //
+      s, -c, -b_T_a.x_m,          //
+      0.0, 0.0, -1.0;
+  const Eigen::Matrix3d covariance =
+      jacobian * Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(a_T_b.covariance) *
+      jacobian.transpose();
+  Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(b_T_a.covariance) = covariance;
+  return b_T_a;
+}
+
 Change CompareRelative(const solvers::RelativeMount& now, const io::PreviousOffsets& previous) {
   solvers::MountEstimate estimate;
   estimate.mount = now.from_T_to;
@@ -130,9 +149,19 @@ SeveralChanges CompareSeveral(const SeveralScannersResult& several,
     if (matched.count(old.id) == 0) changes.only_in_previous.push_back(old.id);
   }
   for (size_t r = 0; r < several.relative.size(); ++r) {
+    const RelativeMountResult& now = several.relative[r];
     for (const io::PreviousRelativeOffsets& old : previous.relative) {
-      if (old.from_id == several.relative[r].from_id && old.to_id == several.relative[r].to_id) {
-        changes.relative[r] = CompareRelative(several.relative[r].mount, old.offsets);
+      if (old.from_id == now.from_id && old.to_id == now.to_id) {
+        changes.relative[r] = CompareRelative(now.mount, old.offsets);
+        break;
+      }
+    }
+    if (changes.relative[r]) continue;
+    // The previous session listed the two scanners the other way round: it holds to_T_from.
+    for (const io::PreviousRelativeOffsets& old : previous.relative) {
+      if (old.from_id == now.to_id && old.to_id == now.from_id) {
+        changes.relative[r] = CompareRelative(now.mount, InvertPrevious(old.offsets));
+        changes.relative[r]->previous_inverted = true;
         break;
       }
     }

@@ -30,7 +30,9 @@ struct SeveralChanges {
 
 // Matches `several`'s calibrated scanners with `previous`: by id when it lists scanner_mounts,
 // by the scanner's frame (its child_frame) when it holds one scanner_mount; the relative
-// transforms by (from, to). A refused scanner gets no change and is not "not in previous".
+// transforms by (from, to), or by (to, from) inverted (InvertPrevious; the change then says
+// previous_inverted) when the previous session listed the two scanners in the other order.
+// A refused scanner gets no change and is not "not in previous".
 SeveralChanges CompareSeveral(const SeveralScannersResult& several,
                               const io::PreviousSeveralOffsets& previous);
 
@@ -48,6 +50,12 @@ Decision DecideRelative(const solvers::RelativeMount& relative, const std::optio
 // one reason per one that is not ACCEPT ("front_left: REVIEW"); a run that left a scanner out
 // (--allow-partial) is at least REVIEW. Reads each result's decision, so those come first.
 Decision DecideSeveral(const SeveralScannersResult& several);
+
+// The inverse pose b_T_a of a previous entry a_T_b = (x, y, yaw) (m, rad): yaw' = −yaw,
+// t' = −R(−yaw) t, with the covariance carried through the inverse's Jacobian to first order,
+// J = [[−c, −s, y'], [s, −c, −x'], [0, 0, −1]] (c, s of yaw; x', y' the inverse's translation).
+// An unknown covariance (sigma_known false) stays unknown; the file and date are kept.
+io::PreviousOffsets InvertPrevious(const io::PreviousOffsets& a_T_b);
 
 // The change of a relative transform since `previous` (CompareMounts on the pose of `to` in
 // `from` and its covariance).

@@ -100,12 +100,15 @@ Setup LoadSessionAndOptions(const CalibrateRequest& request) {
 }
 
 PoseStep ReadPoses(const CalibrationResult& result) {
+  // Text logs or recording topics (one pass when GNSS and heading share a recording).
+  return PosesFromLogs(result, recording::ReadPoseLogs(result.session));
+}
+
+PoseStep PosesFromLogs(const CalibrationResult& result, recording::PoseLogs logs) {
   PoseStep step;
   const io::SessionSpec& session = result.session;
   const CalibrateOptions& options = result.options;
   const bool one_log = session.heading_log == session.gnss_log;
-  // Text logs or recording topics (one pass when GNSS and heading share a recording).
-  recording::PoseLogs logs = recording::ReadPoseLogs(session);
   step.gnss = std::move(logs.gnss);
   step.headings = std::move(logs.headings);
   for (std::string& w : logs.warnings) step.warnings.push_back({WarningKind::kPoseLog, std::move(w)});

@@ -19,6 +19,7 @@
 #include "io/types.h"
 #include "pipeline/calibration.h"
 #include "pipeline/run_warnings.h"
+#include "recording/recording_streams.h"
 
 namespace wallcal::pipeline {
 
@@ -95,6 +96,10 @@ struct PoseStep {
   Warnings warnings;
 };
 PoseStep ReadPoses(const CalibrationResult& result);
+// ReadPoses on the GNSS and heading logs already read (ReadPoses reads them with
+// recording::ReadPoseLogs; the guide reads them on as they grow). Throws io::InputError as
+// ReadPoses does for what the logs hold.
+PoseStep PosesFromLogs(const CalibrationResult& result, recording::PoseLogs logs);
 
 // Which scans taken while moving the passes use, for a session with `num_dwells` dwells:
 // use_moving (the passes detect them) and moving_by_default (RunInputs::moving_by_default).
@@ -208,6 +213,13 @@ DecideStep Decide(const CalibrateRequest& request, const CalibrationResult& resu
 
 // The site map, stations and scan panels of the report (pipeline/report_collect.cc).
 ReportData CollectReportData(const CalibrationResult& result, const RunInputs& inputs);
+
+// The report's drawings again around `mount` (a scanner's joint mount among several): the
+// scanner at each station, each panel's gate and detection from the scan points it kept, the
+// Hough view; nothing is read. The site map's track and survey do not depend on the mount.
+// `data` must come from CollectReportData on `result` (not collected: left as it is).
+void RedrawReportWithMount(const CalibrationResult& result, const calib::Mount& mount,
+                           const std::string& mount_source, ReportData* data);
 
 // The gates of the second pass, from the first pass's covariance.
 calib::Gates TightGates(const CalibrationResult& result);

@@ -32,6 +32,10 @@ struct Change {
   double dx_m = 0.0, dy_m = 0.0, dyaw_rad = 0.0;
   // |Δ| / (σ_now² + σ_previous²)^½ per axis; NaN when either σ is unknown.
   double x_sigmas = 0.0, y_sigmas = 0.0, yaw_sigmas = 0.0;
+  // A relative transform of several scanners only: the previous file holds it the other way
+  // round, (to, from), and its pose and covariance were inverted for the comparison
+  // (pipeline::InvertPrevious).
+  bool previous_inverted = false;
 };
 
 // Now minus previous (yaw wrapped to (−π, π]); σ units from both covariances (a covariance

@@ -183,15 +183,6 @@ void ReadRecordedPoses(const std::string& path, const TopicStream* gnss, double 
   for (const std::string& w : recording->warnings()) out->warnings.push_back(w);
 }
 
-void RequireNoTopic(const std::string& topic, const std::string& log, const std::string& key) {
-  if (topic.empty()) return;
-  throw io::InputError(
-      io::Where(log, 0,
-                key + " '" + topic +
-                    "' given, but this is a text log, not a recording; expected a ROS 1 "
-                    "bag, an MCAP file or a rosbag2 .db3 / folder"));
-}
-
 // Scans of a recording, decoded once and replayed for every pass.
 class ReplayedScans : public io::ScanSource {
  public:
@@ -246,6 +237,15 @@ std::vector<io::ScanRecord> ReadRecordedScans(const io::SessionSpec& spec,
 }
 
 }  // namespace
+
+void RequireNoTopic(const std::string& topic, const std::string& log, const std::string& key) {
+  if (topic.empty()) return;
+  throw io::InputError(
+      io::Where(log, 0,
+                key + " '" + topic +
+                    "' given, but this is a text log, not a recording; expected a ROS 1 "
+                    "bag, an MCAP file or a rosbag2 .db3 / folder"));
+}
 
 std::vector<RosType> AcceptedScanTypes() { return {RosType::kLaserScan}; }
 std::vector<RosType> AcceptedGnssTypes() { return {RosType::kNavSatFix, RosType::kNmeaSentence}; }

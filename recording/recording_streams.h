@@ -67,6 +67,10 @@ struct PoseLogs {
 // `gnss` / `heading` false: that stream is not read (left empty).
 PoseLogs ReadPoseLogs(const io::SessionSpec& spec, bool gnss = true, bool heading = true);
 
+// For a log that is not a recording: throws io::InputError when its session key `key`
+// ("gnss.topic") names a topic all the same; nothing when `topic` is empty.
+void RequireNoTopic(const std::string& topic, const std::string& log, const std::string& key);
+
 // Opens the session's scans as fresh streams, one per call (a detection pass each). A text log:
 // a io::CarmenReader each time. A recording: the LaserScan topic is decoded once, on the first
 // call, and checked against `preset` (when not null: it must outlive the opener); later calls

@@ -3,167 +3,40 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <deque>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <optional>
 #include <string_view>
 #include <vector>
-#include "common/angles.h"
 
-#include "io/internal/decimal.h"
-#include "io/text/internal/gzip_input.h"
+#include "common/angles.h"
 #include "io/input_file.h"
+#include "io/text/internal/gzip_input.h"
+#include "io/text/internal/nmea_sentence.h"
 
 namespace wallcal::io {
 namespace {
-constexpr double kSecondsPerDay = 86400.0;
+
+using nmea::ExtractSentence;
+using nmea::Fields;
+using nmea::kSecondsPerDay;
+using nmea::ParseDouble;
+using nmea::ParseInt;
+using nmea::ParseLatLon;
+using nmea::ParseTimeOfDay;
+using nmea::SentenceDate;
+using nmea::SentenceType;
+using nmea::Split;
+using nmea::TakePrefix;
+
+namespace fs = std::filesystem;
+
 constexpr size_t kGstMatchWindow = 16;  // GGA/GST pairs are adjacent; a few epochs suffice
 
-using Fields = std::vector<std::string_view>;
-
-int HexValue(char c) {
-  if (c >= '0' && c <= '9') return c - '0';
-  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-  return -1;
-}
-
-// Finds the sentence in a line: the first '$' whose text up to the next '*' matches the two hex
-// digits after it. Receivers interleave binary messages with NMEA, so bytes before a '$' (or a
-// '$' inside binary data) are not trusted. On failure *reason says why.
-bool ExtractSentence(std::string_view text, std::string_view* body, const char** reason,
-                     SkipSeverity* severity = nullptr) {
-  *reason = "not NMEA";  // no '$' at all: comments, other protocols
-  if (severity != nullptr) *severity = SkipSeverity::kInformational;
-  bool saw_checksum = false;
-  for (size_t dollar = text.find('$'); dollar != std::string_view::npos;
-       dollar = text.find('$', dollar + 1)) {
-    const size_t star = text.find('*', dollar + 1);
-    if (star == std::string_view::npos || star + 2 >= text.size() || HexValue(text[star + 1]) < 0 ||
-        HexValue(text[star + 2]) < 0) {
-      if (!saw_checksum) *reason = "no checksum";
-      if (severity != nullptr) *severity = SkipSeverity::kProblem;
-      continue;
-    }
-    saw_checksum = true;
-    *reason = "bad checksum";
-    if (severity != nullptr) *severity = SkipSeverity::kProblem;
-    unsigned sum = 0;
-    for (size_t i = dollar + 1; i < star; ++i) sum ^= static_cast<unsigned char>(text[i]);
-    const unsigned expected =
-        static_cast<unsigned>(HexValue(text[star + 1]) * 16 + HexValue(text[star + 2]));
-    if (sum == expected) {
-      *body = text.substr(dollar + 1, star - dollar - 1);
-      return true;
-    }
-  }
-  return false;
-}
-
-void Split(std::string_view body, Fields* fields) {
-  fields->clear();
-  size_t start = 0;
-  while (true) {
-    const size_t comma = body.find(',', start);
-    if (comma == std::string_view::npos) {
-      fields->push_back(body.substr(start));
-      return;
-    }
-    fields->push_back(body.substr(start, comma - start));
-    start = comma + 1;
-  }
-}
-
-// "GPGGA" -> "GGA"; proprietary sentences ("PSTI", "PASHR") keep their whole address.
-std::string_view SentenceType(std::string_view address) {
-  if (!address.empty() && address[0] == 'P') return address;
-  return address.size() >= 5 ? address.substr(address.size() - 3) : address;
-}
-
-bool ParseDouble(std::string_view token, double* value) {
-  return ParseDecimal(token, value) && std::isfinite(*value);
-}
-
-bool ParseInt(std::string_view token, int* value) {
-  const auto result = std::from_chars(token.data(), token.data() + token.size(), *value);
-  return result.ec == std::errc() && result.ptr == token.data() + token.size();
-}
-
-bool AllDigits(std::string_view text) {
-  for (char c : text) {
-    if (c < '0' || c > '9') return false;
-  }
-  return !text.empty();
-}
-
-// hhmmss[.sss] -> seconds of the UTC day.
-bool ParseTimeOfDay(std::string_view field, double* tod_s) {
-  if (field.size() < 6 || !AllDigits(field.substr(0, 6))) return false;
-  const int hours = (field[0] - '0') * 10 + (field[1] - '0');
-  const int minutes = (field[2] - '0') * 10 + (field[3] - '0');
-  double seconds = 0.0;
-  if (!ParseDouble(field.substr(4), &seconds)) return false;
-  if (hours > 23 || minutes > 59 || seconds < 0.0 || seconds >= 61.0) return false;
-  *tod_s = hours * 3600.0 + minutes * 60.0 + seconds;
-  return true;
-}
-
-// Days since 1970-01-01 of a proleptic Gregorian date (H. Hinnant's days_from_civil).
-int64_t DaysFromCivil(int year, int month, int day) {
-  year -= month <= 2 ? 1 : 0;
-  const int64_t era = (year >= 0 ? year : year - 399) / 400;
-  const int64_t year_of_era = year - era * 400;
-  const int64_t day_of_year = (153 * (month + (month > 2 ? -3 : 9)) + 2) / 5 + day - 1;
-  const int64_t day_of_era = year_of_era * 365 + year_of_era / 4 - year_of_era / 100 + day_of_year;
-  return era * 146097 + day_of_era - 719468;
-}
-
-bool ValidDate(int year, int month, int day) {
-  return year >= 1980 && year <= 2200 && month >= 1 && month <= 12 && day >= 1 && day <= 31;
-}
-
-// The date of an RMC (field 9, ddmmyy) or ZDA (fields 2-4: dd, mm, yyyy) sentence.
-std::optional<int64_t> SentenceDate(std::string_view type, const Fields& fields) {
-  int day = 0, month = 0, year = 0;
-  if (type == "RMC") {
-    if (fields.size() < 10 || fields[9].size() != 6 || !AllDigits(fields[9])) return std::nullopt;
-    const std::string_view d = fields[9];
-    day = (d[0] - '0') * 10 + (d[1] - '0');
-    month = (d[2] - '0') * 10 + (d[3] - '0');
-    const int yy = (d[4] - '0') * 10 + (d[5] - '0');
-    year = yy < 80 ? 2000 + yy : 1900 + yy;
-  } else if (type == "ZDA") {
-    if (fields.size() < 5 || !ParseInt(fields[2], &day) || !ParseInt(fields[3], &month) ||
-        !ParseInt(fields[4], &year)) {
-      return std::nullopt;
-    }
-  } else {
-    return std::nullopt;
-  }
-  if (!ValidDate(year, month, day)) return std::nullopt;
-  return DaysFromCivil(year, month, day);
-}
-
-// Strips the logger-time prefix "<seconds> " if the line has one.
-std::optional<double> TakePrefix(std::string_view* line) {
-  size_t i = 0;
-  while (i < line->size() && (*line)[i] >= '0' && (*line)[i] <= '9') ++i;
-  if (i == 0) return std::nullopt;
-  if (i < line->size() && (*line)[i] == '.') {
-    ++i;
-    while (i < line->size() && (*line)[i] >= '0' && (*line)[i] <= '9') ++i;
-  }
-  if (i >= line->size() || ((*line)[i] != ' ' && (*line)[i] != '\t')) return std::nullopt;
-  double stamp_s = 0.0;
-  if (!ParseDouble(line->substr(0, i), &stamp_s)) return std::nullopt;
-  size_t rest = i;
-  while (rest < line->size() && ((*line)[rest] == ' ' || (*line)[rest] == '\t')) ++rest;
-  *line = line->substr(rest);
-  return stamp_s;
-}
 
 std::string_view TrimLineEnd(const std::string& line) {
   std::string_view view(line);
@@ -173,6 +46,14 @@ std::string_view TrimLineEnd(const std::string& line) {
 
 // One line of at most WALLCAL_MAX_LINE_BYTES bytes; false at the end of the stream. A longer
 // line is an InputError: an NMEA sentence has at most 82 characters, so such a line is no log.
+[[noreturn]] void ThrowLineTooLong(const std::string& name, int64_t number,
+                                   int64_t max_line_bytes) {
+  throw InputError(Where(name, static_cast<int>(number),
+                         "line longer than " + std::to_string(max_line_bytes) +
+                             " bytes; expected NMEA sentences (WALLCAL_MAX_LINE_BYTES raises "
+                             "the limit)"));
+}
+
 bool NextLine(std::istream& in, std::string* line, const std::string& name, int64_t number) {
   static const int64_t max_line_bytes = CurrentInputLimits().max_line_bytes;
   switch (ReadLineBounded(in, line, max_line_bytes)) {
@@ -184,45 +65,22 @@ bool NextLine(std::istream& in, std::string* line, const std::string& name, int6
     case LineRead::kTooLong:
       break;
   }
-  throw InputError(Where(name, static_cast<int>(number),
-                         "line longer than " + std::to_string(max_line_bytes) +
-                             " bytes; expected NMEA sentences (WALLCAL_MAX_LINE_BYTES raises "
-                             "the limit)"));
+  ThrowLineTooLong(name, number, max_line_bytes);
 }
 
 // The first RMC/ZDA date in the file, for plain sentences logged before it.
 std::optional<int64_t> FirstDate(std::istream& in, const std::string& name) {
   std::string line;
-  Fields fields;
   int64_t line_number = 0;
   while (NextLine(in, &line, name, ++line_number)) {
     std::string_view text = TrimLineEnd(line);
     if (line_number == 1) StripUtf8Bom(&text);
-    TakePrefix(&text);
-    std::string_view body;
-    const char* reason = nullptr;
-    if (!ExtractSentence(text, &body, &reason)) continue;
-    Split(body, &fields);
-    if (auto date = SentenceDate(SentenceType(fields[0]), fields)) return date;
+    if (auto date = nmea::LineDate(text)) return date;
   }
   return std::nullopt;
 }
 
-// Latitude "ddmm.mmmm" + hemisphere -> degrees; false if malformed or out of range.
-bool ParseLatLon(std::string_view value, std::string_view hemisphere, bool latitude, double* deg) {
-  double raw = 0.0;
-  if (!ParseDouble(value, &raw) || raw < 0.0) return false;
-  const double whole_deg = std::floor(raw / 100.0);
-  const double minutes = raw - whole_deg * 100.0;
-  if (minutes >= 60.0) return false;
-  double angle = whole_deg + minutes / 60.0;
-  if (hemisphere.size() != 1) return false;
-  const char h = hemisphere[0];
-  if (latitude ? (h != 'N' && h != 'S') : (h != 'E' && h != 'W')) return false;
-  if (h == 'S' || h == 'W') angle = -angle;
-  *deg = angle;
-  return true;
-}
+
 
 class NmeaParser {
  public:
@@ -252,6 +110,9 @@ class NmeaParser {
       Skip("other sentence (" + std::string(type) + ")", line, SkipSeverity::kInformational);
     }
   }
+
+  // Points the parser at another log (a copy of the one it filled, NmeaFollower::Log).
+  void set_log(NmeaLog* log) { log_ = log; }
 
   void Finish() {
     for (const PendingGst& gst : pending_gst_) Skip("GST without its GGA", gst.line);
@@ -536,6 +397,159 @@ NmeaLog ParseNmea(std::istream& in, const std::string& name) {
     parser.Line(text, static_cast<int>(log.lines_read));
   }
   if (in.bad()) throw InputError(Where(name, 0, "read error"));
+  parser.Finish();
+  return log;
+}
+
+namespace {
+
+// The ended lines of `bytes` (their text without the line end), as ReadLineBounded splits them:
+// '\n', "\r\n" or a lone '\r'. Returns where the last line, not yet ended, starts: a '\r' at
+// the end of `bytes` may be the first half of a "\r\n" still being written.
+template <typename Fn>
+size_t ForEachEndedLine(std::string_view bytes, Fn&& fn) {
+  size_t start = 0;
+  while (true) {
+    const size_t end = bytes.find_first_of("\r\n", start);
+    if (end == std::string_view::npos) return start;
+    size_t next = end + 1;
+    if (bytes[end] == '\r') {
+      if (next >= bytes.size()) return start;
+      if (bytes[next] == '\n') ++next;
+    }
+    fn(bytes.substr(start, end - start));
+    start = next;
+  }
+}
+
+}  // namespace
+
+struct NmeaFollower::State {
+  std::string path;
+  bool gzip = false;  // read whole each time: `log` is the whole file's
+  NmeaLog log;        // the ended lines'
+  std::optional<int64_t> first_date;
+  bool dated = false;  // first_date found: it stays the file's first date as the file grows
+  std::optional<NmeaParser> parser;  // fills `log`
+  int64_t end_byte = 0;              // where the ended lines end: the next read starts there
+  std::string tail;                  // the line after them, not yet ended
+  int64_t bytes_read = 0;
+
+  void Reset() {
+    gzip = false;
+    log = NmeaLog{};
+    first_date.reset();
+    dated = false;
+    parser.reset();
+    end_byte = 0;
+    tail.clear();
+    bytes_read = 0;
+  }
+};
+
+NmeaFollower::NmeaFollower(std::string path) : state_(std::make_unique<State>()) {
+  state_->path = std::move(path);
+}
+NmeaFollower::~NmeaFollower() = default;
+NmeaFollower::NmeaFollower(NmeaFollower&&) noexcept = default;
+NmeaFollower& NmeaFollower::operator=(NmeaFollower&&) noexcept = default;
+
+const std::string& NmeaFollower::path() const { return state_->path; }
+int64_t NmeaFollower::bytes_read() const { return state_->bytes_read; }
+
+int64_t NmeaFollower::ReadMore() {
+  State& s = *state_;
+  const std::string& path = s.path;
+  CheckInputFile(path, "the NMEA log");
+  if (IsGzipFile(path)) {
+    // Compressed: no byte of the file stands for a line; inflating on from the last one would
+    // need zlib's state kept. Read whole, as ReadNmea does.
+    s.Reset();
+    s.log = ReadNmea(path);
+    s.gzip = true;
+    s.bytes_read = static_cast<int64_t>(fs::file_size(path));
+    return 0;
+  }
+  if (s.gzip) s.Reset();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw InputError(
+        Where(path, 0, std::string("cannot open the NMEA log: ") + std::strerror(errno)));
+  }
+  const auto read_from = [&in, &path](int64_t from_byte) {
+    in.clear();
+    in.seekg(from_byte);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw InputError(Where(path, 0, "read error"));
+    return bytes;
+  };
+  in.seekg(0, std::ios::end);
+  if (static_cast<int64_t>(in.tellg()) < s.bytes_read) s.Reset();  // a new log under its name
+  int64_t from_byte = s.end_byte;
+  std::string bytes = read_from(from_byte);
+
+  if (!s.dated) {
+    // ParseNmea dates plain sentences before the first RMC/ZDA with it: one arriving now
+    // changes the stamps of what was read, which is then read again.
+    std::optional<int64_t> date;
+    int64_t line = s.log.lines_read;
+    const auto date_of = [&date, &line](std::string_view text) {
+      if (date) return;
+      if (++line == 1) StripUtf8Bom(&text);
+      date = nmea::LineDate(text);
+    };
+    const size_t tail = ForEachEndedLine(bytes, date_of);
+    std::string_view last = std::string_view(bytes).substr(tail);
+    if (!last.empty() && last.back() == '\r') last.remove_suffix(1);
+    if (!last.empty()) date_of(last);
+    if (date) {
+      if (s.log.lines_read > 0) {
+        s.Reset();
+        from_byte = 0;
+        bytes = read_from(0);
+      }
+      s.first_date = date;
+      s.dated = true;
+      s.parser.reset();
+    }
+  }
+  if (!s.parser) s.parser.emplace(&s.log, s.first_date);
+
+  static const int64_t max_line_bytes = CurrentInputLimits().max_line_bytes;
+  NmeaLog& log = s.log;
+  NmeaParser& parser = *s.parser;
+  const size_t tail = ForEachEndedLine(bytes, [&](std::string_view text) {
+    if (static_cast<int64_t>(text.size()) > max_line_bytes) {
+      ThrowLineTooLong(path, log.lines_read + 1, max_line_bytes);
+    }
+    ++log.lines_read;
+    if (log.lines_read == 1) StripUtf8Bom(&text);
+    parser.Line(text, static_cast<int>(log.lines_read));
+  });
+  s.tail.assign(bytes, tail, std::string::npos);
+  const bool tail_ends_in_cr = !s.tail.empty() && s.tail.back() == '\r';
+  if (static_cast<int64_t>(s.tail.size()) - (tail_ends_in_cr ? 1 : 0) > max_line_bytes) {
+    ThrowLineTooLong(path, log.lines_read + 1, max_line_bytes);
+  }
+  s.end_byte = from_byte + static_cast<int64_t>(tail);
+  s.bytes_read = from_byte + static_cast<int64_t>(bytes.size());
+  return from_byte;
+}
+
+NmeaLog NmeaFollower::Log() const {
+  const State& s = *state_;
+  if (s.gzip || !s.parser) return s.log;
+  NmeaLog log = s.log;
+  NmeaParser parser = *s.parser;
+  parser.set_log(&log);
+  if (!s.tail.empty()) {
+    // As ReadNmea reads a last line without its end.
+    std::string_view text(s.tail);
+    if (text.back() == '\r') text.remove_suffix(1);
+    ++log.lines_read;
+    if (log.lines_read == 1) StripUtf8Bom(&text);
+    parser.Line(text, static_cast<int>(log.lines_read));
+  }
   parser.Finish();
   return log;
 }

@@ -28,6 +28,7 @@
 
 #include <cstdint>
 #include <istream>
+#include <memory>
 #include <string>
 
 #include "io/types.h"
@@ -49,5 +50,36 @@ NmeaLog ReadNmea(const std::string& path);
 // stream is). `name` stands for the file in messages. Throws InputError on a read error.
 // This is what ReadNmea does after opening the file; the fuzz target calls it directly.
 NmeaLog ParseNmea(std::istream& in, const std::string& name);
+
+// An NMEA log that is still being written, read on from where the last read stopped: each
+// ReadMore() parses only the lines the file gained, with the reader's state carried over (the
+// date of plain sentences, a GST waiting for its GGA, the last stamps of the "time not
+// increasing" check, the line numbers). A last line not yet ended (no '\n', or a '\r' that a
+// '\n' may follow) is parsed anew each time until it is. Log() is what ReadNmea returns for the
+// file as the last ReadMore() found it, to the byte.
+//
+// Read whole instead: the first time, a file shorter than what was read (a new log under the
+// same name), a file whose first RMC/ZDA date comes after sentences it would have dated (their
+// stamps change), and a gzip-compressed log (always). Throws InputError as ReadNmea does.
+class NmeaFollower {
+ public:
+  explicit NmeaFollower(std::string path);
+  ~NmeaFollower();
+  NmeaFollower(NmeaFollower&&) noexcept;
+  NmeaFollower& operator=(NmeaFollower&&) noexcept;
+
+  // Reads what the file gained. Returns the byte it read from (0: the whole file).
+  int64_t ReadMore();
+  // The log as read so far (the GSTs still waiting for their GGA counted as without it, as at
+  // the end of a whole read; they are matched when the GGA comes).
+  NmeaLog Log() const;
+  // The bytes read so far (the file's size at the last ReadMore()).
+  int64_t bytes_read() const;
+  const std::string& path() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 }  // namespace wallcal::io

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <yaml-cpp/yaml.h>
 
 #include <cctype>
 #include <cmath>
@@ -26,6 +27,7 @@
 #include "io/config/session_reader.h"
 #include "common/angles.h"
 #include "test/support/flow_names.h"
+#include "test/support/json_value.h"
 #include "test/support/program_runner.h"
 #include "test/support/scratch_dir.h"
 
@@ -330,141 +332,8 @@ TEST(EmitTest, UrdfWithAntennaInBaseChainsBaseAntennaLaser) {
 
 // ---- JSON ----
 
-// A strict little JSON parser (RFC 8259 subset: no \u surrogate handling needed here).
-struct Json {
-  enum Kind { kNull, kBool, kNumber, kString, kArray, kObject } kind = kNull;
-  bool b = false;
-  double number = 0;
-  std::string text;
-  std::vector<Json> items;
-  std::map<std::string, Json> members;
-  const Json& operator[](const std::string& key) const {
-    static const Json missing;
-    const auto it = members.find(key);
-    EXPECT_NE(it, members.end()) << "missing key " << key;
-    return it == members.end() ? missing : it->second;
-  }
-};
-
-class JsonParser {
- public:
-  explicit JsonParser(const std::string& s) : s_(s) {}
-  bool Parse(Json* out) {
-    if (!Value(out)) return false;
-    Space();
-    return p_ == s_.size();
-  }
-
- private:
-  void Space() {
-    while (p_ < s_.size() && (s_[p_] == ' ' || s_[p_] == '\n' || s_[p_] == '\t' || s_[p_] == '\r')) ++p_;
-  }
-  bool Literal(const char* word) {
-    const std::string w(word);
-    if (s_.compare(p_, w.size(), w) != 0) return false;
-    p_ += w.size();
-    return true;
-  }
-  bool String(std::string* out) {
-    if (p_ >= s_.size() || s_[p_] != '"') return false;
-    ++p_;
-    while (p_ < s_.size() && s_[p_] != '"') {
-      if (static_cast<unsigned char>(s_[p_]) < 0x20) return false;
-      if (s_[p_] == '\\') {
-        if (++p_ >= s_.size()) return false;
-        const char c = s_[p_];
-        if (c == 'u') {
-          if (p_ + 4 >= s_.size()) return false;
-          *out += '?';
-          p_ += 4;
-        } else if (std::string("\"\\/bfnrt").find(c) != std::string::npos) {
-          *out += c;
-        } else {
-          return false;
-        }
-        ++p_;
-        continue;
-      }
-      *out += s_[p_++];
-    }
-    if (p_ >= s_.size()) return false;
-    ++p_;
-    return true;
-  }
-  bool Value(Json* v) {
-    Space();
-    if (p_ >= s_.size()) return false;
-    const char c = s_[p_];
-    if (c == '{') {
-      v->kind = Json::kObject;
-      ++p_;
-      Space();
-      if (p_ < s_.size() && s_[p_] == '}') return ++p_, true;
-      while (true) {
-        Space();
-        std::string key;
-        if (!String(&key)) return false;
-        if (v->members.count(key)) return false;  // duplicate key
-        Space();
-        if (p_ >= s_.size() || s_[p_++] != ':') return false;
-        if (!Value(&v->members[key])) return false;
-        Space();
-        if (p_ >= s_.size()) return false;
-        if (s_[p_] == ',') { ++p_; continue; }
-        if (s_[p_] == '}') return ++p_, true;
-        return false;
-      }
-    }
-    if (c == '[') {
-      v->kind = Json::kArray;
-      ++p_;
-      Space();
-      if (p_ < s_.size() && s_[p_] == ']') return ++p_, true;
-      while (true) {
-        v->items.emplace_back();
-        if (!Value(&v->items.back())) return false;
-        Space();
-        if (p_ >= s_.size()) return false;
-        if (s_[p_] == ',') { ++p_; continue; }
-        if (s_[p_] == ']') return ++p_, true;
-        return false;
-      }
-    }
-    if (c == '"') {
-      v->kind = Json::kString;
-      return String(&v->text);
-    }
-    if (Literal("null")) return v->kind = Json::kNull, true;
-    if (Literal("true")) return v->kind = Json::kBool, v->b = true, true;
-    if (Literal("false")) return v->kind = Json::kBool, v->b = false, true;
-    // Number: -?(0|[1-9][0-9]*)(.[0-9]+)?([eE][+-]?[0-9]+)?
-    const size_t start = p_;
-    if (s_[p_] == '-') ++p_;
-    if (p_ >= s_.size() || !std::isdigit(static_cast<unsigned char>(s_[p_]))) return false;
-    if (s_[p_] == '0') {
-      ++p_;
-    } else {
-      while (p_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[p_]))) ++p_;
-    }
-    if (p_ < s_.size() && s_[p_] == '.') {
-      ++p_;
-      if (p_ >= s_.size() || !std::isdigit(static_cast<unsigned char>(s_[p_]))) return false;
-      while (p_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[p_]))) ++p_;
-    }
-    if (p_ < s_.size() && (s_[p_] == 'e' || s_[p_] == 'E')) {
-      ++p_;
-      if (p_ < s_.size() && (s_[p_] == '+' || s_[p_] == '-')) ++p_;
-      if (p_ >= s_.size() || !std::isdigit(static_cast<unsigned char>(s_[p_]))) return false;
-      while (p_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[p_]))) ++p_;
-    }
-    v->kind = Json::kNumber;
-    v->number = std::stod(s_.substr(start, p_ - start));
-    return true;
-  }
-
-  const std::string& s_;
-  size_t p_ = 0;
-};
+using testing_support::Json;
+using testing_support::JsonParser;
 
 TEST(EmitTest, JsonParserRejectsMalformedText) {
   // The parser the next tests rely on must be able to say no.
@@ -508,6 +377,26 @@ TEST(EmitTest, JsonParsesBackToTheEstimate) {
     }
   }
   EXPECT_EQ(j["base_link"].kind, Json::kNull);
+}
+
+TEST(EmitTest, JsonCarriesTheVerdictAsOffsetsYamlDoes) {
+  pipeline::Decision decision;
+  decision.verdict = pipeline::Verdict::kReview;
+  decision.reasons = {"moved x +30.0 mm since \"old\".yaml", "second"};
+  const std::string text =
+      FormatEmit(EmitFormat::kJson, Estimate(), std::nullopt, EmitFrames(), std::nullopt, &decision);
+  Json j;
+  ASSERT_TRUE(JsonParser(text).Parse(&j)) << text;
+  EXPECT_EQ(j["verdict"]["verdict"].text, "REVIEW");
+  const Json& reasons = j["verdict"]["reasons"];
+  ASSERT_EQ(reasons.items.size(), 2u);
+  EXPECT_EQ(reasons.items[0].text, decision.reasons[0]);
+  EXPECT_EQ(reasons.items[1].text, "second");
+  // Without a decision (a library caller that has none) the member is null.
+  Json without;
+  ASSERT_TRUE(JsonParser(FormatEmit(EmitFormat::kJson, Estimate(), std::nullopt, EmitFrames()))
+                  .Parse(&without));
+  EXPECT_EQ(without["verdict"].kind, Json::kNull);
 }
 
 TEST(EmitTest, JsonWithAntennaInBaseCarriesTheBaseLinkTransform) {
@@ -554,6 +443,10 @@ TEST(EmitProgramTest, EmitJsonPrintsOnlyJsonOnStdout) {
   Json j;
   ASSERT_TRUE(JsonParser(run.out).Parse(&j)) << run.out;
   EXPECT_EQ(j["child_frame"].text, "lms");
+  // The verdict is offsets.yaml's.
+  const YAML::Node offsets = YAML::LoadFile((dir / "offsets.yaml").string());
+  EXPECT_EQ(j["verdict"]["verdict"].text, offsets["verdict"]["verdict"].as<std::string>());
+  EXPECT_EQ(j["verdict"]["reasons"].items.size(), offsets["verdict"]["reasons"].size());
   EXPECT_NEAR(j["mount"]["x_m"].number, config.mount_x_m, 0.06);
   EXPECT_NEAR(j["mount"]["y_m"].number, config.mount_y_m, 0.06);
   EXPECT_NEAR(j["mount"]["yaw_rad"].number, config.mount_yaw_rad, 0.25 * kPi / 180.0);

@@ -80,13 +80,55 @@ TEST(SeveralVerdictTest, ComparesEachScannerByIdAndNamesThoseInOneFileOnly) {
   EXPECT_NEAR(changes.relative[0]->y_sigmas, 0.0005 / std::sqrt(2e-7), 1e-9);
 }
 
-TEST(SeveralVerdictTest, RelativeTransformIsComparedOnlyInItsOwnDirection) {
+TEST(SeveralVerdictTest, InvertedPreviousPoseCarriesItsCovarianceThroughTheJacobian) {
+  // a_T_b = (1 m, 0, 90°): a's origin lies 1 m along b's y axis, b_T_a = (0, 1 m, −90°).
+  io::PreviousOffsets a_T_b = Offsets(1.0, 0.0, 0.5 * kPi, 0.0);
+  a_T_b.covariance[0] = 4e-6;  // σ x 2 mm
+  a_T_b.covariance[4] = 1e-6;  // σ y 1 mm
+  a_T_b.covariance[8] = 9e-6;  // σ yaw 3 mrad
+  a_T_b.created_utc = "2026-01-01T00:00:00Z";
+  const io::PreviousOffsets b_T_a = InvertPrevious(a_T_b);
+  EXPECT_NEAR(b_T_a.x_m, 0.0, 1e-12);
+  EXPECT_NEAR(b_T_a.y_m, 1.0, 1e-12);
+  EXPECT_NEAR(b_T_a.yaw_rad, -0.5 * kPi, 1e-12);
+  // J = [[0, −1, 1], [1, 0, 0], [0, 0, −1]] at yaw 90°: x' takes y's and yaw's variance (the
+  // 1 m lever arm), y' takes x's, and x' and yaw' are anti-correlated.
+  const double expected[9] = {1e-6 + 9e-6, 0.0, -9e-6, 0.0, 4e-6, 0.0, -9e-6, 0.0, 9e-6};
+  for (int k = 0; k < 9; ++k) EXPECT_NEAR(b_T_a.covariance[k], expected[k], 1e-18) << k;
+  EXPECT_TRUE(b_T_a.sigma_known);
+  EXPECT_EQ(b_T_a.file, "old.yaml");
+  EXPECT_EQ(b_T_a.created_utc, a_T_b.created_utc);
+  // The inverse of the inverse is the pose and covariance again.
+  const io::PreviousOffsets again = InvertPrevious(b_T_a);
+  EXPECT_NEAR(again.x_m, 1.0, 1e-12);
+  EXPECT_NEAR(again.y_m, 0.0, 1e-12);
+  EXPECT_NEAR(again.yaw_rad, 0.5 * kPi, 1e-12);
+  for (int k = 0; k < 9; ++k) EXPECT_NEAR(again.covariance[k], a_T_b.covariance[k], 1e-18) << k;
+}
+
+TEST(SeveralVerdictTest, RelativeTransformHeldTheOtherWayRoundIsInvertedAndSaysSo) {
+  // The previous session listed right before left: it holds left in right, the inverse of a
+  // left -> right 5 mm further along x, with σ x 0.6 mm and σ y 0.3 mm in left's frame.
+  io::PreviousOffsets left_T_right = Offsets(-0.745, -1.299, -1.0472, 1e-7);
+  left_T_right.covariance[0] = 3.6e-7;
   io::PreviousSeveralOffsets previous;
   previous.several = true;
-  previous.relative.push_back({"right", "left", Offsets(0.0, 1.5, 1.0472, 1e-7)});
+  previous.relative.push_back({"right", "left", InvertPrevious(left_T_right)});
   const SeveralChanges changes = CompareSeveral(TwoOfThree(), previous);
-  EXPECT_FALSE(changes.relative[0].has_value());
-  EXPECT_EQ(changes.not_in_previous.size(), 2u);
+  ASSERT_TRUE(changes.relative[0].has_value());
+  const Change& change = *changes.relative[0];
+  EXPECT_TRUE(change.previous_inverted);
+  EXPECT_NEAR(change.dx_m, -0.005, 1e-9);
+  EXPECT_NEAR(change.dy_m, 0.0, 1e-9);
+  EXPECT_NEAR(change.dyaw_rad, 0.0, 1e-9);
+  // σ x now 0.32 mm, before 0.6 mm (in left's frame again, not the 0.3-0.6 mm mix of right's).
+  EXPECT_NEAR(change.x_sigmas, 0.005 / std::sqrt(1e-7 + 3.6e-7), 1e-6);
+  // The same direction is taken as it is.
+  previous.relative.push_back({"left", "right", left_T_right});
+  const SeveralChanges direct = CompareSeveral(TwoOfThree(), previous);
+  ASSERT_TRUE(direct.relative[0].has_value());
+  EXPECT_FALSE(direct.relative[0]->previous_inverted);
+  EXPECT_NEAR(direct.relative[0]->dx_m, -0.005, 1e-12);
 }
 
 TEST(SeveralVerdictTest, OneScannerFileIsMatchedByTheScannersFrame) {

@@ -19,14 +19,17 @@
 #include <vector>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include "calib/detection_pass.h"
 #include "common/angles.h"
 #include "io/config/session_reader.h"
 #include "pipeline/multi_scanner.h"
 #include "preflight/inspect.h"
 #include "sim/simulated_session.h"
+#include "test/support/json_value.h"
 #include "test/support/program_runner.h"
 #include "test/support/scratch_dir.h"
 
@@ -100,9 +103,11 @@ fs::path SessionAs(const std::string& format, const std::string& name = "") {
   return Simulate(format, name.empty() ? format : name);
 }
 
-pipeline::SeveralScannersResult Calibrate(const fs::path& dir, bool allow_partial = false) {
+pipeline::SeveralScannersResult Calibrate(const fs::path& dir, bool allow_partial = false,
+                                          bool collect_report_data = false) {
   pipeline::CalibrateRequest request;
   request.session_path = dir.string();
+  request.collect_report_data = collect_report_data;
   return pipeline::RunSeveralScanners(request, allow_partial);
 }
 
@@ -132,6 +137,50 @@ TEST(MultiScannerTest, RelativeTransformIsTheDifferenceOfTheMounts) {
   ASSERT_EQ(c.rows(), 6);
   EXPECT_LT((c - c.transpose()).norm(), 1e-12 * c.norm());
   EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(c).eigenvalues().minCoeff(), 0.0);
+}
+
+TEST(MultiScannerTest, EachScannersPageIsDrawnWithItsJointMount) {
+  const pipeline::SeveralScannersResult result =
+      Calibrate(TextSession(), /*allow_partial=*/false, /*collect_report_data=*/true);
+  ASSERT_EQ(result.outcome, pipeline::SeveralOutcome::kAll) << result.message;
+  for (const pipeline::ScannerRun& run : result.scanners) {
+    const solvers::Mount& joint = run.result.estimate.mount;
+    const pipeline::ReportData& report = run.result.report;
+    ASSERT_TRUE(report.collected && report.have_mount) << run.spec.id;
+    // The joint adjustment moved the mount (else this test could not tell the two apart).
+    ASSERT_NE(joint.x_m, run.own_estimate.mount.x_m) << run.spec.id;
+    EXPECT_EQ(report.mount.x_m, joint.x_m) << run.spec.id;
+    EXPECT_EQ(report.mount.y_m, joint.y_m) << run.spec.id;
+    EXPECT_EQ(report.mount.yaw_rad, joint.yaw_rad) << run.spec.id;
+    EXPECT_NE(report.mount_source.find("joint"), std::string::npos) << report.mount_source;
+    // The scanner at each station and each panel's gate follow that mount.
+    ASSERT_FALSE(report.stations.empty()) << run.spec.id;
+    for (const pipeline::Station& station : report.stations) {
+      const Eigen::Vector2d expected =
+          station.antenna_local_m +
+          Eigen::Rotation2Dd(station.yaw_rad) * Eigen::Vector2d(joint.x_m, joint.y_m);
+      EXPECT_LT((station.scanner_local_m - expected).norm(), 1e-9) << run.spec.id;
+    }
+    int drawn = 0;
+    for (const pipeline::ScanPanel& panel : report.panels) {
+      if (!panel.have_scan) continue;
+      ++drawn;
+      const calib::WallObservation& o = run.result.observations[panel.observation];
+      const calib::LineGate gate =
+          calib::GateFor(o, run.result.walls[o.wall_index], joint, report.tight_gates);
+      EXPECT_EQ(panel.gate.rho_m, gate.rho_m) << run.spec.id;
+      EXPECT_EQ(panel.gate.theta_rad, gate.theta_rad) << run.spec.id;
+      EXPECT_TRUE(panel.detection.found) << run.spec.id << ": " << panel.detection.reason;
+    }
+    EXPECT_GT(drawn, 0) << run.spec.id;
+    ASSERT_TRUE(report.hough.have) << run.spec.id;
+    const pipeline::ScanPanel& middle = report.panels[report.hough.panel];
+    const calib::WallObservation& o = run.result.observations[middle.observation];
+    const calib::LineGate centre =
+        calib::GateFor(o, run.result.walls[o.wall_index], joint, report.tight_gates);
+    EXPECT_EQ(report.hough.window.rho_m, centre.rho_m) << run.spec.id;
+    EXPECT_EQ(report.hough.window.theta_rad, centre.theta_rad) << run.spec.id;
+  }
 }
 
 TEST(MultiScannerTest, InspectChecksEachScannerAndSuggestsEveryScanTopic) {
@@ -303,6 +352,41 @@ TEST(MultiScannerTest, EmittedStaticTfAndUrdfFormOneTree) {
   EXPECT_EQ(offsets.find("\nscanner_mount:"), std::string::npos);
 }
 
+TEST(MultiScannerTest, EmittedJsonCarriesTheVerdictsOfOffsetsYaml) {
+  const fs::path dir = SessionAs("text", "emit_json");
+  // A relative σ tolerance of 0.1 mm rejects the relative transform (σ 0.1-0.2 mm in x, y)
+  // while the mounts are accepted: each verdict has to come from its own entry.
+  const fs::path config = dir / "tight.yaml";
+  std::ofstream(config) << "acceptance:\n  relative_max_sigma_xy_m: 0.0001\n";
+  const testing_support::ProgramRun run =
+      RunCalibrate(dir, {"--quiet", "--config", config.string(), "--emit", "json"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  testing_support::Json j;
+  ASSERT_TRUE(testing_support::JsonParser(run.out).Parse(&j)) << run.out;
+  const YAML::Node offsets = YAML::LoadFile((dir / "offsets.yaml").string());
+  const auto expect_same = [](const testing_support::Json& json, const YAML::Node& yaml,
+                              const std::string& what) {
+    EXPECT_EQ(json["verdict"].text, yaml["verdict"].as<std::string>()) << what;
+    ASSERT_EQ(json["reasons"].items.size(), yaml["reasons"].size()) << what;
+    for (size_t i = 0; i < yaml["reasons"].size(); ++i) {
+      EXPECT_EQ(json["reasons"].items[i].text, yaml["reasons"][i].as<std::string>()) << what;
+    }
+  };
+  expect_same(j["verdict"], offsets["verdict"], "run");
+  EXPECT_EQ(j["verdict"]["verdict"].text, "REJECT");
+  const testing_support::Json& scanners = j["scanners"];
+  ASSERT_EQ(scanners.items.size(), 2u);
+  for (size_t s = 0; s < 2; ++s) {
+    EXPECT_EQ(scanners.items[s]["id"].text, offsets["scanner_mounts"][s]["id"].as<std::string>());
+    expect_same(scanners.items[s]["verdict"], offsets["scanner_mounts"][s]["verdict"],
+                scanners.items[s]["id"].text);
+  }
+  const testing_support::Json& relative = j["relative"];
+  ASSERT_EQ(relative.items.size(), 1u);
+  expect_same(relative.items[0]["verdict"], offsets["relative_mounts"][0]["verdict"], "relative");
+  EXPECT_EQ(relative.items[0]["verdict"]["verdict"].text, "REJECT");
+}
+
 TEST(MultiScannerTest, CompareTakesEachScannerByIdAndNamesThoseInOneFileOnly) {
   const fs::path dir = SessionAs("text", "compare");
   const testing_support::ProgramRun first = RunCalibrate(dir, {"--quiet"});
@@ -358,6 +442,41 @@ TEST(MultiScannerTest, CompareTakesEachScannerByIdAndNamesThoseInOneFileOnly) {
   EXPECT_EQ(now["verdict"]["verdict"].as<std::string>(), "REVIEW");
   EXPECT_EQ(now["compared_with"]["not_in_previous"][0].as<std::string>(), "front_right");
   EXPECT_EQ(now["compared_with"]["only_in_previous"][0].as<std::string>(), "rear_right");
+}
+
+TEST(MultiScannerTest, CompareInvertsARelativeTransformHeldTheOtherWayRound) {
+  const fs::path dir = SessionAs("text", "compare_swapped");
+  const testing_support::ProgramRun first =
+      RunCalibrate(dir, {"--quiet", "--output", (dir / "before.yaml").string()});
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  // The same session listing front_right first: its relative transform is front_left in
+  // front_right, the inverse of the file's front_right in front_left.
+  std::string session = ReadText(dir / "session.yaml");
+  const size_t left = session.find("  - id: front_left\n");
+  const size_t right = session.find("  - id: front_right\n");
+  const size_t end = session.find("gnss:\n");
+  ASSERT_TRUE(left < right && right < end && end != std::string::npos) << session;
+  session = session.substr(0, left) + session.substr(right, end - right) +
+            session.substr(left, right - left) + session.substr(end);
+  std::ofstream(dir / "session.yaml", std::ios::trunc) << session;
+  const testing_support::ProgramRun run =
+      RunCalibrate(dir, {"--quiet", "--compare", (dir / "before.yaml").string(), "--output",
+                         (dir / "after.yaml").string()});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const YAML::Node relative = YAML::LoadFile((dir / "after.yaml").string())["relative_mounts"][0];
+  EXPECT_EQ(relative["from"].as<std::string>(), "front_right");
+  const YAML::Node change = relative["change_since_previous"];
+  ASSERT_TRUE(change.IsDefined()) << ReadText(dir / "after.yaml");
+  EXPECT_TRUE(change["previous_inverted"].as<bool>());
+  // The same data in the other order: the change is within the combined σ (not inverted it
+  // would be the 1.5 m between the scanners, thousands of σ).
+  for (const char* axis : {"x", "y", "yaw"}) {
+    EXPECT_LT(change["combined_sigmas"][axis].as<double>(), 1.0) << axis;
+  }
+  EXPECT_NE(run.out.find("the previous file holds it the other way round, inverted"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("front_left in front_right (ACCEPT)"), std::string::npos) << run.out;
 }
 
 TEST(MultiScannerTest, RelativeTransformBeyondItsToleranceRejectsTheRun) {

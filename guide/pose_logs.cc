@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "guide/pose_logs.h"
+
+#include <utility>
+
+#include "recording/recording.h"
+
+namespace wallcal::guide {
+namespace {
+
+// Reads on from where `follower` stopped (made for `path` on first use).
+io::NmeaLog ReadOn(const std::string& path, std::optional<io::NmeaFollower>* follower,
+                   PoseLogRead* read) {
+  if (!*follower) follower->emplace(path);
+  read->from_byte = (*follower)->ReadMore();
+  read->bytes = (*follower)->bytes_read();
+  return (*follower)->Log();
+}
+
+}  // namespace
+
+PoseLogFollower::PoseLogFollower(io::SessionSpec session) : session_(std::move(session)) {}
+
+recording::PoseLogs PoseLogFollower::Read() {
+  const io::SessionSpec& spec = session_;
+  // Told apart by content at each refresh, as ReadPoseLogs does: a log that did not exist yet
+  // may turn out to be a recording.
+  const bool gnss_recorded = recording::IsRecording(spec.gnss_log);
+  const bool heading_recorded = recording::IsRecording(spec.heading_log);
+  recording::PoseLogs logs;
+  if (gnss_recorded || heading_recorded) {
+    logs = recording::ReadPoseLogs(spec, gnss_recorded, heading_recorded);
+  }
+  gnss_read_ = PoseLogRead{};
+  heading_read_ = PoseLogRead{};
+  if (gnss_recorded) {
+    gnss_.reset();
+  } else {
+    recording::RequireNoTopic(spec.gnss_topic, spec.gnss_log, "gnss.topic");
+    logs.gnss = ReadOn(spec.gnss_log, &gnss_, &gnss_read_);
+  }
+  if (heading_recorded) {
+    heading_.reset();
+  } else {
+    recording::RequireNoTopic(spec.heading_topic, spec.heading_log, "heading.topic");
+    if (!gnss_recorded && spec.heading_log == spec.gnss_log) {
+      logs.headings = logs.gnss;  // one log read once, as ReadPoseLogs does
+      heading_read_ = gnss_read_;
+    } else {
+      logs.headings = ReadOn(spec.heading_log, &heading_, &heading_read_);
+    }
+  }
+  return logs;
+}
+
+}  // namespace wallcal::guide

@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: Apache-2.0
+// The guide kept between refreshes (GuideSession) reads the pose logs on from where the last
+// refresh stopped, as it does the text scan log: the GNSS log cut between a GGA and its GST,
+// the heading log in the middle of a sentence, then both grown to the whole. The grown session
+// holds the fixes and headings of a fresh read to the one, and reports what a fresh session
+// reports (within what the scan log's own reading on leaves: guide_follow_test.cc).
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "guide/guide_session.h"
+#include "guide/pose_logs.h"
+#include "io/text/nmea_reader.h"
+#include "sim/recording_session.h"
+#include "sim/simulation_config.h"
+#include "test/support/scratch_dir.h"
+
+namespace wallcal {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string ReadAll(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void WriteUpTo(const fs::path& path, const std::string& content, size_t bytes) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(content.data(), static_cast<std::streamsize>(bytes));
+}
+
+TEST(GuideSessionTest, ReadsThePoseLogsOnFromWhereTheyStopped) {
+  const testing_support::ScratchDir scratch("wallcal_guide_pose_logs_");
+  const fs::path dir = scratch.path();
+  sim::WriteSimulatedSession(sim::ReadSimulationConfig(std::string(WALLCAL_SOURCE_DIR) +
+                                                       "/configs/simulate/lms291_sapporo.yaml"),
+                             11, dir.string(), sim::SessionFormat::kText);
+  const fs::path scans_path = dir / "scans.clf", gnss_path = dir / "gnss.nmea",
+                 heading_path = dir / "heading.nmea";
+  const std::string scans = ReadAll(scans_path), gnss = ReadAll(gnss_path),
+                    heading = ReadAll(heading_path);
+  guide::GuideOptions options;
+  options.session_path = dir.string();
+  options.threads = 2;
+  guide::GuideSession fresh(options);
+  const guide::GuideReport whole = fresh.Refresh();
+  ASSERT_TRUE(whole.predicted.known);
+  EXPECT_EQ(fresh.last_read().gnss_log.from_byte, 0);
+  EXPECT_EQ(fresh.last_read().gnss_log.bytes, static_cast<int64_t>(gnss.size()));
+
+  // The pose logs a little beyond the middle of the scans, as their fixes arrive while a scan
+  // is written: the GNSS log just after a GGA whose GST is not written yet, the heading log
+  // inside a sentence.
+  const size_t scans_cut = scans.find('\n', scans.size() / 2) + 1;
+  const size_t gst = gnss.find("GST,", gnss.size() / 2 + gnss.size() / 50);
+  ASSERT_NE(gst, std::string::npos);
+  const size_t gnss_cut = gnss.rfind('\n', gst) + 1;
+  const size_t gga = gnss.rfind('\n', gnss_cut - 2) + 1;
+  ASSERT_NE(gnss.substr(gga, gnss_cut - gga).find("GGA,"), std::string::npos);
+  const size_t heading_cut = heading.find('\n', heading.size() / 2 + heading.size() / 50) + 9;
+  ASSERT_NE(heading[heading_cut - 1], '\n');
+  WriteUpTo(scans_path, scans, scans_cut);
+  WriteUpTo(gnss_path, gnss, gnss_cut);
+  WriteUpTo(heading_path, heading, heading_cut);
+  guide::GuideSession session(options);
+  const guide::GuideReport half = session.Refresh();
+  EXPECT_EQ(session.last_read().gnss_log.from_byte, 0);
+  EXPECT_EQ(session.last_read().heading_log.from_byte, 0);
+  EXPECT_LT(half.stations.size(), whole.stations.size());
+
+  WriteUpTo(scans_path, scans, scans.size());
+  WriteUpTo(gnss_path, gnss, gnss.size());
+  WriteUpTo(heading_path, heading, heading.size());
+  const guide::GuideReport grown = session.Refresh();
+  const guide::ReadCounts& read = session.last_read();
+  // Read on from the cut (the GNSS log's fell at a line end), the heading log from the start
+  // of the line it cut.
+  EXPECT_EQ(read.gnss_log.from_byte, static_cast<int64_t>(gnss_cut));
+  EXPECT_EQ(read.heading_log.from_byte, static_cast<int64_t>(heading.rfind('\n', heading_cut) + 1));
+  EXPECT_EQ(read.gnss_log.bytes, static_cast<int64_t>(gnss.size()));
+  EXPECT_EQ(read.heading_log.bytes, static_cast<int64_t>(heading.size()));
+  EXPECT_TRUE(read.incremental);
+  // The same fixes (the GST joined to its GGA across the cut) and headings as a fresh read.
+  EXPECT_EQ(read.fixes_used, fresh.last_read().fixes_used);
+  EXPECT_EQ(read.headings_used, fresh.last_read().headings_used);
+
+  ASSERT_TRUE(grown.predicted.known);
+  ASSERT_EQ(grown.stations.size(), whole.stations.size());
+  // What the scans read before the cut keep (the first read's gates) moves the σ by far less
+  // than 1 % and a station's scan count by a scan or two.
+  EXPECT_NEAR(grown.predicted.sigma_x_m() / whole.predicted.sigma_x_m(), 1.0, 0.01);
+  EXPECT_NEAR(grown.predicted.sigma_y_m() / whole.predicted.sigma_y_m(), 1.0, 0.01);
+  EXPECT_NEAR(grown.predicted.sigma_yaw_rad() / whole.predicted.sigma_yaw_rad(), 1.0, 0.01);
+  for (size_t i = 0; i < whole.stations.size(); ++i) {
+    EXPECT_NEAR(grown.stations[i].scans, whole.stations[i].scans, 2) << "station " << i;
+  }
+  EXPECT_EQ(grown.enough, whole.enough);
+
+  // Nothing gained: each log is read on from its end (the last line ended).
+  session.Refresh();
+  EXPECT_EQ(session.last_read().gnss_log.from_byte, static_cast<int64_t>(gnss.size()));
+  EXPECT_EQ(session.last_read().heading_log.from_byte, static_cast<int64_t>(heading.size()));
+}
+
+// GNSS and heading in one log: read once, its headings those of the same read.
+TEST(PoseLogFollowerTest, ReadsOneLogOnceForBoth) {
+  const testing_support::ScratchDir scratch("wallcal_pose_logs_one_");
+  const fs::path path = scratch.path() / "poses.nmea";
+  const std::string sample =
+      ReadAll(std::string(WALLCAL_SOURCE_DIR) + "/samples/lms291-sapporo/gnss.nmea");
+  const std::string headings = "1747031522.050 $HEHDT,35.0024,T*2F\n";
+  const size_t cut = sample.find('\n', sample.size() / 2) + 1;
+  WriteUpTo(path, sample, cut);
+  std::ofstream(path, std::ios::binary | std::ios::app) << headings;
+  io::SessionSpec session;
+  session.gnss_log = session.heading_log = path.string();
+  guide::PoseLogFollower follower(session);
+  recording::PoseLogs logs = follower.Read();
+  EXPECT_EQ(follower.gnss_read().from_byte, 0);
+  ASSERT_EQ(logs.headings.headings.size(), 1u);
+  EXPECT_EQ(logs.headings.fixes.size(), logs.gnss.fixes.size());
+
+  std::ofstream(path, std::ios::binary | std::ios::app) << sample.substr(cut);
+  logs = follower.Read();
+  const int64_t read_on_from = static_cast<int64_t>(cut + headings.size());
+  EXPECT_EQ(follower.gnss_read().from_byte, read_on_from);
+  EXPECT_EQ(follower.heading_read().from_byte, read_on_from);
+  EXPECT_EQ(logs.headings.headings.size(), 1u);
+  EXPECT_EQ(logs.gnss.fixes.size(), io::ReadNmea(path.string()).fixes.size());
+  EXPECT_EQ(logs.headings.fixes.size(), logs.gnss.fixes.size());
+}
+
+}  // namespace
+}  // namespace wallcal
