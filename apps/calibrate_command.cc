@@ -75,8 +75,8 @@ const CommandHelp& CalibrateHelp() {
           {"--parent-frame", "", "NAME", ValueKind::kWord, {},
            "the antenna frame's name (default gnss_antenna)"},
           {"--child-frame", "", "NAME", ValueKind::kWord, {},
-           "the scanner frame's name (default laser; with scanners: in session.yaml\n"
-           "each scanner's frame: or id)"},
+           "the scanner frame's name (default laser). Not used with scanners: in\n"
+           "session.yaml: each scanner's frame is its frame: (default: its id)"},
           {"--base-frame", "", "NAME", ValueKind::kWord, {},
            "the vehicle frame's name (default base_link). Frame names as tf2 takes\n"
            "them: letters, digits, '_', '.', '/', '-', no leading '/'. The names are\n"

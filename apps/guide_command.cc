@@ -29,7 +29,8 @@ const CommandHelp& GuideHelp() {
       "At the wall, while the logs are being recorded: the stations so far, the σ of the mount if it\n"
       "were calibrated now (calibrate's own model: the correlated GNSS error and the control points\n"
       "included), whether the acceptance tolerances are met (enough: yes/no), and the next stops\n"
-      "that would lower the largest σ most.\n",
+      "that would lower the largest σ most. One scanner (scanner: in session.yaml); a session\n"
+      "with scanners: is refused (run it on a one-scanner session.yaml per scanner).\n",
       {
           {"SESSION", "", "", ValueKind::kPath, {},
            "session.yaml or its folder; its logs may still be growing (a text log's\n"
@@ -43,7 +44,7 @@ const CommandHelp& GuideHelp() {
            "check the logs once a second and print again when they grew, until\n"
            "enough or Ctrl-C (with --json: one object per line); a CARMEN scan log\n"
            "is read on from where the last read stopped, a recording or a gzip log\n"
-           "whole each time"},
+           "whole each time; logs not yet holding two fixes and a scan are waited for"},
           {"--max-seconds", "", "S", ValueKind::kWord, {},
            "with --follow: stop after S seconds (default: no limit)"},
           {"--plan", "", "MINUTES", ValueKind::kWord, {},
@@ -57,8 +58,8 @@ const CommandHelp& GuideHelp() {
           VersionOption(),
       },
       "",
-      "0 printed (with --follow: enough, or stopped); 2 bad input or usage; 3 an\n"
-      "internal error (a bug: please report it).\n"};
+      "0 printed (with --follow: enough, or --max-seconds reached; Ctrl-C ends it as\n"
+      "the signal does); 2 bad input or usage; 3 an internal error (a bug: please report it).\n"};
   return help;
 }
 

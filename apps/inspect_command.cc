@@ -36,8 +36,10 @@ const CommandHelp& InspectHelp() {
            "           sigma_lat_m,sigma_lon_m,line\n"
            "  heading  time_s,heading_deg,line\n"
            "  scans    time_s,beams,valid,min_range_m,max_range_m,line\n"
-           "  survey   id,x_m,y_m,z_m,code (one row per observation; x east, y north)\n"
-           "(on a session: that log of the session; on a recording: --topic's)"},
+           "  survey   id,x_m,y_m,z_m,code (one row per observation; x east, y north;\n"
+           "           PATH a survey file)\n"
+           "(on a session: that log of the session, scanner: only; on a\n"
+           "recording: --topic's)"},
           {"--topic", "", "NAME", ValueKind::kWord, {},
            "the recording topic to dump (needed when several topics fit)"},
           {"--suggest-session", "", "", ValueKind::kNone, {},
