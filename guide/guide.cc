@@ -8,6 +8,7 @@
 
 #include "analysis/repeatability.h"
 #include "common/angles.h"
+#include "common/format.h"
 #include "common/statistics.h"
 #include "guide/guide_session.h"
 #include "io/input_file.h"
@@ -207,6 +208,7 @@ GuideReport ReportOn(const pipeline::CalibrationResult& result, int max_next) {
     report.message = estimate.message;
     if (report.message.empty() && !estimate.warnings.empty()) report.message = estimate.warnings.front();
   }
+  report.forced = report.predicted.known && estimate.usable && estimate.forced;
   report.enough = report.predicted.known && estimate.usable && !estimate.forced &&
                   WorstSigmaRatio(report.predicted, report.acceptance) <= 1.0;
   if (!report.enough) {
@@ -248,6 +250,13 @@ GuideReport PlanSession(const GuideOptions& options, double budget_s) {
   report.plan_budget_s = budget_s;
   report.predicted = report.plan->predicted;
   report.enough = WorstSigmaRatio(report.predicted, report.acceptance) <= 1.0;
+  if (report.plan->stops.empty()) {
+    const double shortest_s = ShortestPlanS(model);
+    report.not_yet = NotYet::kBudgetTooShort;
+    report.message = Format("%.2f min is too short for a plan: the shortest has %d stops and "
+                            "takes %.2f min; give at least --plan %.2f",
+                            budget_s / 60.0, kMinPlanStops, shortest_s / 60.0, shortest_s / 60.0);
+  }
   return report;
 }
 

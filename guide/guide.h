@@ -38,7 +38,7 @@ struct StationSummary {
 };
 
 // Why no σ can be predicted yet (typed; the message says it for people).
-enum class NotYet { kNone, kNoScans, kNotDetermined };
+enum class NotYet { kNone, kNoScans, kNotDetermined, kBudgetTooShort };
 
 struct GuideReport {
   std::string session_name;
@@ -50,6 +50,9 @@ struct GuideReport {
   NotYet not_yet = NotYet::kNone;
   std::string message;  // for people: why not yet, or calibrate's refusal
   bool enough = false;  // the acceptance's σ tolerances met and calibrate would not refuse
+  // The σ is the adjustment's forced past an observability check (calibrate would refuse
+  // without --force; message says which): the stations do not determine the mount yet.
+  bool forced = false;
   std::vector<Advice> next;
   pipeline::AcceptanceOptions acceptance;
   // --plan: the best plan for the budget (no logs read).

@@ -40,6 +40,8 @@ struct GuideSession::State {
   // The pose logs' end and their dwells at the last refresh (for Repose).
   double poses_end_s = -1e300;
   std::vector<calib::Dwell> dwells;
+  // The options' solver before the measured white noise replaces theirs (at each refresh).
+  solvers::SolverOptions configured_solver;
 };
 
 namespace {
@@ -95,6 +97,7 @@ GuideReport GuideSession::Refresh() {
     s.result.session = std::move(setup.session);
     s.result.options = std::move(setup.options);
     s.result.preset = std::move(setup.preset);
+    s.configured_solver = s.result.options.solver;
     s.scans = ScanFeed::For(s.result.session, &s.result.preset);
     s.pose_logs.emplace(s.result.session);
     if (s.scans) {
@@ -120,6 +123,8 @@ GuideReport GuideSession::Refresh() {
     last_read_.fixes_used = poses.fixes_used;
     last_read_.headings_used = poses.headings_used;
     result.num_dwells = poses.num_dwells;
+    // The white noise measured at the stops so far, as calibrate takes it.
+    pipeline::UseMeasuredWhiteNoise(poses, s.configured_solver, &result);
     inputs.gnss = std::move(poses.gnss);
     inputs.headings = std::move(poses.headings);
     inputs.used_fixes = std::move(poses.used_fixes);

@@ -45,6 +45,7 @@ std::string GuideText(const GuideReport& r) {
       out << Format("    %2zu  ", i + 1) << StopLine(r, r.plan->stops[i]) << "\n";
     }
     out << "  predicted  " << SigmaLine(r.predicted, r.acceptance) << "\n";
+    if (!r.message.empty()) out << "  note       " << r.message << "\n";
     out << "  enough     " << (r.enough ? "yes" : "no") << "\n";
     return out.str();
   }
@@ -80,7 +81,8 @@ std::string GuideJson(const GuideReport& r) {
       << ", \"predicted_sigma\": {\"x_m\": " << Number(r.predicted.sigma_x_m(), "%.6f")
       << ", \"y_m\": " << Number(r.predicted.sigma_y_m(), "%.6f")
       << ", \"yaw_deg\": " << Number(r.predicted.sigma_yaw_rad() * kRadToDeg, "%.5f")
-      << "}, \"enough\": " << (r.enough ? "true" : "false") << ", \"next\": [";
+      << "}, \"forced\": " << (r.forced ? "true" : "false")
+      << ", \"enough\": " << (r.enough ? "true" : "false") << ", \"next\": [";
   bool first = true;
   if (r.plan) {
     for (const StopSpec& s : r.plan->stops) {

@@ -269,17 +269,32 @@ void AppendPlanObservations(const StopModel& model, const std::vector<StopSpec>&
   }
 }
 
+namespace {
+
+constexpr double kPlanDwellsS[] = {10.0, 30.0, 60.0};
+
+std::vector<double> PlanWaitsS(const StopModel& model) {
+  const double tau_s = model.solver.gnss_bias_tau_s > 0.0 ? model.solver.gnss_bias_tau_s : 60.0;
+  return {15.0, 0.5 * tau_s, tau_s, 2.0 * tau_s};
+}
+
+}  // namespace
+
+double ShortestPlanS(const StopModel& model) {
+  const std::vector<double> waits = PlanWaitsS(model);
+  return kMinPlanStops * (kPlanDwellsS[0] + *std::min_element(waits.begin(), waits.end()));
+}
+
 Plan BestPlan(const StopModel& model, const pipeline::AcceptanceOptions& acceptance,
               double budget_s) {
   Plan best;
   double best_ratio = kInfinity;
-  const double tau_s = model.solver.gnss_bias_tau_s > 0.0 ? model.solver.gnss_bias_tau_s : 60.0;
   for (int wall = 0; wall < static_cast<int>(model.walls.size()); ++wall) {
     for (double spread_deg : {20.0, 30.0, 40.0}) {
-      for (double dwell : {10.0, 30.0, 60.0}) {
-        for (double wait : {15.0, 0.5 * tau_s, tau_s, 2.0 * tau_s}) {
+      for (double dwell : kPlanDwellsS) {
+        for (double wait : PlanWaitsS(model)) {
           const int n = static_cast<int>(std::floor(budget_s / (dwell + wait)));
-          if (n < 3) continue;
+          if (n < kMinPlanStops) continue;
           Plan plan;
           for (int i = 0; i < n; ++i) {
             // Alternate the sides so that each part of the spread is seen early and late.

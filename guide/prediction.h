@@ -78,8 +78,12 @@ struct Plan {
   Prediction predicted;
   double seconds = 0.0;  // the time the plan takes
 };
+// The fewest stops a plan has.
+inline constexpr int kMinPlanStops = 3;
+// The time the shortest plan takes: kMinPlanStops of the shortest dwell and wait searched.
+double ShortestPlanS(const StopModel& model);
 // The plan of the smallest largest-σ-over-tolerance that fits `budget_s`, searched over the
-// spread, dwell and wait. stops empty when not even three stops fit.
+// spread, dwell and wait. stops empty when not even kMinPlanStops stops fit (ShortestPlanS).
 Plan BestPlan(const StopModel& model, const pipeline::AcceptanceOptions& acceptance,
               double budget_s);
 

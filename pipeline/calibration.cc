@@ -134,15 +134,8 @@ CalibrationResult Run(const CalibrateRequest& request, const ProgressFn& progres
     result.headings_used = poses.headings_used;
     result.num_dwells = poses.num_dwells;
     // From here on the solver's white noise is the stops' where they measured it.
-    result.measured_noise = poses.measured_noise;
-    result.configured_gnss_white_sigma_m = result.options.solver.gnss_white_sigma_m;
-    result.configured_heading_sigma_rad = result.options.solver.heading_sigma_rad;
-    if (result.options.solver.use_measured_white_noise) {
-      const calib::MeasuredWhiteNoise& m = poses.measured_noise;
-      solvers::SolverOptions& solver = result.options.solver;
-      if (m.gnss_white_sigma_m > 0.0) solver.gnss_white_sigma_m = m.gnss_white_sigma_m;
-      if (m.heading_sigma_rad > 0.0) solver.heading_sigma_rad = m.heading_sigma_rad;
-    }
+    const solvers::SolverOptions configured = result.options.solver;
+    UseMeasuredWhiteNoise(poses, configured, &result);
     inputs.gnss = std::move(poses.gnss);  // used_fixes point into its fixes: they move along
     inputs.headings = std::move(poses.headings);
     inputs.used_fixes = std::move(poses.used_fixes);

@@ -208,6 +208,20 @@ PoseStep PosesFromLogs(const CalibrationResult& result, recording::PoseLogs logs
   return step;
 }
 
+void UseMeasuredWhiteNoise(const PoseStep& poses, const solvers::SolverOptions& configured,
+                           CalibrationResult* result) {
+  result->measured_noise = poses.measured_noise;
+  result->configured_gnss_white_sigma_m = configured.gnss_white_sigma_m;
+  result->configured_heading_sigma_rad = configured.heading_sigma_rad;
+  solvers::SolverOptions& solver = result->options.solver;
+  solver.gnss_white_sigma_m = configured.gnss_white_sigma_m;
+  solver.heading_sigma_rad = configured.heading_sigma_rad;
+  if (!configured.use_measured_white_noise) return;
+  const calib::MeasuredWhiteNoise& m = poses.measured_noise;
+  if (m.gnss_white_sigma_m > 0.0) solver.gnss_white_sigma_m = m.gnss_white_sigma_m;
+  if (m.heading_sigma_rad > 0.0) solver.heading_sigma_rad = m.heading_sigma_rad;
+}
+
 MovingScans ChooseMovingScans(const CalibrateOptions& options, int num_dwells) {
   MovingScans moving;
   // Moving scans: when asked for, or when the engineer drove continuously (too few dwells to

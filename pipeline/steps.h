@@ -100,6 +100,12 @@ PoseStep ReadPoses(const CalibrationResult& result);
 // recording::ReadPoseLogs; the guide reads them on as they grow). Throws io::InputError as
 // ReadPoses does for what the logs hold.
 PoseStep PosesFromLogs(const CalibrationResult& result, recording::PoseLogs logs);
+// Sets result->measured_noise from `poses` and result->options.solver's GNSS and heading white
+// noise: with solver.use_measured_white_noise, each the stops' measure where there is one, else
+// `configured`'s (kept in result->configured_*). calibrate and the guide both call it, so the
+// guide's σ is calibrate's on the same data.
+void UseMeasuredWhiteNoise(const PoseStep& poses, const solvers::SolverOptions& configured,
+                           CalibrationResult* result);
 
 // Which scans taken while moving the passes use, for a session with `num_dwells` dwells:
 // use_moving (the passes detect them) and moving_by_default (RunInputs::moving_by_default).

@@ -19,6 +19,7 @@
 
 #include "common/angles.h"
 #include "guide/guide.h"
+#include "guide/guide_text.h"
 #include "guide/prediction.h"
 #include "guide/stop_model.h"
 #include "pipeline/calibration.h"
@@ -113,7 +114,8 @@ TEST(GuideAdviceTest, JsonIsOneObjectWithTheDocumentedKeys) {
   const std::string number = R"((-?[0-9.]+|null))";
   const std::regex object(R"(\{"stations": [0-9]+, "predicted_sigma": \{"x_m": )" + number +
                           R"(, "y_m": )" + number + R"(, "yaw_deg": )" + number +
-                          R"(\}, "enough": (true|false), "next": \[(\{"vehicle_to_wall_deg": )"
+                          R"(\}, "forced": (true|false), "enough": (true|false), )"
+                          R"("next": \[(\{"vehicle_to_wall_deg": )"
                           R"(-?[0-9.]+, "distance_m": [0-9.]+, "dwell_s": [0-9]+, "wait_s": )"
                           R"([0-9]+\}(, )?)*\]\}\n)");
   for (const std::vector<std::string>& args :
@@ -125,6 +127,38 @@ TEST(GuideAdviceTest, JsonIsOneObjectWithTheDocumentedKeys) {
     ASSERT_EQ(run.exit_code, 0) << run.err;
     EXPECT_TRUE(std::regex_match(run.out, object)) << run.out;
   }
+}
+
+TEST(GuideAdviceTest, OneStationIsForcedInTextAndJson) {
+  // One 4 s stop: the σ exists only forced past calibrate's station count.
+  sim::SimulationConfig config = sim::ReadSimulationConfig(
+      std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_guide_crew.yaml");
+  config.stops = {Stop(-30, 4, 0)};
+  const testing_support::ScratchDir scratch("wallcal_guide_forced_");
+  const std::string one = (scratch.path() / "one").string();
+  sim::WriteSimulatedSession(config, 31, one);
+  guide::GuideOptions request;
+  request.session_path = one;
+  const guide::GuideReport report = guide::AssessSession(request);
+  ASSERT_TRUE(report.predicted.known);
+  EXPECT_TRUE(report.forced);
+  EXPECT_FALSE(report.enough);
+  EXPECT_NE(guide::GuideText(report).find("note       FORCED"), std::string::npos);
+  EXPECT_NE(guide::GuideJson(report).find("\"forced\": true"), std::string::npos);
+}
+
+TEST(GuideAdviceTest, PlanTooShortSaysWhy) {
+  guide::GuideOptions options;
+  options.session_path = std::string(WALLCAL_SOURCE_DIR) + "/samples/lms291-sapporo";
+  const guide::GuideReport too_short = guide::PlanSession(options, 60.0);
+  ASSERT_TRUE(too_short.plan.has_value());
+  EXPECT_TRUE(too_short.plan->stops.empty());
+  EXPECT_EQ(too_short.not_yet, guide::NotYet::kBudgetTooShort);
+  EXPECT_FALSE(too_short.enough);
+  // The shortest plan: three stops of 10 s, 15 s apart (75 s).
+  const guide::GuideReport shortest = guide::PlanSession(options, 75.0);
+  EXPECT_EQ(static_cast<int>(shortest.plan->stops.size()), guide::kMinPlanStops);
+  EXPECT_EQ(shortest.not_yet, guide::NotYet::kNone);
 }
 
 TEST(GuideAdviceTest, UsageErrorsExitTwo) {

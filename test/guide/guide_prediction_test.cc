@@ -16,6 +16,9 @@
 
 #include <gtest/gtest.h>
 
+#include "analysis/repeatability.h"
+#include "guide/guide.h"
+#include "pipeline/calibration.h"
 #include "sim/simulation_config.h"
 #include "test/support/guide_check.h"
 #include "test/support/scratch_dir.h"
@@ -50,6 +53,33 @@ TEST(GuidePredictionTest, SigmaIfCalibratedNowMatchesCalibrateOnCutSessions) {
 
 TEST(GuidePredictionTest, SigmaIfCalibratedNowMatchesCalibrateOnTwoWalls) {
   ExpectPredictionsWithinBand("bench_lms291_two_walls.yaml", {11, 12});
+}
+
+// The sample under default options: calibrate takes the GNSS and heading white noise from the
+// stops' scatter (solver.use_measured_white_noise), and so does the guide. Its observations are
+// fewer than analysis::kMaxRefitObservations, so the guide's problem is calibrate's and the σ agree
+// to the solver's convergence; the configured white noise instead moves them by 6 % (x) and 12 %
+// (y). Tolerance 1 %, far inside that and far outside the convergence's 1e-6.
+TEST(GuidePredictionTest, SampleSigmaIsCalibratesWithTheMeasuredWhiteNoise) {
+  const std::string sample = std::string(WALLCAL_SOURCE_DIR) + "/samples/lms291-sapporo";
+  pipeline::CalibrateRequest request;
+  request.session_path = sample;
+  request.force = true;
+  const pipeline::CalibrationResult result = pipeline::RunCalibration(request);
+  ASSERT_TRUE(result.estimate.usable);
+  ASSERT_TRUE(result.options.solver.use_measured_white_noise);
+  ASSERT_GT(result.measured_noise.gnss_white_sigma_m, 0.0);
+  ASSERT_LT(result.observations.size(), static_cast<size_t>(analysis::kMaxRefitObservations));
+  guide::GuideOptions guide_request;
+  guide_request.session_path = sample;
+  const guide::GuideReport report = guide::AssessSession(guide_request);
+  ASSERT_TRUE(report.predicted.known);
+  const double predicted[3] = {report.predicted.sigma_x_m(), report.predicted.sigma_y_m(),
+                               report.predicted.sigma_yaw_rad()};
+  for (int axis = 0; axis < 3; ++axis) {
+    const double reported = std::sqrt(result.estimate.covariance(axis, axis));
+    EXPECT_NEAR(predicted[axis] / reported, 1.0, 0.01) << "axis " << axis;
+  }
 }
 
 }  // namespace
