@@ -3,6 +3,8 @@
 // follows the guide stop by stop against the field guide's fixed pattern (--crew), and the time
 // of one update on an hour-long session (--speed). Figures in docs/results.md, "The guide".
 
+#include <zlib.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -12,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -20,6 +23,7 @@
 #include "guide/guide.h"
 #include "guide/guide_session.h"
 #include "guide_crew.h"
+#include "sim/recording_session.h"
 #include "sim/simulation_config.h"
 #include "test/support/guide_check.h"
 
@@ -103,15 +107,25 @@ size_t EndOfLinesUpTo(const std::string& text, size_t from, double t_s, bool sta
 }
 
 // One log of the session, written up to a time.
+// A gzip-compressed log grows by a gzip member per write (zlib reads the members as one stream).
 struct GrowingLog {
   fs::path path;
   std::string text;
   bool stamp_last = false;
   size_t written = 0;
+  bool gzip = false;
   void WriteUpTo(double t_s) {
     const size_t upto = EndOfLinesUpTo(text, written, t_s, stamp_last);
-    std::ofstream out(path, std::ios::binary | std::ios::app);
-    out.write(text.data() + written, static_cast<std::streamsize>(upto - written));
+    if (gzip) {
+      gzFile out = gzopen(path.string().c_str(), "ab6");
+      if (out != nullptr) {
+        gzwrite(out, text.data() + written, static_cast<unsigned>(upto - written));
+        gzclose(out);
+      }
+    } else {
+      std::ofstream out(path, std::ios::binary | std::ios::app);
+      out.write(text.data() + written, static_cast<std::streamsize>(upto - written));
+    }
     written = upto;
   }
 };
@@ -135,19 +149,38 @@ void PrintReport(const char* what, const guide::GuideReport& report, double s, d
 // the end (the first read), then grown a second at a time (the updates). Twice: with the default
 // tolerances (the session is enough: no stops advised) and with tolerances of 1 mm and 0.01°
 // (three stops advised at each update).
-int Speed(const fs::path& scratch, int updates) {
+// A recording (ROS 1 bag, MCAP) is grown by bytes instead, its last 60/3600 cut off for the
+// first read and 1/3600 added for each update (about a second of its messages).
+// --gzip: the text scan log written gzip-compressed.
+int Speed(const fs::path& scratch, int updates, sim::SessionFormat format, bool gzip) {
   sim::SimulationConfig config = Scenario("bench_lms291_hour.yaml");
   const fs::path whole = scratch / "hour";
-  sim::WriteSimulatedSession(config, 7, whole.string());
+  sim::WriteSimulatedSession(config, 7, whole.string(), format);
   std::vector<GrowingLog> original;
-  for (const auto& [name, stamp_last] : {std::pair<const char*, bool>{"scans.clf", true},
-                                         {"gnss.nmea", false}, {"heading.nmea", false}}) {
-    original.push_back(GrowingLog{fs::path(name), ReadAll(whole / name), stamp_last, 0});
+  std::string recording;
+  double first_s = 0.0, last_s = 3600.0;
+  if (format == sim::SessionFormat::kText) {
+    for (const auto& [name, stamp_last] : {std::pair<const char*, bool>{"scans.clf", true},
+                                           {"gnss.nmea", false}, {"heading.nmea", false}}) {
+      original.push_back(GrowingLog{fs::path(name), ReadAll(whole / name), stamp_last, 0, false});
+    }
+    original[0].gzip = gzip;
+    const std::string& gnss = original[1].text;
+    first_s = std::strtod(gnss.c_str(), nullptr);
+    last_s = std::strtod(gnss.c_str() + gnss.rfind('\n', gnss.size() - 2) + 1, nullptr);
+  } else {
+    for (const char* name : {"session.bag", "session.mcap"}) {
+      if (fs::exists(whole / name)) recording = name;
+    }
   }
-  const std::string& gnss = original[1].text;
-  const double first_s = std::strtod(gnss.c_str(), nullptr);
-  const double last_s =
-      std::strtod(gnss.c_str() + gnss.rfind('\n', gnss.size() - 2) + 1, nullptr);
+  const std::string recorded = recording.empty() ? "" : ReadAll(whole / recording);
+  // The recording up to t_s of its [first_s, last_s], by bytes.
+  const auto write_recording = [&](const fs::path& dir, double t_s) {
+    const size_t upto = static_cast<size_t>(static_cast<double>(recorded.size()) *
+                                            std::min(1.0, (t_s - first_s) / (last_s - first_s)));
+    std::ofstream(dir / recording, std::ios::binary | std::ios::trunc)
+        .write(recorded.data(), static_cast<std::streamsize>(upto));
+  };
   for (const bool tight : {false, true}) {
     const fs::path dir = scratch / "growing";
     fs::remove_all(dir);
@@ -157,6 +190,7 @@ int Speed(const fs::path& scratch, int updates) {
     for (GrowingLog& log : logs) log.path = dir / log.path;
     double t_s = last_s - 60.0;
     for (GrowingLog& log : logs) log.WriteUpTo(t_s);
+    if (!recording.empty()) write_recording(dir, t_s);
     guide::GuideOptions options;
     options.session_path = dir.string();
     options.threads = 2;
@@ -176,6 +210,7 @@ int Speed(const fs::path& scratch, int updates) {
     for (int k = 0; k < updates; ++k) {
       t_s += 1.0;
       for (GrowingLog& log : logs) log.WriteUpTo(t_s);
+      if (!recording.empty()) write_recording(dir, t_s);
       start = std::chrono::steady_clock::now();
       cpu_start = CpuSeconds();
       const guide::GuideReport report = session.Refresh();
@@ -202,6 +237,8 @@ int main(int argc, char** argv) {
   int seeds = 20;
   int stations = 0;
   int updates = 10;
+  sim::SessionFormat format = sim::SessionFormat::kText;
+  bool gzip = false;
   std::vector<std::string> scenarios;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -211,20 +248,31 @@ int main(int argc, char** argv) {
       return bench::Transcript(argv[i + 1]);
     } else if (arg == "--seeds" && i + 1 < argc) {
       seeds = std::atoi(argv[++i]);
+    } else if (arg == "--gzip") {
+      gzip = true;
+    } else if (arg == "--format" && i + 1 < argc) {
+      const std::optional<sim::SessionFormat> parsed = sim::ParseSessionFormat(argv[++i]);
+      if (!parsed) {
+        std::cerr << "guide_bench: --format takes " << sim::SessionFormatNames() << "\n";
+        return 2;
+      }
+      format = *parsed;
     } else if (arg == "--updates" && i + 1 < argc) {
       updates = std::atoi(argv[++i]);
     } else if (arg == "--stations" && i + 1 < argc) {
       stations = std::atoi(argv[++i]);
     } else if (arg == "--help") {
       std::cout << "usage: guide_bench --check [SCENARIO.yaml ...] [--stations N] | --crew | "
-                   "--speed [--updates N] [--seeds N (default 20)]\n"
+                   "--speed [--updates N] [--format F | --gzip] [--seeds N (default 20)]\n"
                    "  --check     the guide's σ over calibrate's on sessions cut after 30, 60 and "
                    "100 % of their scans\n"
                    "              (scenarios from configs/simulate/; --stations overrides their "
                    "num_stations)\n"
                    "  --crew      a crew following the guide against the field guide's pattern\n"
                    "  --speed     an hour-long session followed as it grows: the first read of 59 minutes,\n"
-                   "              then N updates (default 10), each after a second more of logs\n"
+                   "              then N updates (default 10), each after a second more of logs;\n"
+                   "              --format ros1, mcap, ...: recorded as one recording, grown by bytes;\n"
+                   "              --gzip: the CARMEN scan log gzip-compressed (a member per write)\n"
                    "  --transcript DIR  one guided crew, the guide's report after each stop\n";
       return 0;
     } else {
@@ -240,7 +288,7 @@ int main(int argc, char** argv) {
   } else if (mode == "--crew") {
     status = bench::RunCrew(seeds, scratch);
   } else if (mode == "--speed") {
-    status = Speed(scratch, updates);
+    status = Speed(scratch, updates, format, gzip);
   } else {
     std::cerr << "guide_bench: give --check, --crew or --speed\n";
   }

@@ -7,6 +7,7 @@
 // metres by the point scale k0 at the origin, so that scanner, total station and local
 // distances share one unit.
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -89,15 +90,17 @@ struct VehiclePose {
   // The median GNSS sample period of the stream the position was interpolated from (s; 0:
   // unknown): a moving scan's interpolation error and how many scans share one fix's noise.
   double gnss_period_s = 0.0;
-  // The GNSS fixes the position was interpolated between and the heading samples the yaw was
-  // (at stamp_s + heading_shift_s): the index of the one at or before that time in the
-  // interpolator's stream (-1: unknown) and the fraction of the way to the next, in [0, 1]. A
-  // moving pose from cubics counts as linear here. Several scanners' scans between the same
+  // The GNSS fixes the position was interpolated from and the heading samples the yaw was (at
+  // stamp_s + heading_shift_s): the index k of the one at or before that time in the
+  // interpolator's stream (-1: unknown) and the weights the interpolation gave the samples
+  // k − 1, k, k + 1, k + 2 (they sum to 1): (0, 1 − f, f, 0) for a linear interpolation at the
+  // fraction f of the way from k to k + 1, all four for a moving pose from cubics (Hermite
+  // weights, PoseInterpolator::CubicAt). Several scanners' scans interpolated from the same
   // samples share those samples' white noise (solvers/joint_mounts.cc).
   int gnss_fix = -1;
-  double gnss_fix_fraction = 0.0;
+  std::array<double, 4> gnss_fix_weights{};
   int heading_sample = -1;
-  double heading_sample_fraction = 0.0;
+  std::array<double, 4> heading_sample_weights{};
   // Inside a dwell (stationary): the circular mean of the heading samples over the whole dwell
   // (rad, same frame as yaw_rad), how many samples it averages, and the dwell's middle time (s).
   // The vehicle's true yaw is constant over a dwell, so the solver uses this mean instead of the

@@ -157,7 +157,8 @@ bool PoseInterpolator::YawAt(double stamp_s, double* yaw_rad, PoseStatus* failur
 }
 
 bool PoseInterpolator::CubicAt(double stamp_s, double yaw_stamp_s, Eigen::Vector2d* p_local_m,
-                               double* yaw_rad) const {
+                               double* yaw_rad, std::array<double, 4>* position_weights,
+                               std::array<double, 4>* yaw_weights) const {
   // Four samples of each stream around its time, every gap bridgeable; otherwise no cubic.
   const size_t lo = Bracket(positions_, stamp_s);
   const size_t yo = Bracket(yaws_, yaw_stamp_s);
@@ -181,6 +182,8 @@ bool PoseInterpolator::CubicAt(double stamp_s, double yaw_stamp_s, Eigen::Vector
   double yaw = 0.0;
   for (int j = 0; j < 4; ++j) yaw += wy[j] * WrapAngle(yaws_[yo - 1 + j].yaw_rad - base);
   *yaw_rad = WrapAngle(base + yaw);
+  *position_weights = wp;
+  *yaw_weights = wy;
   return true;
 }
 
@@ -208,10 +211,12 @@ PoseStatus PoseInterpolator::At(double stamp_s, double heading_shift_s, VehicleP
   };
   const size_t fix = Bracket(positions_, stamp_s);
   const size_t sample = Bracket(yaws_, yaw_stamp_s);
+  const double f = fraction(positions_, fix, stamp_s);
+  const double g = fraction(yaws_, sample, yaw_stamp_s);
   pose->gnss_fix = static_cast<int>(fix);
-  pose->gnss_fix_fraction = fraction(positions_, fix, stamp_s);
+  pose->gnss_fix_weights = {0.0, 1.0 - f, f, 0.0};
   pose->heading_sample = static_cast<int>(sample);
-  pose->heading_sample_fraction = fraction(yaws_, sample, yaw_stamp_s);
+  pose->heading_sample_weights = {0.0, 1.0 - g, g, 0.0};
   pose->stationary = false;
   // The last dwell starting at or before stamp_s is the only one that can contain it.
   const auto it = std::upper_bound(dwells_.begin(), dwells_.end(), stamp_s,
@@ -232,7 +237,8 @@ PoseStatus PoseInterpolator::At(double stamp_s, double heading_shift_s, VehicleP
     // Driving: the pose from cubics through the samples around (a straight chord between two
     // GNSS fixes misplaces a vehicle speeding up at a m/s² by up to a·T²/8: 4 mm at 3 m/s² and
     // 10 Hz, the same sign over half a drive). Linear where a neighbour is missing.
-    CubicAt(stamp_s, yaw_stamp_s, &pose->antenna_local_m, &pose->yaw_rad);
+    CubicAt(stamp_s, yaw_stamp_s, &pose->antenna_local_m, &pose->yaw_rad,
+            &pose->gnss_fix_weights, &pose->heading_sample_weights);
     // Moving scans count in stretches of kMovingStretchS as "stations" (geometry checks,
     // bootstrap by station); their GNSS error is sliced finer, below.
     pose->segment = static_cast<int>(dwells_.size()) + SliceIndex(stamp_s - start_s_, kMovingStretchS);

@@ -8,6 +8,7 @@
 // grid east (already converted from headings, see calib/geodesy.h).
 
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "calib/observation.h"
@@ -92,8 +93,10 @@ class PoseInterpolator {
   // Cubic Hermite interpolation of both streams (central-difference tangents) for a moving
   // vehicle, the position at stamp_s and the yaw at yaw_stamp_s; false (outputs untouched)
   // unless two samples each side lie within the max gaps.
-  bool CubicAt(double stamp_s, double yaw_stamp_s, Eigen::Vector2d* p_local_m,
-               double* yaw_rad) const;
+  // position_weights and yaw_weights receive the weights of the samples k − 1 .. k + 2 of
+  // each stream (VehiclePose::gnss_fix_weights).
+  bool CubicAt(double stamp_s, double yaw_stamp_s, Eigen::Vector2d* p_local_m, double* yaw_rad,
+               std::array<double, 4>* position_weights, std::array<double, 4>* yaw_weights) const;
   void FindDwells();
 
   std::vector<PositionSample> positions_;

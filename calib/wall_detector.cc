@@ -1,17 +1,23 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "calib/wall_detector.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+
+#include "calib/internal/line_fit.h"
 #include "common/angles.h"
 #include "common/format.h"
 
 namespace wallcal::calib {
 namespace {
+using internal::FillDetection;
+using internal::LineFit;
+using internal::RefineAlongBeams;
+using internal::TrimmedFit;
+
 // Floor on the per-point σ used for trimming: about a 1 cm quantisation step / √12 plus the
 // flatness of a real wall. Keeps a preset with a tiny σ from trimming a wall to nothing.
 constexpr double kMinPointSigmaM = 0.003;
@@ -43,42 +49,6 @@ struct BusyCell {
   int j = 0, k = 0;
 };
 
-// Total-least-squares line through the points: the normal is the eigenvector of the scatter
-// matrix with the smaller eigenvalue, and the line passes through the centroid. Oriented so
-// that rho >= 0 (normal pointing from the scanner towards the line).
-struct LineFit {
-  Eigen::Vector2d normal = Eigen::Vector2d::UnitX();
-  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-  double rho_m = 0.0;
-};
-
-bool FitLine(const ScanPoints& points, const std::vector<int>& idx, LineFit* fit) {
-  if (idx.size() < 2) return false;
-  Eigen::Vector2d c = Eigen::Vector2d::Zero();
-  for (int i : idx) c += points.p_scanner_m[i];
-  c /= static_cast<double>(idx.size());
-  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-  for (int i : idx) {
-    const Eigen::Vector2d q = points.p_scanner_m[i] - c;
-    scatter += q * q.transpose();
-  }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
-  if (eig.info() != Eigen::Success) return false;
-  // Eigenvalues ascending: column 0 is the normal. A degenerate cloud (all points coincide) has
-  // no direction.
-  if (!(eig.eigenvalues()(1) > 0.0)) return false;
-  Eigen::Vector2d n = eig.eigenvectors().col(0).normalized();
-  double rho = n.dot(c);
-  if (rho < 0.0) {
-    n = -n;
-    rho = -rho;
-  }
-  fit->normal = n;
-  fit->centroid = c;
-  fit->rho_m = rho;
-  return true;
-}
-
 // Whether a point lies along the gate's surveyed segment, within a margin (m), measured along
 // the segment. The segment's direction and length are computed once per scan.
 class SegmentTest {
@@ -99,31 +69,6 @@ class SegmentTest {
   double length_;
   double margin_m_;
 };
-
-// Trimmed total-least-squares fit of the candidates (indices into points, ascending). The
-// threshold shrinks from half the Hough band to the final trim_m (halving each round) so that
-// clutter inside the band (a trunk touching the wall) cannot drag the first fit far enough to
-// trim away the wall itself; then it iterates at trim_m until the set no longer changes.
-bool TrimmedFit(const ScanPoints& points, const std::vector<int>& candidates, double trim_m,
-                double band_m, LineFit* fit, std::vector<int>* set) {
-  *set = candidates;
-  bool ok = FitLine(points, *set, fit);
-  double threshold = std::max(trim_m, 0.5 * band_m);
-  thread_local std::vector<int> next;  // reused: no allocation per scan once warm
-  for (int iter = 0; ok && iter < 30; ++iter) {
-    next.clear();
-    for (int i : candidates) {
-      if (std::abs(fit->normal.dot(points.p_scanner_m[i]) - fit->rho_m) <= threshold) {
-        next.push_back(i);
-      }
-    }
-    if (threshold <= trim_m && next == *set) break;
-    set->swap(next);
-    ok = FitLine(points, *set, fit);
-    threshold = std::max(trim_m, 0.5 * threshold);
-  }
-  return ok;
-}
 
 // Local maxima of the accumulator (stored rho-major: acc_t(j, k), j rho cell, k theta row)
 // inside the gate (rows row_first..row_last, columns 1..n_in), and of these the strongest
@@ -177,56 +122,6 @@ std::vector<Peak> StrongestPeaks(const cv::Mat_<int>& acc_t, const BusyCell* bus
     distinct.push_back(*best);
   }
   return distinct;
-}
-
-// Fills the detection from the final fit.
-//
-// Covariance of (rho, theta). Write each inlier as p_i = c + s_i·d + e_i·n, with n the unit
-// normal, d = (−sin θ, cos θ) the line direction, c the centroid (Σ s_i = 0) and e_i the
-// perpendicular noise, σ each. The residual n(θ)·p_i − ρ has derivatives −1 in ρ and
-// d·p_i = t + s_i in θ, with t = d·c the centroid's position along the line measured from the
-// foot of the perpendicular from the scanner. So JᵀJ = [[N, −N t], [−N t, N t² + S]] with
-// S = Σ s_i², det = N S, and
-//   var θ = σ²/S,  var ρ = σ² (1/N + t²/S),  cov(ρ, θ) = σ² t/S.
-// Equivalently: the offset at the centroid has variance σ²/N, independent of θ, and moving the
-// reference from the centroid to the origin adds t·δθ to ρ (ρ = n(θ)·c, ∂ρ/∂θ = t).
-// σ = max(preset σ, residual RMS): the RMS covers walls rougher than the preset's noise; the
-// preset keeps a lucky scan from claiming more than the sensor can do.
-void FillDetection(const ScanPoints& points, const LineFit& fit, std::vector<int> set,
-                   double range_sigma_m, int votes, WallDetection* det) {
-  const int n = static_cast<int>(set.size());
-  const double theta = WrapAngle(std::atan2(fit.normal.y(), fit.normal.x()));
-  const Eigen::Vector2d d(-std::sin(theta), std::cos(theta));
-  const double t = d.dot(fit.centroid);
-  double sum_s2 = 0.0, sum_e2 = 0.0;
-  double r_min = std::numeric_limits<double>::infinity(), r_max = 0.0;
-  for (int i : set) {
-    const Eigen::Vector2d q = points.p_scanner_m[i] - fit.centroid;
-    const double s = d.dot(q);
-    const double e = fit.normal.dot(q);
-    sum_s2 += s * s;
-    sum_e2 += e * e;
-    r_min = std::min(r_min, double(points.range_m[i]));
-    r_max = std::max(r_max, double(points.range_m[i]));
-  }
-  const double rms = std::sqrt(sum_e2 / std::max(1, n - 2));  // two parameters fitted
-  const double sigma = std::max(range_sigma_m, rms);
-  const double var_theta = sigma * sigma / sum_s2;
-  const double var_rho = sigma * sigma * (1.0 / n + t * t / sum_s2);
-
-  det->found = true;
-  det->reason.clear();
-  det->rho_m = fit.rho_m;
-  det->theta_rad = theta;
-  det->sigma_rho_m = std::sqrt(var_rho);
-  det->sigma_theta_rad = std::sqrt(var_theta);
-  det->cov_rho_theta = sigma * sigma * t / sum_s2;
-  det->num_inliers = n;
-  det->range_min_m = r_min;
-  det->range_max_m = r_max;
-  det->residual_rms_m = std::sqrt(sum_e2 / n);
-  det->hough_votes = votes;
-  det->inliers = std::move(set);
 }
 
 // Each theta row's cell for the point (x, y): cell[k] = j·n_theta + k for the rho column j that
@@ -442,6 +337,9 @@ WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,
       }
       return Tried::kTooFew;
     }
+    // The trimmed set chosen, its line along the beams (the trimming's few-mdeg difference
+    // moves a residual by well under a millimetre: the set would not change).
+    RefineAlongBeams(points, set, &fit);
 
     const double theta = WrapAngle(std::atan2(fit.normal.y(), fit.normal.x()));
     const double rho = fit.rho_m;

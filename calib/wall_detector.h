@@ -3,7 +3,8 @@
 // Finds the surveyed wall as a straight line in one scan (Barawid 2007 §III.1, Eq. 2–3: the Hough
 // transform r = x cos θ + y sin θ), improved: the accumulator covers only the gate predicted
 // from the surveyed wall, points next to depth jumps (possible mixed pixels) do not vote, and
-// the Hough line is refined by a trimmed least-squares fit that also gives its covariance.
+// the Hough line is refined by a trimmed least-squares fit along the beams that also gives its
+// covariance.
 //
 // Frame: scanner frame (x = bearing 0, y left, angles counter-clockwise, radians); metres.
 
@@ -40,11 +41,11 @@ struct WallDetection {
   // lies outside the gates", "invalid detector options or gate".
   std::string reason;
   double rho_m = 0, theta_rad = 0;  // rho > 0, theta in (−π, π]
-  // From the least-squares fit (point noise only): m, rad, m·rad.
+  // From the least-squares fit (range noise only): m, rad, m·rad.
   double sigma_rho_m = 0, sigma_theta_rad = 0, cov_rho_theta = 0;
   int num_inliers = 0;
   double range_min_m = 0, range_max_m = 0;  // range span of the inliers
-  double residual_rms_m = 0;                // RMS of the inliers about the line
+  double residual_rms_m = 0;                // RMS of the inliers' range residuals (m)
   int hough_votes = 0;                      // votes in the chosen accumulator cell
   std::vector<int> inliers;                 // indices into ScanPoints, ascending
   // For reports: the accumulator around the gate (rows = theta cells, cols = rho cells) and its
@@ -63,14 +64,21 @@ struct WallDetection {
 //  2. Points within options.inlier_band_m of the peak line (not mixed_suspect; with
 //     gate.has_segment, projecting onto the segment ± options.wall_extent_margin_m) are candidates.
 //  3. Total-least-squares line fit, trimmed iteratively: keep candidates with |residual| <=
-//     options.refine_sigma_factor · max(range_sigma_m, 3 mm) until the set is stable.
+//     options.refine_sigma_factor · max(range_sigma_m, 3 mm) until the set is stable. The
+//     trimmed set's line is then refined by least squares along the beams (the range noise lies
+//     along them): Σ (r_i − ρ / cos i_i)² over (ρ, θ), i_i the incidence of beam i, by a few
+//     Gauss–Newton steps. Total least squares alone turns the normal towards the beams by about
+//     σ² Σ sin 2i / (2 Σ s²) (s the positions along the line).
 //  4. Found when >= options.min_inliers remain and the fitted line lies inside the gate (to half
 //     an accumulator cell). Up to three peaks are tried, strongest first. A fitted line outside
 //     the gate withdraws its points' votes and the peak search starts again (a few rounds).
-// Covariance: with σ = max(range_sigma_m, residual RMS), N inliers, s_i their positions along
-// the line about their centroid and t the centroid's position along the line from the foot of
-// the perpendicular: var θ = σ²/Σs_i², var ρ = σ²(1/N + t²/Σs_i²), cov(ρ, θ) = σ² t/Σs_i²
-// (derivation in wall_detector.cc).
+// Covariance of the range model: σ² (Σ a_i a_iᵀ)⁻¹, a_i = (1, −d·p_i) / cos i_i the derivatives
+// of the predicted range ρ / cos i_i in (ρ, θ) (d the line's direction, p_i the point), i.e.
+// each inlier counts with its perpendicular σ·cos i_i; σ = max(range_sigma_m, RMS of the range
+// residuals). At normal incidence: with N inliers, s_i their positions along the line about
+// their centroid and t the centroid's position along the line from the foot of the
+// perpendicular, var θ = σ²/Σs_i², var ρ = σ²(1/N + t²/Σs_i²), cov(ρ, θ) = σ² t/Σs_i²
+// (derivation in internal/line_fit.cc).
 // range_sigma_m: the preset's 1σ range noise (m). Never throws; a scan without the wall is a
 // result with found = false and a reason.
 WallDetection DetectWall(const ScanPoints& points, const LineGate& gate,

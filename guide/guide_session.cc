@@ -2,9 +2,6 @@
 #include "guide/guide_session.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <optional>
 #include <set>
@@ -14,74 +11,29 @@
 
 #include "analysis/repeatability.h"
 #include "calib/detection_pass.h"
-#include "io/text/carmen_reader.h"
+#include "guide/scan_feed.h"
 #include "pipeline/steps.h"
-#include "recording/recording.h"
 
 namespace wallcal::guide {
 namespace {
-
-namespace fs = std::filesystem;
 
 // A scan this close to the end of the pose logs (s) is read again at the next refresh: its pose
 // (the velocity window around it, a dwell that may yet begin there) can still change.
 constexpr double kSettleS = 5.0;
 
-bool IsGzip(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char magic[2] = {0, 0};
-  in.read(reinterpret_cast<char*>(magic), 2);
-  return in.gcount() == 2 && magic[0] == 0x1f && magic[1] == 0x8b;
-}
-
-// Where a scan's line starts, and its stamp (as logged).
-struct ScanMark {
-  double stamp_s = 0.0;
-  int64_t byte = 0;
-  int line = 0;
-};
-
-// A CARMEN log read on from a byte, noting where each scan's line starts (for the next read).
-class MarkedScans : public io::ScanSource {
- public:
-  MarkedScans(const std::string& path, int64_t start_byte, int64_t first_line,
-              std::vector<ScanMark>* marks)
-      : reader_(path, start_byte, first_line), marks_(marks) {}
-  bool Next(io::ScanRecord* scan) override {
-    if (!reader_.Next(scan)) return false;
-    marks_->push_back(ScanMark{scan->stamp_s, reader_.line_start_byte(), scan->line});
-    return true;
-  }
-  bool NextStamp(double* stamp_s, int* line) override {
-    if (!reader_.NextStamp(stamp_s, line)) return false;
-    marks_->push_back(ScanMark{*stamp_s, reader_.line_start_byte(), *line});
-    return true;
-  }
-  bool ParseCurrent(io::ScanRecord* scan) override { return reader_.ParseCurrent(scan); }
-  const io::SkipCounts& skipped() const override { return reader_.skipped(); }
-  int64_t scans_read() const override { return reader_.scans_read(); }
-  const std::string& path() const override { return reader_.path(); }
-
- private:
-  io::CarmenReader reader_;
-  std::vector<ScanMark>* marks_;
-};
-
 }  // namespace
 
 struct GuideSession::State {
   bool loaded = false;
-  bool incremental = false;  // a plain CARMEN scan log
+  std::unique_ptr<ScanFeed> scans;  // null: the scan log is read whole at each refresh
   pipeline::CalibrationResult result;  // session, options, preset, walls, first pass
   pipeline::RunInputs inputs;
   pipeline::CalibrateRequest request;
   bool passes_prepared = false;
   bool first_pass_done = false;
-  // The scans read and settled: their observations (poses as last given), the byte and line
-  // the next read starts from, how many scans come before it.
+  // The scans read and settled: their observations (poses as last given), how many scans come
+  // before the first not settled.
   std::vector<calib::WallObservation> detected;
-  int64_t resume_byte = 0;
-  int64_t resume_line = 1;
   int64_t scans_before = 0;
   bool solved_once = false;
   std::optional<PoseLogFollower> pose_logs;  // read on from where the last refresh stopped
@@ -143,10 +95,9 @@ GuideReport GuideSession::Refresh() {
     s.result.session = std::move(setup.session);
     s.result.options = std::move(setup.options);
     s.result.preset = std::move(setup.preset);
-    const std::string& scans = s.result.session.scanner_log;
-    s.incremental = !recording::IsRecording(scans) && !IsGzip(scans);
+    s.scans = ScanFeed::For(s.result.session, &s.result.preset);
     s.pose_logs.emplace(s.result.session);
-    if (s.incremental) {
+    if (s.scans) {
       pipeline::SurveyStep survey =
           pipeline::TieSurveyAndFitWalls(s.result.session, s.result.options.solver);
       s.result.frame = survey.frame;
@@ -157,7 +108,7 @@ GuideReport GuideSession::Refresh() {
     s.loaded = true;
   }
   last_read_ = ReadCounts{};
-  if (!s.incremental) {
+  if (!s.scans) {
     return ReportOn(pipeline::RunCalibration(request), options_.max_next);
   }
   pipeline::CalibrationResult& result = s.result;
@@ -179,6 +130,9 @@ GuideReport GuideSession::Refresh() {
     inputs.pass = std::move(passes.pass);
     inputs.moving_by_default = passes.moving_by_default;
     s.passes_prepared = true;
+    // The opener's copy of a recording's scans (the preset check's) is let go before the feed
+    // decodes its own: the passes read through the feed.
+    inputs.pass.open_scans = nullptr;
   }
   inputs.pass.poses = inputs.poses.get();
   {
@@ -189,26 +143,22 @@ GuideReport GuideSession::Refresh() {
     inputs.pass.use_moving = moving.use_moving;
     inputs.moving_by_default = moving.moving_by_default;
   }
-  const std::string scan_log = result.session.scanner_log;
-  std::error_code size_error;
-  last_read_.scan_log_bytes = static_cast<int64_t>(fs::file_size(scan_log, size_error));
-  if (!size_error && last_read_.scan_log_bytes < s.resume_byte) {
+  const FeedRead feed = s.scans->Update();
+  last_read_.scan_log_bytes = feed.log_bytes;
+  if (feed.restarted) {
     // A log shorter than what was read (a new recording under the same name): from the start.
     s.first_pass_done = false;
     s.solved_once = false;
     s.detected.clear();
-    s.resume_byte = 0;
-    s.resume_line = 1;
     s.scans_before = 0;
     s.poses_end_s = -1e300;
     s.dwells.clear();
   }
+  ScanFeed* scans = s.scans.get();
 
   if (!s.first_pass_done) {
     // The first pass (a subsample, wide gates) over the whole log, until it gives a start.
-    inputs.pass.open_scans = [scan_log]() {
-      return std::make_unique<io::CarmenReader>(scan_log);
-    };
+    inputs.pass.open_scans = [scans]() { return scans->OpenAll(); };
     const pipeline::FirstPassStep first = pipeline::FirstPass(request, {}, result, inputs);
     result.first_pass = first.estimate;
     if (first.stopped) {
@@ -221,19 +171,15 @@ GuideReport GuideSession::Refresh() {
 
   // The second pass's detection on what the log gained since the last read.
   std::vector<ScanMark> marks;
-  const int64_t from_byte = s.resume_byte, from_line = s.resume_line;
-  inputs.pass.open_scans = [scan_log, from_byte, from_line, &marks]() {
-    marks.clear();
-    return std::make_unique<MarkedScans>(scan_log, from_byte, from_line, &marks);
-  };
+  inputs.pass.open_scans = [scans, &marks]() { return scans->OpenUnsettled(&marks); };
   calib::PassRequest pass;
   pass.mount = result.first_pass.mount;
   pass.gates = pipeline::TightGates(result);
   pass.gate_time_offset_s =
       result.first_pass.time_offset_estimated ? result.first_pass.time_offset_s : 0.0;
   calib::PassOutcome fresh = calib::DetectionPass(inputs.pass, pass);
-  last_read_.incremental = from_byte > 0;
-  last_read_.scan_log_from_byte = from_byte;
+  last_read_.incremental = feed.from_byte > 0;
+  last_read_.scan_log_from_byte = feed.from_byte;
   last_read_.scans_detected = static_cast<int64_t>(marks.size());
   last_read_.scans_kept = s.scans_before;
 
@@ -256,8 +202,7 @@ GuideReport GuideSession::Refresh() {
     all.push_back(std::move(o));
   }
   if (!marks.empty()) {
-    s.resume_byte = marks[settled].byte;
-    s.resume_line = marks[settled].line;
+    scans->Settle(marks, settled);
     s.scans_before += static_cast<int64_t>(settled);
   }
 

@@ -1,14 +1,17 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The guide kept between refreshes, so that an update reads only what the logs gained since the
-// last one. A CARMEN text scan log is read on from the byte where the last read stopped: the
-// scans already read keep their wall observations (detected once, with the gates of the first
-// read's first pass) and are only given their poses anew (a dwell that grew moves its mean
-// pose); the scans of the last seconds before the pose logs' end, whose poses may still change,
-// are read again next time, as is a last line still being written. The pose logs are read on
-// from where the last read stopped too (guide/pose_logs.h). A session whose scans are in a
-// recording (ROS 1 bag, MCAP, rosbag2) or in a gzip-compressed log is read whole at each refresh,
-// its pose logs with it.
+// last one. The scan log is read on from where the last read stopped (guide/scan_feed.h): a
+// CARMEN text log from the line of the first scan not yet settled (a gzip-compressed one is
+// inflated up to there, not parsed), a ROS 1 bag, an MCAP file or a rosbag2 .db3 file from the
+// end of the last whole record read (a record still being written is read next time), with its
+// decoded scans from the first not yet settled kept in memory. The scans already read keep
+// their wall observations (detected once, with the gates of the first read's first pass) and
+// are only given their poses anew (a dwell that grew moves its mean pose); the scans of the
+// last seconds before the pose logs' end, whose poses may still change, are detected again next
+// time. The pose logs are read on from where the last read stopped too (guide/pose_logs.h; a
+// recording's GNSS and heading topics are read whole). A session whose scans are in a rosbag2
+// folder is read whole at each refresh, its pose logs with it.
 
 #include <cstdint>
 #include <memory>
@@ -21,7 +24,8 @@ namespace wallcal::guide {
 // What the last refresh read.
 struct ReadCounts {
   bool incremental = false;       // the scan log was read on from where the last read stopped
-  int64_t scan_log_from_byte = 0;  // where the scan log was read from (0: from its start)
+  int64_t scan_log_from_byte = 0;  // where the scan log was read from (0: from its start; a
+                                   // recording: the end of the last whole record read before)
   int64_t scan_log_bytes = 0;      // its size when read
   int64_t scans_detected = 0;      // scans read and run through the wall detector this time
   int64_t scans_kept = 0;          // scans read before, whose observations were kept

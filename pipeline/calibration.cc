@@ -226,6 +226,7 @@ CalibrationResult Run(const CalibrateRequest& request, const ProgressFn& progres
     Say(progress, Stage::kReportData, "collecting the report's scans and site map");
     result.report = CollectReportData(result, inputs);
   }
+  result.poses = std::move(inputs.poses);  // the passes that point at it are done
   Say(progress, Stage::kDone, "done");
   result.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "calib/detection_pass.h"
 #include "calib/gnss_epoch_time.h"
 #include "calib/observation.h"
+#include "calib/time_alignment.h"
 #include "pipeline/calibrate_options.h"
 #include "io/types.h"
 #include "analysis/error_budget.h"
@@ -98,6 +100,10 @@ struct CalibrationResult {
   solvers::MountEstimate estimate;     // the final estimate by the requested method
   std::vector<calib::WallGeometry> walls;
   std::vector<calib::WallObservation> observations;  // second pass
+  // The GNSS and heading streams the observations' poses were interpolated from (null when
+  // the run stopped before reading them): a joint adjustment of several scanners
+  // re-interpolates each scanner's poses at its own estimated scan time (multi_scanner.h).
+  std::shared_ptr<const calib::PoseInterpolator> poses;
   // A preview's solve: how many observations it used (every k-th; 0 when not a preview).
   int64_t preview_observations_solved = 0;
   // A preview's tally of every scan the second pass read (inspect's scan-log summary); empty

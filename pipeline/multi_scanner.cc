@@ -5,13 +5,47 @@
 
 #include <chrono>
 #include <memory>
+#include <vector>
 
+#include "calib/detection_pass.h"
 #include "common/sha256.h"
 #include "io/config/offsets_reader.h"
 #include "io/config/session_reader.h"
 #include "pipeline/steps.h"
+#include "solvers/mount_problem.h"
 
 namespace wallcal::pipeline {
+namespace {
+
+// A scanner's part of the joint adjustment with every pose re-interpolated at its own estimated
+// scan time (stamp + the clock offset its run estimated): its run moves the poses only by what
+// the data determine, and on stop-and-go drives, where they hold only the clock offset plus
+// the heading delay, leaves the positions at the stamps. Two scanners' scans of one instant are
+// then interpolated at the same phase of the GNSS period (to within the difference of their
+// offsets' errors), from the same fixes with the same weights, and the joint adjustment can
+// share the fixes' white noise between them (solvers/joint_mounts.cc). The headings stay where
+// the run put them (at the offset plus the heading delay); the time block's warm start keeps
+// what the poses do not carry. `moved` receives the re-interpolated observations when there is
+// anything to move (part.observations then points at it).
+void AtOwnScanTime(const CalibrationResult& result, solvers::ScannerObservations* part,
+                   std::vector<calib::WallObservation>* moved) {
+  const solvers::WarmStart* warm = part->warm.get();
+  if (result.poses == nullptr || warm == nullptr || !result.estimate.time_offset_estimated ||
+      warm->time_offset_s == 0.0) {
+    return;
+  }
+  const double move_s = warm->time_offset_s;
+  *moved = result.observations;
+  calib::ShiftObservations(*result.poses, move_s, -move_s, moved);
+  if (moved->empty()) return;  // nothing has a pose there: the run's own poses stay
+  auto shifted = std::make_shared<solvers::WarmStart>(*warm);
+  shifted->time_offset_s -= move_s;
+  shifted->heading_delay_s += move_s;
+  part->warm = std::move(shifted);
+  part->observations = moved;
+}
+
+}  // namespace
 
 SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool allow_partial,
                                          const ProgressFn& progress) {
@@ -60,7 +94,10 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
   }
 
   std::vector<solvers::ScannerObservations> parts;
-  for (ScannerRun& run : several.scanners) {
+  // The re-interpolated observations the parts point at (one slot per scanner: never resized).
+  std::vector<std::vector<calib::WallObservation>> at_scan_time(several.scanners.size());
+  for (size_t s = 0; s < several.scanners.size(); ++s) {
+    ScannerRun& run = several.scanners[s];
     if (run.refused) continue;
     run.joint_index = static_cast<int>(parts.size());
     solvers::ScannerObservations part;
@@ -68,6 +105,7 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
     part.observations = &run.result.observations;
     part.initial = run.result.estimate.mount;
     part.warm = run.result.estimate.solution_state;
+    AtOwnScanTime(run.result, &part, &at_scan_time[s]);
     parts.push_back(part);
   }
   std::string refused_text;

@@ -8,6 +8,7 @@
 #include "common/enum_text.h"
 #include "io/types.h"
 #include "recording/mcap/internal/mcap_reader.h"
+#include "recording/recording_tail.h"
 #include "recording/rosbag1/internal/rosbag1_reader.h"
 #include "recording/rosbag2/internal/rosbag2_sqlite_reader.h"
 
@@ -64,6 +65,55 @@ std::unique_ptr<Recording> OpenRecording(const std::string& path) {
       io::Where(path, 0,
                 "not a robot recording; expected a ROS 1 bag (#ROSBAG V2.0), an MCAP file "
                 "or a rosbag2 sqlite3 database or folder"));
+}
+
+std::unique_ptr<RecordingTail> OpenRecordingTail(const std::string& path) {
+  std::error_code error;
+  if (fs::is_directory(path, error)) return nullptr;
+  switch (MagicOf(path)) {
+    case Magic::kRos1:
+      return OpenRos1BagTail(path);
+    case Magic::kMcap:
+      return OpenMcapTail(path);
+    case Magic::kSqlite:
+      return OpenRosbag2SqliteTail(path);
+    case Magic::kNone:
+      break;
+  }
+  return nullptr;
+}
+
+TailRead RecordingTail::ReadOn(const std::string& topic_name,
+                               const std::function<void(const RecordedMessage&)>& fn) {
+  TailRead read;
+  std::error_code error;
+  read.file_bytes = static_cast<uint64_t>(fs::file_size(path_, error));
+  if (error) throw io::InputError(io::Where(path_, 0, "cannot read its size: " + error.message()));
+  if (read.file_bytes < resume_byte_) {
+    Reset();
+    topics_.clear();
+    resume_byte_ = 0;
+    read.restarted = true;
+  }
+  read.from_byte = resume_byte_;
+  resume_byte_ = Walk(resume_byte_, read.file_bytes, topic_name, [&](const RecordedMessage& m) {
+    ++read.messages;
+    fn(m);
+  });
+  read.to_byte = resume_byte_;
+  return read;
+}
+
+TopicInfo* RecordingTail::Topic(const std::string& name, const std::string& type,
+                                const std::string& md5sum, const std::string& encoding) {
+  auto [it, added] = topics_.try_emplace(name);
+  if (added) {
+    it->second.name = name;
+    it->second.type = type;
+    it->second.md5sum = md5sum;
+    it->second.encoding = encoding;
+  }
+  return &it->second;
 }
 
 }  // namespace wallcal::recording

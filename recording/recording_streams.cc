@@ -13,6 +13,7 @@
 #include "io/scanner_geometry.h"
 #include "io/text/carmen_reader.h"
 #include "io/text/nmea_reader.h"
+#include "recording/recording_tail.h"
 
 namespace wallcal::recording {
 namespace {
@@ -212,6 +213,23 @@ std::string PresetMismatch(const LaserScanMsg& msg, const io::ScannerPreset& pre
   return check.fit == io::GeometryFit::kOtherScanner ? check.what : std::string();
 }
 
+// One LaserScan message as a scan, checked against `preset` when not null.
+io::ScanRecord DecodeScan(const RecordedMessage& m, const Recording& recording, RosType type,
+                          const io::SessionSpec& spec, const io::ScannerPreset* preset,
+                          LaserScanMsg* msg) {
+  Require(DecodeLaserScan(m.data, m.size, m.wire, msg), recording, m, type);
+  if (preset != nullptr) {
+    if (const std::string why = PresetMismatch(*msg, *preset); !why.empty()) {
+      throw io::InputError(
+          io::Where(spec.scanner_log, 0,
+                    Describe(m) + ": " + why +
+                        "; expected the scanner.model preset to match the scanner "
+                        "(pick another preset or write one)"));
+    }
+  }
+  return ScanFromLaserScan(*msg, StampOf(msg->header, m, spec.scanner_stamp), LineOf(m.index));
+}
+
 std::vector<io::ScanRecord> ReadRecordedScans(const io::SessionSpec& spec,
                                               const io::ScannerPreset* preset) {
   std::unique_ptr<Recording> recording = OpenRecording(spec.scanner_log);
@@ -220,21 +238,25 @@ std::vector<io::ScanRecord> ReadRecordedScans(const io::SessionSpec& spec,
   std::vector<io::ScanRecord> scans;
   LaserScanMsg msg;
   recording->ForEach({spec.scanner_topic}, [&](const RecordedMessage& m) {
-    Require(DecodeLaserScan(m.data, m.size, m.wire, &msg), *recording, m, type);
-    if (preset != nullptr) {
-      if (const std::string why = PresetMismatch(msg, *preset); !why.empty()) {
-        throw io::InputError(
-            io::Where(spec.scanner_log, 0,
-                      Describe(m) + ": " + why +
-                          "; expected the scanner.model preset to match the scanner "
-                          "(pick another preset or write one)"));
-      }
-    }
-    scans.push_back(
-        ScanFromLaserScan(msg, StampOf(msg.header, m, spec.scanner_stamp), LineOf(m.index)));
+    scans.push_back(DecodeScan(m, *recording, type, spec, preset, &msg));
   });
   return scans;
 }
+
+// The topics a RecordingTail has met, seen as a Recording (for CheckTopic and messages).
+class TailTopics : public Recording {
+ public:
+  explicit TailTopics(const RecordingTail& tail) : format_(tail.format()) {
+    path_ = tail.path();
+    for (const auto& [name, topic] : tail.topics()) topics_.push_back(topic);
+  }
+  RecordingFormat format() const override { return format_; }
+  void ForEach(const std::set<std::string>&,
+               const std::function<void(const RecordedMessage&)>&) override {}
+
+ private:
+  RecordingFormat format_;
+};
 
 }  // namespace
 
@@ -375,6 +397,40 @@ ScanOpener MakeScanOpener(const io::SessionSpec& spec, const io::ScannerPreset* 
     }
     return std::make_unique<ReplayedScans>(*cache, spec.scanner_log);
   };
+}
+
+ScanTail::ScanTail(const io::SessionSpec& spec, const io::ScannerPreset* preset)
+    : spec_(spec), preset_(preset), tail_(OpenRecordingTail(spec.scanner_log)) {
+  if (!tail_) {
+    throw io::InputError(io::Where(
+        spec.scanner_log, 0,
+        "not read on as it grows; expected a ROS 1 bag, an MCAP file or a .db3 file"));
+  }
+}
+
+ScanTail::~ScanTail() = default;
+
+bool ScanTail::Supports(const std::string& path) {
+  return OpenRecordingTail(path) != nullptr;
+}
+
+TailRead ScanTail::ReadOn(std::vector<io::ScanRecord>* scans) {
+  const std::map<std::string, TopicInfo>& topics = tail_->topics();
+  RosType type = RosType::kOther;
+  std::unique_ptr<TailTopics> seen;  // the topics met, once the first message comes
+  LaserScanMsg msg;
+  const TailRead read = tail_->ReadOn(spec_.scanner_topic, [&](const RecordedMessage& m) {
+    if (!seen) {
+      seen = std::make_unique<TailTopics>(*tail_);
+      type = CheckTopic(*seen, spec_.scanner_topic, AcceptedScanTypes(), "scanner.topic");
+    }
+    scans->push_back(DecodeScan(m, *seen, type, spec_, preset_, &msg));
+  });
+  if (read.messages == 0 && topics.count(spec_.scanner_topic) > 0) {
+    // A topic of the wrong type is named now, not when its first message comes.
+    CheckTopic(TailTopics(*tail_), spec_.scanner_topic, AcceptedScanTypes(), "scanner.topic");
+  }
+  return read;
 }
 
 }  // namespace wallcal::recording

@@ -40,6 +40,7 @@
 #include "io/scan_source.h"
 #include "io/types.h"
 #include "recording/recording.h"
+#include "recording/recording_tail.h"
 #include "recording/ros/ros_messages.h"
 
 namespace wallcal::recording {
@@ -84,5 +85,33 @@ io::ScanRecord ScanFromLaserScan(const LaserScanMsg& msg, double stamp_s, int li
 io::GnssFix FixFromNavSatFix(const NavSatFixMsg& msg, double stamp_s, double max_sigma_m, int line);
 // Heading clockwise from north, [0, 2π), of an ENU orientation quaternion.
 double HeadingFromEnuQuaternion(double x, double y, double z, double w);
+
+// The LaserScan topic of a ROS 1 bag, an MCAP file or a .db3 file still being written, decoded
+// as the file grows (recording/recording_tail.h): each read decodes only the scans of the whole records
+// added since the last one. Scans come in receive-time order within a chunk, file order across
+// chunks; ScanRecord::line = the message's index on the topic + 1, as MakeScanOpener gives.
+class ScanTail {
+ public:
+  // `preset`, when not null, is checked against every scan and must outlive this. Throws
+  // io::InputError when spec.scanner_log is not such a file (Supports).
+  ScanTail(const io::SessionSpec& spec, const io::ScannerPreset* preset);
+  ~ScanTail();
+  ScanTail(const ScanTail&) = delete;
+  ScanTail& operator=(const ScanTail&) = delete;
+
+  // True for a ROS 1 bag, an MCAP file or a .db3 file (not a rosbag2 folder or a text log).
+  static bool Supports(const std::string& path);
+
+  // Appends the scans the recording gained to *scans. TailRead::restarted: the file shrank and
+  // was read from its start (the caller drops what it kept). Throws io::InputError as
+  // MakeScanOpener's sources do (a topic of another type, a message that does not decode, a
+  // preset that does not match) and for a damaged record (RecordingTail).
+  TailRead ReadOn(std::vector<io::ScanRecord>* scans);
+
+ private:
+  io::SessionSpec spec_;
+  const io::ScannerPreset* preset_;
+  std::unique_ptr<RecordingTail> tail_;
+};
 
 }  // namespace wallcal::recording

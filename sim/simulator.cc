@@ -275,7 +275,9 @@ std::vector<SimBeamHit> TrueBeamHits(const sim::SimulationConfig& config,
     }
     const auto lo = scene.Cast(origin, Direction(enu_rad - half_rad));
     const auto hi = scene.Cast(origin, Direction(enu_rad + half_rad));
-    hit.footprint_edge = lo && hi && std::abs(lo->range_m - hi->range_m) > 0.1;
+    // As in ScannerModel: a jump needs two surfaces (one wall seen obliquely is none).
+    const bool one_wall = lo && hi && lo->wall_index >= 0 && lo->wall_index == hi->wall_index;
+    hit.footprint_edge = lo && hi && !one_wall && std::abs(lo->range_m - hi->range_m) > 0.1;
     hits.push_back(hit);
   }
   return hits;

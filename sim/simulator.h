@@ -93,7 +93,9 @@ struct SimBeamHit {
   int wall_index = -1;          // into config.walls; -1 for an obstacle or nothing
   double cos_incidence = 0.0;   // |cos| of the incidence angle on that surface
   bool returned = false;        // within max range and max incidence: the scanner reports it
-  bool footprint_edge = false;  // the footprint straddles a depth jump > 0.1 m (mixed pixel risk)
+  // The footprint's edges (±0.4 step) hit two surfaces > 0.1 m apart in range: a depth jump, a
+  // mixed-pixel risk (one wall seen obliquely is not one).
+  bool footprint_edge = false;
 };
 
 // The noise-free scan the scanner would take at `pose` (its mount from `config`), beam by beam,

@@ -9,31 +9,30 @@ namespace {
 
 constexpr int kBias = 2;      // the wrapped cost's bias block
 constexpr int kHeading = 4;   // and its heading-offset block
-constexpr int kFixA = 6;      // the white errors of the fixes before and after
-constexpr int kFixB = 7;
-constexpr int kSampleA = 8;   // and of the heading samples before and after
-constexpr int kSampleB = 9;
+constexpr int kFixes = 6;     // the white errors of the fixes k − 1 .. k + 2
+constexpr int kSamples = 10;  // and of the heading samples k − 1 .. k + 2
 
 }  // namespace
 
-EpochNoiseCost::EpochNoiseCost(std::unique_ptr<WallSliceCost> scan, double fix_fraction,
-                               double heading_fraction)
-    : scan_(std::move(scan)), fix_fraction_(fix_fraction), heading_fraction_(heading_fraction) {
+EpochNoiseCost::EpochNoiseCost(std::unique_ptr<WallSliceCost> scan,
+                               const std::array<double, 4>& fix_weights,
+                               const std::array<double, 4>& sample_weights)
+    : scan_(std::move(scan)), fix_weights_(fix_weights), sample_weights_(sample_weights) {
   set_num_residuals(scan_->num_residuals());
   std::vector<int32_t>* sizes = mutable_parameter_block_sizes();
   *sizes = scan_->parameter_block_sizes();
-  sizes->insert(sizes->end(), {2, 2, 1, 1});
+  sizes->insert(sizes->end(), {2, 2, 2, 2, 1, 1, 1, 1});
 }
 
 bool EpochNoiseCost::Evaluate(double const* const* parameters, double* residuals,
                               double** jacobians) const {
-  const double f = fix_fraction_, g = heading_fraction_;
-  const double* w_a = parameters[kFixA];
-  const double* w_b = parameters[kFixB];
-  const double bias[2] = {parameters[kBias][0] + (1.0 - f) * w_a[0] + f * w_b[0],
-                          parameters[kBias][1] + (1.0 - f) * w_a[1] + f * w_b[1]};
-  const double heading[1] = {parameters[kHeading][0] + (1.0 - g) * parameters[kSampleA][0] +
-                             g * parameters[kSampleB][0]};
+  double bias[2] = {parameters[kBias][0], parameters[kBias][1]};
+  double heading[1] = {parameters[kHeading][0]};
+  for (int j = 0; j < 4; ++j) {
+    bias[0] += fix_weights_[j] * parameters[kFixes + j][0];
+    bias[1] += fix_weights_[j] * parameters[kFixes + j][1];
+    heading[0] += sample_weights_[j] * parameters[kSamples + j][0];
+  }
   const double* inner[6] = {parameters[0], parameters[1], bias,
                             parameters[3], heading,       parameters[5]};
   if (jacobians == nullptr) return scan_->Evaluate(inner, residuals, nullptr);
@@ -51,10 +50,10 @@ bool EpochNoiseCost::Evaluate(double const* const* parameters, double* residuals
   };
   scatter(bias_jacobian, 1.0, jacobians[kBias]);
   scatter(heading_jacobian, 1.0, jacobians[kHeading]);
-  scatter(bias_jacobian, 1.0 - f, jacobians[kFixA]);
-  scatter(bias_jacobian, f, jacobians[kFixB]);
-  scatter(heading_jacobian, 1.0 - g, jacobians[kSampleA]);
-  scatter(heading_jacobian, g, jacobians[kSampleB]);
+  for (int j = 0; j < 4; ++j) {
+    scatter(bias_jacobian, fix_weights_[j], jacobians[kFixes + j]);
+    scatter(heading_jacobian, sample_weights_[j], jacobians[kSamples + j]);
+  }
   return true;
 }
 

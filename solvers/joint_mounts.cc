@@ -4,10 +4,10 @@
 // prior); the joint problem then takes every scanner's observation rows with their blocks
 // mapped onto one set of shared blocks, and states each shared prior once: the walls' joint
 // prior, one Gauss–Markov chain over the union of the GNSS-error slices, one prior per dwell's
-// heading offset, one drift prior. The white noise of each GNSS fix that standing scans were
-// interpolated from is a parameter of its own (EpochNoiseCost), not part of each standing scan's
-// covariance: two scanners' standing scans between the same fixes share it, and it cancels in
-// the transform between the scanners.
+// heading offset, one drift prior. The white noise of each GNSS fix and heading sample the
+// scans were interpolated from is a parameter of its own (EpochNoiseCost, with the
+// interpolation's weights), not part of each scan's covariance: two scanners' scans of one
+// instant share it, and it cancels in the transform between the scanners.
 
 #include "solvers/joint_mounts.h"
 
@@ -53,13 +53,37 @@ struct JointProblem {
   std::array<double, 2> no_bias{};
   // The shared white noise of the GNSS fixes [east_m, north_m] and heading samples [rad] by
   // their index in the streams (every scanner's poses come from the session's one GNSS and one
-  // heading stream; solvers/epoch_noise_cost.h), and the zero stand-ins (two of each: Ceres
-  // takes a block once per residual block).
+  // heading stream; solvers/epoch_noise_cost.h), and the zero stand-ins for the samples a scan
+  // does not share or gives no weight (four of each: Ceres takes a block once per residual
+  // block).
   std::map<int, std::array<double, 2>> fix_noise;
   std::map<int, std::array<double, 1>> heading_noise;
-  std::array<std::array<double, 2>, 2> no_fix_noise{};
-  std::array<std::array<double, 1>, 2> no_heading_noise{};
+  std::array<std::array<double, 2>, 4> no_fix_noise{};
+  std::array<std::array<double, 1>, 4> no_heading_noise{};
   MountProblem joint;  // only its ceres::Problem is used (for solvers/information.h)
+};
+
+// Two scanners' heading delays are one: their totals δh + H are equal, with δh the second entry
+// of each time block [dt, δh] (s) and H the delay its poses already carry (s):
+//   r = (δh_b − δh_a − (H_a − H_b)) / σ_tie      (dimensionless; offset_s = H_a − H_b)
+// σ_tie (0.1 ms) is far below any delay's σ (milliseconds): to the solve and the covariance the
+// two are one.
+class HeadingDelayTieCost {
+ public:
+  explicit HeadingDelayTieCost(double offset_s) : offset_s_(offset_s) {}
+  template <typename T>
+  bool operator()(const T* const holder, const T* const tied, T* residual) const {
+    residual[0] = (tied[1] - holder[1] - offset_s_) / kTieSigmaS;
+    return true;
+  }
+  static ceres::CostFunction* Create(double offset_s) {
+    return new ceres::AutoDiffCostFunction<HeadingDelayTieCost, 1, 2, 2>(
+        new HeadingDelayTieCost(offset_s));
+  }
+
+ private:
+  static constexpr double kTieSigmaS = 1e-4;
+  double offset_s_;
 };
 
 void AddWallPrior(const std::vector<calib::WallGeometry>& walls, const std::set<int>& used,
@@ -157,16 +181,18 @@ void AddBiasChain(const SolverOptions& options, JointProblem* jp) {
 // Which white noise the joint problem carries as parameters shared by the scanners for this
 // observation. A standing scan: the GNSS white noise of its two fixes (its position is their
 // linear interpolation at its stamp; its heading is the dwell's, whose error is the dwell's
-// offset). A moving scan: the white noise of its fixes and heading samples only when the clock
-// rounds have moved its pose to the estimated scan time (pose.clock_shift_s != 0): then every
-// scanner's scans of one instant are interpolated at that instant, from the same samples with
-// the same weights. A moving pose left at its stamp, moved to the scan's time by v·dt within
-// the adjustment, is interpolated at a phase of the GNSS period that differs from scanner to
-// scanner (their logger latencies differ): with the white noise as shared parameters its
-// weights would differ too, the scanners' difference would seem to tell each fix's white error
-// apart, and the fast turns between stops would give each mount information the data do not
-// hold (the linearisation and the cubic's weights are off by more than the line fits' σ). Such
-// a scan keeps the white noise in its covariance, as one scanner has it.
+// offset). A moving scan: the white noise of its fixes and heading samples, with the weights of
+// the cubics it was interpolated with, when its pose is at its estimated scan time
+// (pose.clock_shift_s != 0: moved there by the clock rounds, or by the joint adjustment's
+// caller, pipeline/multi_scanner.cc). Every scanner's scans of one instant are then
+// interpolated at that instant, from the same samples with the same weights. A moving pose
+// left at its stamp, moved to the scan's time by v·dt within the adjustment, is interpolated at
+// a phase of the GNSS period that differs from scanner to scanner (their logger latencies
+// differ, 20 and 50 ms: phases 0.2 and 0.5 of one fix interval): the two scanners' poses of one
+// instant are then different combinations of the same fixes, their difference seems to tell
+// each fix's white error apart to the line fits' σ, and the model is not that exact (v·dt
+// misses the path's curvature over the latency). Such a scan keeps the white noise in its
+// covariance, as one scanner has it.
 SharedWhiteNoise SharedNoiseOf(const calib::WallObservation& observation,
                                const SolverOptions& options) {
   const calib::VehiclePose& pose = observation.pose;
@@ -232,24 +258,29 @@ std::set<int> AddObservations(size_t s, const ScannerObservations& scanner,
           std::sqrt(part.weights[i]) *
           Eigen::Matrix2d(llt.matrixL().solve(Eigen::Matrix2d::Identity()));
     }
+    // The samples k − 1 .. k + 2 of each stream with a weight in this scan's pose; the others
+    // (and a stream not shared) take the zero stand-ins.
     const calib::VehiclePose& pose = observation.pose;
-    const int fix = pose.gnss_fix, sample = pose.heading_sample;
-    double* fix_a = shared.gnss_fixes ? jp->fix_noise[fix].data() : jp->no_fix_noise[0].data();
-    double* fix_b = shared.gnss_fixes ? jp->fix_noise[fix + 1].data() : jp->no_fix_noise[1].data();
-    double* sample_a = shared.heading_samples ? jp->heading_noise[sample].data()
-                                              : jp->no_heading_noise[0].data();
-    double* sample_b = shared.heading_samples ? jp->heading_noise[sample + 1].data()
-                                              : jp->no_heading_noise[1].data();
+    std::array<double, 4> fix_weights{}, sample_weights{};
+    std::vector<double*> blocks = {jp->mounts[s].data(), joint_block.at(part.wall_block[i]),
+                                   joint_block.at(part.bias_block[i]), jp->times[s].data(),
+                                   joint_block.at(part.heading_block[i]), jp->drift.data()};
+    for (int j = 0; j < 4; ++j) {
+      const bool used = shared.gnss_fixes && pose.gnss_fix_weights[j] != 0.0;
+      if (used) fix_weights[j] = pose.gnss_fix_weights[j];
+      blocks.push_back(used ? jp->fix_noise[pose.gnss_fix - 1 + j].data()
+                            : jp->no_fix_noise[j].data());
+    }
+    for (int j = 0; j < 4; ++j) {
+      const bool used = shared.heading_samples && pose.heading_sample_weights[j] != 0.0;
+      if (used) sample_weights[j] = pose.heading_sample_weights[j];
+      blocks.push_back(used ? jp->heading_noise[pose.heading_sample - 1 + j].data()
+                            : jp->no_heading_noise[j].data());
+    }
     auto scan = std::make_unique<WallSliceCost>(
         part.measurements, std::vector<int>{static_cast<int>(i)}, options.huber_scale);
     jp->joint.problem.AddResidualBlock(
-        new EpochNoiseCost(std::move(scan), shared.gnss_fixes ? pose.gnss_fix_fraction : 0.0,
-                           shared.heading_samples ? pose.heading_sample_fraction : 0.0),
-        nullptr,
-        std::vector<double*>{jp->mounts[s].data(), joint_block.at(part.wall_block[i]),
-                             joint_block.at(part.bias_block[i]), jp->times[s].data(),
-                             joint_block.at(part.heading_block[i]), jp->drift.data(), fix_a,
-                             fix_b, sample_a, sample_b});
+        new EpochNoiseCost(std::move(scan), fix_weights, sample_weights), nullptr, blocks);
   }
   for (std::vector<int>& group : groups) {
     const int first = group.front();
@@ -276,32 +307,52 @@ void AddEpochNoisePriors(const SolverOptions& options, JointProblem* jp) {
     problem.AddResidualBlock(ScalarPriorCost::Create(options.heading_sigma_rad), nullptr,
                              noise.data());
   }
-  for (double* block : {jp->no_fix_noise[0].data(), jp->no_fix_noise[1].data(),
-                        jp->no_heading_noise[0].data(), jp->no_heading_noise[1].data()}) {
-    if (problem.HasParameterBlock(block)) problem.SetParameterBlockConstant(block);
+  for (auto& block : jp->no_fix_noise) {
+    if (problem.HasParameterBlock(block.data())) problem.SetParameterBlockConstant(block.data());
+  }
+  for (auto& block : jp->no_heading_noise) {
+    if (problem.HasParameterBlock(block.data())) problem.SetParameterBlockConstant(block.data());
   }
 }
 
 // Scanner s's time block as its own problem has it: its prior (centred on what its poses
-// already carry), or held constant.
-void AddTimeBlock(size_t s, const ScannerObservations& scanner, const SolverOptions& options,
-                  JointProblem* jp) {
+// already carry), or held constant. The heading delay is one for the session (one heading
+// stream, its delay after the GNSS epochs): the first scanner that estimates it states its
+// prior; each later one's total delay (what its poses carry plus its block's) is tied to that
+// one's (HeadingDelayTieCost) and its own block has no delay prior, so the prior counts once.
+// Returns the scanner whose prior holds the delay (-1 when none estimates it yet).
+int AddTimeBlock(size_t s, const ScannerObservations& scanner, const SolverOptions& options,
+                 int delay_holder, const std::vector<ScannerObservations>& scanners,
+                 JointProblem* jp) {
   const MountProblem& part = *jp->parts[s];
   ceres::Problem& problem = jp->joint.problem;
   double* block = jp->times[s].data();
-  if (!problem.HasParameterBlock(block)) return;
+  if (!problem.HasParameterBlock(block)) return delay_holder;
   if (!part.time_offset_estimated) {
     problem.SetParameterBlockConstant(block);
-    return;
+    return delay_holder;
   }
   const calib::VehiclePose& carried = scanner.observations->front().pose;
   const bool delay = part.heading_delay_estimated;
+  const bool tied = delay && delay_holder >= 0;
+  // A tied block's delay has no prior of its own: a σ so wide it adds no information.
+  constexpr double kNoPriorS = 1e3;
   problem.AddResidualBlock(
       GaussianPriorCost::Create(
-          Eigen::Vector2d(options.time_offset_sigma_s, delay ? options.heading_delay_sigma_s : 1.0),
+          Eigen::Vector2d(options.time_offset_sigma_s,
+                          delay ? (tied ? kNoPriorS : options.heading_delay_sigma_s) : 1.0),
           Eigen::Vector2d(-carried.clock_shift_s, delay ? -carried.heading_shift_s : 0.0)),
       nullptr, block);
-  if (!delay) problem.SetManifold(block, new ceres::SubsetManifold(2, {1}));
+  if (!delay) {
+    problem.SetManifold(block, new ceres::SubsetManifold(2, {1}));
+    return delay_holder;
+  }
+  if (!tied) return static_cast<int>(s);
+  const double holder_shift_s = scanners[delay_holder].observations->front().pose.heading_shift_s;
+  problem.AddResidualBlock(
+      HeadingDelayTieCost::Create(holder_shift_s - carried.heading_shift_s), nullptr,
+      jp->times[delay_holder].data(), block);
+  return delay_holder;
 }
 
 }  // namespace
@@ -352,10 +403,11 @@ JointMountEstimate SolveJointMounts(const std::vector<ScannerObservations>& scan
   }
 
   std::set<int> walls_used;
+  int delay_holder = -1;
   for (size_t s = 0; s < n; ++s) {
     const std::set<int> used = AddObservations(s, scanners[s], walls, options, jp.get());
     walls_used.insert(used.begin(), used.end());
-    AddTimeBlock(s, scanners[s], options, jp.get());
+    delay_holder = AddTimeBlock(s, scanners[s], options, delay_holder, scanners, jp.get());
     for (size_t i = 0; i < jp->parts[s]->weights.size(); ++i) {
       if (jp->parts[s]->weights[i] > 0.0) ++estimate.observations_used;
     }

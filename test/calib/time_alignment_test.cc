@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -91,6 +92,50 @@ TEST(TimeAlignmentTest, MovingPoseIsExactForAnAcceleratingVehicle) {
   VehiclePose pose;
   ASSERT_EQ(poses.At(100.05, &pose), PoseStatus::kOk);
   EXPECT_GT((pose.antenna_local_m - SpeedingUp(100.05)).norm(), 1e-3);
+}
+
+// The weights a pose gave its samples (VehiclePose::gnss_fix_weights, heading_sample_weights)
+// are the ones it was interpolated with: the samples weighted by them give the pose back,
+// the cubic's four while driving, the straight chord's two next to the ends. Several
+// scanners share the samples' white noise through them (solvers/epoch_noise_cost.h): linear
+// weights on a cubic pose would misplace that noise by a tenth of its σ per scan.
+TEST(TimeAlignmentTest, PoseCarriesTheWeightsOfItsSamples) {
+  const std::vector<PositionSample> positions = Positions(100.0, 102.0, 10.0, SpeedingUp);
+  const std::vector<YawSample> yaws = Yaws(100.0, 102.0, 20.0, TurningFaster);
+  const PoseInterpolator poses(positions, yaws, calib::AlignmentOptions{});
+  const auto weighted = [](const auto& samples, int k, const std::array<double, 4>& w,
+                           const auto& value) {
+    decltype(value(samples[0])) sum = value(samples[k]) * 0.0;
+    for (int j = 0; j < 4; ++j) {
+      if (w[j] != 0.0) sum += w[j] * value(samples[k - 1 + j]);
+    }
+    return sum;
+  };
+  const auto position = [](const PositionSample& p) { return Eigen::Vector2d(p.p_local_m); };
+  const auto yaw = [](const YawSample& y) { return y.yaw_rad; };
+  int cubic = 0;
+  for (double t = 100.13; t < 101.85; t += 0.017) {
+    VehiclePose pose;
+    ASSERT_EQ(poses.At(t, 0.012, &pose), PoseStatus::kOk) << t;
+    ASSERT_FALSE(pose.stationary);
+    const std::array<double, 4>& u = pose.gnss_fix_weights;
+    const std::array<double, 4>& v = pose.heading_sample_weights;
+    EXPECT_NEAR(u[0] + u[1] + u[2] + u[3], 1.0, 1e-12);
+    EXPECT_NEAR(v[0] + v[1] + v[2] + v[3], 1.0, 1e-12);
+    EXPECT_NEAR((weighted(positions, pose.gnss_fix, u, position) - pose.antenna_local_m).norm(),
+                0.0, 1e-9)
+        << t;
+    EXPECT_NEAR(weighted(yaws, pose.heading_sample, v, yaw), pose.yaw_rad, 1e-9) << t;
+    if (u[0] != 0.0 && u[3] != 0.0) ++cubic;
+  }
+  EXPECT_GT(cubic, 90);  // the cubic's outer samples carry weight while driving
+  VehiclePose pose;
+  ASSERT_EQ(poses.At(100.05, &pose), PoseStatus::kOk);  // no second fix before: the chord
+  EXPECT_EQ(pose.gnss_fix, 0);
+  EXPECT_DOUBLE_EQ(pose.gnss_fix_weights[0], 0.0);
+  EXPECT_NEAR(pose.gnss_fix_weights[1], 0.5, 1e-9);
+  EXPECT_NEAR(pose.gnss_fix_weights[2], 0.5, 1e-9);
+  EXPECT_DOUBLE_EQ(pose.gnss_fix_weights[3], 0.0);
 }
 
 // The heading delay moved into the poses (solvers/solve_policy.h): the position at the stamp,

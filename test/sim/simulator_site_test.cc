@@ -148,6 +148,12 @@ TEST(SimulatorTest, TrueBeamHitsNameTheSurfaceAndSeeOcclusions) {
   for (const SimBeamHit& h : hits) edges += h.footprint_edge;
   EXPECT_GE(edges, 2);
   EXPECT_FALSE(left.footprint_edge);
+  // Nor is a wall seen obliquely: bearing +65°, 13 m along the beam, whose footprint's edges lie
+  // 0.39 m apart in range on the first wall.
+  const SimBeamHit& oblique = hits[90 + 65];
+  ASSERT_EQ(oblique.wall_index, 0);
+  EXPECT_TRUE(oblique.returned);
+  EXPECT_FALSE(oblique.footprint_edge);
 }
 
 }  // namespace

@@ -299,6 +299,38 @@ TEST(SimulatorTest, MixedPixelsFallBetweenForegroundAndBackground) {
   EXPECT_GT(count_mixed(1.0), 100);
 }
 
+// A wall seen obliquely is one surface: its footprint's edges lie more than 0.1 m apart in range
+// (at 8 m beyond about 37° of incidence) without a depth jump, and its returns stay the wall's.
+TEST(SimulatorTest, ObliqueWallGivesNoMixedPixels) {
+  sim::SimulationConfig config = NoiseFreeConfig();
+  ASSERT_EQ(config.walls.size(), 1u);
+  ASSERT_TRUE(config.obstacles.empty());
+  const io::ScannerPreset preset = PerfectPreset();
+  sim::SimulationConfig always = config;
+  always.mixed_pixel_probability = 1.0;
+  const Collected clean = RunSim(config, preset, 22);
+  const Collected mixed = RunSim(always, preset, 22);
+  ASSERT_EQ(clean.scans.size(), mixed.scans.size());
+  int64_t compared = 0, oblique = 0;
+  for (size_t k = 0; k < clean.scans.size(); ++k) {
+    const auto& a = clean.scans[k].ranges_m;
+    const auto& b = mixed.scans[k].ranges_m;
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i) {
+      if (a[i] >= preset.max_range_m) continue;
+      ++compared;
+      // The footprint's edges ±0.4 step apart differ by more than 0.1 m here.
+      if (i > 0 && i + 1 < a.size() && a[i - 1] < preset.max_range_m &&
+          a[i + 1] < preset.max_range_m && 0.4 * std::abs(a[i + 1] - a[i - 1]) > 0.1) {
+        ++oblique;
+      }
+      EXPECT_EQ(a[i], b[i]) << "scan " << k << " beam " << i;
+    }
+  }
+  EXPECT_GT(compared, 1000);
+  EXPECT_GT(oblique, 100);  // the case is exercised
+}
+
 TEST(SimulatorTest, GnssErrorFollowsBiasAndWhiteSigma) {
   sim::SimulationConfig config = LongConfig(3, 1500.0);
   config.gnss_bias_tau_s = 10.0;  // many correlation times in the run

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // The scan whose pose carries its fixes' and heading samples' white noise as parameters
 // (solvers/epoch_noise_cost.h): its residual is the wrapped scan's at the bias and heading
-// offset plus the interpolated white errors, and its Jacobians are the scan's (automatic
-// differentiation) by the chain rule.
+// offset plus the white errors weighted as the interpolation weighted their samples (four per
+// stream: a cubic's), and its Jacobians are the scan's (automatic differentiation) by the
+// chain rule.
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
@@ -43,31 +44,35 @@ struct Values {
   std::array<double, 2> time{0.02, -0.01};
   std::array<double, 1> heading{0.001};
   std::array<double, 1> drift{2e-4};
-  std::array<double, 2> fix_a{0.003, 0.002};
-  std::array<double, 2> fix_b{-0.001, 0.004};
-  std::array<double, 1> sample_a{0.0008};
-  std::array<double, 1> sample_b{-0.0004};
+  std::array<std::array<double, 2>, 4> fixes{{{0.001, -0.002}, {0.003, 0.002}, {-0.001, 0.004},
+                                               {0.002, 0.001}}};
+  std::array<std::array<double, 1>, 4> samples{{{0.0003}, {0.0008}, {-0.0004}, {-0.0002}}};
   std::vector<const double*> All() const {
-    return {mount.data(), wall.data(),  bias.data(),  time.data(),     heading.data(),
-            drift.data(), fix_a.data(), fix_b.data(), sample_a.data(), sample_b.data()};
+    std::vector<const double*> all = {mount.data(), wall.data(),    bias.data(),
+                                      time.data(),  heading.data(), drift.data()};
+    for (const auto& f : fixes) all.push_back(f.data());
+    for (const auto& h : samples) all.push_back(h.data());
+    return all;
   }
 };
 
-constexpr double kFixFraction = 0.25;
-constexpr double kHeadingFraction = 0.6;
+// Hermite weights at a quarter of the way (fixes) and a linear interpolation at 0.6 (samples).
+constexpr std::array<double, 4> kFixWeights = {-0.0703125, 0.8671875, 0.2265625, -0.0234375};
+constexpr std::array<double, 4> kSampleWeights = {0.0, 0.4, 0.6, 0.0};
 
 TEST(EpochNoiseCostTest, IsTheScanAtTheBiasAndHeadingPlusTheInterpolatedWhiteErrors) {
   const std::vector<WallLineMeasurement> scans = OneScan();
   const Values v;
   EpochNoiseCost cost(std::make_unique<WallSliceCost>(scans, std::vector<int>{0}, 0.0),
-                      kFixFraction, kHeadingFraction);
-  ASSERT_EQ(cost.parameter_block_sizes().size(), 10u);
+                      kFixWeights, kSampleWeights);
+  ASSERT_EQ(cost.parameter_block_sizes().size(), 14u);
   std::vector<double> residuals(cost.num_residuals());
   ASSERT_TRUE(cost.Evaluate(v.All().data(), residuals.data(), nullptr));
 
-  // By hand: b + 0.75 w_a + 0.25 w_b = (0.004 + 0.00225 − 0.00025, −0.007 + 0.0015 + 0.001);
-  // h + 0.4 η_a + 0.6 η_b = 0.001 + 0.00032 − 0.00024.
-  const double bias[2] = {0.006, -0.0045};
+  // By hand: b + Σ u_j w_j = (0.004 − 0.0000703125 + 0.0026015625 − 0.0002265625 − 0.000046875,
+  // −0.007 + 0.000140625 + 0.001734375 + 0.00090625 − 0.0000234375); h + Σ v_j η_j =
+  // 0.001 + 0.00032 − 0.00024.
+  const double bias[2] = {0.0062578125, -0.0042421875};
   const double heading[1] = {0.00108};
   const double* at[6] = {v.mount.data(), v.wall.data(), bias,
                          v.time.data(),  heading,       v.drift.data()};
@@ -90,12 +95,12 @@ TEST(EpochNoiseCostTest, JacobiansAreTheScansByTheChainRule) {
   const std::vector<WallLineMeasurement> scans = OneScan();
   const Values v;
   EpochNoiseCost cost(std::make_unique<WallSliceCost>(scans, std::vector<int>{0}, 0.0),
-                      kFixFraction, kHeadingFraction);
+                      kFixWeights, kSampleWeights);
   const int rows = cost.num_residuals();
-  const std::vector<int> sizes = {3, 2, 2, 2, 1, 1, 2, 2, 1, 1};
-  std::vector<std::vector<double>> j(10);
-  std::vector<double*> jp(10);
-  for (int b = 0; b < 10; ++b) {
+  const std::vector<int> sizes = {3, 2, 2, 2, 1, 1, 2, 2, 2, 2, 1, 1, 1, 1};
+  std::vector<std::vector<double>> j(14);
+  std::vector<double*> jp(14);
+  for (int b = 0; b < 14; ++b) {
     j[b].assign(static_cast<size_t>(rows * sizes[b]), 0.0);
     jp[b] = j[b].data();
   }
@@ -103,7 +108,7 @@ TEST(EpochNoiseCostTest, JacobiansAreTheScansByTheChainRule) {
   ASSERT_TRUE(cost.Evaluate(v.All().data(), residuals.data(), jp.data()));
   // The wrapped scan at the effective bias and heading (as in the test above), by automatic
   // differentiation.
-  const double bias[2] = {0.006, -0.0045};
+  const double bias[2] = {0.0062578125, -0.0042421875};
   const double heading[1] = {0.00108};
   const double* at[6] = {v.mount.data(), v.wall.data(), bias,
                          v.time.data(),  heading,       v.drift.data()};
@@ -117,13 +122,13 @@ TEST(EpochNoiseCostTest, JacobiansAreTheScansByTheChainRule) {
     for (int k = 0; k < 2 * sizes[b]; ++k) EXPECT_TRUE(near(j[b][k], expected[b][k])) << b << " " << k;
   }
   // The white errors' columns: the bias's and heading's, times the interpolation weights.
-  for (int k = 0; k < 4; ++k) {
-    EXPECT_TRUE(near(j[6][k], (1.0 - kFixFraction) * expected[2][k])) << k;
-    EXPECT_TRUE(near(j[7][k], kFixFraction * expected[2][k])) << k;
-  }
-  for (int k = 0; k < 2; ++k) {
-    EXPECT_TRUE(near(j[8][k], (1.0 - kHeadingFraction) * expected[4][k])) << k;
-    EXPECT_TRUE(near(j[9][k], kHeadingFraction * expected[4][k])) << k;
+  for (int f = 0; f < 4; ++f) {
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_TRUE(near(j[6 + f][k], kFixWeights[f] * expected[2][k])) << f << " " << k;
+    }
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_TRUE(near(j[10 + f][k], kSampleWeights[f] * expected[4][k])) << f << " " << k;
+    }
   }
 }
 

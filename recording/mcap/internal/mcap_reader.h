@@ -32,6 +32,11 @@ struct McapLimits {
 // ForEach). Throws io::InputError when it is not MCAP or is damaged before any usable data.
 std::unique_ptr<Recording> OpenMcap(const std::string& path, const McapLimits& limits = {});
 
+// An MCAP file still being written, read on record by record (recording/recording_tail.h;
+// mcap_tail.cc).
+class RecordingTail;
+std::unique_ptr<RecordingTail> OpenMcapTail(const std::string& path);
+
 // The same over bytes in memory (tests, fuzzing); `name` stands for the file in messages.
 std::unique_ptr<Recording> OpenMcapBuffer(const std::string& name, std::vector<uint8_t> bytes,
                                           const McapLimits& limits = {});

@@ -33,12 +33,17 @@
 namespace wallcal::recording {
 
 class ByteSource;
+class RecordingTail;
 
 // Opens a bag file. Throws io::InputError (see above).
 std::unique_ptr<Recording> OpenRos1Bag(const std::string& path);
 // The same over bytes in memory (fuzzing, tests); `name` stands for the path in messages.
 std::unique_ptr<Recording> OpenRos1BagFromMemory(std::vector<uint8_t> bytes,
                                                  const std::string& name);
+
+// A bag still being recorded, read on record by record (recording/recording_tail.h;
+// rosbag1_tail.cc).
+std::unique_ptr<RecordingTail> OpenRos1BagTail(const std::string& path);
 
 class Ros1Bag : public Recording {
  public:

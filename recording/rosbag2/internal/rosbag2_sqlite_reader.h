@@ -25,4 +25,9 @@ namespace wallcal::recording {
 // when a listed storage file is missing.
 std::unique_ptr<Recording> OpenRosbag2(const std::string& path);
 
+// A .db3 file still being written, read on from the rows after the last one read
+// (recording/recording_tail.h; rosbag2_sqlite_tail.cc).
+class RecordingTail;
+std::unique_ptr<RecordingTail> OpenRosbag2SqliteTail(const std::string& path);
+
 }  // namespace wallcal::recording
