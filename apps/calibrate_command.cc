@@ -75,8 +75,8 @@ const CommandHelp& CalibrateHelp() {
           {"--parent-frame", "", "NAME", ValueKind::kWord, {},
            "the antenna frame's name (default gnss_antenna)"},
           {"--child-frame", "", "NAME", ValueKind::kWord, {},
-           "the scanner frame's name (default laser). Not used with scanners: in\n"
-           "session.yaml: each scanner's frame is its frame: (default: its id)"},
+           "the scanner frame's name (default laser). Refused (exit 2) with scanners:\n"
+           "in session.yaml: each scanner's frame is its frame: (default: its id)"},
           {"--base-frame", "", "NAME", ValueKind::kWord, {},
            "the vehicle frame's name (default base_link). Frame names as tf2 takes\n"
            "them: letters, digits, '_', '.', '/', '-', no leading '/'. The names are\n"
@@ -278,6 +278,7 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
   std::optional<outputs::EmitFormat> emit;
   outputs::EmitFrames frames;
   bool quiet = false;
+  bool child_frame_given = false;
   bool allow_partial = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -334,6 +335,7 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
       if (const int status = frame("--parent-frame", &frames.parent); status != 0) return status;
     } else if (arg == "--child-frame") {
       if (const int status = frame("--child-frame", &frames.child); status != 0) return status;
+      child_frame_given = true;
     } else if (arg == "--base-frame") {
       if (const int status = frame("--base-frame", &frames.base); status != 0) return status;
     } else if (arg == "--compare") {
@@ -401,6 +403,10 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
       wallcal::io::CheckOutputPath("--output", output, inputs);
       if (!report_dir.empty()) wallcal::io::CheckOutputFolder("--report", report_dir);
       several = !session.scanners.empty();
+    }
+    if (several && child_frame_given) {
+      return Usage("--child-frame names the one scanner's frame; a session with scanners: takes "
+                   "each scanner's frame: (default: its id) from session.yaml");
     }
     if (several) {
       return CalibrateSeveral(request, allow_partial, output, report_dir, emit, frames, summary_out,

@@ -2,6 +2,7 @@
 #include "calib/detection_pass.h"
 
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <cstddef>
 #include <future>
@@ -12,6 +13,7 @@
 
 #include "calib/wall_detector.h"
 #include "calib/wall_geometry.h"
+#include "common/angles.h"
 #include "common/enum_text.h"
 #include "io/scanner_geometry.h"
 
@@ -27,7 +29,8 @@ const char* ScanSkipName(ScanSkip reason) {
       {ScanSkip::kScannerBehindWall, "scanner at or behind the wall"},
       {ScanSkip::kWallNotDetected, "wall not detected"},
       {ScanSkip::kMalformedLine, "malformed scan line"},
-      {ScanSkip::kNoPoseAtShiftedTime, "no pose at the clock-offset-corrected time"}};
+      {ScanSkip::kNoPoseAtShiftedTime, "no pose at the clock-offset-corrected time"},
+      {ScanSkip::kWallOutsideField, "wall outside the scanner's field of view"}};
   return TextOf(kTexts, reason, "unknown");
 }
 
@@ -83,6 +86,21 @@ void TrackStamp(double t, int64_t index, int line, PassOutcome* outcome) {
   outcome->last_stamp_s = std::max(outcome->last_stamp_s, t);
 }
 
+// Whether some part of the wall's surveyed extent (its ends in the scanner frame, as `gate`
+// holds them) lies within the bearings of the preset's beams. The segment subtends the shorter
+// arc between its ends' bearings (the scanner is in front of it).
+bool WallInField(const LineGate& gate, const io::ScannerPreset& preset) {
+  const double first_rad = preset.start_angle_rad;
+  const double last_rad = first_rad + (preset.num_beams - 1) * preset.angular_step_rad;
+  const double field_half_rad = 0.5 * std::abs(last_rad - first_rad);
+  const double a_rad = std::atan2(gate.segment_a_scanner.y(), gate.segment_a_scanner.x());
+  const double b_rad = std::atan2(gate.segment_b_scanner.y(), gate.segment_b_scanner.x());
+  const double span_rad = WrapAngle(b_rad - a_rad);
+  const double middle_rad = a_rad + 0.5 * span_rad;
+  const double apart_rad = std::abs(WrapAngle(0.5 * (first_rad + last_rad) - middle_rad));
+  return apart_rad <= field_half_rad + 0.5 * std::abs(span_rad);
+}
+
 // One scan waiting for detection, and what its detection gave.
 struct PendingScan {
   io::ScanRecord scan;
@@ -110,6 +128,7 @@ void DetectInScan(const PassContext& context, const PassRequest& request, Pendin
   FillScanPoints(pending->scan, *context.preset, detector.min_range_m,
                  detector.mixed_pixel_jump_m, &pending->range_counts, &points);
   *why = ScanSkip::kWallNotDetected;
+  size_t walls_outside_field = 0;
   for (size_t w = 0; w < context.walls->size(); ++w) {
     const WallGeometry& wall = (*context.walls)[w];
     WallObservation observation;
@@ -130,6 +149,11 @@ void DetectInScan(const PassContext& context, const PassRequest& request, Pendin
         DetectWall(points, gate, detector, context.preset->range_sigma_m);
     if (!detection.found) {
       *why = ScanSkip::kWallNotDetected;
+      Gates extent = request.gates;
+      extent.use_segment = true;
+      if (!WallInField(GateFor(gate_at, wall, request.mount, extent), *context.preset)) {
+        ++walls_outside_field;
+      }
       continue;
     }
     observation.rho_m = detection.rho_m;
@@ -142,6 +166,9 @@ void DetectInScan(const PassContext& context, const PassRequest& request, Pendin
     observation.range_max_m = detection.range_max_m;
     observation.residual_rms_m = detection.residual_rms_m;
     pending->observations.push_back(observation);
+  }
+  if (walls_outside_field > 0 && walls_outside_field == context.walls->size()) {
+    *why = ScanSkip::kWallOutsideField;
   }
 }
 

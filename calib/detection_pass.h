@@ -32,6 +32,9 @@ enum class ScanSkip {
   kWallNotDetected,    // the detector found no line in the gates
   kMalformedLine,      // the scan's line in the log could not be read
   kNoPoseAtShiftedTime,  // no pose at the clock-offset-corrected time
+  // The wall was not detected and no part of its surveyed extent lies within the scanner's
+  // field of view (its beams' bearings) where the pass's mount puts it.
+  kWallOutsideField,
 };
 // For people: "no pose: before the GNSS/heading logs", "vehicle moving", ...
 const char* ScanSkipName(ScanSkip reason);

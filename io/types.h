@@ -232,6 +232,9 @@ struct SessionSpec {
   std::string dir;   // its folder
   std::string name;
   std::optional<UtmZone> utm_zone;
+  // The id of the `scanners:` entry this one-scanner session was made from
+  // (io::SessionForScanner); empty for a one-scanner session.yaml.
+  std::string scanner_id;
 
   std::string scanner_model;
   std::string scanner_log;       // resolved path

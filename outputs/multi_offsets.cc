@@ -55,10 +55,10 @@ const char* kHeightNote =
 std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& several,
                                      const EmitFrames& frames) {
   std::string out;
-  out += "# Mounts of the scanners in the vehicle (GNSS antenna) frame: x forward, y left, yaw "
-         "ccw.\n";
   out += "# The run's verdict: the worst of the scanners' and the relative transforms' below.\n";
   out += "verdict: " + DecisionYaml(several.decision) + "\n";
+  out += "# Mounts of the scanners in the vehicle (GNSS antenna) frame: x forward, y left, yaw "
+         "ccw.\n";
   out += "scanner_mounts:\n";
   std::vector<std::string> order;
   for (const pipeline::ScannerRun& run : several.scanners) {
@@ -69,6 +69,13 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
     out += "    child_frame: " + YamlText(run.spec.frame) + "\n";
     out += MountKeys("    ", r.estimate.mount, r.estimate.covariance);
     out += "    time_offset_s: " + YamlNumber("%.4f", r.time_offset_s) + "\n";
+    // Its σ and status as the one-scanner offsets.yaml has them: its own run's (the joint
+    // covariance holds the mounts only).
+    if (r.estimate.time_offset_estimated) {
+      out += "    time_offset_sigma_s: " + YamlNumber("%.4f", r.time_offset_sigma_s) + "\n";
+      out += "    time_offset_status: \"" +
+             std::string(pipeline::DelayStatusName(r.scanner_offset.status)) + "\"\n";
+    }
     out += "    quality: {scans_total: " + std::to_string(r.scans_total) +
            ", scans_used: " + std::to_string(r.scans_used) +
            ", observations: " + std::to_string(r.estimate.observations_used) +
@@ -160,6 +167,18 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
   return out;
 }
 
+namespace {
+
+// ", clock offset V ± σ s, STATUS" (σ and status of the scanner's own run, as its page shows
+// them), or the value alone when its run did not estimate it.
+std::string ClockText(const pipeline::CalibrationResult& r) {
+  if (!r.estimate.time_offset_estimated) return Format(", clock offset %.4f s", r.time_offset_s);
+  return Format(", clock offset %.4f ± %.4f s, %s", r.time_offset_s, r.time_offset_sigma_s,
+                pipeline::DelayStatusName(r.scanner_offset.status));
+}
+
+}  // namespace
+
 std::string FormatSeveralSummary(const pipeline::SeveralScannersResult& several) {
   std::string out = "calibrate: " + several.session.name + ": " +
                     std::to_string(several.scanners.size()) + " scanners\n";
@@ -181,8 +200,9 @@ std::string FormatSeveralSummary(const pipeline::SeveralScannersResult& several)
            Format("x %.4f ± %.4f m, y %.4f ± %.4f m, yaw %.3f ± %.3f deg", r.estimate.mount.x_m,
                   Sigma(c, 0), r.estimate.mount.y_m, Sigma(c, 1),
                   r.estimate.mount.yaw_rad * kRadToDeg, Sigma(c, 2) * kRadToDeg) +
-           Format(", clock offset %.4f s, %d observations, %lld scans used", r.time_offset_s,
-                  r.estimate.observations_used, static_cast<long long>(r.scans_used)) +
+           ClockText(r) +
+           Format(", %d observations, %lld scans used", r.estimate.observations_used,
+                  static_cast<long long>(r.scans_used)) +
            "\n";
     reasons(r.decision);
     if (r.change) out += "    change " + ChangeText(*r.change) + "\n";
@@ -226,12 +246,10 @@ std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScanners
   std::vector<PlanarTransform> joints;
   const std::optional<io::AntennaInBase>& antenna = several.session.antenna_in_base;
   if (antenna) joints.push_back(BaseToAntenna(*antenna, frames));
-  bool z_known = true;
   for (const pipeline::ScannerRun* run : runs) {
     EmitFrames own = frames;
     own.child = run->spec.frame;
     joints.push_back(AntennaToLaser(run->result.estimate.mount, own, run->spec.z_m.value_or(0.0)));
-    z_known = z_known && run->spec.z_m.has_value();
   }
   std::string out;
   switch (format) {
@@ -244,9 +262,20 @@ std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScanners
         out += Ros2StaticTfLine(joints[i]);
       }
       break;
-    case EmitFormat::kUrdf:
-      out += UrdfTree(joints, z_known);
+    case EmitFormat::kUrdf: {
+      // The z = 0 note once for each scanner without z_m, naming its joint as the ROS 2 lines
+      // do, inside the document (after its prologue, before <robot>).
+      std::string notes;
+      for (size_t i = 0; i < runs.size(); ++i) {
+        if (runs[i]->spec.z_m) continue;
+        const PlanarTransform& t = joints[antenna ? i + 1 : i];
+        notes += "<!-- " + t.parent + " -> " + t.child + ": " + kHeightNote + " -->\n";
+      }
+      std::string tree = UrdfTree(joints, true);
+      tree.insert(tree.find("<robot "), notes);
+      out += tree;
       break;
+    }
     case EmitFormat::kJson: {
       out += "{\n  \"method\": \"ceres\",\n  \"parent_frame\": \"" + frames.parent + "\",\n";
       out += "  \"scanners\": [";

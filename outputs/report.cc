@@ -12,9 +12,14 @@ namespace report_detail {
 std::string ReportBuilder::Build() {
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\"/>\n"
-       << "<title>wallcal report: " << Esc(r_.session.name) << "</title>\n"
+       << "<title>wallcal report: " << Esc(r_.session.name) << ScannerTitle() << "</title>\n"
        << "<style>\n" << kStyle << "</style>\n</head>\n<body>\n";
-  html << "<h1>wallcal calibration report: " << Esc(r_.session.name) << "</h1>\n";
+  html << "<h1>wallcal calibration report: " << Esc(r_.session.name) << ScannerTitle()
+       << "</h1>\n";
+  // One scanner of several: its page sits in DIR/ID/, beside the run's DIR/index.html.
+  if (!r_.session.scanner_id.empty()) {
+    html << "<p class=\"meta\"><a href=\"../index.html\">all scanners of this run</a></p>\n";
+  }
   html << "<p class=\"meta\">session " << Esc(r_.session.file) << " &#183; scanner "
        << Esc(r_.preset.name) << " &#183; wallcal " << Esc(io::kToolVersion) << " &#183; run time "
        << F("%.2f", r_.seconds) << " s</p>\n";
@@ -33,6 +38,11 @@ std::string ReportBuilder::Build() {
   html << "</details>\n";
   html << "</body>\n</html>\n";
   return html.str();
+}
+
+std::string ReportBuilder::ScannerTitle() const {
+  if (r_.session.scanner_id.empty()) return "";
+  return ", scanner " + Esc(r_.session.scanner_id);
 }
 
 std::string ReportBuilder::MountSection() {

@@ -151,6 +151,7 @@ class ReportBuilder {
   static constexpr const char* kStyle = kReportStyle;
 
   // ---- mount ----
+  std::string ScannerTitle() const;  // ", scanner ID" for one scanner of several, else ""
   std::string MountSection();
 
   std::string EllipsePlot();

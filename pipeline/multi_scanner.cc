@@ -87,7 +87,9 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
     }
     run.own_estimate = run.result.estimate;
     run.refused = !run.result.estimate.usable;
-    if (run.refused) refused.push_back("'" + run.spec.id + "' (" + run.result.estimate.message + ")");
+    // Named only: its reason is the scanner's own (the summary's REFUSED line, offsets.yaml's
+    // refused: list), said once.
+    if (run.refused) refused.push_back("'" + run.spec.id + "'");
     several.scanners.push_back(std::move(run));
   }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 
 #include <Eigen/Geometry>
@@ -206,14 +207,20 @@ void CollectHough(const CalibrationResult& result, ReportData* data) {
   data->hough.have = true;
 }
 
-// The simulator's truth.yaml beside session.yaml, when there is one.
+// The simulator's truth.yaml beside session.yaml, when there is one: its `truth:` mount, or for
+// one scanner of several its own entry of `simulation.scanners`.
 void CollectTruth(const CalibrationResult& result, ReportData* data) {
   const fs::path truth_file = fs::path(result.session.dir) / "truth.yaml";
   std::error_code error;
   if (!fs::is_regular_file(truth_file, error)) return;
   try {
-    const io::TruthMount truth = io::ReadTruthMount(truth_file.string());
-    data->truth = calib::Mount{truth.x_m, truth.y_m, truth.yaw_rad};
+    std::optional<io::TruthMount> truth;
+    if (result.session.scanner_id.empty()) {
+      truth = io::ReadTruthMount(truth_file.string());
+    } else {
+      truth = io::ReadTruthScannerMount(truth_file.string(), result.session.scanner_id);
+    }
+    if (truth) data->truth = calib::Mount{truth->x_m, truth->y_m, truth->yaw_rad};
   } catch (const io::InputError&) {
     // Not a simulator's truth: nothing to show.
   }

@@ -309,15 +309,38 @@ FirstPassStep FirstPass(const CalibrateRequest& request, const ProgressFn& progr
                  first.first_stamp_s, first.last_stamp_s, inputs.poses->start_s(),
                  inputs.poses->end_s())));
     }
-    std::ostringstream why;
-    why << "the wall was not detected in any of " << first.scans_examined << " sampled scans (";
-    bool first_reason = true;
+    // The key of the guess: scanner.mount_guess, or mount_guess of a scanners: entry.
+    const std::string guess_key = session.scanner_id.empty()
+                                      ? "scanner.mount_guess"
+                                      : "mount_guess of scanner '" + session.scanner_id + "'";
+    bool never_in_field = false;
     for (const auto& [reason, count] : first.skipped) {
-      why << (first_reason ? "" : "; ") << calib::ScanSkipName(reason) << ": " << count;
-      first_reason = false;
+      if (reason == calib::ScanSkip::kWallOutsideField) never_in_field = true;
     }
-    why << "); check the walls' survey codes, the scanner model, the time overlap of the logs, "
-           "or give scanner.mount_guess";
+    for (const auto& [reason, count] : first.skipped) {
+      if (reason == calib::ScanSkip::kWallNotDetected ||
+          reason == calib::ScanSkip::kScannerBehindWall) {
+        never_in_field = false;
+      }
+    }
+    std::ostringstream why;
+    if (never_in_field && session.mount_guess) {
+      why << "the wall was never in the scanner's field of view from any station ("
+          << first.scans_examined << " sampled scans), with the scanner where " << guess_key
+          << " puts it; check that guess (its yaw first), or stop with the scanner facing a "
+             "surveyed wall";
+    } else {
+      why << "the wall was not detected in any of " << first.scans_examined
+          << " sampled scans (";
+      bool first_reason = true;
+      for (const auto& [reason, count] : first.skipped) {
+        why << (first_reason ? "" : "; ") << calib::ScanSkipName(reason) << ": " << count;
+        first_reason = false;
+      }
+      why << "); check the walls' survey codes, the scanner model, the time overlap of the logs, "
+          << (session.mount_guess ? "or " + guess_key + " (its yaw first)"
+                                  : "or give " + guess_key);
+    }
     solvers::MountEstimate none;
     none.failure = solvers::EstimateFailure::kWallNotDetected;
     none.message = why.str();

@@ -109,4 +109,33 @@ TruthMount ReadTruthMount(const std::string& file) {
   return mount;
 }
 
+std::optional<TruthMount> ReadTruthScannerMount(const std::string& file,
+                                                const std::string& scanner_id) {
+  struct Entry {
+    std::string id;
+    TruthMount mount;
+  };
+  std::vector<Entry> entries;
+  ReadOptionsFile(
+      file,
+      [&entries](OptionsMap& top) {
+        top.RequiredSection("simulation", "the simulator's settings", [&entries](OptionsMap& sim) {
+          sim.List("scanners", entries, [](OptionsMap& item, Entry& entry) {
+            item.Text("id", entry.id);
+            item.Number("mount_x_m", entry.mount.x_m);
+            item.Number("mount_y_m", entry.mount.y_m);
+            item.Scaled("mount_yaw_deg", entry.mount.yaw_rad, kRadToDeg);
+            item.AllowOthers();
+          });
+          sim.AllowOthers();
+        });
+        top.AllowOthers();
+      },
+      [] {});
+  for (const Entry& entry : entries) {
+    if (entry.id == scanner_id) return entry.mount;
+  }
+  return std::nullopt;
+}
+
 }  // namespace wallcal::io

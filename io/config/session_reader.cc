@@ -369,6 +369,7 @@ SessionSpec ReadSession(const std::string& path) {
 SessionSpec SessionForScanner(const SessionSpec& session, size_t index) {
   SessionSpec one = session;
   const ScannerSpec& scanner = session.scanners.at(index);
+  one.scanner_id = scanner.id;
   one.scanner_model = scanner.model;
   one.scanner_log = scanner.log;
   one.scanner_time_offset_s = scanner.time_offset_s;

@@ -10,6 +10,7 @@
 // Every function throws io::InputError ("file:line: what is wrong; expected ...") on a missing
 // file, a YAML syntax error, a missing required key, an unknown key or a bad value.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,5 +49,12 @@ struct TruthMount {
   double yaw_rad = 0.0;
 };
 TruthMount ReadTruthMount(const std::string& file);
+
+// The true mount of scanner `scanner_id` of a simulated session with several scanners, from its
+// entry of truth.yaml's `simulation.scanners` list (mount_x_m, mount_y_m, mount_yaw_deg; the
+// top-level `truth:` map is the unused one-scanner mount there). Empty when the list has no
+// entry with that id. Throws InputError when the file is not such a document.
+std::optional<TruthMount> ReadTruthScannerMount(const std::string& file,
+                                                const std::string& scanner_id);
 
 }  // namespace wallcal::io

@@ -258,6 +258,14 @@ TEST(DetectionPassTest, GatesDecideWhatIsFound) {
   const PassOutcome behind = DetectionPass(session.Context(), Tight(beyond, detector));
   EXPECT_TRUE(behind.observations.empty());
   EXPECT_EQ(Skipped(behind, ScanSkip::kScannerBehindWall), kStill);
+  // A mount turned round puts the wall behind the scanner's field of view: found in no scan,
+  // and said so (not "not detected").
+  Mount turned = kTruth;
+  turned.yaw_rad += kPi;
+  const PassOutcome away = DetectionPass(session.Context(), Tight(turned, detector));
+  EXPECT_TRUE(away.observations.empty());
+  EXPECT_EQ(Skipped(away, ScanSkip::kWallOutsideField), kStill);
+  EXPECT_EQ(Skipped(away, ScanSkip::kWallNotDetected), 0);
 }
 
 TEST(DetectionPassTest, AMinimumIntervalExaminesOnlyScansThatFarApartAndTalliesNothing) {
@@ -330,7 +338,8 @@ TEST(ScanSkipTest, EveryReasonHasItsOwnNameAndPoseStatusesMapToThem) {
   const std::vector<ScanSkip> reasons = {
       ScanSkip::kNoPoseBeforeLogs, ScanSkip::kNoPoseAfterLogs, ScanSkip::kNoPoseGnssGap,
       ScanSkip::kNoPoseHeadingGap, ScanSkip::kVehicleMoving,   ScanSkip::kScannerBehindWall,
-      ScanSkip::kWallNotDetected,  ScanSkip::kMalformedLine,   ScanSkip::kNoPoseAtShiftedTime};
+      ScanSkip::kWallNotDetected,  ScanSkip::kMalformedLine,   ScanSkip::kNoPoseAtShiftedTime,
+      ScanSkip::kWallOutsideField};
   for (size_t i = 0; i < reasons.size(); ++i) {
     for (size_t j = i + 1; j < reasons.size(); ++j) {
       EXPECT_STRNE(ScanSkipName(reasons[i]), ScanSkipName(reasons[j]));

@@ -441,6 +441,28 @@ TEST(SeveralReportTest, IndexShowsEachScannerTheRelativeTransformAndOneSiteMap) 
   std::snprintf(x_text, sizeof(x_text), "%.5f &#177; %.5f m", relative.mount.from_T_to.x_m,
                 std::sqrt(relative.mount.covariance(0, 0)));
   EXPECT_NE(html.find(x_text), std::string::npos) << x_text;
+
+  // Each scanner's own page (ID/report.html) compares its joint mount with that scanner's entry
+  // of truth.yaml's simulation.scanners (not the top-level one-scanner truth: it would put
+  // front_left's yaw 27° off), names the scanner and links back to the run's page.
+  ASSERT_EQ(several.scanners.size(), config.scanners.size());
+  for (size_t k = 0; k < several.scanners.size(); ++k) {
+    const pipeline::ScannerRun& run = several.scanners[k];
+    const sim::SimScanner& truth = config.scanners[k];
+    ASSERT_EQ(run.spec.id, truth.id);
+    ASSERT_TRUE(run.result.report.truth.has_value()) << run.spec.id;
+    // truth.yaml's numbers are written in full: equal but for the degrees' round-off.
+    EXPECT_NEAR(run.result.report.truth->x_m, truth.mount_x_m, 1e-12) << run.spec.id;
+    EXPECT_NEAR(run.result.report.truth->y_m, truth.mount_y_m, 1e-12) << run.spec.id;
+    EXPECT_NEAR(run.result.report.truth->yaw_rad, truth.mount_yaw_rad, 1e-12) << run.spec.id;
+    const std::string page = outputs::FormatReportHtml(run.result);
+    EXPECT_EQ(XmlProblem(page), "") << run.spec.id;
+    testing_support::ExpectContains(
+        page, {"<h1>wallcal calibration report: two-corner-scanners, scanner " + run.spec.id +
+                   "</h1>",
+               "<title>wallcal report: two-corner-scanners, scanner " + run.spec.id + "</title>",
+               "<a href=\"../index.html\">"});
+  }
 }
 
 TEST(SeveralReportTest, AFailedRunStillGivesAWellFormedPage) {

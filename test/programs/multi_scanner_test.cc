@@ -342,6 +342,13 @@ TEST(MultiScannerTest, EmittedStaticTfAndUrdfFormOneTree) {
     }
     EXPECT_EQ(edges.size(), 3u);
     ExpectOneTree(edges, expected);
+    // No scanner has z_m: the z = 0 note names each one, inside the XML document.
+    for (const char* id : {"front_left", "front_right"}) {
+      const size_t note = run.out.find(std::string("<!-- gnss_antenna -> ") + id + ": z = 0");
+      EXPECT_NE(note, std::string::npos) << run.out;
+      EXPECT_LT(note, run.out.find("<robot ")) << run.out;
+    }
+    EXPECT_EQ(run.out.find("scanner.z_m"), std::string::npos) << run.out;
   }
   const std::string offsets = ReadText(out);
   EXPECT_NE(offsets.find("scanner_mounts:\n  - id: front_left\n"), std::string::npos) << offsets;
@@ -385,6 +392,23 @@ TEST(MultiScannerTest, EmittedJsonCarriesTheVerdictsOfOffsetsYaml) {
   ASSERT_EQ(relative.items.size(), 1u);
   expect_same(relative.items[0]["verdict"], offsets["relative_mounts"][0]["verdict"], "relative");
   EXPECT_EQ(relative.items[0]["verdict"]["verdict"].text, "REJECT");
+  // Each scanner's clock offset carries its σ and status, in offsets.yaml and the summary (on
+  // stderr beside --emit), as a one-scanner run's do; the mounts' comment heads their list.
+  const std::string text = ReadText(dir / "offsets.yaml");
+  EXPECT_NE(text.find("yaw ccw.\nscanner_mounts:\n"), std::string::npos) << text;
+  for (size_t s = 0; s < 2; ++s) {
+    const YAML::Node mount = offsets["scanner_mounts"][s];
+    ASSERT_TRUE(mount["time_offset_sigma_s"].IsDefined()) << text;
+    EXPECT_GT(mount["time_offset_sigma_s"].as<double>(), 0.0) << text;
+    const std::string status = mount["time_offset_status"].as<std::string>();
+    EXPECT_TRUE(status.rfind("determined", 0) == 0 || status.rfind("not determined", 0) == 0)
+        << status;
+    const std::string id = mount["id"].as<std::string>();
+    const size_t line = run.err.find("  " + id + " (");
+    ASSERT_NE(line, std::string::npos) << run.err;
+    const std::string summary_line = run.err.substr(line, run.err.find('\n', line) - line);
+    EXPECT_NE(summary_line.find(" s, " + status), std::string::npos) << summary_line;
+  }
 }
 
 TEST(MultiScannerTest, CompareTakesEachScannerByIdAndNamesThoseInOneFileOnly) {
@@ -556,6 +580,16 @@ TEST(MultiScannerTest, ScannerThatNeverSeesTheWallFailsTheRunUnlessPartialIsAllo
   EXPECT_EQ(failed.exit_code, 1) << failed.err;
   EXPECT_NE(failed.err.find("'rear'"), std::string::npos) << failed.err;
   EXPECT_FALSE(fs::exists(dir / "offsets.yaml"));
+  // Its reason is said once, on its REFUSED line, and fits: its mount_guess is given (the
+  // simulator writes one), and from every station the wall is behind it.
+  const std::string all = failed.out + failed.err;
+  const std::string field = "the wall was never in the scanner's field of view from any station";
+  size_t said = 0;
+  for (size_t at = all.find(field); at != std::string::npos; at = all.find(field, at + 1)) ++said;
+  EXPECT_EQ(said, 1u) << all;
+  EXPECT_NE(all.find("rear: REFUSED: " + field), std::string::npos) << all;
+  EXPECT_NE(all.find("mount_guess of scanner 'rear'"), std::string::npos) << all;
+  EXPECT_EQ(all.find("give scanner.mount_guess"), std::string::npos) << all;
   const testing_support::ProgramRun partial = RunCalibrate(dir, {"--quiet", "--allow-partial"});
   EXPECT_EQ(partial.exit_code, 0) << partial.err;
   const std::string offsets = ReadText(dir / "offsets.yaml");
