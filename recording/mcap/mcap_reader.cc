@@ -65,6 +65,15 @@ const char* OpcodeName(uint8_t op) {
   }
 }
 
+ChunkCompression CompressionFromName(const std::string& name, const std::string& path,
+                                     uint64_t offset) {
+  if (name.empty()) return ChunkCompression::kNone;
+  if (name == "zstd") return ChunkCompression::kZstd;
+  if (name == "lz4") return ChunkCompression::kLz4;
+  throw io::InputError(
+      At(path, offset, "unknown chunk compression '" + name + "' (expected '', 'zstd' or 'lz4')"));
+}
+
 }  // namespace
 
 McapRecording::McapRecording(std::string path, std::unique_ptr<ByteSource> source,
@@ -112,15 +121,6 @@ void McapRecording::ReadHeader() {
   header_end_ = sizeof head + len;
 }
 
-ChunkCompression McapRecording::CompressionFromName(const std::string& name,
-                                                    uint64_t offset) const {
-  if (name.empty()) return ChunkCompression::kNone;
-  if (name == "zstd") return ChunkCompression::kZstd;
-  if (name == "lz4") return ChunkCompression::kLz4;
-  throw io::InputError(
-      At(path_, offset, "unknown chunk compression '" + name + "' (expected '', 'zstd' or 'lz4')"));
-}
-
 void McapRecording::AddSchema(Cursor* c) {
   const uint16_t id = c->U16("id");
   SchemaInfo schema;
@@ -138,9 +138,9 @@ void McapRecording::AddChannel(Cursor* c) {
   channels_.emplace(id, std::move(channel));  // repeats must be identical (spec): first kept
 }
 
-std::vector<uint8_t> McapRecording::UnpackChunk(const uint8_t* content, uint64_t size,
-                                                uint64_t offset) {
-  Cursor c(content, static_cast<size_t>(size), path_, offset, "Chunk");
+UnpackedChunk UnpackChunk(const uint8_t* content, uint64_t size, const std::string& path,
+                          uint64_t offset, uint64_t max_chunk_bytes) {
+  Cursor c(content, static_cast<size_t>(size), path, offset, "Chunk");
   c.U64("message_start_time");
   c.U64("message_end_time");
   const uint64_t uncompressed_size = c.U64("uncompressed_size");
@@ -148,18 +148,17 @@ std::vector<uint8_t> McapRecording::UnpackChunk(const uint8_t* content, uint64_t
   const std::string compression_name = c.Str("compression");
   const uint64_t records_size = c.U64("records length");
   const uint8_t* records = c.Take(records_size, "records");
-  const ChunkCompression compression = CompressionFromName(compression_name, offset);
-  compressions_.insert(compression);
-  if (uncompressed_size > limits_.max_chunk_bytes) {
-    throw io::InputError(At(path_, offset,
+  const ChunkCompression compression = CompressionFromName(compression_name, path, offset);
+  if (uncompressed_size > max_chunk_bytes) {
+    throw io::InputError(At(path, offset,
                             "chunk declares " + std::to_string(uncompressed_size) +
                                 " bytes uncompressed, more than the " +
-                                std::to_string(limits_.max_chunk_bytes) + " accepted"));
+                                std::to_string(max_chunk_bytes) + " accepted"));
   }
   std::vector<uint8_t> out;
   if (compression == ChunkCompression::kNone) {
     if (records_size != uncompressed_size) {
-      throw io::InputError(At(path_, offset,
+      throw io::InputError(At(path, offset,
                               "uncompressed chunk holds " + std::to_string(records_size) +
                                   " bytes but declares " + std::to_string(uncompressed_size)));
     }
@@ -169,7 +168,7 @@ std::vector<uint8_t> McapRecording::UnpackChunk(const uint8_t* content, uint64_t
     const InflateStatus status =
         Inflate(codec, records, static_cast<size_t>(records_size), uncompressed_size, &out);
     if (status != InflateStatus::kOk) {
-      throw io::InputError(At(path_, offset,
+      throw io::InputError(At(path, offset,
                               compression_name + " chunk does not decompress to its " +
                                   std::to_string(uncompressed_size) +
                                   " bytes: " + InflateStatusText(status)));
@@ -179,11 +178,18 @@ std::vector<uint8_t> McapRecording::UnpackChunk(const uint8_t* content, uint64_t
     const uint32_t got = static_cast<uint32_t>(crc32(0, out.data(), static_cast<uInt>(out.size())));
     if (got != crc) {
       throw io::InputError(
-          At(path_, offset,
+          At(path, offset,
              "chunk CRC mismatch: records hash to " + Hex(got) + ", the chunk says " + Hex(crc)));
     }
   }
-  return out;
+  return UnpackedChunk{compression, std::move(out)};
+}
+
+std::vector<uint8_t> McapRecording::UnpackChunk(const uint8_t* content, uint64_t size,
+                                                uint64_t offset) {
+  UnpackedChunk chunk = mcap::UnpackChunk(content, size, path_, offset, limits_.max_chunk_bytes);
+  compressions_.insert(chunk.compression);
+  return std::move(chunk.records);
 }
 
 bool McapRecording::ReadSummary(std::string* why_not) {
@@ -257,7 +263,7 @@ bool McapRecording::ReadSummary(std::string* why_not) {
       Cursor offsets = c.Sub32("message_index_offsets");
       ref.indexed = offsets.left() > 0;
       ref.index_length = c.U64("message_index_length");
-      compressions_.insert(CompressionFromName(c.Str("compression"), ref.block.offset));
+      compressions_.insert(CompressionFromName(c.Str("compression"), path_, ref.block.offset));
       const uint64_t start = ref.block.offset, length = ref.block.length;
       // start is checked against both ends before any difference is taken (unsigned).
       if (start < header_end_ || start > summary_start || length < kRecordHeaderSize ||

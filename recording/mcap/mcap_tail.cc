@@ -5,7 +5,6 @@
 // one being written, which is read next time. The data section CRC (in Data End) covers the
 // whole section and is not checked here; each chunk's own CRC is.
 
-#include <zlib.h>
 
 #include <algorithm>
 #include <cstring>
@@ -13,7 +12,6 @@
 #include <vector>
 
 #include "recording/internal/byte_source.h"
-#include "recording/mcap/internal/mcap_compression.h"
 #include "recording/mcap/internal/mcap_reader.h"
 #include "recording/mcap/internal/mcap_recording.h"
 #include "recording/recording_tail.h"
@@ -108,46 +106,9 @@ void McapTail::Take(uint8_t op, const uint8_t* content, uint64_t len, uint64_t o
 }
 
 std::vector<uint8_t> McapTail::Unpack(const std::vector<uint8_t>& content, uint64_t offset) const {
-  Cursor c(content.data(), content.size(), path_, offset, "Chunk");
-  c.U64("message_start_time");
-  c.U64("message_end_time");
-  const uint64_t uncompressed_size = c.U64("uncompressed_size");
-  const uint32_t crc = c.U32("uncompressed_crc");
-  const std::string compression = c.Str("compression");
-  const uint64_t records_size = c.U64("records length");
-  const uint8_t* records = c.Take(records_size, "records");
-  if (uncompressed_size > McapLimits().max_chunk_bytes) {
-    throw io::InputError(mcap::At(path_, offset,
-                                  "chunk declares " + std::to_string(uncompressed_size) +
-                                      " bytes uncompressed, more than accepted"));
-  }
-  std::vector<uint8_t> out;
-  if (compression.empty()) {
-    out.assign(records, records + records_size);
-  } else if (compression == "zstd" || compression == "lz4") {
-    const Codec codec = compression == "zstd" ? Codec::kZstd : Codec::kLz4;
-    const InflateStatus status =
-        Inflate(codec, records, static_cast<size_t>(records_size), uncompressed_size, &out);
-    if (status != InflateStatus::kOk) {
-      throw io::InputError(mcap::At(path_, offset,
-                                    compression + " chunk does not decompress to its " +
-                                        std::to_string(uncompressed_size) +
-                                        " bytes: " + InflateStatusText(status)));
-    }
-  } else {
-    throw io::InputError(mcap::At(path_, offset, "unknown chunk compression '" + compression +
-                                                     "' (expected '', 'zstd' or 'lz4')"));
-  }
-  if (out.size() != uncompressed_size) {
-    throw io::InputError(mcap::At(path_, offset,
-                                  "chunk holds " + std::to_string(out.size()) +
-                                      " bytes but declares " + std::to_string(uncompressed_size)));
-  }
-  if (crc != 0 &&
-      static_cast<uint32_t>(crc32(0, out.data(), static_cast<uInt>(out.size()))) != crc) {
-    throw io::InputError(mcap::At(path_, offset, "chunk CRC mismatch"));
-  }
-  return out;
+  return mcap::UnpackChunk(content.data(), content.size(), path_, offset,
+                           McapLimits().max_chunk_bytes)
+      .records;
 }
 
 void McapTail::Emit(std::vector<Message>* messages, uint64_t offset,

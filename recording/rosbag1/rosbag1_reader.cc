@@ -238,18 +238,13 @@ ChunkCompression Ros1Bag::ParseCompression(uint64_t pos, std::string_view name) 
 void Ros1Bag::AddConnection(uint64_t pos, const std::string& record_topic, uint32_t conn,
                             const uint8_t* data, size_t size, Index* index) const {
   if (index->connections.count(conn) > 0) return;  // written again in the index: same content
-  bag1::Fields fields;
-  const std::string problem = bag1::ParseFields(data, size, &fields);
-  if (!problem.empty()) Fail(pos, "connection header: " + problem);
-  const std::string_view* type = fields.Find("type");
-  const std::string_view* md5sum = fields.Find("md5sum");
-  if (type == nullptr || md5sum == nullptr) {
-    Fail(pos, "connection " + std::to_string(conn) + " lacks its type or md5sum");
-  }
+  bag1::ConnectionHeader header;
+  const std::string problem = bag1::ParseConnectionHeader(data, size, conn, &header);
+  if (!problem.empty()) Fail(pos, problem);
   Connection connection;
   connection.topic = record_topic;
-  connection.type = std::string(*type);
-  connection.md5sum = std::string(*md5sum);
+  connection.type = std::move(header.type);
+  connection.md5sum = std::move(header.md5sum);
   index->connections.emplace(conn, std::move(connection));
 }
 

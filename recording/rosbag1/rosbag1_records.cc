@@ -92,6 +92,21 @@ std::string ParseFields(const uint8_t* data, size_t size, Fields* fields) {
   return "";
 }
 
+std::string ParseConnectionHeader(const uint8_t* data, size_t size, uint32_t conn,
+                                  ConnectionHeader* header) {
+  Fields fields;
+  const std::string problem = ParseFields(data, size, &fields);
+  if (!problem.empty()) return "connection header: " + problem;
+  const std::string_view* type = fields.Find("type");
+  const std::string_view* md5sum = fields.Find("md5sum");
+  if (type == nullptr || md5sum == nullptr) {
+    return "connection " + std::to_string(conn) + " lacks its type or md5sum";
+  }
+  header->type = std::string(*type);
+  header->md5sum = std::string(*md5sum);
+  return "";
+}
+
 RecordStatus ReadRecord(const ByteSource& source, uint64_t pos, uint64_t limit, RecordRef* record,
                         std::string* why) {
   record->pos = pos;

@@ -92,17 +92,12 @@ void Ros1BagTail::AddConnection(uint64_t pos, const RecordRef& record, const uin
     Fail(pos, "connection record lacks conn or topic");
   }
   if (connections_.count(conn) > 0) return;  // written again in the index: same content
-  bag1::Fields fields;
-  const std::string problem = bag1::ParseFields(data, size, &fields);
-  if (!problem.empty()) Fail(pos, "connection header: " + problem);
-  const std::string_view* type = fields.Find("type");
-  const std::string_view* md5sum = fields.Find("md5sum");
-  if (type == nullptr || md5sum == nullptr) {
-    Fail(pos, "connection " + std::to_string(conn) + " lacks its type or md5sum");
-  }
-  TopicInfo* info = Topic(std::string(*topic), std::string(*type), std::string(*md5sum), "ros1");
+  bag1::ConnectionHeader header;
+  const std::string problem = bag1::ParseConnectionHeader(data, size, conn, &header);
+  if (!problem.empty()) Fail(pos, problem);
+  TopicInfo* info = Topic(std::string(*topic), header.type, header.md5sum, "ros1");
   // A later connection of the topic with another type is left out, as the bag reader does.
-  connections_[conn] = info->type == *type ? info : nullptr;
+  connections_[conn] = info->type == header.type ? info : nullptr;
 }
 
 std::vector<uint8_t> Ros1BagTail::ChunkData(const ByteSource& source, const RecordRef& record,

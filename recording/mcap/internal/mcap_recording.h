@@ -18,6 +18,16 @@
 
 namespace wallcal::recording::mcap {
 
+// A Chunk record's content (`size` bytes at file offset `offset` of `path`) unpacked: its
+// compression and its decompressed records, with the declared size held to max_chunk_bytes and
+// the CRC checked. Throws io::InputError "path:offset: ..." otherwise.
+struct UnpackedChunk {
+  ChunkCompression compression = ChunkCompression::kNone;
+  std::vector<uint8_t> records;
+};
+UnpackedChunk UnpackChunk(const uint8_t* content, uint64_t size, const std::string& path,
+                          uint64_t offset, uint64_t max_chunk_bytes);
+
 struct SchemaInfo {
   std::string name;      // "sensor_msgs/msg/LaserScan"
   std::string encoding;  // "ros2msg", "ros2idl"
@@ -73,7 +83,6 @@ class McapRecording : public Recording {
   std::vector<uint8_t> UnpackChunk(const uint8_t* content, uint64_t size, uint64_t offset);
   void AddSchema(Cursor* c);
   void AddChannel(Cursor* c);
-  ChunkCompression CompressionFromName(const std::string& name, uint64_t offset) const;
 
   std::unique_ptr<ByteSource> source_;
   McapLimits limits_;

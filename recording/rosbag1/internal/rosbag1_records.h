@@ -72,6 +72,15 @@ struct Fields {
 // the end, a field without '=').
 std::string ParseFields(const uint8_t* data, size_t size, Fields* fields);
 
+// A connection record's data (its own header): the message type and md5sum of connection
+// `conn`. Returns "" on success, else what is wrong, ready for a "file:offset: " prefix.
+struct ConnectionHeader {
+  std::string type;
+  std::string md5sum;
+};
+std::string ParseConnectionHeader(const uint8_t* data, size_t size, uint32_t conn,
+                                  ConnectionHeader* header);
+
 // One record located in a byte range: where its parts are, and its header fields. Not
 // copyable: `fields` views into `header_bytes`.
 struct RecordRef {
