@@ -28,6 +28,14 @@ struct AlignmentOptions {
   // error was 1.65× the Cramér–Rao bound, with 0.25 s it and its σ are at the bound
   // (docs/results.md). calibrate warns above τ/60.
   double segment_max_s = 0.25;
+  // The slices of the joint adjustment of several scanners, at most this long (each
+  // segment_max_s slice split into equal parts, calib/gnss_slices.h). That adjustment carries
+  // each GNSS fix's white noise as a parameter, so a scan's own noise there is its line fit's
+  // alone (0.6–1.4 mm on the benchmarks), and the RTK error's wander within a slice, σ_b √(Δ/3τ)
+  // (0.56 mm at 0.25 s, 0.25 mm at 0.05 s for σ_b 15 mm, τ 60 s), must stay well below it: with
+  // 0.25 s slices the two-scanner stop-and-go mounts' x was 1.16 × its bound with RMS(err/σ)
+  // 1.23, with 0.05 s 1.04 and 1.01 (docs/results.md).
+  double joint_segment_max_s = 0.05;
   // Use moving scans anyway when the session has fewer dwells than solver.min_stations (an
   // engineer drove continuously): the solver then also estimates the scanner clock offset.
   bool moving_scans_if_few_stations = true;
@@ -56,6 +64,7 @@ void VisitAlignmentOptions(V& v, AlignmentOptions& o) {
   v.Number("dwell_guard_s", o.dwell_guard_s, io::NonNegative());
   v.Boolean("use_moving_scans", o.use_moving_scans);
   v.Number("segment_max_s", o.segment_max_s, io::Positive());
+  v.Number("joint_segment_max_s", o.joint_segment_max_s, io::Positive());
   v.Boolean("moving_scans_if_few_stations", o.moving_scans_if_few_stations);
   v.Boolean("gnss_epoch_time", o.gnss_epoch_time);
   v.Boolean("moving_scans_in_stop_and_go", o.moving_scans_in_stop_and_go);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "calib/detection_pass.h"
+#include "calib/gnss_slices.h"
 #include "common/sha256.h"
 #include "io/config/offsets_reader.h"
 #include "io/config/session_reader.h"
@@ -43,6 +44,32 @@ void AtOwnScanTime(const CalibrationResult& result, solvers::ScannerObservations
   shifted->heading_delay_s += move_s;
   part->warm = std::move(shifted);
   part->observations = moved;
+}
+
+// The part on the joint adjustment's finer GNSS-error slices (alignment.joint_segment_max_s):
+// each observation in its sub-slice of the slice its run solved, the run's bias of that slice
+// the warm start of each of its sub-slices. Every scanner's slices stay one time grid: the
+// runs read the same GNSS and heading logs, so their poses start at the same instant.
+void InJointSlices(const CalibrationResult& result, solvers::ScannerObservations* part,
+                   std::vector<calib::WallObservation>* moved) {
+  const calib::AlignmentOptions& alignment = result.options.alignment;
+  const int parts = calib::SliceParts(alignment.segment_max_s, alignment.joint_segment_max_s);
+  if (result.poses == nullptr || parts <= 1) return;
+  if (part->observations != moved) {
+    *moved = *part->observations;
+    part->observations = moved;
+  }
+  calib::RefineGnssSlices(result.poses->start_s(), alignment.segment_max_s, parts, moved);
+  if (part->warm == nullptr) return;
+  auto refined = std::make_shared<solvers::WarmStart>(*part->warm);
+  refined->biases.clear();
+  for (const calib::WallObservation& observation : *moved) {
+    const int slice = observation.pose.gnss_segment;
+    if (slice < 0) continue;
+    const auto found = part->warm->biases.find(slice / parts);
+    if (found != part->warm->biases.end()) refined->biases[slice] = found->second;
+  }
+  part->warm = std::move(refined);
 }
 
 }  // namespace
@@ -106,6 +133,7 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
     part.initial = run.result.estimate.mount;
     part.warm = run.result.estimate.solution_state;
     AtOwnScanTime(run.result, &part, &at_scan_time[s]);
+    InJointSlices(run.result, &part, &at_scan_time[s]);
     parts.push_back(part);
   }
   std::string refused_text;
