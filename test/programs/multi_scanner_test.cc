@@ -139,6 +139,25 @@ TEST(MultiScannerTest, RelativeTransformIsTheDifferenceOfTheMounts) {
   EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(c).eigenvalues().minCoeff(), 0.0);
 }
 
+// The other scanner shares the vehicle's errors (the GNSS bias, the survey tie), which set each
+// mount's x and y, and adds next to nothing to them: over 50 sessions a scenario the joint
+// mounts' RMS error is 0.97–1.03 × the scanners' own runs' and their σ 1.00–1.01 × (bench/
+// multi_scanner_bench). A joint problem that reads the RTK error's wander within a GNSS-error
+// slice as white noise it can resolve claims more: σ 0.87–0.93 × the own run's with the joint
+// on 0.25 s slices, where its error is not smaller. 0.97 leaves room for what the other
+// scanner does add.
+TEST(MultiScannerTest, JointMountIsNoSurerThanEachScannersOwnRun) {
+  const pipeline::SeveralScannersResult result = Calibrate(TextSession());
+  ASSERT_EQ(result.outcome, pipeline::SeveralOutcome::kAll) << result.message;
+  for (const auto& run : result.scanners) {
+    for (int axis = 0; axis < 2; ++axis) {
+      const double joint = std::sqrt(run.result.estimate.covariance(axis, axis));
+      const double own = std::sqrt(run.own_estimate.covariance(axis, axis));
+      EXPECT_GT(joint, 0.97 * own) << run.spec.id << (axis == 0 ? " x" : " y");
+    }
+  }
+}
+
 TEST(MultiScannerTest, EachScannersPageIsDrawnWithItsJointMount) {
   const pipeline::SeveralScannersResult result =
       Calibrate(TextSession(), /*allow_partial=*/false, /*collect_report_data=*/true);
