@@ -254,6 +254,13 @@ std::string FormatTopic(const TopicSummary& t, const std::string& path) {
   return out.str();
 }
 
+// The recording does not say where a scanner sits: the line is a comment to fill in.
+std::string MountGuessLines(const std::string& indent) {
+  return indent + "# mount_guess: {x: 0.0, y: 0.0, yaw_deg: 0}  # CHECK: where it sits and points\n" +
+         indent + "#   on the vehicle, to a tape measure's 0.1 m and 10 deg: a scanner turned\n" +
+         indent + "#   from straight ahead finds the wall in no scan without it\n";
+}
+
 }  // namespace
 
 std::string InspectRecording(const std::string& path) {
@@ -308,7 +315,7 @@ std::string SuggestSession(const std::string& path) {
       out << "    log: " << log << "\n";
       out << "    topic: " << topic->info->name << "  # " << topic->info->type << ", "
           << topic->info->count << " messages\n";
-      out << "    stamp: header\n    time_offset_s: 0\n";
+      out << "    stamp: header\n    time_offset_s: 0\n" << MountGuessLines("    ");
     }
   } else {
     out << "scanner:\n";
@@ -318,7 +325,8 @@ std::string SuggestSession(const std::string& path) {
         << "\n";
     out << "  log: " << log << "\n"
         << topic_line(scans, "sensor_msgs/LaserScan") << Why(scans, "scanner");
-    out << "  stamp: header  # or receive: the recorder's time\n  time_offset_s: 0\n";
+    out << "  stamp: header  # or receive: the recorder's time\n  time_offset_s: 0\n"
+        << MountGuessLines("  ");
   }
   out << "gnss:\n  log: " << log << "\n" << topic_line(gnss, "sensor_msgs/NavSatFix or GGA sentence")
       << Why(gnss, "GNSS");

@@ -129,7 +129,7 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
   out += "  x: " + io::ShortestNumber(config.mount_x_m) + "\n";
   out += "  y: " + io::ShortestNumber(config.mount_y_m) + "\n";
   out += "  yaw: " + io::ShortestNumber(config.mount_yaw_rad) + "\n";
-  out += "  yaw_deg: " + io::ShortestNumber(config.mount_yaw_rad * kRadToDeg) + "\n";
+  out += "  yaw_deg: " + io::ShortestScaled(config.mount_yaw_rad, kRadToDeg) + "\n";
   out += "seed: " + std::to_string(seed) + "\n";
   out += "simulation:\n";
   out += simulation.Block(2);
@@ -149,7 +149,7 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
     out += "  drive_reverse_m: " + io::ShortestNumber(config.drive_reverse_m) + "\n";
   }
   if (config.weave_turn_rad != 0.0) {
-    out += "  weave_turn_deg: " + io::ShortestNumber(config.weave_turn_rad * kRadToDeg) + "\n";
+    out += "  weave_turn_deg: " + io::ShortestScaled(config.weave_turn_rad, kRadToDeg) + "\n";
   }
   if (!config.scanners.empty()) {
     out += "  scanners:\n";

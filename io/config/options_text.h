@@ -19,7 +19,7 @@ class OptionsText {
   }
   void Scaled(const std::string& key, double& value, double file_per_unit,
               const Check& /*check*/ = {}) {
-    Add(key, ShortestNumber(value * file_per_unit));
+    Add(key, ShortestScaled(value, file_per_unit));
   }
   void Integer(const std::string& key, int& value, const Check& /*check*/ = {}) {
     Add(key, std::to_string(value));

@@ -41,6 +41,20 @@ std::string YamlNumber(const char* format, double value) {
 }
 
 // Shortest text that reads back to the same double (configs written for machines and people).
+std::string ShortestScaled(double value, double file_per_unit) {
+  const double product = value * file_per_unit;
+  if (!std::isfinite(product) || !(file_per_unit != 0.0)) return ShortestNumber(product);
+  for (int digits = 1; digits <= 17; ++digits) {
+    char buffer[64];
+    const auto result = std::to_chars(buffer, buffer + sizeof(buffer), product,
+                                      std::chars_format::general, digits);
+    double back = 0.0;
+    std::from_chars(buffer, result.ptr, back);
+    if (back / file_per_unit == value) return ShortestNumber(back);
+  }
+  return ShortestNumber(product);
+}
+
 std::string ShortestNumber(double value) {
   if (!std::isfinite(value)) return YamlNumber("%g", value);
   char buffer[64];

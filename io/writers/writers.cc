@@ -148,7 +148,7 @@ std::string FormatSessionYaml(const SessionSpec& spec) {
     if (guess) {
       out += indent + "mount_guess: {x: " + ShortestNumber(guess->x_m) +
              ", y: " + ShortestNumber(guess->y_m) +
-             ", yaw_deg: " + ShortestNumber(guess->yaw_rad * kRadToDeg) + "}\n";
+             ", yaw_deg: " + ShortestScaled(guess->yaw_rad, kRadToDeg) + "}\n";
     }
   };
   if (spec.scanners.empty()) {
@@ -185,7 +185,7 @@ std::string FormatSessionYaml(const SessionSpec& spec) {
            ", lon: " + ShortestNumber(point.lon_deg) + ", h: " + ShortestNumber(point.h_m) + "}\n";
   }
   if (spec.survey_rotation_rad) {
-    out += "  rotation_deg: " + ShortestNumber(*spec.survey_rotation_rad * kRadToDeg) + "\n";
+    out += "  rotation_deg: " + ShortestScaled(*spec.survey_rotation_rad, kRadToDeg) + "\n";
   }
   if (spec.survey_point_sigma_m) {
     out += "  point_sigma_m: " + ShortestNumber(*spec.survey_point_sigma_m) + "\n";

@@ -213,6 +213,13 @@ TEST(MultiScannerTest, InspectChecksEachScannerAndSuggestsEveryScanTopic) {
   EXPECT_NE(suggested.find("scanners:"), std::string::npos) << suggested;
   EXPECT_NE(suggested.find("  - id: front_left\n"), std::string::npos) << suggested;
   EXPECT_NE(suggested.find("    topic: /front_right/scan"), std::string::npos) << suggested;
+  // Each scanner's mount_guess, which the recording does not hold, as a line to fill in.
+  size_t guesses = 0;
+  for (size_t at = suggested.find("    # mount_guess: {"); at != std::string::npos;
+       at = suggested.find("    # mount_guess: {", at + 1)) {
+    ++guesses;
+  }
+  EXPECT_EQ(guesses, 2u) << suggested;
 }
 
 // ---- The program ----------------------------------------------------------------------------

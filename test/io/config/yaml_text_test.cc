@@ -4,6 +4,11 @@
 
 #include "io/config/yaml_text.h"
 
+#include "common/angles.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <random>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -56,6 +61,37 @@ TEST(YamlTextTest, ValidUtf8GoesThroughAndOtherBytesAreEscaped) {
   EXPECT_EQ(ReadBack(scalar), "caf\xc3\xa9/session");
   // A truncated sequence (the lead byte of a 3-byte character at the end) is escaped too.
   EXPECT_EQ(YamlText("x\xe6\x9d"), "\"x\\xE6\\x9D\"");
+}
+
+}  // namespace
+}  // namespace wallcal::io
+
+namespace wallcal::io {
+namespace {
+
+// Degrees read as radians (value / kRadToDeg, as the option readers do) come back as the
+// degrees written; any radians written as degrees read back to the same double where some
+// decimal does, and otherwise to within a unit in the last place.
+TEST(ShortestScaledTest, DegreesReadAsRadiansAreWrittenAsGiven) {
+  for (const char* degrees : {"30", "-30", "23", "0.1", "179.5", "-0.25", "2.8"}) {
+    const double radians = std::strtod(degrees, nullptr) / kRadToDeg;
+    EXPECT_EQ(ShortestScaled(radians, kRadToDeg), degrees);
+  }
+  EXPECT_NE(ShortestNumber(30.0 / kRadToDeg * kRadToDeg), "30");  // what it replaces
+  std::mt19937_64 random(7);
+  std::uniform_int_distribution<int> millidegrees(-180000, 180000);
+  std::uniform_real_distribution<double> angle(-3.5, 3.5);
+  for (int i = 0; i < 2000; ++i) {
+    const double given = millidegrees(random) / 1000.0;
+    const double radians = given / kRadToDeg;
+    const std::string text = ShortestScaled(radians, kRadToDeg);
+    EXPECT_EQ(std::strtod(text.c_str(), nullptr) / kRadToDeg, radians) << text;
+    EXPECT_LE(text.size(), ShortestNumber(given).size()) << text;
+    const double any = angle(random);
+    const double back = std::strtod(ShortestScaled(any, kRadToDeg).c_str(), nullptr) / kRadToDeg;
+    EXPECT_LE(std::abs(back - any), 2.0 * std::abs(std::nextafter(any, 10.0) - any)) << any;
+  }
+  EXPECT_EQ(ShortestScaled(0.0, kRadToDeg), "0");
 }
 
 }  // namespace
