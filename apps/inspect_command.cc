@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "apps/commands.h"
+#include "io/config/session_reader.h"
 #include "io/output_file.h"
 #include "io/survey/survey_reader.h"
 #include "io/types.h"
@@ -21,7 +22,7 @@ const CommandHelp& InspectHelp() {
   static const CommandHelp help{
       "inspect",
       "check a session, a log or a recording before leaving the site; dump decoded records",
-      {"PATH [--dump gnss|heading|scans|survey] [--topic NAME] [--config FILE]",
+      {"PATH [--dump gnss|heading|scans|survey] [--topic NAME] [--scanner ID] [--config FILE]",
        "RECORDING --suggest-session"},
       "The pre-flight check of a wall session: run it before leaving the site.\n",
       {
@@ -36,12 +37,14 @@ const CommandHelp& InspectHelp() {
            "           sigma_lat_m,sigma_lon_m,line\n"
            "  heading  time_s,heading_deg,line\n"
            "  scans    time_s,beams,valid,min_range_m,max_range_m,line\n"
-           "  survey   id,x_m,y_m,z_m,code (one row per observation; x east, y north;\n"
-           "           PATH a survey file)\n"
-           "(on a session: that log of the session, scanner: only; on a\n"
-           "recording: --topic's)"},
+           "  survey   id,x_m,y_m,z_m,code (one row per observation; x east, y north)\n"
+           "(on a session: that log or survey file of the session, a scanners:\n"
+           "session's scans those of --scanner; on a recording: --topic's)"},
           {"--topic", "", "NAME", ValueKind::kWord, {},
            "the recording topic to dump (needed when several topics fit)"},
+          {"--scanner", "", "ID", ValueKind::kWord, {},
+           "the scanner of a session with scanners: whose scans --dump scans\n"
+           "writes"},
           {"--suggest-session", "", "", ValueKind::kNone, {},
            "print a ready-to-edit session.yaml for the recording, the topics chosen\n"
            "by type (and why, when several fit)"},
@@ -70,7 +73,7 @@ int Usage(const std::string& message, std::ostream& err) {
 }
 
 int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-  std::string path, dump, config, topic;
+  std::string path, dump, config, topic, scanner;
   bool suggest = false;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
@@ -78,9 +81,12 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       return 0;
     } else if (arg == "--suggest-session") {
       suggest = true;
-    } else if (arg == "--dump" || arg == "--config" || arg == "--topic") {
+    } else if (arg == "--dump" || arg == "--config" || arg == "--topic" || arg == "--scanner") {
       if (i + 1 >= args.size()) return Usage(arg + " needs a value", err);
-      (arg == "--dump" ? dump : arg == "--topic" ? topic : config) = args[++i];
+      (arg == "--dump"      ? dump
+       : arg == "--topic"   ? topic
+       : arg == "--scanner" ? scanner
+                            : config) = args[++i];
     } else if (!arg.empty() && arg[0] == '-') {
       return Usage("unknown option '" + arg + "'", err);
     } else if (path.empty()) {
@@ -105,9 +111,23 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       err << "inspect: --topic applies to a robot recording; '" << path << "' is not one\n";
       return 2;
     }
+    if (!scanner.empty() && recording) {
+      return Usage("--scanner names a scanner of a session; on a recording give --topic", err);
+    }
+    if (!scanner.empty() && dump != "scans") {
+      return Usage("--scanner applies to --dump scans (the GNSS, heading and survey files are "
+                   "the session's)", err);
+    }
     if (dump == "survey") {
-      // Every observation as read (not combined): docs/survey-files.md.
-      out << wallcal::io::FormatSurveyDumpCsv(wallcal::io::ReadSurvey(path));
+      // Every observation as read (not combined): docs/survey-files.md. On a session: its
+      // survey file, read with its survey.columns.
+      if (wallcal::preflight::IsSessionPath(path)) {
+        const wallcal::io::SessionSpec session = wallcal::io::ReadSession(path);
+        out << wallcal::io::FormatSurveyDumpCsv(
+            wallcal::io::ReadSurvey(session.survey_points, session.survey_columns));
+      } else {
+        out << wallcal::io::FormatSurveyDumpCsv(wallcal::io::ReadSurvey(path));
+      }
       return 0;
     }
     if (!dump.empty()) {
@@ -127,7 +147,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       if (recording) {
         wallcal::preflight::DumpRecording(path, kind, topic, table);
       } else {
-        wallcal::preflight::Dump(path, kind, table);
+        wallcal::preflight::Dump(path, kind, table, scanner);
       }
       out << table.str();
       return 0;

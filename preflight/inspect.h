@@ -83,9 +83,12 @@ enum class DumpKind { kGnss, kHeading, kScans };
 //   scans:   time_s,beams,valid,min_range_m,max_range_m,line
 // `path` is a session (the log of that kind is dumped; scan times include the session's
 // scanner.time_offset_s, `valid` follows its scanner preset) or one log file of the matching
-// kind. Unknown values (no GST, no valid reading) are empty cells. Throws io::InputError when
-// the file is missing, unreadable or of the other kind.
-void Dump(const std::string& path, DumpKind kind, std::ostream& out);
+// kind. Unknown values (no GST, no valid reading) are empty cells. On a session with
+// `scanners:`, `scanner_id` names the scanner whose scans are dumped (needed for kScans; the
+// GNSS and heading logs are the session's). Throws io::InputError when the file is missing,
+// unreadable or of the other kind, or the scanner is not named or not in the session.
+void Dump(const std::string& path, DumpKind kind, std::ostream& out,
+          const std::string& scanner_id = "");
 
 // ---- Robot recordings (ROS 1 bag, MCAP, rosbag2; recognised by recording::IsRecording) ----------
 

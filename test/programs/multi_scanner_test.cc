@@ -254,6 +254,51 @@ void ExpectOneTree(const std::multimap<std::string, std::string>& child_to_paren
   for (const std::string& child : expected_children) EXPECT_EQ(children.count(child), 1u) << child;
 }
 
+// The first column of a CSV dump, after its header.
+std::vector<std::string> FirstColumn(const std::string& csv) {
+  std::vector<std::string> column;
+  std::istringstream lines(csv);
+  std::string line;
+  std::getline(lines, line);
+  while (std::getline(lines, line)) column.push_back(line.substr(0, line.find(',')));
+  return column;
+}
+
+TEST(MultiScannerTest, InspectDumpsTheNamedScannersScansAndTheSessionsSurvey) {
+  const std::string dir = TextSession().string();
+  const auto run = [](std::vector<std::string> args) {
+    args.insert(args.begin(), "inspect");
+    return testing_support::RunWallcal(args);
+  };
+  // Which scanner's scans: the session does not say, so it is asked for by name.
+  const testing_support::ProgramRun unnamed = run({dir, "--dump", "scans"});
+  EXPECT_EQ(unnamed.exit_code, 2);
+  EXPECT_NE(unnamed.err.find("expected --scanner ID with ID one of front_left, front_right"),
+            std::string::npos)
+      << unnamed.err;
+  EXPECT_TRUE(unnamed.out.empty()) << unnamed.out;
+  const testing_support::ProgramRun unknown = run({dir, "--dump", "scans", "--scanner", "rear"});
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("no scanner 'rear'"), std::string::npos) << unknown.err;
+  // The named scanner's log, with the session's time offset (0 here) on its stamps.
+  for (const std::string id : {"front_left", "front_right"}) {
+    const testing_support::ProgramRun named = run({dir, "--dump", "scans", "--scanner", id});
+    ASSERT_EQ(named.exit_code, 0) << named.err;
+    const testing_support::ProgramRun log =
+        run({dir + "/scans_" + id + ".clf", "--dump", "scans"});
+    ASSERT_EQ(log.exit_code, 0) << log.err;
+    EXPECT_FALSE(FirstColumn(named.out).empty());
+    EXPECT_EQ(FirstColumn(named.out), FirstColumn(log.out)) << id;
+  }
+  // --scanner names a scanner of the session's own scans only.
+  EXPECT_EQ(run({dir, "--dump", "gnss", "--scanner", "front_left"}).exit_code, 2);
+  // The session's survey file, as the survey file's own dump.
+  const testing_support::ProgramRun survey = run({dir, "--dump", "survey"});
+  ASSERT_EQ(survey.exit_code, 0) << survey.err;
+  EXPECT_EQ(survey.out, run({dir + "/survey.csv", "--dump", "survey"}).out);
+  EXPECT_NE(survey.out.find("C1,"), std::string::npos) << survey.out;
+}
+
 // One pose of offsets.yaml (a scanner_mounts or relative_mounts entry): x, y (m), yaw (rad)
 // and their σ from stddev.
 struct Pose {
