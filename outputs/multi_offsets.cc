@@ -188,6 +188,9 @@ std::string FormatSeveralSummary(const pipeline::SeveralScannersResult& several)
   if (several.outcome != pipeline::SeveralOutcome::kFailed) {
     out += std::string("  verdict    ") + pipeline::VerdictName(several.decision.verdict) +
            " (the worst of the scanners and relative transforms below)\n";
+    out += "  mounts     the joint adjustment of the scanners calibrated\n";
+  } else {
+    out += "  mounts     each scanner's own run (no joint adjustment: nothing is written)\n";
   }
   for (const pipeline::ScannerRun& run : several.scanners) {
     const pipeline::CalibrationResult& r = run.result;

@@ -661,6 +661,9 @@ TEST(MultiScannerTest, ScannerThatNeverSeesTheWallFailsTheRunUnlessPartialIsAllo
   EXPECT_NE(all.find("rear: REFUSED: " + field), std::string::npos) << all;
   EXPECT_NE(all.find("mount_guess of scanner 'rear'"), std::string::npos) << all;
   EXPECT_EQ(all.find("give scanner.mount_guess"), std::string::npos) << all;
+  // The mounts it prints are the scanners' own runs', and it says so.
+  EXPECT_NE(all.find("mounts     each scanner's own run (no joint adjustment"), std::string::npos)
+      << all;
   const testing_support::ProgramRun partial = RunCalibrate(dir, {"--quiet", "--allow-partial"});
   EXPECT_EQ(partial.exit_code, 0) << partial.err;
   const std::string offsets = ReadText(dir / "offsets.yaml");
