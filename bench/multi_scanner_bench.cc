@@ -10,6 +10,10 @@
 //
 //   multi_scanner_bench [--runs N] [--scenario NAME] [--first-seed S] [--max-all-obs M]
 //                       [--csv FILE] [--options CALIBRATE_YAML] [--oracle]
+//                       [--sim SIMULATE_YAML]
+//
+// --sim runs one session config with `scanners:` of its own (held-out settings) instead of
+// the four scenarios, with --options or bench/calibrate_matched.yaml.
 //
 // --options replaces the scenario's calibrate options (bench/calibrate_matched*.yaml), for
 // trying one option against the same sessions.
@@ -66,13 +70,14 @@ struct Args {
   std::string scenario, csv;
   std::string options;  // calibrate options instead of the scenario's own
   bool oracle = false;
+  std::string sim;  // a simulation config of its own instead of the four scenarios
 };
 
 [[noreturn]] void Usage(const std::string& message) {
   std::fprintf(stderr,
                "multi_scanner_bench: %s\nusage: multi_scanner_bench [--runs N] [--scenario "
                "stopgo|continuous|urg04lx|clutter] [--first-seed S] [--max-all-obs M] [--csv "
-               "FILE] [--options CALIBRATE_YAML] [--oracle]\n",
+               "FILE] [--options CALIBRATE_YAML] [--oracle] [--sim SIMULATE_YAML]\n",
                message.c_str());
   std::exit(2);
 }
@@ -99,6 +104,8 @@ Args ParseArgs(int argc, char** argv) {
       args.options = value();
     } else if (a == "--oracle") {
       args.oracle = true;
+    } else if (a == "--sim") {
+      args.sim = value();
     } else {
       Usage("unknown argument " + a);
     }
@@ -332,6 +339,17 @@ int main(int argc, char** argv) {
                       "rel_sigma_x,rel_err_y,rel_sigma_y,rel_err_yaw,rel_sigma_yaw\n");
   }
   bool any = false;
+  if (!args.sim.empty()) {
+    const std::string matched = std::string(WALLCAL_SOURCE_DIR) + "/bench/calibrate_matched.yaml";
+    const Scenario own{fs::path(args.sim).stem().string(), args.sim, args.sim, matched};
+    try {
+      RunScenario(own, args, csv);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "multi_scanner_bench: %s: %s\n", args.sim.c_str(), e.what());
+    }
+    if (csv != nullptr) std::fclose(csv);
+    return 0;
+  }
   for (const Scenario& s : Scenarios()) {
     if (!args.scenario.empty() && args.scenario != s.name) continue;
     any = true;
