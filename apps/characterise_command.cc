@@ -22,8 +22,8 @@ const CommandHelp& CharacteriseHelp() {
   static const CommandHelp help{
       "characterise",
       "measure the scanner's range model and noise on a wall session; write its preset",
-      {"SESSION [--mount OFFSETS.yaml] [--output PRESET.yaml] [--report DIR] [--config FILE] "
-       "[--threads N]"},
+      {"SESSION [--scanner ID] [--mount OFFSETS.yaml] [--output PRESET.yaml] [--report DIR] "
+       "[--config FILE] [--threads N]"},
       "Measures the laser scanner on a wall session (docs/field-guide.md, \"Characterising the\n"
       "scanner\"): every beam that hits the surveyed wall has a true range from the vehicle's pose and\n"
       "the mount, so the session fits the range model z = n*true + c of Ye & Borenstein 2002 and\n"
@@ -32,6 +32,9 @@ const CommandHelp& CharacteriseHelp() {
       "incidence limit, the mixed-pixel rate at the wall's ends and the warm-up drift over time.\n",
       {
           SessionArgument(),
+          {"--scanner", "", "ID", ValueKind::kWord, {},
+           "a session with scanners: the scanner to characterise (its log, model and\n"
+           "mount_guess; --mount then takes an earlier one-scanner offsets.yaml)"},
           {"--mount", "", "FILE", ValueKind::kFile, {},
            "an earlier calibration's offsets.yaml: its scanner_mount (and covariance,\n"
            "when given) is used; without it the mount is estimated jointly"},
@@ -67,11 +70,12 @@ int wallcal::apps::RunCharacterise(int argc, char** argv) {
     if (wallcal::apps::PrintHelpOrVersion(arg, wallcal::apps::CharacteriseHelp(), std::cout)) {
       return 0;
     } else if (arg == "--mount" || arg == "--output" || arg == "--report" || arg == "--config" ||
-               arg == "--threads") {
+               arg == "--threads" || arg == "--scanner") {
       if (i + 1 >= argc) return UsageError(CharacteriseHelp(), arg + " needs a value");
       const std::string v = argv[++i];
       if (v.empty()) return UsageError(CharacteriseHelp(), arg + " needs a non-empty value");
       if (arg == "--mount") request.mount_path = v;
+      if (arg == "--scanner") request.scanner_id = v;
       if (arg == "--output") output = v;
       if (arg == "--report") report_dir = v;
       if (arg == "--config") request.config_path = v;

@@ -24,18 +24,22 @@ const CommandHelp& GuideHelp() {
   static const CommandHelp help{
       "guide",
       "at the wall, while recording: the σ if calibrated now, enough yes/no, the next stops",
-      {"SESSION [--json] [--follow [--max-seconds S]] [--next N] [--config FILE] [--threads N]",
-       "SESSION --plan MINUTES [--json] [--config FILE]"},
+      {"SESSION [--scanner ID] [--json] [--follow [--max-seconds S]] [--next N] [--config FILE] "
+       "[--threads N]",
+       "SESSION [--scanner ID] --plan MINUTES [--json] [--config FILE]"},
       "At the wall, while the logs are being recorded: the stations so far, the σ of the mount if it\n"
       "were calibrated now (calibrate's own model: the correlated GNSS error and the control points\n"
       "included), whether the acceptance tolerances are met (enough: yes/no), and the next stops\n"
-      "that would lower the largest σ most. One scanner (scanner: in session.yaml); a session\n"
-      "with scanners: is refused (run it on a one-scanner session.yaml per scanner).\n",
+      "that would lower the largest σ most. One scanner: a session with scanners: is guided one\n"
+      "scanner at a time (--scanner ID).\n",
       {
           {"SESSION", "", "", ValueKind::kPath, {},
            "session.yaml or its folder; its logs may still be growing (a text log's\n"
            "unfinished last line, a ROS 1 bag without its index, an MCAP file without\n"
            "its summary: the complete part is read)"},
+          {"--scanner", "", "ID", ValueKind::kWord, {},
+           "a session with scanners: the scanner to guide (its σ is its mount's in\n"
+           "calibrate's joint adjustment, to within a few per cent)"},
           {"--json", "", "", ValueKind::kNone, {},
            "one JSON object: {\"stations\": N, \"predicted_sigma\": {\"x_m\", \"y_m\",\n"
            "\"yaw_deg\"}, \"enough\": true|false, \"next\": [{\"vehicle_to_wall_deg\",\n"
@@ -93,12 +97,15 @@ int Parse(const std::vector<std::string>& args, GuideCommandLine* line) {
     } else if (arg == "--follow") {
       line->follow = true;
     } else if (arg == "--plan" || arg == "--config" || arg == "--next" || arg == "--threads" ||
-               arg == "--max-seconds") {
+               arg == "--max-seconds" || arg == "--scanner") {
       if (i + 1 >= args.size()) return Usage(arg + " needs a value");
       const std::string& v = args[++i];
       double number = 0.0;
       if (arg == "--config") {
         line->options.config_path = v;
+      } else if (arg == "--scanner") {
+        if (v.empty()) return Usage("--scanner needs a scanner id");
+        line->options.scanner_id = v;
       } else if (!ParseNumber(v, &number) || number < 0.0) {
         return Usage(arg + ": '" + v + "' is not a non-negative number");
       } else if (arg == "--plan") {

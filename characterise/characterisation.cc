@@ -41,6 +41,7 @@ Characterisation Characterise(const CharacteriseRequest& request) {
 
   pipeline::CalibrateRequest calibrate;
   calibrate.session_path = request.session_path;
+  calibrate.scanner_id = request.scanner_id;
   calibrate.config_path = request.config_path;
   calibrate.threads = request.threads;
   calibrate.command_line = request.command_line;

@@ -32,6 +32,7 @@ struct CharacteriseRequest {
   std::string mount_path;    // an earlier offsets.yaml; empty: the mount is estimated jointly
   int threads = 0;           // as calibrate's --threads
   std::string preset_name;   // the measured preset's name; empty: "<model>_measured"
+  std::string scanner_id;    // a session with scanners: the scanner to characterise
   std::vector<std::string> command_line;
 };
 

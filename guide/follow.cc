@@ -31,7 +31,11 @@ std::string LogSignature(const io::SessionSpec& session) {
 FollowEnd Follow(GuideSession* session, const FollowOptions& follow,
                  const std::function<void(const GuideReport&)>& show,
                  const std::function<void(const std::string&)>& waiting) {
-  const io::SessionSpec spec = io::ReadSession(session->options().session_path);
+  const GuideOptions& options = session->options();
+  const io::SessionSpec spec =
+      options.scanner_id.empty()
+          ? io::ReadSession(options.session_path)
+          : io::SessionForScannerId(io::ReadSession(options.session_path), options.scanner_id);
   const auto start = std::chrono::steady_clock::now();
   const auto period = std::chrono::duration<double>(follow.period_s > 0.0 ? follow.period_s : 1.0);
   std::string seen;

@@ -150,6 +150,7 @@ GuideReport AssessSession(const GuideOptions& options) { return GuideSession(opt
 GuideReport ReportOn(const pipeline::CalibrationResult& result, int max_next) {
   GuideReport report;
   report.session_name = result.session.name;
+  report.scanner_id = result.session.scanner_id;
   for (const calib::WallGeometry& wall : result.walls) report.wall_ids.push_back(wall.id);
   report.acceptance = result.options.acceptance;
   StopModel model = BaseModel(result);
@@ -231,6 +232,7 @@ GuideReport PlanSession(const GuideOptions& options, double budget_s) {
   options.Validate();
   pipeline::CalibrateRequest calibrate;
   calibrate.session_path = options.session_path;
+  calibrate.scanner_id = options.scanner_id;
   calibrate.config_path = options.config_path;
   calibrate.threads = options.threads;
   pipeline::CalibrationResult result;
@@ -243,6 +245,7 @@ GuideReport PlanSession(const GuideOptions& options, double budget_s) {
   result.walls = pipeline::TieSurveyAndFitWalls(result.session, result.options.solver).walls;
   GuideReport report;
   report.session_name = result.session.name;
+  report.scanner_id = result.session.scanner_id;
   for (const calib::WallGeometry& wall : result.walls) report.wall_ids.push_back(wall.id);
   report.acceptance = result.options.acceptance;
   const StopModel model = BaseModel(result);

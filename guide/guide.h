@@ -22,6 +22,9 @@ struct GuideOptions {
   std::string config_path;   // calibrate options (as calibrate's --config); empty: defaults
   int threads = 0;           // 0: every core
   int max_next = 3;          // stops to advise (1..3)
+  // A session with `scanners:`: the scanner to guide (--scanner ID); empty: a one-scanner
+  // session.
+  std::string scanner_id;
   // Throws io::InputError naming the first bad field (no session, max_next outside 1..3,
   // threads < 0).
   void Validate() const;
@@ -42,6 +45,7 @@ enum class NotYet { kNone, kNoScans, kNotDetermined, kBudgetTooShort };
 
 struct GuideReport {
   std::string session_name;
+  std::string scanner_id;  // a session with scanners: the scanner guided (--scanner); else empty
   std::vector<std::string> wall_ids;
   std::vector<StationSummary> stations;
   int64_t moving_scans = 0;  // scans taken while driving that the prediction uses

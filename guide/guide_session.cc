@@ -89,6 +89,7 @@ GuideReport GuideSession::Refresh() {
   pipeline::CalibrateRequest& request = s.request;
   if (!s.loaded) {
     request.session_path = options_.session_path;
+    request.scanner_id = options_.scanner_id;
     request.config_path = options_.config_path;
     request.preview = true;
     request.force = true;  // the σ along a weak direction, not a refusal

@@ -37,7 +37,8 @@ std::string JsonStop(const StopSpec& s) {
 
 std::string GuideText(const GuideReport& r) {
   std::ostringstream out;
-  out << "wallcal guide: session '" << r.session_name << "'\n";
+  out << "wallcal guide: session '" << r.session_name << "'"
+      << (r.scanner_id.empty() ? "" : ", scanner '" + r.scanner_id + "'") << "\n";
   if (r.plan) {
     out << Format("  plan       %.0f min budget: %zu stops, %.0f min\n", r.plan_budget_s / 60.0,
                   r.plan->stops.size(), r.plan->seconds / 60.0);

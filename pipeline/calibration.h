@@ -51,6 +51,9 @@ struct CalibrateRequest {
   // A session with `scanners:`: the index of the scanner this run calibrates alone
   // (io::SessionForScanner); -1 for a one-scanner session. RunSeveralScanners sets it.
   int scanner_index = -1;
+  // A session with `scanners:` given to a command that takes one scanner (guide,
+  // characterise): the id of that scanner (--scanner ID); empty: none chosen.
+  std::string scanner_id;
 };
 
 // The stages of a run, in order.

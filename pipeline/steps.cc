@@ -80,11 +80,14 @@ Setup LoadSessionAndOptions(const CalibrateRequest& request) {
   setup.session = io::ReadSession(request.session_path);
   if (request.scanner_index >= 0) {
     setup.session = io::SessionForScanner(setup.session, request.scanner_index);
+  } else if (!request.scanner_id.empty()) {
+    setup.session = io::SessionForScannerId(setup.session, request.scanner_id);
   } else if (!setup.session.scanners.empty()) {
-    throw io::InputError(io::Where(setup.session.file, setup.session.scanners.front().line,
-                                   "scanners: lists several scanners; expected scanner: (one) "
-                                   "for this command, or wallcal calibrate, which takes "
-                                   "scanners:"));
+    throw io::InputError(io::Where(
+        setup.session.file, setup.session.scanners.front().line,
+        "scanners: lists several scanners; expected --scanner ID for this command (ID one of " +
+            io::ScannerIds(setup.session) +
+            "), or wallcal calibrate, which takes them all"));
   }
   if (!request.config_path.empty()) setup.options = ReadCalibrateOptions(request.config_path);
   setup.options.Validate();

@@ -17,25 +17,6 @@ namespace wallcal::preflight {
 
 using namespace internal;  // the helpers shared by the inspect files
 
-namespace {
-
-// The one-scanner session of the scanner `id` of a `scanners:` session (scans need one).
-io::SessionSpec OneScanner(const io::SessionSpec& session, DumpKind kind, const std::string& id) {
-  std::string ids;
-  for (size_t k = 0; k < session.scanners.size(); ++k) {
-    if (session.scanners[k].id == id) return io::SessionForScanner(session, k);
-    ids += (k > 0 ? ", " : "") + session.scanners[k].id;
-  }
-  if (id.empty() && kind != DumpKind::kScans) return session;  // the shared GNSS, heading logs
-  throw io::InputError(io::Where(
-      session.file, session.scanners.front().line,
-      (id.empty() ? std::string("lists several scanners")
-                  : "has no scanner '" + id + "'") +
-          "; expected --scanner ID with ID one of " + ids));
-}
-
-}  // namespace
-
 void Dump(const std::string& path, DumpKind kind, std::ostream& out,
           const std::string& scanner_id) {
   std::string log_path = path;
@@ -47,12 +28,12 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out,
   }
   if (IsSessionPath(path)) {
     spec = io::ReadSession(path);
-    if (!spec->scanners.empty()) {
-      spec = OneScanner(*spec, kind, scanner_id);
-    } else if (!scanner_id.empty()) {
-      throw io::InputError(io::Where(spec->file, 1,
-                                     "has one scanner: (no scanners: list); --scanner applies "
-                                     "to a session with scanners:"));
+    if (!scanner_id.empty()) {
+      spec = io::SessionForScannerId(*spec, scanner_id);
+    } else if (!spec->scanners.empty() && kind == DumpKind::kScans) {
+      throw io::InputError(io::Where(spec->file, spec->scanners.front().line,
+                                     "lists several scanners; expected --scanner ID with ID "
+                                     "one of " + io::ScannerIds(*spec)));
     }
     log_path = kind == DumpKind::kGnss      ? spec->gnss_log
                : kind == DumpKind::kHeading ? spec->heading_log

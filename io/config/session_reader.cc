@@ -366,6 +366,28 @@ SessionSpec ReadSession(const std::string& path) {
   return spec;
 }
 
+std::string ScannerIds(const SessionSpec& session) {
+  std::string ids;
+  for (size_t k = 0; k < session.scanners.size(); ++k) {
+    ids += (k > 0 ? ", " : "") + session.scanners[k].id;
+  }
+  return ids;
+}
+
+SessionSpec SessionForScannerId(const SessionSpec& session, const std::string& id) {
+  if (session.scanners.empty()) {
+    throw InputError(Where(session.file, 1,
+                           "has one scanner: (no scanners: list); --scanner " + id +
+                               " applies to a session with scanners:"));
+  }
+  for (size_t k = 0; k < session.scanners.size(); ++k) {
+    if (session.scanners[k].id == id) return SessionForScanner(session, k);
+  }
+  throw InputError(Where(session.file, session.scanners.front().line,
+                         "has no scanner '" + id + "'; expected --scanner ID with ID one of " +
+                             ScannerIds(session)));
+}
+
 SessionSpec SessionForScanner(const SessionSpec& session, size_t index) {
   SessionSpec one = session;
   const ScannerSpec& scanner = session.scanners.at(index);

@@ -32,6 +32,14 @@ SessionSpec ReadSession(const std::string& path);
 // `scanners` empty; everything else (GNSS, heading, survey, walls) shared.
 SessionSpec SessionForScanner(const SessionSpec& session, size_t index);
 
+// The one-scanner session of the scanner `id` of a `scanners:` session (a command that takes
+// one scanner: guide, characterise, inspect --dump scans). Throws io::InputError naming the
+// session's scanners when `id` is not one of them, or when the session has no `scanners:`.
+SessionSpec SessionForScannerId(const SessionSpec& session, const std::string& id);
+
+// "front_left, front_right": the ids of a `scanners:` session, for messages.
+std::string ScannerIds(const SessionSpec& session);
+
 // Reads one scanner preset file (configs/scanners/NAME.yaml). `name` defaults to the file stem.
 ScannerPreset ReadScannerPreset(const std::string& file);
 

@@ -299,6 +299,44 @@ TEST(MultiScannerTest, InspectDumpsTheNamedScannersScansAndTheSessionsSurvey) {
   EXPECT_NE(survey.out.find("C1,"), std::string::npos) << survey.out;
 }
 
+// guide and characterise take one scanner: a session with scanners: names it (--scanner ID).
+// The guide's σ is calibrate's for that scanner alone (the one-scanner guide is held to 1 % of
+// calibrate's σ under default options, GuidePredictionTest), and the joint mount's σ is within
+// 3 % of the scanner's own (JointMountIsNoSurerThanEachScannersOwnRun; the --help says "a few
+// per cent").
+TEST(MultiScannerTest, GuideAndCharacteriseTakeOneScannerOfTheSessionByName) {
+  const std::string dir = TextSession().string();
+  const testing_support::ProgramRun unnamed = testing_support::RunWallcal({"guide", dir});
+  EXPECT_EQ(unnamed.exit_code, 2);
+  EXPECT_NE(unnamed.err.find("expected --scanner ID for this command (ID one of front_left, "
+                             "front_right)"),
+            std::string::npos)
+      << unnamed.err;
+  const testing_support::ProgramRun unknown =
+      testing_support::RunWallcal({"guide", dir, "--scanner", "rear"});
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("no scanner 'rear'"), std::string::npos) << unknown.err;
+  EXPECT_EQ(testing_support::RunWallcal({"characterise", dir, "--scanner", "rear"}).exit_code, 2);
+
+  const pipeline::SeveralScannersResult calibrated = Calibrate(TextSession());
+  ASSERT_EQ(calibrated.outcome, pipeline::SeveralOutcome::kAll) << calibrated.message;
+  for (const pipeline::ScannerRun& run : calibrated.scanners) {
+    const testing_support::ProgramRun guided =
+        testing_support::RunWallcal({"guide", dir, "--scanner", run.spec.id, "--json"});
+    ASSERT_EQ(guided.exit_code, 0) << guided.err;
+    testing_support::Json j;
+    ASSERT_TRUE(testing_support::JsonParser(guided.out).Parse(&j)) << guided.out;
+    const double own_x_m = std::sqrt(run.own_estimate.covariance(0, 0));
+    const double joint_x_m = std::sqrt(run.result.estimate.covariance(0, 0));
+    const double guided_x_m = j["predicted_sigma"]["x_m"].number;
+    EXPECT_NEAR(guided_x_m / own_x_m, 1.0, 0.01) << run.spec.id;
+    EXPECT_NEAR(guided_x_m / joint_x_m, 1.0, 0.03) << run.spec.id;
+    const testing_support::ProgramRun text =
+        testing_support::RunWallcal({"guide", dir, "--scanner", run.spec.id});
+    EXPECT_NE(text.out.find(", scanner '" + run.spec.id + "'"), std::string::npos) << text.out;
+  }
+}
+
 // One pose of offsets.yaml (a scanner_mounts or relative_mounts entry): x, y (m), yaw (rad)
 // and their σ from stddev.
 struct Pose {
