@@ -27,18 +27,13 @@
 #include "sim/simulation_config.h"
 #include "test/support/program_runner.h"
 #include "test/support/scratch_dir.h"
+#include "test/support/guide_expect.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string ReadAll(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // The "stations": N and "enough" of each JSON line.
 struct Update {
@@ -93,7 +88,7 @@ std::vector<Update> FollowGrowingSession(sim::SessionFormat format,
   std::vector<std::pair<fs::path, std::string>> files;
   for (const std::string& name : logs) {
     const fs::path path = dir / name;
-    const std::string content = ReadAll(path);
+    const std::string content = testing_support::ReadFile(path);
     files.emplace_back(path, content);
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(content.data(), static_cast<std::streamsize>(shares[0] * content.size()));
@@ -150,7 +145,7 @@ TEST(GuideSessionTest, ReadsATextScanLogOnFromWhereItStopped) {
   sim::WriteSimulatedSession(Sapporo(), 11, dir.string(), sim::SessionFormat::kText);
   std::vector<std::pair<fs::path, std::string>> files;
   for (const char* name : {"scans.clf", "gnss.nmea", "heading.nmea"}) {
-    files.emplace_back(dir / name, ReadAll(dir / name));
+    files.emplace_back(dir / name, testing_support::ReadFile(dir / name));
   }
   guide::GuideOptions options;
   options.session_path = dir.string();
@@ -191,9 +186,7 @@ TEST(GuideSessionTest, ReadsATextScanLogOnFromWhereItStopped) {
   // The scans read before the cut were detected with the gates of the first read's first pass,
   // the whole with those of its own: a scan or two at a station's edge may differ. With
   // thousands of observations per σ, that moves the σ by far less than 1 %.
-  EXPECT_NEAR(grown.predicted.sigma_x_m() / whole.predicted.sigma_x_m(), 1.0, 0.01);
-  EXPECT_NEAR(grown.predicted.sigma_y_m() / whole.predicted.sigma_y_m(), 1.0, 0.01);
-  EXPECT_NEAR(grown.predicted.sigma_yaw_rad() / whole.predicted.sigma_yaw_rad(), 1.0, 0.01);
+  testing_support::ExpectSameSigma(grown.predicted, whole.predicted);
   for (size_t i = 0; i < whole.stations.size(); ++i) {
     EXPECT_NEAR(grown.stations[i].scans, whole.stations[i].scans, 2) << "station " << i;
   }

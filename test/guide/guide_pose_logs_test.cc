@@ -20,23 +20,13 @@
 #include "sim/recording_session.h"
 #include "sim/simulation_config.h"
 #include "test/support/scratch_dir.h"
+#include "test/support/guide_expect.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string ReadAll(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void WriteUpTo(const fs::path& path, const std::string& content, size_t bytes) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc)
-      .write(content.data(), static_cast<std::streamsize>(bytes));
-}
 
 TEST(GuideSessionTest, ReadsThePoseLogsOnFromWhereTheyStopped) {
   const testing_support::ScratchDir scratch("wallcal_guide_pose_logs_");
@@ -46,8 +36,8 @@ TEST(GuideSessionTest, ReadsThePoseLogsOnFromWhereTheyStopped) {
                              11, dir.string(), sim::SessionFormat::kText);
   const fs::path scans_path = dir / "scans.clf", gnss_path = dir / "gnss.nmea",
                  heading_path = dir / "heading.nmea";
-  const std::string scans = ReadAll(scans_path), gnss = ReadAll(gnss_path),
-                    heading = ReadAll(heading_path);
+  const std::string scans = testing_support::ReadFile(scans_path), gnss = testing_support::ReadFile(gnss_path),
+                    heading = testing_support::ReadFile(heading_path);
   guide::GuideOptions options;
   options.session_path = dir.string();
   options.threads = 2;
@@ -68,18 +58,18 @@ TEST(GuideSessionTest, ReadsThePoseLogsOnFromWhereTheyStopped) {
   ASSERT_NE(gnss.substr(gga, gnss_cut - gga).find("GGA,"), std::string::npos);
   const size_t heading_cut = heading.find('\n', heading.size() / 2 + heading.size() / 50) + 9;
   ASSERT_NE(heading[heading_cut - 1], '\n');
-  WriteUpTo(scans_path, scans, scans_cut);
-  WriteUpTo(gnss_path, gnss, gnss_cut);
-  WriteUpTo(heading_path, heading, heading_cut);
+  testing_support::WriteFirstBytes(scans_path, scans, scans_cut);
+  testing_support::WriteFirstBytes(gnss_path, gnss, gnss_cut);
+  testing_support::WriteFirstBytes(heading_path, heading, heading_cut);
   guide::GuideSession session(options);
   const guide::GuideReport half = session.Refresh();
   EXPECT_EQ(session.last_read().gnss_log.from_byte, 0);
   EXPECT_EQ(session.last_read().heading_log.from_byte, 0);
   EXPECT_LT(half.stations.size(), whole.stations.size());
 
-  WriteUpTo(scans_path, scans, scans.size());
-  WriteUpTo(gnss_path, gnss, gnss.size());
-  WriteUpTo(heading_path, heading, heading.size());
+  testing_support::WriteFirstBytes(scans_path, scans, scans.size());
+  testing_support::WriteFirstBytes(gnss_path, gnss, gnss.size());
+  testing_support::WriteFirstBytes(heading_path, heading, heading.size());
   const guide::GuideReport grown = session.Refresh();
   const guide::ReadCounts& read = session.last_read();
   // Read on from the cut (the GNSS log's fell at a line end), the heading log from the start
@@ -97,9 +87,7 @@ TEST(GuideSessionTest, ReadsThePoseLogsOnFromWhereTheyStopped) {
   ASSERT_EQ(grown.stations.size(), whole.stations.size());
   // What the scans read before the cut keep (the first read's gates) moves the σ by far less
   // than 1 % and a station's scan count by a scan or two.
-  EXPECT_NEAR(grown.predicted.sigma_x_m() / whole.predicted.sigma_x_m(), 1.0, 0.01);
-  EXPECT_NEAR(grown.predicted.sigma_y_m() / whole.predicted.sigma_y_m(), 1.0, 0.01);
-  EXPECT_NEAR(grown.predicted.sigma_yaw_rad() / whole.predicted.sigma_yaw_rad(), 1.0, 0.01);
+  testing_support::ExpectSameSigma(grown.predicted, whole.predicted);
   for (size_t i = 0; i < whole.stations.size(); ++i) {
     EXPECT_NEAR(grown.stations[i].scans, whole.stations[i].scans, 2) << "station " << i;
   }
@@ -116,10 +104,10 @@ TEST(PoseLogFollowerTest, ReadsOneLogOnceForBoth) {
   const testing_support::ScratchDir scratch("wallcal_pose_logs_one_");
   const fs::path path = scratch.path() / "poses.nmea";
   const std::string sample =
-      ReadAll(std::string(WALLCAL_SOURCE_DIR) + "/samples/lms291-sapporo/gnss.nmea");
+      testing_support::ReadFile(std::string(WALLCAL_SOURCE_DIR) + "/samples/lms291-sapporo/gnss.nmea");
   const std::string headings = "1747031522.050 $HEHDT,35.0024,T*2F\n";
   const size_t cut = sample.find('\n', sample.size() / 2) + 1;
-  WriteUpTo(path, sample, cut);
+  testing_support::WriteFirstBytes(path, sample, cut);
   std::ofstream(path, std::ios::binary | std::ios::app) << headings;
   io::SessionSpec session;
   session.gnss_log = session.heading_log = path.string();

@@ -25,23 +25,13 @@
 #include "sim/recording_session.h"
 #include "sim/simulation_config.h"
 #include "test/support/scratch_dir.h"
+#include "test/support/guide_expect.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string ReadAll(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void WriteFirst(const fs::path& path, const std::string& content, size_t bytes) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc)
-      .write(content.data(), static_cast<std::streamsize>(bytes));
-}
 
 sim::SimulationConfig Sapporo() {
   sim::SimulationConfig config = sim::ReadSimulationConfig(
@@ -64,27 +54,27 @@ TEST_P(GuideResumeTest, ReadsARecordingOnFromWhereItStopped) {
   const fs::path dir = scratch.path();
   sim::WriteSimulatedSession(Sapporo(), 11, dir.string(), GetParam().format);
   const fs::path path = dir / GetParam().file;
-  const std::string content = ReadAll(path);
+  const std::string content = testing_support::ReadFile(path);
   guide::GuideOptions options;
   options.session_path = dir.string();
   options.threads = 2;
 
   // Cut inside the recording (a record half written), then a few bytes more (still inside it).
   const size_t cut = content.size() * 3 / 5 + 17;
-  WriteFirst(path, content, cut);
+  testing_support::WriteFirstBytes(path, content, cut);
   guide::GuideSession session(options);
   const guide::GuideReport part = session.Refresh();
   EXPECT_FALSE(session.last_read().incremental);
   EXPECT_EQ(session.last_read().scan_log_from_byte, 0);
   EXPECT_GE(part.stations.size(), 3u);
-  WriteFirst(path, content, cut + 5);
+  testing_support::WriteFirstBytes(path, content, cut + 5);
   const guide::GuideReport torn = session.Refresh();  // not an error: read next time
   EXPECT_TRUE(session.last_read().incremental);
   EXPECT_LE(session.last_read().scan_log_from_byte, static_cast<int64_t>(cut));
   EXPECT_EQ(torn.stations.size(), part.stations.size());
 
   // The same bytes, read by a fresh session: the reference for the grown one.
-  WriteFirst(path, content, content.size());
+  testing_support::WriteFirstBytes(path, content, content.size());
   const guide::GuideReport grown = session.Refresh();
   const guide::ReadCounts read = session.last_read();
   guide::GuideSession fresh_session(options);
@@ -106,15 +96,13 @@ TEST_P(GuideResumeTest, ReadsARecordingOnFromWhereItStopped) {
   // before the cut were detected with the gates of the first read's first pass; a scan or two
   // at a station's edge may differ, which moves the σ by far less than 1 %.
   EXPECT_EQ(grown.stations.size(), fresh.stations.size());
-  EXPECT_NEAR(grown.predicted.sigma_x_m() / fresh.predicted.sigma_x_m(), 1.0, 0.01);
-  EXPECT_NEAR(grown.predicted.sigma_y_m() / fresh.predicted.sigma_y_m(), 1.0, 0.01);
-  EXPECT_NEAR(grown.predicted.sigma_yaw_rad() / fresh.predicted.sigma_yaw_rad(), 1.0, 0.01);
+  testing_support::ExpectSameSigma(grown.predicted, fresh.predicted);
   for (size_t i = 0; i < fresh.stations.size() && i < grown.stations.size(); ++i) {
     EXPECT_NEAR(grown.stations[i].scans, fresh.stations[i].scans, 2) << "station " << i;
   }
 
   // A recording shorter than what was read (a new one under the same name): from its start.
-  WriteFirst(path, content, cut);
+  testing_support::WriteFirstBytes(path, content, cut);
   const guide::GuideReport again = session.Refresh();
   EXPECT_FALSE(session.last_read().incremental);
   EXPECT_EQ(session.last_read().scans_kept, 0);
@@ -140,24 +128,24 @@ TEST(GuideResumeGzipTest, ReadsAGzipScanLogOnFromWhereItStopped) {
   sim::WriteSimulatedSession(Sapporo(), 11, dir.string(), sim::SessionFormat::kText);
   const fs::path scans = dir / "scans.clf";
   {
-    const std::string text = ReadAll(scans);
+    const std::string text = testing_support::ReadFile(scans);
     gzFile out = gzopen(scans.string().c_str(), "wb6");
     ASSERT_NE(out, nullptr);
     ASSERT_EQ(gzwrite(out, text.data(), static_cast<unsigned>(text.size())),
               static_cast<int>(text.size()));
     gzclose(out);
   }
-  const std::string content = ReadAll(scans);
+  const std::string content = testing_support::ReadFile(scans);
   guide::GuideOptions options;
   options.session_path = dir.string();
   options.threads = 2;
   // The pose logs are whole: the scans' share is what grows.
-  WriteFirst(scans, content, content.size() * 3 / 5);
+  testing_support::WriteFirstBytes(scans, content, content.size() * 3 / 5);
   guide::GuideSession session(options);
   const guide::GuideReport part = session.Refresh();
   EXPECT_EQ(session.last_read().scan_log_from_byte, 0);
   EXPECT_GE(part.stations.size(), 3u);
-  WriteFirst(scans, content, content.size());
+  testing_support::WriteFirstBytes(scans, content, content.size());
   const guide::GuideReport grown = session.Refresh();
   const guide::ReadCounts read = session.last_read();
   guide::GuideSession fresh_session(options);
@@ -167,9 +155,7 @@ TEST(GuideResumeGzipTest, ReadsAGzipScanLogOnFromWhereItStopped) {
   EXPECT_GT(read.scans_kept, all_scans / 5);
   EXPECT_EQ(read.scans_kept + read.scans_detected, all_scans);
   EXPECT_EQ(grown.stations.size(), fresh.stations.size());
-  EXPECT_NEAR(grown.predicted.sigma_x_m() / fresh.predicted.sigma_x_m(), 1.0, 0.01);
-  EXPECT_NEAR(grown.predicted.sigma_y_m() / fresh.predicted.sigma_y_m(), 1.0, 0.01);
-  EXPECT_NEAR(grown.predicted.sigma_yaw_rad() / fresh.predicted.sigma_yaw_rad(), 1.0, 0.01);
+  testing_support::ExpectSameSigma(grown.predicted, fresh.predicted);
 }
 
 }  // namespace

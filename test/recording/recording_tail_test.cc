@@ -20,6 +20,7 @@
 #include "recording/writers/rosbag1_writer.h"
 #include "recording/writers/rosbag2_sqlite_writer.h"
 #include "test/support/scratch_dir.h"
+#include "test/support/scratch_files.h"
 
 namespace wallcal::recording {
 namespace {
@@ -83,18 +84,6 @@ void WriteMcap(const std::string& path, ChunkCompression compression) {
   writer.Close();
 }
 
-std::string ReadAll(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void WriteFirst(const fs::path& path, const std::string& content, size_t bytes) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc)
-      .write(content.data(), static_cast<std::streamsize>(bytes));
-}
-
 struct Case {
   const char* name;
   bool mcap;
@@ -122,10 +111,10 @@ TEST_P(RecordingTailTest, ReadsInPiecesWhatAWholeReadGives) {
   }
   ASSERT_EQ(whole.size(), static_cast<size_t>(kScans));
 
-  const std::string content = ReadAll(whole_path);
+  const std::string content = testing_support::ReadFile(whole_path);
   const fs::path growing = scratch.path() / (GetParam().mcap ? "growing.mcap" : "growing.bag");
   spec.scanner_log = growing.string();
-  WriteFirst(growing, content, 16);  // the magic, not yet a whole header record
+  testing_support::WriteFirstBytes(growing, content, 16);  // the magic, not yet a whole header record
   ASSERT_TRUE(ScanTail::Supports(growing.string()));
   ScanTail tail(spec, nullptr);
   std::vector<io::ScanRecord> read;
@@ -133,7 +122,7 @@ TEST_P(RecordingTailTest, ReadsInPiecesWhatAWholeReadGives) {
   // 37 pieces of odd sizes: their ends fall anywhere.
   uint64_t last_to = 0;
   for (size_t piece = 1; piece <= 37; ++piece) {
-    WriteFirst(growing, content, content.size() * piece / 37);
+    testing_support::WriteFirstBytes(growing, content, content.size() * piece / 37);
     const TailRead step = tail.ReadOn(&read);
     EXPECT_FALSE(step.restarted);
     EXPECT_EQ(step.from_byte, last_to);
@@ -149,7 +138,7 @@ TEST_P(RecordingTailTest, ReadsInPiecesWhatAWholeReadGives) {
   EXPECT_EQ(tail.ReadOn(&read).messages, 0);  // nothing new: nothing read
 
   // Shorter than what was read: from the start.
-  WriteFirst(growing, content, content.size() / 2);
+  testing_support::WriteFirstBytes(growing, content, content.size() / 2);
   std::vector<io::ScanRecord> again;
   const TailRead restart = tail.ReadOn(&again);
   EXPECT_TRUE(restart.restarted);

@@ -72,6 +72,13 @@ inline std::string WriteFile(const std::string& path, const std::string& content
   return path;
 }
 
+// The first `bytes` of `content` as the whole file at `path`: a log or recording still being
+// written, cut anywhere.
+inline std::string WriteFirstBytes(const std::string& path, const std::string& content,
+                                   size_t bytes) {
+  return WriteFile(path, content.substr(0, bytes));
+}
+
 // WriteFile(ScratchPath(name), content).
 inline std::string WriteScratchFile(const std::string& name, const std::string& content) {
   return WriteFile(ScratchPath(name), content);
