@@ -31,7 +31,7 @@ struct AlignmentOptions {
   // The slices of the joint adjustment of several scanners, at most this long (each
   // segment_max_s slice split into equal parts, calib/gnss_slices.h). That adjustment carries
   // each GNSS fix's white noise as a parameter, so a scan's own noise there is its line fit's
-  // alone (0.6–1.4 mm on the benchmarks), and the RTK error's wander within a slice, σ_b √(Δ/3τ)
+  // alone (0.6–1.4 mm on a two-scanner stop-and-go benchmark session), and the RTK error's wander within a slice, σ_b √(Δ/3τ)
   // (0.56 mm at 0.25 s, 0.25 mm at 0.05 s for σ_b 15 mm, τ 60 s), must stay well below it: with
   // 0.25 s slices the two-scanner stop-and-go mounts' x was 1.16 × its bound with RMS(err/σ)
   // 1.23, with 0.05 s 1.04 and 1.01 (docs/results.md).
