@@ -233,12 +233,13 @@ int CalibrateSeveral(wallcal::pipeline::CalibrateRequest request, bool allow_par
       pipeline::RunSeveralScanners(request, allow_partial, progress);
   progress_line->Close();
   summary_out << wallcal::io::EscapeControl(outputs::FormatSeveralSummary(several), true);
-  // One report per scanner, in REPORT/ID/ (its own run; the joint mount and σ).
+  // One report per scanner, in REPORT/ID/ (its own run, with the joint mount and σ).
   for (const pipeline::ScannerRun& run : several.scanners) {
     if (report_dir.empty()) break;
     try {
-      const std::string path = outputs::WriteReport(
-          run.result, (std::filesystem::path(report_dir) / run.spec.id).string());
+      const std::string path =
+          outputs::WriteReport(run.own, (std::filesystem::path(report_dir) / run.spec.id).string(),
+                               run.joint ? &*run.joint : nullptr);
       summary_out << "  report     " << wallcal::io::EscapeControl(path) << "\n";
     } catch (const std::exception& error) {
       std::cerr << "calibrate: warning: report of scanner '" << run.spec.id
@@ -427,10 +428,10 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
                   << wallcal::io::EscapeControl(error.what()) << "\n";
       }
     }
-    if (!result.estimate.usable) {
+    if (!result.solve.estimate.usable) {
       std::cerr << "calibrate: "
-                << wallcal::io::EscapeControl(result.session.file + ": mount not determined: " +
-                                              result.estimate.message)
+                << wallcal::io::EscapeControl(result.loaded.session.file +
+                                              ": mount not determined: " + result.Why())
                 << "\n";
       return 1;
     }
@@ -439,8 +440,9 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
                  summary_out);
     if (emit) {
       summary_out << std::flush;
-      std::cout << outputs::FormatEmit(*emit, result.estimate, result.session.antenna_in_base, frames,
-                                       result.session.scanner_z_m, &result.decision)
+      std::cout << outputs::FormatEmit(*emit, result.solve.estimate,
+                                       result.loaded.session.antenna_in_base, frames,
+                                       result.loaded.session.scanner_z_m, &result.decided.decision)
                 << std::flush;
     }
     return 0;

@@ -121,13 +121,14 @@ int wallcal::apps::RunCharacterise(int argc, char** argv) {
     }
     if (!result.ok()) return 1;
     if (output.empty()) {
-      const fs::path dir = fs::path(result.calibration.session.dir) / "scanners";
+      const fs::path dir = fs::path(result.calibration.loaded.session.dir) / "scanners";
       fs::create_directories(dir);
       output = (dir / (result.preset.name + ".yaml")).string();
       wallcal::io::CheckOutputPath("--output", output, inputs);
     }
     const std::vector<std::string> header = {
-        "Measured by wallcal characterise on session '" + result.calibration.session.name + "'.",
+        "Measured by wallcal characterise on session '" + result.calibration.loaded.session.name +
+            "'.",
         "Use it with scanner.model: " + result.preset.name +
             " (calibrate finds it in the session's scanners/ folder or a preset folder).",
         "sigma of k, b and the noise: see the summary printed with it."};

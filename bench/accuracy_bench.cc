@@ -134,15 +134,15 @@ std::vector<CrbObservation> CrbObservationsOf(const pipeline::CalibrationResult&
   truth.y_m = config.mount_y_m;
   truth.yaw_rad = config.mount_yaw_rad;
   std::vector<CrbObservation> out;
-  for (const calib::WallObservation& o : result.observations) {
+  for (const calib::WallObservation& o : result.solve.observations) {
     CrbObservation c;
     // pose.stamp_s = logged scan stamp + session time offset (0 in simulated sessions); the
     // logger stamps a scan scanner_time_offset_s early.
     c.t_s = o.pose.stamp_s - config.start_time_s + config.scanner_time_offset_s -
             config.scanner_latency_s;
     c.surveyed_wall = o.wall_index;
-    if (o.wall_index >= 0 && o.wall_index < static_cast<int>(result.walls.size())) {
-      const calib::WallGeometry& wall = result.walls[o.wall_index];
+    if (o.wall_index >= 0 && o.wall_index < static_cast<int>(result.survey.walls.size())) {
+      const calib::WallGeometry& wall = result.survey.walls[o.wall_index];
       c.residual = Eigen::Vector2d(
           o.rho_m - calib::PredictRho(o, wall, truth),
           std::remainder(o.theta_rad - calib::PredictTheta(o, wall, truth), 2.0 * kPi));
@@ -226,18 +226,19 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
         continue;
       }
       s.seconds += result.seconds;
-      s.observations += static_cast<double>(result.observations.size());
-      for (const calib::WallObservation& o : result.observations) {
+      s.observations += static_cast<double>(result.solve.observations.size());
+      for (const calib::WallObservation& o : result.solve.observations) {
         s.lines += 1.0;
         if (o.residual_rms_m > preset.range_sigma_m) {
           s.lines_raised += 1.0;
           s.raise_factor_sum += o.residual_rms_m / preset.range_sigma_m;
         }
       }
-      s.rejected += result.estimate.observations_rejected;
-      s.moving_scans += static_cast<double>(result.scans_used_moving);
-      s.standing_scans += static_cast<double>(result.scans_used - result.scans_used_moving);
-      const solvers::MountEstimate& e = result.estimate;
+      s.rejected += result.solve.estimate.observations_rejected;
+      s.moving_scans += static_cast<double>(result.finish.coverage.scans_used_moving);
+      s.standing_scans += static_cast<double>(result.finish.coverage.scans_used -
+                                              result.finish.coverage.scans_used_moving);
+      const solvers::MountEstimate& e = result.solve.estimate;
       const double est[3] = {e.mount.x_m, e.mount.y_m, e.mount.yaw_rad};
       double err[3], sig[3];
       for (int a = 0; a < 3; ++a) {
@@ -248,8 +249,8 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
       if (csv != nullptr) {
         std::fprintf(csv, "%s,%llu,%s,%d,%d,%.6f,%.6f,%.8f,%.6f,%.6f,%.8f,%.6f,%.3f\n",
                      scenario.name.c_str(), static_cast<unsigned long long>(seed), methods[m],
-                     e.usable ? 1 : 0, static_cast<int>(result.observations.size()), err[0],
-                     err[1], err[2], sig[0], sig[1], sig[2], result.time_offset_s,
+                     e.usable ? 1 : 0, static_cast<int>(result.solve.observations.size()), err[0],
+                     err[1], err[2], sig[0], sig[1], sig[2], result.solve.scanner_offset.value_s,
                      result.seconds);
       }
       if (!e.usable) {
@@ -261,35 +262,35 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
         s.axis[a].errors.push_back(err[a]);
         s.axis[a].sigmas.push_back(sig[a]);
       }
-      const double mapped_s =
-          result.gnss_epochs.status == calib::EpochMappingStatus::kMapped
-              ? result.gnss_epochs.offset_s
-              : 0.0;
-      if (result.time_offset_sigma_s > 0.0) {
+      const double mapped_s = result.poses.gnss_epochs.status == calib::EpochMappingStatus::kMapped
+                                  ? result.poses.gnss_epochs.offset_s
+                                  : 0.0;
+      if (result.solve.scanner_offset.sigma_s > 0.0) {
         s.mapped_s.push_back(mapped_s);
-        s.time_offsets_s.push_back(result.time_offset_s);
-        s.time_offset_sigmas_s.push_back(result.time_offset_sigma_s);
+        s.time_offsets_s.push_back(result.solve.scanner_offset.value_s);
+        s.time_offset_sigmas_s.push_back(result.solve.scanner_offset.sigma_s);
       }
-      if (result.heading_delay.status != pipeline::DelayStatus::kNotEstimated) {
-        s.heading_delay_errors_s.push_back(result.heading_delay.value_s - config.heading_latency_s +
-                                     mapped_s);  // its error, as a delay after the true epochs
-        s.heading_delay_sigmas_s.push_back(result.heading_delay.sigma_s);
-        if (result.heading_delay.status == pipeline::DelayStatus::kDetermined) {
+      if (result.solve.heading_delay.status != pipeline::DelayStatus::kNotEstimated) {
+        s.heading_delay_errors_s.push_back(
+            result.solve.heading_delay.value_s - config.heading_latency_s +
+            mapped_s);  // its error, as a delay after the true epochs
+        s.heading_delay_sigmas_s.push_back(result.solve.heading_delay.sigma_s);
+        if (result.solve.heading_delay.status == pipeline::DelayStatus::kDetermined) {
           ++s.heading_delay_determined;
         }
-        if (result.time_offset_sigma_s > 0.0) {
+        if (result.solve.scanner_offset.sigma_s > 0.0) {
           const DelayTruth true_delays = TrueDelays(config, mapped_s);
-          const Eigen::Matrix2d& tc = result.estimate.time_covariance;
-          s.turn_timing_errors_s.push_back(result.time_offset_s + result.heading_delay.value_s -
-                                           true_delays.scanner_offset_s -
-                                           true_delays.heading_delay_s);
+          const Eigen::Matrix2d& tc = result.solve.estimate.time_covariance;
+          s.turn_timing_errors_s.push_back(
+              result.solve.scanner_offset.value_s + result.solve.heading_delay.value_s -
+              true_delays.scanner_offset_s - true_delays.heading_delay_s);
           s.turn_timing_sigmas_s.push_back(
               std::sqrt(std::max(0.0, tc(0, 0) + tc(1, 1) + 2.0 * tc(0, 1))));
         }
       }
-      if (result.gnss_epochs.status == calib::EpochMappingStatus::kMapped) {
-        s.gnss_latencies_s.push_back(result.gnss_epochs.offset_s);
-        s.gnss_jitters_s.push_back(result.gnss_epochs.jitter_s);
+      if (result.poses.gnss_epochs.status == calib::EpochMappingStatus::kMapped) {
+        s.gnss_latencies_s.push_back(result.poses.gnss_epochs.offset_s);
+        s.gnss_jitters_s.push_back(result.poses.gnss_epochs.jitter_s);
       }
       if (m == 0) {
         // The bound for the observations calibrate extracted in this run, at the truth.
@@ -305,7 +306,7 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
           crb_obs += crb.observations_used;
           crb_subsampled += crb.subsampled;
           const bool any_moving =
-              std::any_of(result.observations.begin(), result.observations.end(),
+              std::any_of(result.solve.observations.begin(), result.solve.observations.end(),
                           [](const calib::WallObservation& o) { return !o.pose.stationary; });
           if (scenario.moving || any_moving) {
             const CrbResult with_offset =
@@ -319,7 +320,7 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
           std::map<std::pair<int, int>, std::vector<Eigen::Vector2d>> groups;  // (moving, wall)
           for (size_t k = 0; k < obs.size(); ++k) {
             if (!obs[k].has_residual) continue;
-            groups[{result.observations[k].pose.stationary ? 0 : 1, obs[k].surveyed_wall}]
+            groups[{result.solve.observations[k].pose.stationary ? 0 : 1, obs[k].surveyed_wall}]
                 .push_back(obs[k].residual);
           }
           std::printf("\nResiduals at the true mount, %s seed %llu (observed − predicted):\n",

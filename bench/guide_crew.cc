@@ -62,12 +62,14 @@ bool Calibrate(const sim::SimulationConfig& base, const std::vector<sim::SimStop
   const pipeline::CalibrationResult result = pipeline::RunCalibration(request);
   outcome->stations = static_cast<int>(stops.size());
   outcome->seconds = SessionSeconds(stops);
-  const pipeline::AcceptanceOptions& a = result.options.acceptance;
-  if (result.estimate.usable) {
-    for (int k = 0; k < 3; ++k) outcome->sigma[k] = std::sqrt(result.estimate.covariance(k, k));
+  const pipeline::AcceptanceOptions& a = result.loaded.options.acceptance;
+  if (result.solve.estimate.usable) {
+    for (int k = 0; k < 3; ++k)
+      outcome->sigma[k] = std::sqrt(result.solve.estimate.covariance(k, k));
   }
-  outcome->accepted = result.estimate.usable && !result.estimate.forced &&
-                      outcome->sigma[0] <= a.max_sigma_xy_m && outcome->sigma[1] <= a.max_sigma_xy_m &&
+  outcome->accepted = result.solve.estimate.usable && !result.solve.estimate.forced &&
+                      outcome->sigma[0] <= a.max_sigma_xy_m &&
+                      outcome->sigma[1] <= a.max_sigma_xy_m &&
                       outcome->sigma[2] <= a.max_sigma_yaw_rad;
   return outcome->accepted;
 }

@@ -143,16 +143,16 @@ std::vector<CrbObservation> ObservationsAtTruth(const pipeline::SeveralScannersR
                                                 const std::vector<solvers::Mount>& truth) {
   std::vector<CrbObservation> out;
   for (size_t k = 0; k < result.scanners.size(); ++k) {
-    const pipeline::CalibrationResult& run = result.scanners[k].result;
-    for (const calib::WallObservation& o : run.observations) {
-      if (o.wall_index < 0 || o.wall_index >= static_cast<int>(run.walls.size())) continue;
+    const pipeline::CalibrationResult& run = result.scanners[k].own;
+    for (const calib::WallObservation& o : run.solve.observations) {
+      if (o.wall_index < 0 || o.wall_index >= static_cast<int>(run.survey.walls.size())) continue;
       CrbObservation c;
       // The logger stamps a scan its latency (and the session's clock offset) after it was taken.
       c.t_s = o.pose.stamp_s - own[k].start_time_s + own[k].scanner_time_offset_s -
               own[k].scanner_latency_s;
       c.surveyed_wall = o.wall_index;
       c.scanner = static_cast<int>(k);
-      const calib::WallGeometry& wall = run.walls[o.wall_index];
+      const calib::WallGeometry& wall = run.survey.walls[o.wall_index];
       c.residual = Eigen::Vector2d(
           o.rho_m - calib::PredictRho(o, wall, truth[k]),
           std::remainder(o.theta_rad - calib::PredictTheta(o, wall, truth[k]), 2.0 * kPi));
@@ -239,19 +239,19 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
       }
     }
     for (size_t k = 0; k < scanners; ++k) {
-      const solvers::MountEstimate& e = result.scanners[k].result.estimate;
+      const pipeline::JointScannerResult& joint = *result.scanners[k].joint;
       for (int axis = 0; axis < 3; ++axis) {
-        const double error = axis == 2 ? WrapAngle(Axis(e.mount, axis) - Axis(truth[k], axis))
-                                       : Axis(e.mount, axis) - Axis(truth[k], axis);
-        mount_stats[3 * k + axis].Add(error, std::sqrt(e.covariance(axis, axis)));
-        const double own_error = Axis(result.scanners[k].own_estimate.mount, axis) -
-                                 Axis(truth[k], axis);
+        const double error = axis == 2 ? WrapAngle(Axis(joint.mount, axis) - Axis(truth[k], axis))
+                                       : Axis(joint.mount, axis) - Axis(truth[k], axis);
+        mount_stats[3 * k + axis].Add(error, std::sqrt(joint.covariance(axis, axis)));
+        const double own_error =
+            Axis(result.scanners[k].own.solve.estimate.mount, axis) - Axis(truth[k], axis);
         mount_stats[3 * k + axis].own_error2 += own_error * own_error;
       }
     }
     const solvers::RelativeMount& rel = result.relative.front().mount;
     const solvers::RelativeMount differenced = solvers::RelativeMountOf(
-        result.scanners[0].own_estimate.mount, result.scanners[1].own_estimate.mount,
+        result.scanners[0].own.solve.estimate.mount, result.scanners[1].own.solve.estimate.mount,
         Eigen::Matrix<double, 6, 6>::Zero());
     for (int axis = 0; axis < 3; ++axis) {
       const double error = Axis(rel.from_T_to, axis) - Axis(relative_truth.from_T_to, axis);
@@ -263,10 +263,10 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
     if (csv != nullptr) {
       std::fprintf(csv, "%s,%llu", scenario.name.c_str(), static_cast<unsigned long long>(seed));
       for (size_t k = 0; k < scanners; ++k) {
-        const solvers::MountEstimate& e = result.scanners[k].result.estimate;
+        const pipeline::JointScannerResult& joint = *result.scanners[k].joint;
         for (int axis = 0; axis < 3; ++axis) {
-          std::fprintf(csv, ",%.9g,%.9g", Axis(e.mount, axis) - Axis(truth[k], axis),
-                       std::sqrt(e.covariance(axis, axis)));
+          std::fprintf(csv, ",%.9g,%.9g", Axis(joint.mount, axis) - Axis(truth[k], axis),
+                       std::sqrt(joint.covariance(axis, axis)));
         }
       }
       for (int axis = 0; axis < 3; ++axis) {

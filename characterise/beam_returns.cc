@@ -54,8 +54,8 @@ WallHit HitWall(const Ray& ray, const calib::WallGeometry& wall) {
 }
 
 BeamSet CollectBeams(const pipeline::CalibrationResult& calibration, const calib::Mount& mount) {
-  const io::ScannerPreset& preset = calibration.preset;
-  const solvers::MountEstimate& estimate = calibration.estimate;
+  const io::ScannerPreset& preset = calibration.loaded.preset;
+  const solvers::MountEstimate& estimate = calibration.solve.estimate;
   BeamSet set;
 
   // Stations: the dwells with standing observations, their mean pose. Scans → station.
@@ -71,7 +71,7 @@ BeamSet CollectBeams(const pipeline::CalibrationResult& calibration, const calib
   };
   std::vector<Sum> sums;
   double first_s = std::numeric_limits<double>::infinity(), last_s = -first_s;
-  for (const calib::WallObservation& o : calibration.observations) {
+  for (const calib::WallObservation& o : calibration.solve.observations) {
     if (!o.pose.stationary || o.pose.segment < 0) continue;
     auto [it, added] = station_of_segment.emplace(o.pose.segment, static_cast<int>(sums.size()));
     if (added) sums.push_back(Sum{});
@@ -104,17 +104,16 @@ BeamSet CollectBeams(const pipeline::CalibrationResult& calibration, const calib
     station.time_s = 0.5 * (sum.t0 + sum.t1) - first_s;
     station.dwell_s = sum.t1 - sum.t0;
     const double sigma = sum.sigma / sum.n;
-    station.gnss_sigma_m =
-        sigma > 0.0 && calibration.options.solver.use_gst_sigma
-            ? sigma
-            : std::hypot(calibration.options.solver.gnss_bias_sigma_m,
-                         calibration.options.solver.gnss_white_sigma_m);
+    station.gnss_sigma_m = sigma > 0.0 && calibration.loaded.options.solver.use_gst_sigma
+                               ? sigma
+                               : std::hypot(calibration.loaded.options.solver.gnss_bias_sigma_m,
+                                            calibration.SolverInUse().gnss_white_sigma_m);
     set.stations.push_back(station);
   }
 
   // The scans again, in file order: the index is the detection pass's scan_index.
   const recording::ScanOpener open =
-      recording::MakeScanOpener(calibration.session, &calibration.preset);
+      recording::MakeScanOpener(calibration.loaded.session, &calibration.loaded.preset);
   std::unique_ptr<io::ScanSource> source = open();
   io::ScanRecord scan;
   int index = -1;
@@ -132,8 +131,8 @@ BeamSet CollectBeams(const pipeline::CalibrationResult& calibration, const calib
       int best = -1;
       WallHit best_hit{kNaN, kNaN, kNaN};
       BeamKind kind = BeamKind::kOnWall;
-      for (size_t w = 0; w < calibration.walls.size(); ++w) {
-        const calib::WallGeometry& wall = calibration.walls[w];
+      for (size_t w = 0; w < calibration.survey.walls.size(); ++w) {
+        const calib::WallGeometry& wall = calibration.survey.walls[w];
         const WallHit hit = HitWall(ray, wall);
         if (!std::isfinite(hit.range_m) || hit.range_m >= preset.max_range_m) continue;
         const double length_m = (wall.end_b_local - wall.end_a_local).norm();

@@ -50,15 +50,16 @@ Characterisation Characterise(const CharacteriseRequest& request) {
   calibrate.force = given_mount.has_value();
   result.calibration = pipeline::RunCalibration(calibrate);
   const pipeline::CalibrationResult& calibration = result.calibration;
-  const io::ScannerPreset& preset = calibration.preset;
-  result.warnings = pipeline::Messages(calibration.warnings);
+  const io::ScannerPreset& preset = calibration.loaded.preset;
+  result.warnings = pipeline::Messages(calibration.AllWarnings());
 
-  if (calibration.observations.empty() || (!given_mount && !calibration.estimate.usable)) {
+  if (calibration.solve.observations.empty() ||
+      (!given_mount && !calibration.solve.estimate.usable)) {
     Refuse(&result, Undetermined::kCalibrationFailed,
            "the session did not give " +
                std::string(given_mount ? "wall observations" : "a mount") + ": " +
-               (calibration.estimate.message.empty() ? std::string("no wall found in the scans")
-                                                     : calibration.estimate.message) +
+               (calibration.Why().empty() ? std::string("no wall found in the scans")
+                                          : calibration.Why()) +
                (given_mount ? "" : " (or pass a calibrated mount with --mount OFFSETS.yaml)"));
     return result;
   }
@@ -81,7 +82,7 @@ Characterisation Characterise(const CharacteriseRequest& request) {
   } else {
     // Estimated here, jointly with the range model: start at calibrate's mount (found with the
     // preset's range correction), loose prior (10 cm, 1°) so that the beams decide.
-    setup.mount_prior = calibration.estimate.mount;
+    setup.mount_prior = calibration.solve.estimate.mount;
     setup.mount_prior_covariance = Eigen::Vector3d(0.01, 0.01, std::pow(kDegToRad, 2)).asDiagonal();
   }
 
@@ -98,11 +99,11 @@ Characterisation Characterise(const CharacteriseRequest& request) {
   const double quantum_m = RangeQuantum(beams, &quantum_share);
 
   setup.beams = &beams;
-  setup.walls = &calibration.walls;
-  setup.gnss_tau_s = calibration.options.solver.gnss_bias_tau_s;
-  setup.heading_sigma_rad = calibration.options.solver.heading_sigma_rad;
-  setup.gnss_white_sigma_m = calibration.options.solver.gnss_white_sigma_m;
-  setup.gnss_bias_sigma_m = calibration.options.solver.gnss_bias_sigma_m;
+  setup.walls = &calibration.survey.walls;
+  setup.gnss_tau_s = calibration.loaded.options.solver.gnss_bias_tau_s;
+  setup.heading_sigma_rad = calibration.SolverInUse().heading_sigma_rad;
+  setup.gnss_white_sigma_m = calibration.SolverInUse().gnss_white_sigma_m;
+  setup.gnss_bias_sigma_m = calibration.loaded.options.solver.gnss_bias_sigma_m;
   setup.quantum_m = quantum_m;
   setup.angular_step_rad = std::abs(preset.angular_step_rad);
   setup.start_n = 1.0 / preset.range_scale_k;
@@ -121,7 +122,7 @@ Characterisation Characterise(const CharacteriseRequest& request) {
     bool first = true;
     for (size_t s = 0; s < beams.stations.size(); ++s) {
       if (wall_of_station[s] < 0) continue;
-      const calib::WallGeometry& wall = calibration.walls[wall_of_station[s]];
+      const calib::WallGeometry& wall = calibration.survey.walls[wall_of_station[s]];
       const Ray ray = BeamRay(beams.stations[s], mount, 0.0);
       const double d = std::abs(wall.offset_m - wall.normal_local.dot(ray.origin));
       result.distance_min_m = first ? d : std::min(result.distance_min_m, d);
@@ -213,8 +214,8 @@ Characterisation Characterise(const CharacteriseRequest& request) {
   result.preset = preset;
   result.preset.name = request.preset_name.empty() ? preset.name + "_measured" : request.preset_name;
   result.preset.source = "measured by wallcal characterise " + std::string(io::kToolVersion) +
-                         " on session '" + calibration.session.name + "' (" +
-                         calibration.session.file + ") at " + NowUtcIso8601();
+                         " on session '" + calibration.loaded.session.name + "' (" +
+                         calibration.loaded.session.file + ") at " + NowUtcIso8601();
   result.preset.range_scale_k = model.k.value;
   result.preset.range_offset_b_m = model.b_m.value;
   result.preset.sim_scale_n = model.n.value;

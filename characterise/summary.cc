@@ -22,8 +22,8 @@ std::string Summary(const Characterisation& r) {
   std::ostringstream out;
   const RangeModel& m = r.model;
   const ScannerStats& s = r.stats;
-  out << "characterise: session '" << r.calibration.session.name << "', scanner preset '"
-      << r.calibration.preset.name << "'\n";
+  out << "characterise: session '" << r.calibration.loaded.session.name << "', scanner preset '"
+      << r.calibration.loaded.preset.name << "'\n";
   out << Format("  wall returns: %d fitted, %d rejected (> 4 sigma), %d stations, %.1f-%.1f m, "
                 "%.0f-%.0f deg incidence, %.0f s\n",
                 m.beams_used, m.beams_rejected, m.stations, r.distance_min_m, r.distance_max_m,

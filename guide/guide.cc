@@ -13,7 +13,7 @@
 #include "guide/guide_session.h"
 #include "io/input_file.h"
 #include "pipeline/calibration.h"
-#include "pipeline/steps.h"
+#include "pipeline/session.h"
 
 namespace wallcal::guide {
 namespace {
@@ -38,14 +38,15 @@ std::vector<double> Sides(const std::vector<calib::WallGeometry>& walls,
 
 StopModel BaseModel(const pipeline::CalibrationResult& result) {
   StopModel model;
-  model.walls = result.walls;
-  model.preset = result.preset;
-  model.solver = result.options.solver;
-  model.slice_s = result.options.alignment.segment_max_s;
-  model.dwell_guard_s = result.options.alignment.dwell_guard_s;
-  if (result.session.mount_guess) {
-    model.mount = calib::Mount{result.session.mount_guess->x_m, result.session.mount_guess->y_m,
-                               result.session.mount_guess->yaw_rad};
+  model.walls = result.survey.walls;
+  model.preset = result.loaded.preset;
+  model.solver = result.SolverInUse();
+  model.slice_s = result.loaded.options.alignment.segment_max_s;
+  model.dwell_guard_s = result.loaded.options.alignment.dwell_guard_s;
+  if (result.loaded.session.mount_guess) {
+    model.mount =
+        calib::Mount{result.loaded.session.mount_guess->x_m, result.loaded.session.mount_guess->y_m,
+                     result.loaded.session.mount_guess->yaw_rad};
   }
   model.side.assign(model.walls.size(), 1.0);
   return model;
@@ -64,10 +65,10 @@ std::vector<StationSummary> SummariseStations(const pipeline::CalibrationResult&
     int last_scan = -1;
   };
   std::map<int, Accumulator> by_station;
-  for (const calib::WallObservation& o : result.observations) {
+  for (const calib::WallObservation& o : result.solve.observations) {
     if (!o.pose.stationary || o.pose.segment < 0) continue;
     Accumulator& a = by_station[o.pose.segment];
-    const calib::WallGeometry& wall = result.walls[o.wall_index];
+    const calib::WallGeometry& wall = result.survey.walls[o.wall_index];
     const double signed_distance = wall.offset_m - wall.normal_local.dot(o.pose.antenna_local_m);
     const double side = signed_distance >= 0 ? 1.0 : -1.0;
     const double angle = WrapAngle(
@@ -149,23 +150,23 @@ GuideReport AssessSession(const GuideOptions& options) { return GuideSession(opt
 
 GuideReport ReportOn(const pipeline::CalibrationResult& result, int max_next) {
   GuideReport report;
-  report.session_name = result.session.name;
-  report.scanner_id = result.session.scanner_id;
-  for (const calib::WallGeometry& wall : result.walls) report.wall_ids.push_back(wall.id);
-  report.acceptance = result.options.acceptance;
+  report.session_name = result.loaded.session.name;
+  report.scanner_id = result.loaded.session.scanner_id;
+  for (const calib::WallGeometry& wall : result.survey.walls) report.wall_ids.push_back(wall.id);
+  report.acceptance = result.loaded.options.acceptance;
   StopModel model = BaseModel(result);
   double first_s = 1e300, last_s = -1e300;
-  for (const calib::WallObservation& o : result.observations) {
+  for (const calib::WallObservation& o : result.solve.observations) {
     first_s = std::min(first_s, o.pose.stamp_s);
     last_s = std::max(last_s, o.pose.stamp_s);
     if (!o.pose.stationary) ++report.moving_scans;
   }
-  if (result.observations.empty()) first_s = last_s = 0.0;
+  if (result.solve.observations.empty()) first_s = last_s = 0.0;
   report.logged_s = last_s - first_s;
   report.stations = SummariseStations(result, first_s, &model);
-  model.side = Sides(model.walls, result.observations);
+  model.side = Sides(model.walls, result.solve.observations);
 
-  const solvers::MountEstimate& estimate = result.estimate;
+  const solvers::MountEstimate& estimate = result.solve.estimate;
   const solvers::WarmStart* warm = estimate.solution_state.get();
   Evidence evidence;
   if (estimate.usable && warm != nullptr) {
@@ -173,7 +174,7 @@ GuideReport ReportOn(const pipeline::CalibrationResult& result, int max_next) {
     model.wall_deltas = warm->wall_deltas;
     model.heading_drift_rad_per_s = warm->heading_drift_rad_per_s;
     model.heading_reference_s = estimate.heading_reference_s;
-    analysis::ThinnedObservations thin = analysis::ThinForRefits(result.observations);
+    analysis::ThinnedObservations thin = analysis::ThinForRefits(result.solve.observations);
     evidence.observations = std::move(thin.observations);
     evidence.weights.assign(evidence.observations.size(), thin.stride);
     evidence.warm = warm;
@@ -189,25 +190,27 @@ GuideReport ReportOn(const pipeline::CalibrationResult& result, int max_next) {
     }
     report.predicted = PredictMount(model, evidence);
   }
-  if (!result.observations.empty()) {
-    const calib::WallObservation& o = result.observations.front();
+  if (!result.solve.observations.empty()) {
+    const calib::WallObservation& o = result.solve.observations.front();
     const int slice = calib::GnssSegment(o);
     model.slice_start_s = o.pose.stamp_s - (slice + 0.5) * model.slice_s;
-    model.gnss_sigma_m = result.observations.back().pose.gnss_sigma_m;
-    model.gnss_period_s = result.observations.back().pose.gnss_period_s;
-    model.fit_scale = FitScale(model, result.observations);
-    for (const calib::WallObservation& ob : result.observations) {
+    model.gnss_sigma_m = result.solve.observations.back().pose.gnss_sigma_m;
+    model.gnss_period_s = result.solve.observations.back().pose.gnss_period_s;
+    model.fit_scale = FitScale(model, result.solve.observations);
+    for (const calib::WallObservation& ob : result.solve.observations) {
       model.next_station_id = std::max(model.next_station_id, ob.pose.segment + 1);
     }
   }
 
   if (!report.predicted.known) {
-    report.not_yet = result.observations.empty() ? NotYet::kNoScans : NotYet::kNotDetermined;
+    report.not_yet = result.solve.observations.empty() ? NotYet::kNoScans : NotYet::kNotDetermined;
     report.message = estimate.message.empty() ? "the data do not determine the mount yet"
                                               : estimate.message;
   } else if (!estimate.usable || estimate.forced) {
     report.message = estimate.message;
-    if (report.message.empty() && !estimate.warnings.empty()) report.message = estimate.warnings.front();
+    if (report.message.empty() && !estimate.warnings.empty()) {
+      report.message = estimate.warnings.front().message;
+    }
   }
   report.forced = report.predicted.known && estimate.usable && estimate.forced;
   report.enough = report.predicted.known && estimate.usable && !estimate.forced &&
@@ -235,19 +238,15 @@ GuideReport PlanSession(const GuideOptions& options, double budget_s) {
   calibrate.scanner_id = options.scanner_id;
   calibrate.config_path = options.config_path;
   calibrate.threads = options.threads;
-  pipeline::CalibrationResult result;
-  {
-    pipeline::Setup setup = pipeline::LoadSessionAndOptions(calibrate);
-    result.session = std::move(setup.session);
-    result.options = std::move(setup.options);
-    result.preset = std::move(setup.preset);
-  }
-  result.walls = pipeline::TieSurveyAndFitWalls(result.session, result.options.solver).walls;
+  pipeline::CalibrationSession run(calibrate);
+  run.Load();
+  run.Survey();
+  const pipeline::CalibrationResult& result = run.result();
   GuideReport report;
-  report.session_name = result.session.name;
-  report.scanner_id = result.session.scanner_id;
-  for (const calib::WallGeometry& wall : result.walls) report.wall_ids.push_back(wall.id);
-  report.acceptance = result.options.acceptance;
+  report.session_name = result.loaded.session.name;
+  report.scanner_id = result.loaded.session.scanner_id;
+  for (const calib::WallGeometry& wall : result.survey.walls) report.wall_ids.push_back(wall.id);
+  report.acceptance = result.loaded.options.acceptance;
   const StopModel model = BaseModel(result);
   report.plan = BestPlan(model, report.acceptance, budget_s);
   report.plan_budget_s = budget_s;

@@ -62,30 +62,36 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
   out += "scanner_mounts:\n";
   std::vector<std::string> order;
   for (const pipeline::ScannerRun& run : several.scanners) {
-    if (run.joint_index < 0) continue;
-    const pipeline::CalibrationResult& r = run.result;
+    if (!run.joint) continue;
+    const pipeline::CalibrationResult& own = run.own;
+    const pipeline::JointScannerResult& joint = *run.joint;
     out += "  - id: " + YamlText(run.spec.id) + "\n";
     out += "    parent_frame: " + YamlText(frames.parent) + "\n";
     out += "    child_frame: " + YamlText(run.spec.frame) + "\n";
-    out += MountKeys("    ", r.estimate.mount, r.estimate.covariance);
-    out += "    time_offset_s: " + YamlNumber("%.4f", r.time_offset_s) + "\n";
+    out += MountKeys("    ", joint.mount, joint.covariance);
+    out += "    time_offset_s: " + YamlNumber("%.4f", joint.time_offset_s) + "\n";
     // Its σ and status as the one-scanner offsets.yaml has them: its own run's (the joint
     // covariance holds the mounts only).
-    if (r.estimate.time_offset_estimated) {
-      out += "    time_offset_sigma_s: " + YamlNumber("%.4f", r.time_offset_sigma_s) + "\n";
-      out += "    time_offset_status: \"" +
-             std::string(pipeline::DelayStatusName(r.scanner_offset.status)) + "\"\n";
+    const pipeline::StreamDelay& offset = own.solve.scanner_offset;
+    if (own.solve.estimate.time_offset_estimated) {
+      out +=
+          "    time_offset_sigma_s: " + YamlNumber("%.4f", offset.sigma_s) + "  # its own run's\n";
+      out += "    time_offset_status: \"" + std::string(pipeline::DelayStatusName(offset.status)) +
+             "\"\n";
     }
-    out += "    quality: {scans_total: " + std::to_string(r.scans_total) +
-           ", scans_used: " + std::to_string(r.scans_used) +
-           ", observations: " + std::to_string(r.estimate.observations_used) +
-           ", outliers: " + std::to_string(r.estimate.observations_rejected) +
-           ", residual_rms_m: " + YamlNumber("%.6f", r.estimate.residual_rms_m) +
-           ", stations: " + std::to_string(r.num_dwells) +
-           ", headings_deg: {min: " + YamlNumber("%.4f", r.heading_min_deg) +
-           ", max: " + YamlNumber("%.4f", r.heading_max_deg) + "}}\n";
-    out += "    verdict: " + VerdictYaml(r) + "\n";
-    if (r.change) out += "    change_since_previous: " + ChangeYaml(*r.change) + "\n";
+    // The counts and residuals of its own run (the joint adjustment takes its observations).
+    const pipeline::Coverage& coverage = own.finish.coverage;
+    const solvers::MountEstimate& estimate = own.solve.estimate;
+    out += "    quality: {scans_total: " + std::to_string(own.detection.scans_total) +
+           ", scans_used: " + std::to_string(coverage.scans_used) +
+           ", observations: " + std::to_string(estimate.observations_used) +
+           ", outliers: " + std::to_string(estimate.observations_rejected) +
+           ", residual_rms_m: " + YamlNumber("%.6f", estimate.residual_rms_m) +
+           ", stations: " + std::to_string(own.poses.num_dwells) +
+           ", headings_deg: {min: " + YamlNumber("%.4f", coverage.heading_min_deg) +
+           ", max: " + YamlNumber("%.4f", coverage.heading_max_deg) + "}}\n";
+    out += "    verdict: " + DecisionYaml(joint.decision) + "\n";
+    if (joint.change) out += "    change_since_previous: " + ChangeYaml(*joint.change) + "\n";
     for (const char* axis : {".x", ".y", ".yaw"}) order.push_back(run.spec.id + axis);
   }
   out += "# Pose of `to` in the frame of `from` (from = the scanner listed earlier).\n";
@@ -118,9 +124,9 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
   }
   std::string refused;
   for (const pipeline::ScannerRun& run : several.scanners) {
-    if (run.joint_index >= 0) continue;
-    refused += "  - {id: " + YamlText(run.spec.id) +
-               ", reason: " + YamlQuoted(run.result.estimate.message) + "}\n";
+    if (run.joint) continue;
+    refused +=
+        "  - {id: " + YamlText(run.spec.id) + ", reason: " + YamlQuoted(run.own.Why()) + "}\n";
   }
   out += refused.empty() ? "refused: []\n" : "refused:\n" + refused;
   if (!several.previous_input.role.empty()) {
@@ -138,7 +144,7 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
   out += "source:\n";
   out += "  session: " + YamlQuoted(several.session.file) + "\n";
   out += "  tool_version: " + YamlQuoted(io::kToolVersion) + "\n";
-  const pipeline::Provenance& first = several.scanners.front().result.provenance;
+  const pipeline::Provenance& first = several.scanners.front().own.decided.provenance;
   if (!first.created_utc.empty()) out += "  created_utc: " + YamlQuoted(first.created_utc) + "\n";
   if (!first.command_line.empty()) {
     out += "  command_line: [";
@@ -150,7 +156,7 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
   std::set<std::string> seen;
   std::string inputs;
   for (const pipeline::ScannerRun& run : several.scanners) {
-    for (const io::InputFileDigest& input : run.result.provenance.inputs) {
+    for (const io::InputFileDigest& input : run.own.decided.provenance.inputs) {
       if (!seen.insert(input.role + "\n" + input.path).second) continue;
       inputs += "    - {role: " + YamlQuoted(input.role) + ", path: " + YamlQuoted(input.path) +
                 ", sha256: " + (input.sha256.empty() ? std::string("null") : input.sha256) +
@@ -169,12 +175,14 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
 
 namespace {
 
-// ", clock offset V ± σ s, STATUS" (σ and status of the scanner's own run, as its page shows
-// them), or the value alone when its run did not estimate it.
-std::string ClockText(const pipeline::CalibrationResult& r) {
-  if (!r.estimate.time_offset_estimated) return Format(", clock offset %.4f s", r.time_offset_s);
-  return Format(", clock offset %.4f ± %.4f s, %s", r.time_offset_s, r.time_offset_sigma_s,
-                pipeline::DelayStatusName(r.scanner_offset.status));
+// ", clock offset V ± σ s, STATUS": the value `offset_s` (the joint adjustment's, or its own
+// run's), the σ and status of the scanner's own run (as its page shows them); the value alone
+// when its run did not estimate it.
+std::string ClockText(const pipeline::CalibrationResult& own, double offset_s) {
+  const pipeline::StreamDelay& offset = own.solve.scanner_offset;
+  if (!own.solve.estimate.time_offset_estimated) return Format(", clock offset %.4f s", offset_s);
+  return Format(", clock offset %.4f ± %.4f s, %s", offset_s, offset.sigma_s,
+                pipeline::DelayStatusName(offset.status));
 }
 
 }  // namespace
@@ -193,22 +201,27 @@ std::string FormatSeveralSummary(const pipeline::SeveralScannersResult& several)
     out += "  mounts     each scanner's own run (no joint adjustment: nothing is written)\n";
   }
   for (const pipeline::ScannerRun& run : several.scanners) {
-    const pipeline::CalibrationResult& r = run.result;
-    if (run.joint_index < 0) {
-      out += "  " + run.spec.id + ": REFUSED: " + r.estimate.message + "\n";
+    const pipeline::CalibrationResult& own = run.own;
+    if (run.refused()) {
+      out += "  " + run.spec.id + ": REFUSED: " + own.Why() + "\n";
       continue;
     }
-    const Eigen::Matrix3d& c = r.estimate.covariance;
-    out += "  " + run.spec.id + " (" + pipeline::VerdictName(r.decision.verdict) + "): " +
-           Format("x %.4f ± %.4f m, y %.4f ± %.4f m, yaw %.3f ± %.3f deg", r.estimate.mount.x_m,
-                  Sigma(c, 0), r.estimate.mount.y_m, Sigma(c, 1),
-                  r.estimate.mount.yaw_rad * kRadToDeg, Sigma(c, 2) * kRadToDeg) +
-           ClockText(r) +
-           Format(", %d observations, %lld scans used", r.estimate.observations_used,
-                  static_cast<long long>(r.scans_used)) +
+    // The joint result; its own run's when the joint adjustment failed.
+    const solvers::Mount& m = run.joint ? run.joint->mount : own.solve.estimate.mount;
+    const Eigen::Matrix3d& c = run.joint ? run.joint->covariance : own.solve.estimate.covariance;
+    const pipeline::Decision& decision = run.joint ? run.joint->decision : own.decided.decision;
+    const std::optional<pipeline::Change>& change =
+        run.joint ? run.joint->change : own.decided.change;
+    const double offset_s = run.joint ? run.joint->time_offset_s : own.solve.scanner_offset.value_s;
+    out += "  " + run.spec.id + " (" + pipeline::VerdictName(decision.verdict) + "): " +
+           Format("x %.4f ± %.4f m, y %.4f ± %.4f m, yaw %.3f ± %.3f deg", m.x_m, Sigma(c, 0),
+                  m.y_m, Sigma(c, 1), m.yaw_rad * kRadToDeg, Sigma(c, 2) * kRadToDeg) +
+           ClockText(own, offset_s) +
+           Format(", %d observations, %lld scans used", own.solve.estimate.observations_used,
+                  static_cast<long long>(own.finish.coverage.scans_used)) +
            "\n";
-    reasons(r.decision);
-    if (r.change) out += "    change " + ChangeText(*r.change) + "\n";
+    reasons(decision);
+    if (change) out += "    change " + ChangeText(*change) + "\n";
   }
   for (const pipeline::RelativeMountResult& relative : several.relative) {
     const solvers::Mount& m = relative.mount.from_T_to;
@@ -238,7 +251,7 @@ std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScanners
                               const EmitFrames& frames) {
   std::vector<const pipeline::ScannerRun*> runs;
   for (const pipeline::ScannerRun& run : several.scanners) {
-    if (run.joint_index < 0) continue;
+    if (!run.joint) continue;
     if (!IsValidFrameName(run.spec.frame) || run.spec.frame == frames.parent ||
         run.spec.frame == frames.base) {
       throw std::invalid_argument("scanner '" + run.spec.id + "': frame '" + run.spec.frame +
@@ -252,7 +265,7 @@ std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScanners
   for (const pipeline::ScannerRun* run : runs) {
     EmitFrames own = frames;
     own.child = run->spec.frame;
-    joints.push_back(AntennaToLaser(run->result.estimate.mount, own, run->spec.z_m.value_or(0.0)));
+    joints.push_back(AntennaToLaser(run->joint->mount, own, run->spec.z_m.value_or(0.0)));
   }
   std::string out;
   switch (format) {
@@ -285,7 +298,7 @@ std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScanners
       for (size_t i = 0; i < runs.size(); ++i) {
         const pipeline::ScannerRun& run = *runs[i];
         const PlanarTransform& t = joints[antenna ? i + 1 : i];
-        const Eigen::Matrix3d& c = run.result.estimate.covariance;
+        const Eigen::Matrix3d& c = run.joint->covariance;
         out += std::string(i ? ",\n" : "\n") + "    {\"id\": " + JsonString(run.spec.id) +
                ", \"child_frame\": " + JsonString(t.child) +
                ", \"mount\": {\"x_m\": " + JsonNum(t.x_m) +
@@ -300,7 +313,7 @@ std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScanners
           for (int col = 0; col < 3; ++col) out += (col ? ", " : "") + JsonNum(c(r, col));
           out += "]";
         }
-        out += "]}, \"verdict\": " + JsonDecision(run.result.decision) + "}";
+        out += "]}, \"verdict\": " + JsonDecision(run.joint->decision) + "}";
       }
       out += "\n  ],\n  \"relative\": [";
       for (size_t i = 0; i < several.relative.size(); ++i) {

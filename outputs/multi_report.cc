@@ -55,16 +55,16 @@ std::string ScannersSection(const pipeline::SeveralScannersResult& several) {
        "<th>y (left)</th><th>yaw (ccw)</th><th>clock offset</th><th>observations</th>"
        "<th>change since previous</th><th>its page</th></tr>\n";
   for (const pipeline::ScannerRun& run : several.scanners) {
-    const pipeline::CalibrationResult& r = run.result;
+    const pipeline::CalibrationResult& own = run.own;
     s << "<tr><th>" << Esc(run.spec.id) << " (" << Esc(run.spec.frame) << ")</th>";
-    if (run.joint_index < 0) {
-      s << "<td class=\"bad\">REFUSED</td><td colspan=\"6\">" << Esc(r.estimate.message)
-        << "</td>";
+    if (!run.joint) {
+      s << "<td class=\"bad\">REFUSED</td><td colspan=\"6\">" << Esc(own.Why()) << "</td>";
     } else {
-      s << "<td>" << Badge(r.decision.verdict) << Reasons(r.decision) << "</td>"
-        << PoseCells(r.estimate.mount, r.estimate.covariance, "%.4f") << "<td class=\"num\">"
-        << F("%.4f", r.time_offset_s) << " s</td><td class=\"num\">"
-        << N(r.estimate.observations_used) << "</td>" << ChangeCell(r.change);
+      const pipeline::JointScannerResult& joint = *run.joint;
+      s << "<td>" << Badge(joint.decision.verdict) << Reasons(joint.decision) << "</td>"
+        << PoseCells(joint.mount, joint.covariance, "%.4f") << "<td class=\"num\">"
+        << F("%.4f", joint.time_offset_s) << " s</td><td class=\"num\">"
+        << N(own.solve.estimate.observations_used) << "</td>" << ChangeCell(joint.change);
     }
     s << "<td><a href=\"" << Esc(run.spec.id) << "/report.html\">" << Esc(run.spec.id)
       << "/report.html</a></td></tr>\n";
@@ -113,8 +113,8 @@ std::string SiteMapSection(const pipeline::SeveralScannersResult& several) {
   // one GNSS log): the first run that has them draws them.
   const pipeline::CalibrationResult* base = nullptr;
   for (const pipeline::ScannerRun& run : several.scanners) {
-    if (!run.result.walls.empty()) {
-      base = &run.result;
+    if (!run.own.survey.walls.empty()) {
+      base = &run.own;
       break;
     }
   }
@@ -130,31 +130,35 @@ std::string SiteMapSection(const pipeline::SeveralScannersResult& several) {
   std::vector<Drawn> drawn;
   Box box;
   for (const pipeline::ScannerRun& run : several.scanners) {
-    const pipeline::CalibrationResult& r = run.result;
-    if (!r.estimate.usable || r.observations.empty()) continue;
+    const pipeline::CalibrationResult& r = run.own;
+    const std::vector<calib::WallObservation>& observations = r.solve.observations;
+    if (!r.solve.estimate.usable || observations.empty()) continue;
+    // Drawn with its joint mount; with its own when it is not in the joint adjustment.
+    const solvers::Mount& mount = run.joint ? run.joint->mount : r.solve.estimate.mount;
+    const pipeline::ReportData& report = run.joint ? run.joint->report : r.report;
+    const std::vector<calib::WallGeometry>& walls = r.survey.walls;
     Drawn d;
-    d.label = run.spec.id + (run.joint_index >= 0 ? "" : " (own estimate, left out)");
+    d.label = run.spec.id + (run.joint ? "" : " (own estimate, left out)");
     const size_t step =
-        (r.observations.size() + kMaxDetectionsPerScanner - 1) / kMaxDetectionsPerScanner;
-    for (size_t i = 0; i < r.observations.size(); i += step) {
-      const calib::WallObservation& o = r.observations[i];
-      if (o.wall_index < 0 || o.wall_index >= static_cast<int>(r.walls.size())) continue;
-      d.detections.push_back(DetectionSegmentLocal(o, r.walls[o.wall_index], r.estimate.mount));
+        (observations.size() + kMaxDetectionsPerScanner - 1) / kMaxDetectionsPerScanner;
+    for (size_t i = 0; i < observations.size(); i += step) {
+      const calib::WallObservation& o = observations[i];
+      if (o.wall_index < 0 || o.wall_index >= static_cast<int>(walls.size())) continue;
+      d.detections.push_back(DetectionSegmentLocal(o, walls[o.wall_index], mount));
       box.Add(d.detections.back().first);
       box.Add(d.detections.back().second);
     }
-    for (const pipeline::Station& station : r.report.stations) {
-      d.scanner_at_stations.push_back(
-          station.antenna_local_m +
-          Eigen::Rotation2Dd(station.yaw_rad) * Eigen::Vector2d(r.estimate.mount.x_m,
-                                                                r.estimate.mount.y_m));
+    for (const pipeline::Station& station : report.stations) {
+      d.scanner_at_stations.push_back(station.antenna_local_m +
+                                      Eigen::Rotation2Dd(station.yaw_rad) *
+                                          Eigen::Vector2d(mount.x_m, mount.y_m));
       box.Add(d.scanner_at_stations.back());
     }
     drawn.push_back(std::move(d));
   }
   const std::vector<Eigen::Vector2d>& track = base->report.track_local_m;
   for (const Eigen::Vector2d& p : track) box.Add(p);
-  for (const calib::WallGeometry& w : base->walls) {
+  for (const calib::WallGeometry& w : base->survey.walls) {
     box.Add(w.end_a_local);
     box.Add(w.end_b_local);
   }
@@ -164,7 +168,7 @@ std::string SiteMapSection(const pipeline::SeveralScannersResult& several) {
   plot.SetRange(box.x0, box.x1, box.y0, box.y1, true);
   plot.Axes("x, grid east (m)", "y, grid north (m)");
   if (!track.empty()) plot.Polyline(track, "#8c8c8c", 2.0);
-  for (const calib::WallGeometry& w : base->walls) {
+  for (const calib::WallGeometry& w : base->survey.walls) {
     plot.Line(w.end_a_local.x(), w.end_a_local.y(), w.end_b_local.x(), w.end_b_local.y(), kDark, 4);
     const Eigen::Vector2d mid = 0.5 * (w.end_a_local + w.end_b_local);
     plot.Text(mid.x(), mid.y(), w.id, kDark, "middle", 0, -10);

@@ -31,7 +31,9 @@ std::string DecisionYaml(const pipeline::Decision& decision) {
   return out + "]}";
 }
 
-std::string VerdictYaml(const CalibrationResult& result) { return DecisionYaml(result.decision); }
+std::string VerdictYaml(const CalibrationResult& result) {
+  return DecisionYaml(result.decided.decision);
+}
 
 std::string BudgetYaml(const analysis::ErrorBudget& b) {
   // σ per source (the square root of the variance it explains), mm and degrees.
@@ -61,8 +63,8 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const E
   io::OffsetsDocument doc;
   doc.parent_frame = frames.parent;
   doc.child_frame = frames.child;
-  doc.sigma_known = result.sigma_known;
-  const solvers::MountEstimate& e = result.estimate;
+  doc.sigma_known = result.solve.sigma_known;
+  const solvers::MountEstimate& e = result.solve.estimate;
   doc.x_m = e.mount.x_m;
   doc.y_m = e.mount.y_m;
   doc.yaw_rad = e.mount.yaw_rad;
@@ -70,23 +72,24 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const E
     for (int c = 0; c < 3; ++c) doc.covariance[3 * r + c] = e.covariance(r, c);
   }
   doc.method = solvers::MethodText(e);
-  doc.scans_total = result.scans_total;
-  doc.scans_used = result.scans_used;
-  doc.heading_min_deg = result.heading_min_deg;
-  doc.heading_max_deg = result.heading_max_deg;
+  doc.scans_total = result.detection.scans_total;
+  doc.scans_used = result.finish.coverage.scans_used;
+  doc.heading_min_deg = result.finish.coverage.heading_min_deg;
+  doc.heading_max_deg = result.finish.coverage.heading_max_deg;
   doc.residual_rms_m = e.residual_rms_m;
   auto add = [&doc](const std::string& key, const std::string& value) {
     doc.quality_extra.emplace_back(key, value);
   };
   add("observations", std::to_string(e.observations_used));
   add("outliers", std::to_string(e.observations_rejected));
-  add("stations", std::to_string(result.num_dwells));
-  add("gnss_segments", std::to_string(result.num_segments_used));
-  add("vehicle_to_wall_angle_deg", "{min: " + Format("%.2f", result.wall_angle_min_deg) +
-                                       ", max: " + Format("%.2f", result.wall_angle_max_deg) + "}");
+  add("stations", std::to_string(result.poses.num_dwells));
+  add("gnss_segments", std::to_string(result.finish.coverage.num_segments_used));
+  add("vehicle_to_wall_angle_deg",
+      "{min: " + Format("%.2f", result.finish.coverage.wall_angle_min_deg) +
+          ", max: " + Format("%.2f", result.finish.coverage.wall_angle_max_deg) + "}");
   std::string skipped = "{";
   bool first = true;
-  for (const auto& [reason, count] : result.scans_skipped) {
+  for (const auto& [reason, count] : result.ScansSkipped()) {
     skipped += (first ? "" : ", ") + std::string("\"") + calib::ScanSkipName(reason) + "\": " +
                std::to_string(count);
     first = false;
@@ -94,21 +97,22 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const E
   add("scans_skipped", skipped + "}");
   std::string quality = "{";
   first = true;
-  for (const auto& [q, count] : result.fixes_by_quality) {
+  for (const auto& [q, count] : result.poses.fixes_by_quality) {
     quality += (first ? "" : ", ") + std::to_string(q) + ": " + std::to_string(count);
     first = false;
   }
   add("gnss_fixes_by_quality", quality + "}");
-  add("gnss_fixes_used", std::to_string(result.fixes_used));
-  add("headings_used", std::to_string(result.headings_used));
-  add("control_points", std::to_string(result.num_control));
-  add("control_rms_m", Format("%.4f", result.control_rms_m));
-  add("utm_zone", "\"" + std::to_string(result.frame.zone) + (result.frame.north ? "N" : "S") + "\"");
-  add("meridian_convergence_deg", Format("%.4f", result.frame.convergence_rad * kRadToDeg));
-  add("point_scale", Format("%.7f", result.frame.scale_k0));
+  add("gnss_fixes_used", std::to_string(result.poses.fixes_used));
+  add("headings_used", std::to_string(result.poses.headings_used));
+  add("control_points", std::to_string(result.survey.tie.num_control));
+  add("control_rms_m", Format("%.4f", result.survey.tie.control_rms_m));
+  add("utm_zone", "\"" + std::to_string(result.survey.frame.zone) +
+                      (result.survey.frame.north ? "N" : "S") + "\"");
+  add("meridian_convergence_deg", Format("%.4f", result.survey.frame.convergence_rad * kRadToDeg));
+  add("point_scale", Format("%.7f", result.survey.frame.scale_k0));
   std::string walls = "[";
-  for (size_t i = 0; i < result.walls.size(); ++i) {
-    const calib::WallGeometry& w = result.walls[i];
+  for (size_t i = 0; i < result.survey.walls.size(); ++i) {
+    const calib::WallGeometry& w = result.survey.walls[i];
     walls += (i ? ", " : "") + std::string("{id: \"") + w.id + "\", points: " +
              std::to_string(w.num_points) + ", rms_m: " + Format("%.4f", w.rms_m) +
              ", sigma_offset_m: " + Format("%.4f", w.sigma_offset_m) +
@@ -119,26 +123,26 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const E
     add("independent_stations", Format("%.2f", e.independent_stations));
   }
   if (e.time_offset_estimated) {
-    add("time_offset_s", Format("%.4f", result.time_offset_s));
-    add("time_offset_sigma_s", Format("%.4f", result.time_offset_sigma_s));
+    add("time_offset_s", Format("%.4f", result.solve.scanner_offset.value_s));
+    add("time_offset_sigma_s", Format("%.4f", result.solve.scanner_offset.sigma_s));
     add("time_offset_status",
-        "\"" + std::string(pipeline::DelayStatusName(result.scanner_offset.status)) + "\"");
-    if (result.drives_timing_sigma_s > 0.0) {
-      add("moving_timing_sigma_s", Format("%.4f", result.drives_timing_sigma_s) +
-                                        "  # what the moving scans' poses need (docs/method.md)");
+        "\"" + std::string(pipeline::DelayStatusName(result.solve.scanner_offset.status)) + "\"");
+    if (result.solve.drives_timing_sigma_s > 0.0) {
+      add("moving_timing_sigma_s", Format("%.4f", result.solve.drives_timing_sigma_s) +
+                                       "  # what the moving scans' poses need (docs/method.md)");
     }
   } else {
     add("time_offset_s", "null  # not estimated: every scan used was taken at a station");
   }
-  if (result.heading_delay.status != pipeline::DelayStatus::kNotEstimated) {
-    add("heading_delay_s", Format("%.4f", result.heading_delay.value_s));
-    add("heading_delay_sigma_s", Format("%.4f", result.heading_delay.sigma_s));
+  if (result.solve.heading_delay.status != pipeline::DelayStatus::kNotEstimated) {
+    add("heading_delay_s", Format("%.4f", result.solve.heading_delay.value_s));
+    add("heading_delay_sigma_s", Format("%.4f", result.solve.heading_delay.sigma_s));
   } else {
     add("heading_delay_s", "null  # not estimated: no moving scans used");
   }
   add("heading_delay_status",
-      "\"" + std::string(pipeline::DelayStatusName(result.heading_delay.status)) + "\"");
-  const calib::GnssEpochMapping& g = result.gnss_epochs;
+      "\"" + std::string(pipeline::DelayStatusName(result.solve.heading_delay.status)) + "\"");
+  const calib::GnssEpochMapping& g = result.poses.gnss_epochs;
   add("gnss_epoch_time",
       "\"" + std::string(calib::EpochMappingStatusName(g.status)) + "\"");
   if (std::isfinite(g.offset_s)) {
@@ -148,8 +152,8 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const E
     add("gnss_clock_drift_ppm", Format("%.1f", 1e6 * g.drift));
   }
   if (!e.weak_direction.empty()) add("weak_direction", "\"" + e.weak_direction + "\"");
-  add("forced", result.forced ? "true" : "false");
-  const analysis::ResidualAnalysis& ra = result.residual_analysis;
+  add("forced", result.solve.forced ? "true" : "false");
+  const analysis::ResidualAnalysis& ra = result.finish.residual_analysis;
   if (ra.done) {
     add("residual_robust_sigma_m", Format("%.4f", ra.robust_sigma_m));
     add("outlier_share", Format("%.4f", ra.outlier_share));
@@ -168,11 +172,12 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const E
     add("residual_flags", flags + "]");
     if (ra.range_model_estimated) {
       add("range_scale_k_from_residuals",
-          "{k: " + Format("%.5f", ra.range_scale_k) + ", sigma: " + Format("%.5f", ra.sigma_range_scale_k) +
-              ", preset_k: " + Format("%.5f", result.preset.range_scale_k) + "}");
+          "{k: " + Format("%.5f", ra.range_scale_k) +
+              ", sigma: " + Format("%.5f", ra.sigma_range_scale_k) +
+              ", preset_k: " + Format("%.5f", result.loaded.preset.range_scale_k) + "}");
     }
   }
-  const analysis::Repeatability& rep = result.repeatability;
+  const analysis::Repeatability& rep = result.finish.repeatability;
   if (rep.done) {
     std::string text = "{bootstrap_samples: " + std::to_string(rep.bootstrap_samples) +
                        ", bootstrap_sigma: {x: " + Format("%.4f", rep.bootstrap_sigma_x_m) +
@@ -202,15 +207,17 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const E
           Format("%.3f", e.heading_reference_s) +
           " s): a constant heading bias is indistinguishable from mount yaw; the heading drift "
           "after that time is estimated (heading_drift_deg_per_h)\"");
-  doc.warnings = pipeline::Messages(result.warnings);
+  doc.warnings = pipeline::Messages(result.AllWarnings());
   doc.sections.emplace_back("verdict", VerdictYaml(result));
-  if (result.budget.done) doc.sections.emplace_back("error_budget", BudgetYaml(result.budget));
-  if (result.change) doc.sections.emplace_back("change_since_previous", ChangeYaml(*result.change));
-  doc.session = result.session.file;
+  if (result.finish.budget.done)
+    doc.sections.emplace_back("error_budget", BudgetYaml(result.finish.budget));
+  if (result.decided.change)
+    doc.sections.emplace_back("change_since_previous", ChangeYaml(*result.decided.change));
+  doc.session = result.loaded.session.file;
   doc.tool_version = io::kToolVersion;
-  doc.created_utc = result.provenance.created_utc;
-  doc.command_line = result.provenance.command_line;
-  doc.inputs = result.provenance.inputs;
+  doc.created_utc = result.decided.provenance.created_utc;
+  doc.command_line = result.decided.provenance.command_line;
+  doc.inputs = result.decided.provenance.inputs;
   return doc;
 }
 

@@ -12,28 +12,29 @@ namespace report_detail {
 std::string ReportBuilder::Build() {
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\"/>\n"
-       << "<title>wallcal report: " << Esc(r_.session.name) << ScannerTitle() << "</title>\n"
-       << "<style>\n" << kStyle << "</style>\n</head>\n<body>\n";
-  html << "<h1>wallcal calibration report: " << Esc(r_.session.name) << ScannerTitle()
+       << "<title>wallcal report: " << Esc(r_.loaded.session.name) << ScannerTitle() << "</title>\n"
+       << "<style>\n"
+       << kStyle << "</style>\n</head>\n<body>\n";
+  html << "<h1>wallcal calibration report: " << Esc(r_.loaded.session.name) << ScannerTitle()
        << "</h1>\n";
   // One scanner of several: its page sits in DIR/ID/, beside the run's DIR/index.html.
-  if (!r_.session.scanner_id.empty()) {
+  if (!r_.loaded.session.scanner_id.empty()) {
     html << "<p class=\"meta\"><a href=\"../index.html\">all scanners of this run</a></p>\n";
   }
-  html << "<p class=\"meta\">session " << Esc(r_.session.file) << " &#183; scanner "
-       << Esc(r_.preset.name) << " &#183; wallcal " << Esc(io::kToolVersion) << " &#183; run time "
-       << F("%.2f", r_.seconds) << " s</p>\n";
+  html << "<p class=\"meta\">session " << Esc(r_.loaded.session.file) << " &#183; scanner "
+       << Esc(r_.loaded.preset.name) << " &#183; wallcal " << Esc(io::kToolVersion)
+       << " &#183; run time " << F("%.2f", r_.seconds) << " s</p>\n";
   html << "<nav><a href=\"#decision\">verdict</a> <a href=\"#mount\">mount</a> "
        << "<a href=\"#site-map\">site map</a> <a href=\"#scans\">scans</a> "
        << "<a href=\"#diagnostics\">diagnostics</a></nav>\n";
-  html << DecisionSectionHtml(r_) << MountSection() << SiteMapSection() << ScansSection();
+  html << DecisionSectionHtml(outcome_) << MountSection() << SiteMapSection() << ScansSection();
   // Diagnostics, folded: what to look at when the verdict is not ACCEPT.
   html << "<details id=\"diagnostics\">\n<summary>Diagnostics: Hough accumulator, residuals "
           "and their trends, heading coverage, counts, solver report</summary>\n";
   html << HoughSection() << ResidualsSection() << CoverageSection() << CountsSection();
-  if (!r_.estimate.solver_report.empty()) {
-    html << "<section id=\"solver\">\n<h2>Solver</h2>\n<pre>" << Esc(r_.estimate.solver_report)
-         << "</pre>\n</section>\n";
+  if (!r_.solve.estimate.solver_report.empty()) {
+    html << "<section id=\"solver\">\n<h2>Solver</h2>\n<pre>"
+         << Esc(r_.solve.estimate.solver_report) << "</pre>\n</section>\n";
   }
   html << "</details>\n";
   html << "</body>\n</html>\n";
@@ -41,30 +42,37 @@ std::string ReportBuilder::Build() {
 }
 
 std::string ReportBuilder::ScannerTitle() const {
-  if (r_.session.scanner_id.empty()) return "";
-  return ", scanner " + Esc(r_.session.scanner_id);
+  if (r_.loaded.session.scanner_id.empty()) return "";
+  return ", scanner " + Esc(r_.loaded.session.scanner_id);
 }
 
 std::string ReportBuilder::MountSection() {
-  const solvers::MountEstimate& e = r_.estimate;
+  const solvers::MountEstimate& e = r_.solve.estimate;
+  const calib::Mount& m = outcome_.mount;
+  const Eigen::Matrix3d& c = outcome_.covariance;
   std::ostringstream s;
   s << "<section id=\"mount\">\n<h2>Mount: the scanner in the GNSS antenna frame</h2>\n";
-  if (r_.forced) {
+  if (outcome_.joint) {
+    s << "<p class=\"meta\">The mount, its &#963; and the clock offset are the joint "
+         "adjustment's of all scanners; the residuals, the error budget, the repeatability, the "
+         "clock offset's &#963; and the counts are this scanner's own run's.</p>\n";
+  }
+  if (r_.solve.forced) {
     s << "<p class=\"bad\">Written with --force despite a failed observability check: treat "
          "this estimate with suspicion.</p>\n";
   }
   s << "<div class=\"flex\"><div>\n";
   if (e.usable) {
     s << "<table class=\"big\">\n<tr><th></th><th>estimate</th><th>1&#963;</th></tr>\n";
-    s << "<tr><th>x (forward)</th><td class=\"num\">" << F("%.4f", e.mount.x_m)
-      << " m</td><td class=\"num\">" << F("%.4f", SigmaOf(e.covariance, 0)) << " m</td></tr>\n";
-    s << "<tr><th>y (left)</th><td class=\"num\">" << F("%.4f", e.mount.y_m)
-      << " m</td><td class=\"num\">" << F("%.4f", SigmaOf(e.covariance, 1)) << " m</td></tr>\n";
-    s << "<tr><th>yaw (ccw)</th><td class=\"num\">" << F("%.3f", e.mount.yaw_rad * kRadToDeg)
-      << "&#176;</td><td class=\"num\">" << F("%.3f", SigmaOf(e.covariance, 2) * kRadToDeg)
+    s << "<tr><th>x (forward)</th><td class=\"num\">" << F("%.4f", m.x_m)
+      << " m</td><td class=\"num\">" << F("%.4f", SigmaOf(c, 0)) << " m</td></tr>\n";
+    s << "<tr><th>y (left)</th><td class=\"num\">" << F("%.4f", m.y_m)
+      << " m</td><td class=\"num\">" << F("%.4f", SigmaOf(c, 1)) << " m</td></tr>\n";
+    s << "<tr><th>yaw (ccw)</th><td class=\"num\">" << F("%.3f", m.yaw_rad * kRadToDeg)
+      << "&#176;</td><td class=\"num\">" << F("%.3f", SigmaOf(c, 2) * kRadToDeg)
       << "&#176;</td></tr>\n</table>\n";
   } else {
-    s << "<p class=\"bad\">Mount NOT DETERMINED: " << Esc(e.message) << "</p>\n";
+    s << "<p class=\"bad\">Mount NOT DETERMINED: " << Esc(r_.Why()) << "</p>\n";
   }
   s << "<table>\n";
   const char* method_note = !e.method ? "(none)"
@@ -73,46 +81,47 @@ std::string ReportBuilder::MountSection() {
                                 : "ceres (joint least squares, robust loss)";
   s << Row("method", Esc(method_note));
   if (e.usable) {
-    const double sxy = e.covariance(0, 1) / std::max(1e-300, SigmaOf(e.covariance, 0) *
-                                                                  SigmaOf(e.covariance, 1));
+    const double sxy = c(0, 1) / std::max(1e-300, SigmaOf(c, 0) * SigmaOf(c, 1));
     s << Row("correlation x-y", F("%.3f", sxy));
-    s << Row("Barawid 2007 notation", "a = " + F("%.4f", -e.mount.y_m) + " m, b = " +
-                                      F("%.4f", e.mount.x_m) + " m, &#948; = " +
-                                      F("%.3f", e.mount.yaw_rad * kRadToDeg) + "&#176;");
+    s << Row("Barawid 2007 notation", "a = " + F("%.4f", -m.y_m) + " m, b = " + F("%.4f", m.x_m) +
+                                          " m, &#948; = " + F("%.3f", m.yaw_rad * kRadToDeg) +
+                                          "&#176;");
     s << Row("residuals", "RMS " + F("%.2f", e.residual_rms_m * 1000) + " mm over " +
                               N(e.observations_used) + " observations, " +
                               N(e.observations_rejected) + " down-weighted as outliers");
   }
-  if (r_.first_pass.usable) {
+  if (r_.detection.first_pass.usable) {
     s << Row("first pass (wide gates)",
-             "x " + F("%.4f", r_.first_pass.mount.x_m) + " m, y " +
-                 F("%.4f", r_.first_pass.mount.y_m) + " m, yaw " +
-                 F("%.3f", r_.first_pass.mount.yaw_rad * kRadToDeg) + "&#176;");
+             "x " + F("%.4f", r_.detection.first_pass.mount.x_m) + " m, y " +
+                 F("%.4f", r_.detection.first_pass.mount.y_m) + " m, yaw " +
+                 F("%.3f", r_.detection.first_pass.mount.yaw_rad * kRadToDeg) + "&#176;");
   }
-  if (r_.time_offset_sigma_s > 0) {
-    s << Row("scanner clock offset", F("%.4f", r_.time_offset_s) + " &#177; " +
-                                         F("%.4f", r_.time_offset_sigma_s) + " s, " +
-                                         pipeline::DelayStatusName(r_.scanner_offset.status));
+  if (r_.solve.scanner_offset.sigma_s > 0) {
+    s << Row("scanner clock offset", F("%.4f", outcome_.clock_offset_s) + " &#177; " +
+                                         F("%.4f", r_.solve.scanner_offset.sigma_s) + " s, " +
+                                         pipeline::DelayStatusName(r_.solve.scanner_offset.status));
   }
   s << Row("heading delay after GNSS",
-           r_.heading_delay.status == pipeline::DelayStatus::kNotEstimated
+           r_.solve.heading_delay.status == pipeline::DelayStatus::kNotEstimated
                ? std::string("not estimated (no moving scans)")
-               : F("%.4f", r_.heading_delay.value_s) + " &#177; " +
-                     F("%.4f", r_.heading_delay.sigma_s) + " s, " +
-                     pipeline::DelayStatusName(r_.heading_delay.status));
-  if (std::isfinite(r_.gnss_epochs.offset_s)) {
-    s << Row("GNSS epoch time", std::string(calib::EpochMappingStatusName(r_.gnss_epochs.status)) +
-                                    ": latency + clock " + F("%.4f", r_.gnss_epochs.offset_s) +
-                                    " s, jitter " + F("%.4f", r_.gnss_epochs.jitter_s) + " s");
+               : F("%.4f", r_.solve.heading_delay.value_s) + " &#177; " +
+                     F("%.4f", r_.solve.heading_delay.sigma_s) + " s, " +
+                     pipeline::DelayStatusName(r_.solve.heading_delay.status));
+  if (std::isfinite(r_.poses.gnss_epochs.offset_s)) {
+    s << Row("GNSS epoch time",
+             std::string(calib::EpochMappingStatusName(r_.poses.gnss_epochs.status)) +
+                 ": latency + clock " + F("%.4f", r_.poses.gnss_epochs.offset_s) + " s, jitter " +
+                 F("%.4f", r_.poses.gnss_epochs.jitter_s) + " s");
   }
   s << "</table>\n";
   s << "<h3 id=\"warnings\">Warnings</h3>\n";
-  if (r_.warnings.empty()) {
+  if (r_.AllWarnings().empty()) {
     s << "<p class=\"ok\">none</p>\n";
   } else {
     s << "<ul>\n";
-    for (const pipeline::Warning& w : r_.warnings) {
-      s << "<li class=\"warn\">" << Esc(w.message) << "</li>\n";
+    for (const pipeline::Warning& w : r_.AllWarnings()) {
+      s << "<li class=\"warn\"><i>" << Esc(pipeline::WarningKindName(w.kind)) << "</i>: "
+        << Esc(w.message) << "</li>\n";
     }
     s << "</ul>\n";
   }
@@ -125,9 +134,10 @@ std::string ReportBuilder::MountSection() {
 }
 
 std::string ReportBuilder::EllipsePlot() {
-  const solvers::MountEstimate& e = r_.estimate;
+  const solvers::MountEstimate& e = r_.solve.estimate;
   if (!e.usable) return std::string();
-  const Eigen::Matrix2d c = e.covariance.topLeftCorner<2, 2>();
+  const calib::Mount& shown = outcome_.mount;
+  const Eigen::Matrix2d c = outcome_.covariance.topLeftCorner<2, 2>();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(c);
   if (eig.info() != Eigen::Success || eig.eigenvalues()(0) < 0 || !(eig.eigenvalues()(1) > 0)) {
     return "<p>No uncertainty ellipse: the covariance of (x, y) is not positive.</p>\n";
@@ -138,7 +148,7 @@ std::string ReportBuilder::EllipsePlot() {
       const double t = i * 2.0 * kPi / 72.0;
       const Eigen::Vector2d u(std::sqrt(eig.eigenvalues()(0)) * std::cos(t),
                               std::sqrt(eig.eigenvalues()(1)) * std::sin(t));
-      pts.push_back(Eigen::Vector2d(e.mount.x_m, e.mount.y_m) + k * eig.eigenvectors() * u);
+      pts.push_back(Eigen::Vector2d(shown.x_m, shown.y_m) + k * eig.eigenvectors() * u);
     }
     return pts;
   };
@@ -147,9 +157,10 @@ std::string ReportBuilder::EllipsePlot() {
   Box box;
   for (const auto& p : e95) box.Add(p);
   std::vector<std::pair<std::string, solvers::Mount>> others;
-  if (r_.first_pass.usable) others.emplace_back("first pass", r_.first_pass.mount);
-  if (r_.repeatability.done) {
-    for (const analysis::RepeatabilitySplit& split : r_.repeatability.splits) {
+  if (r_.detection.first_pass.usable)
+    others.emplace_back("first pass", r_.detection.first_pass.mount);
+  if (r_.finish.repeatability.done) {
+    for (const analysis::RepeatabilitySplit& split : r_.finish.repeatability.splits) {
       if (split.usable) others.emplace_back(split.name, split.mount);
     }
   }
@@ -163,7 +174,7 @@ std::string ReportBuilder::EllipsePlot() {
   plot.Axes("x, forward (m)", "y, left (m)");
   plot.Polyline(e95, kBlue, 1.5, "5 3");
   plot.Polyline(e1, kBlue, 2.0);
-  plot.Marker(e.mount.x_m, e.mount.y_m, Shape::kPlus, 7, kBlue);
+  plot.Marker(shown.x_m, shown.y_m, Shape::kPlus, 7, kBlue);
   plot.Legend(kBlue, Swatch::kPlus, "estimate");
   plot.Legend(kBlue, Swatch::kLine, "1\xcf\x83 ellipse (39 %)");
   plot.Legend(kBlue, Swatch::kDash, "95 % ellipse");
@@ -187,7 +198,7 @@ std::string ReportBuilder::EllipsePlot() {
 }
 
 std::string ReportBuilder::RepeatabilityTable() const {
-  const analysis::Repeatability& rep = r_.repeatability;
+  const analysis::Repeatability& rep = r_.finish.repeatability;
   if (!rep.done) return std::string();
   std::ostringstream s;
   s << "<h3>Repeatability</h3>\n<table>\n<tr><th>subset</th><th>x (m)</th><th>y (m)</th>"
@@ -236,7 +247,10 @@ std::string ReportBuilder::SiteMapSection() {
   for (const auto& p : track) box.Add(p);
   for (const auto& p : wall_points) box.Add(p);
   for (const auto& p : control_rtk) box.Add(p);
-  for (const auto& w : r_.walls) { box.Add(w.end_a_local); box.Add(w.end_b_local); }
+  for (const auto& w : r_.survey.walls) {
+    box.Add(w.end_a_local);
+    box.Add(w.end_b_local);
+  }
   for (const Station& st : stations_) { box.Add(st.antenna_local_m); box.Add(st.scanner_local_m); }
   if (box.Empty()) {
     s << "<p>Nothing to draw.</p>\n</section>\n";
@@ -247,7 +261,7 @@ std::string ReportBuilder::SiteMapSection() {
   plot.SetRange(box.x0, box.x1, box.y0, box.y1, true);
   plot.Axes("x, grid east (m)", "y, grid north (m)");
   plot.Polyline(track, "#8c8c8c", 2.0);
-  for (const calib::WallGeometry& w : r_.walls) {
+  for (const calib::WallGeometry& w : r_.survey.walls) {
     plot.Line(w.end_a_local.x(), w.end_a_local.y(), w.end_b_local.x(), w.end_b_local.y(), kDark, 4);
     const Eigen::Vector2d mid = 0.5 * (w.end_a_local + w.end_b_local);
     plot.Text(mid.x(), mid.y(), w.id, kDark, "middle", 0, -10);
@@ -277,14 +291,14 @@ std::string ReportBuilder::SiteMapSection() {
   plot.Legend(kBlue, Swatch::kDot, "stations: antenna, dashed: heading");
   plot.Legend(kRed, Swatch::kDot, "scanner at each station (" + mount_source_ + ")");
   s << Figure(plot.Svg("Site map"),
-              "Local ground frame of the session (UTM zone " + N(r_.frame.zone) +
-                  (r_.frame.north ? "N" : "S") +
+              "Local ground frame of the session (UTM zone " + N(r_.survey.frame.zone) +
+                  (r_.survey.frame.north ? "N" : "S") +
                   " grid axes, origin at the first control point, or the first rover point, "
                   "ground metres). Stations are numbered in time order. " +
-                  (r_.num_control > 0 ? "Control point tie RMS " +
-                                            F("%.1f", r_.control_rms_m * 1000) + " mm over " +
-                                            N(r_.num_control) + " points."
-                                      : std::string("Walls surveyed by a GNSS rover: no tie.")) +
+                  (r_.survey.tie.num_control > 0
+                       ? "Control point tie RMS " + F("%.1f", r_.survey.tie.control_rms_m * 1000) +
+                             " mm over " + N(r_.survey.tie.num_control) + " points."
+                       : std::string("Walls surveyed by a GNSS rover: no tie.")) +
                   Esc(note));
   s << "</section>\n";
   return s.str();
@@ -294,44 +308,50 @@ std::string ReportBuilder::CountsSection() {
   std::ostringstream s;
   s << "<section id=\"counts\">\n<h2>Counts</h2>\n<div class=\"flex\">\n";
   s << "<table>\n<tr><th colspan=\"2\">Scans</th></tr>\n";
-  s << Row("read (valid records + malformed scan lines)", N(r_.scans_total));
-  s << Row("used (at least one wall observation)", N(r_.scans_used));
-  for (const auto& [reason, count] : r_.scans_skipped) {
+  s << Row("read (valid records + malformed scan lines)", N(r_.detection.scans_total));
+  s << Row("used (at least one wall observation)", N(r_.finish.coverage.scans_used));
+  for (const auto& [reason, count] : r_.ScansSkipped()) {
     s << Row(std::string("not used: ") + calib::ScanSkipName(reason), N(count));
   }
-  s << Row("wall observations", N(static_cast<int64_t>(r_.observations.size())));
-  if (r_.estimate.usable) s << Row("down-weighted as outliers", N(r_.estimate.observations_rejected));
-  for (const auto& [reason, count] : r_.scan_lines_skipped.by_reason) {
+  s << Row("wall observations", N(static_cast<int64_t>(r_.solve.observations.size())));
+  if (r_.solve.estimate.usable)
+    s << Row("down-weighted as outliers", N(r_.solve.estimate.observations_rejected));
+  for (const auto& [reason, count] : r_.detection.scan_lines_skipped.by_reason) {
     s << Row("log line skipped: " + reason, N(count));
   }
   s << "</table>\n";
   s << "<table>\n<tr><th colspan=\"2\">GNSS and heading</th></tr>\n";
-  for (const auto& [q, count] : r_.fixes_by_quality) {
+  for (const auto& [q, count] : r_.poses.fixes_by_quality) {
     s << Row("GGA quality " + N(q) + " (" + io::FixQualityName(q) + ")", N(count));
   }
-  s << Row("fixes used (quality \xe2\x89\xa5 " + N(r_.session.min_fix_quality) + ", in time order)", N(r_.fixes_used));
-  for (const auto& [reason, count] : r_.gnss_skipped.by_reason) s << Row("GNSS line skipped: " + reason, N(count));
-  s << Row("headings used", N(r_.headings_used));
-  if (r_.session.heading_log != r_.session.gnss_log) {
-    for (const auto& [reason, count] : r_.heading_skipped.by_reason) {
+  s << Row("fixes used (quality \xe2\x89\xa5 " + N(r_.loaded.session.min_fix_quality) +
+               ", in time order)",
+           N(r_.poses.fixes_used));
+  for (const auto& [reason, count] : r_.poses.gnss_skipped.by_reason)
+    s << Row("GNSS line skipped: " + reason, N(count));
+  s << Row("headings used", N(r_.poses.headings_used));
+  if (r_.loaded.session.heading_log != r_.loaded.session.gnss_log) {
+    for (const auto& [reason, count] : r_.poses.heading_skipped.by_reason) {
       s << Row("heading line skipped: " + reason, N(count));
     }
   }
   s << "</table>\n";
   s << "<table>\n<tr><th colspan=\"2\">Time alignment</th></tr>\n";
-  s << Row("scanner clock offset applied (session)", F("%.4f", r_.session.scanner_time_offset_s) + " s");
-  if (r_.time_offset_sigma_s > 0) {
-    s << Row("scanner clock offset estimated", F("%.4f", r_.time_offset_s) + " &#177; " +
-                                                   F("%.4f", r_.time_offset_sigma_s) + " s");
+  s << Row("scanner clock offset applied (session)",
+           F("%.4f", r_.loaded.session.scanner_time_offset_s) + " s");
+  if (r_.solve.scanner_offset.sigma_s > 0) {
+    s << Row("scanner clock offset estimated", F("%.4f", outcome_.clock_offset_s) + " &#177; " +
+                                                   F("%.4f", r_.solve.scanner_offset.sigma_s) +
+                                                   " s");
   } else {
     s << Row("scanner clock offset estimated", "no (needs scans taken while moving)");
   }
   if (d_.gnss_fixes > 0) {
     s << Row("GNSS log span", F("%.1f", d_.gnss_last_s - d_.gnss_first_s) + " s (" + N(d_.gnss_fixes) + " GGA fixes)");
   }
-  if (!r_.observations.empty()) {
+  if (!r_.solve.observations.empty()) {
     double t0 = 1e300, t1 = -1e300;
-    for (const calib::WallObservation& o : r_.observations) {
+    for (const calib::WallObservation& o : r_.solve.observations) {
       t0 = std::min(t0, o.pose.stamp_s);
       t1 = std::max(t1, o.pose.stamp_s);
     }
@@ -352,12 +372,15 @@ using report_detail::CalibrationResult;
 using report_detail::ReportBuilder;
 namespace fs = std::filesystem;
 
-std::string FormatReportHtml(const CalibrationResult& result) {
-  ReportBuilder builder(result);
+std::string FormatReportHtml(const CalibrationResult& result,
+                             const pipeline::JointScannerResult* joint) {
+  const PageOutcome outcome = joint ? JointOutcome(result, *joint) : OwnOutcome(result);
+  ReportBuilder builder(outcome);
   return builder.Build();
 }
 
-std::string WriteReport(const CalibrationResult& result, const std::string& dir) {
+std::string WriteReport(const CalibrationResult& result, const std::string& dir,
+                        const pipeline::JointScannerResult* joint) {
   std::error_code error;
   fs::create_directories(dir, error);
   if (error || !fs::is_directory(dir)) {
@@ -365,7 +388,7 @@ std::string WriteReport(const CalibrationResult& result, const std::string& dir)
                          (error ? " (" + error.message() + ")" : std::string()));
   }
   const std::string path = (fs::path(dir) / "report.html").string();
-  io::WriteFileAtomically(path, FormatReportHtml(result));
+  io::WriteFileAtomically(path, FormatReportHtml(result, joint));
   return path;
 }
 

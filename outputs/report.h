@@ -17,15 +17,19 @@
 #include <string>
 
 #include "pipeline/calibration.h"
+#include "pipeline/multi_scanner.h"
 
 namespace wallcal::outputs {
 
 // The page as a string. Works for an unusable estimate too (the mount section then says why;
-// the panels show what exists).
-std::string FormatReportHtml(const pipeline::CalibrationResult& result);
+// the panels show what exists). `joint` (a scanner of several): the page shows its joint mount,
+// σ, clock offset, verdict and change, and says which figures are its own run's.
+std::string FormatReportHtml(const pipeline::CalibrationResult& result,
+                             const pipeline::JointScannerResult* joint = nullptr);
 
 // Writes DIR/report.html (DIR created if missing; written atomically) and returns its path.
 // Throws io::InputError when DIR cannot be created or written.
-std::string WriteReport(const pipeline::CalibrationResult& result, const std::string& dir);
+std::string WriteReport(const pipeline::CalibrationResult& result, const std::string& dir,
+                        const pipeline::JointScannerResult* joint = nullptr);
 
 }  // namespace wallcal::outputs

@@ -4,6 +4,8 @@
 // mount, the site map and the counts) and outputs/report_panels.cc (scans, Hough accumulator,
 // residuals, heading coverage). Internal to outputs/.
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -15,22 +17,19 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/Geometry>
-
 #include "calib/geodesy.h"
 #include "calib/range_model.h"
 #include "calib/wall_detector.h"
-#include "io/version.h"
-#include "io/output_file.h"
 #include "common/angles.h"
-#include "outputs/svg_plot.h"
-
+#include "io/output_file.h"
+#include "io/version.h"
 #include "outputs/report.h"
+#include "outputs/report_decision.h"
 #include "outputs/svg_plot.h"
 
 namespace wallcal::outputs::report_detail {
 
+using outputs::PageOutcome;
 using pipeline::CalibrationResult;
 using pipeline::Station;
 
@@ -138,11 +137,18 @@ inline constexpr const char* kReportStyle =
 
 class ReportBuilder {
  public:
-  explicit ReportBuilder(const CalibrationResult& result)
-      : r_(result), d_(result.report), mount_(d_.mount), mount_source_(d_.mount_source),
-        have_mount_(d_.have_mount), stations_(d_.stations), panels_(d_.panels) {
-    const solvers::MountEstimate& e = r_.estimate;
-    residuals_ok_ = e.residual_rho_m.size() == r_.observations.size() && !r_.observations.empty();
+  explicit ReportBuilder(const PageOutcome& outcome)
+      : outcome_(outcome),
+        r_(*outcome.run),
+        d_(*outcome.report),
+        mount_(d_.mount),
+        mount_source_(d_.mount_source),
+        have_mount_(d_.have_mount),
+        stations_(d_.stations),
+        panels_(d_.panels) {
+    const solvers::MountEstimate& e = r_.solve.estimate;
+    residuals_ok_ =
+        e.residual_rho_m.size() == r_.solve.observations.size() && !r_.solve.observations.empty();
   }
 
   std::string Build();
@@ -183,6 +189,7 @@ class ReportBuilder {
   // ---- counts ----
   std::string CountsSection();
 
+  const PageOutcome& outcome_;
   const CalibrationResult& r_;
   const pipeline::ReportData& d_;
   const solvers::Mount& mount_;

@@ -24,7 +24,7 @@ std::string ReportBuilder::ScansSection() {
 }
 
 std::string ReportBuilder::ScanPlot(const pipeline::ScanPanel& panel) {
-  const calib::WallObservation& o = r_.observations[panel.observation];
+  const calib::WallObservation& o = r_.solve.observations[panel.observation];
   const int station_number = panel.station + 1;
   if (!panel.have_scan) {
     return "<p>Station " + N(station_number) + ": scan " + N(o.scan_index) + " not found in the log.</p>\n";
@@ -102,8 +102,11 @@ std::string ReportBuilder::ScanPlot(const pipeline::ScanPanel& panel) {
     caption += "&#961; = " + F("%.3f", d.rho_m) + " m, &#952; = " + F("%.2f", d.theta_rad * kRadToDeg) +
                "&#176;, line fit RMS " + F("%.1f", d.residual_rms_m * 1000) + " mm";
     if (residuals_ok_) {
-      caption += ", residual against the adjusted wall " +
-                 F("%.1f", r_.estimate.residual_rho_m[static_cast<size_t>(panel.observation)] * 1000) + " mm";
+      caption +=
+          ", residual against the adjusted wall " +
+          F("%.1f",
+            r_.solve.estimate.residual_rho_m[static_cast<size_t>(panel.observation)] * 1000) +
+          " mm";
     }
     caption += ".";
   } else {
@@ -121,7 +124,7 @@ std::string ReportBuilder::HoughSection() {
     return s.str();
   }
   const pipeline::ScanPanel* panel = &panels_[static_cast<size_t>(d_.hough.panel)];
-  const calib::WallObservation& o = r_.observations[panel->observation];
+  const calib::WallObservation& o = r_.solve.observations[panel->observation];
   const calib::LineGate& gate = d_.hough.window;
   const double angle_gate = gate.theta_halfwidth_rad;
   const double offset_gate = gate.rho_halfwidth_m;
@@ -192,19 +195,19 @@ std::string ReportBuilder::ResidualsSection() {
     s << "<p>No residuals (no usable solve).</p>\n</section>\n";
     return s.str();
   }
-  const analysis::ResidualAnalysis& ra = r_.residual_analysis;
-  const std::vector<double>& res = r_.estimate.residual_rho_m;
+  const analysis::ResidualAnalysis& ra = r_.finish.residual_analysis;
+  const std::vector<double>& res = r_.solve.estimate.residual_rho_m;
   const size_t n = res.size();
   std::vector<ObservationAxes> axes;
   std::vector<double> res_mm;
   axes.reserve(n);
   res_mm.reserve(n);
   for (size_t i = 0; i < n; ++i) {
-    const calib::WallObservation& o = r_.observations[i];
-    axes.push_back(AxesOf(o, r_.walls[o.wall_index], mount_));
+    const calib::WallObservation& o = r_.solve.observations[i];
+    axes.push_back(AxesOf(o, r_.survey.walls[o.wall_index], mount_));
     res_mm.push_back(res[i] * 1000.0);
   }
-  double band_mm = 2.0 * r_.estimate.residual_rms_m * 1000.0;
+  double band_mm = 2.0 * r_.solve.estimate.residual_rms_m * 1000.0;
   std::string band_name = "\xc2\xb1" "2 \xc3\x97 RMS";
   if (ra.done && ra.robust_sigma_m > 0) {
     band_mm = 2.0 * ra.robust_sigma_m * 1000.0;
@@ -306,7 +309,7 @@ std::string ReportBuilder::CoverageSection() {
   s << "<section id=\"coverage\">\n<h2>Heading coverage</h2>\n";
   constexpr int kBins = 36;
   std::vector<int64_t> bins(kBins, 0);
-  for (const calib::WallObservation& o : r_.observations) {
+  for (const calib::WallObservation& o : r_.solve.observations) {
     double h = std::fmod(GridHeadingDeg(o.pose.yaw_rad) + 360.0, 360.0);
     bins[static_cast<size_t>(std::min(kBins - 1, static_cast<int>(h / (360.0 / kBins))))]++;
   }
@@ -351,7 +354,7 @@ std::string ReportBuilder::CoverageSection() {
   Eigen::Vector2d mean_antenna = Eigen::Vector2d::Zero();
   for (const Station& st : stations_) mean_antenna += st.antenna_local_m;
   if (!stations_.empty()) mean_antenna /= static_cast<double>(stations_.size());
-  for (const calib::WallGeometry& w : r_.walls) {
+  for (const calib::WallGeometry& w : r_.survey.walls) {
     const double side = (w.offset_m - w.normal_local.dot(mean_antenna)) >= 0 ? 1.0 : -1.0;
     const Eigen::Vector2d v = side * w.normal_local;
     const double heading = std::atan2(v.x(), v.y()) * kRadToDeg;
@@ -366,10 +369,16 @@ std::string ReportBuilder::CoverageSection() {
     << Figure(o.str(), "Grid heading (clockwise from grid north) of the vehicle for every wall observation "
                        "used. The mount's yaw and its lever arm separate only when the wall is seen from "
                        "several headings (docs/field-guide.md).");
-  s << "<table>\n" << Row("grid headings used", F("%.1f", r_.heading_min_deg) + "&#176; .. " + F("%.1f", r_.heading_max_deg) + "&#176;")
-    << Row("vehicle-to-wall angles", F("%.1f", r_.wall_angle_min_deg) + "&#176; .. " + F("%.1f", r_.wall_angle_max_deg) + "&#176;")
-    << Row("stations", N(r_.num_dwells) + " found, " + N(static_cast<int64_t>(stations_.size())) + " with observations")
-    << Row("GNSS-error slices used", N(r_.num_segments_used)) << "</table>\n</div>\n</section>\n";
+  s << "<table>\n"
+    << Row("grid headings used", F("%.1f", r_.finish.coverage.heading_min_deg) + "&#176; .. " +
+                                     F("%.1f", r_.finish.coverage.heading_max_deg) + "&#176;")
+    << Row("vehicle-to-wall angles",
+           F("%.1f", r_.finish.coverage.wall_angle_min_deg) + "&#176; .. " +
+               F("%.1f", r_.finish.coverage.wall_angle_max_deg) + "&#176;")
+    << Row("stations", N(r_.poses.num_dwells) + " found, " +
+                           N(static_cast<int64_t>(stations_.size())) + " with observations")
+    << Row("GNSS-error slices used", N(r_.finish.coverage.num_segments_used))
+    << "</table>\n</div>\n</section>\n";
   return s.str();
 }
 

@@ -30,30 +30,34 @@ std::string ChangeText(const pipeline::Change& c) {
 }
 
 std::string FormatSummary(const CalibrationResult& result) {
-  const solvers::MountEstimate& e = result.estimate;
+  const solvers::MountEstimate& e = result.solve.estimate;
   std::ostringstream out;
   char line[512];
-  out << "wallcal " << io::kToolVersion << ": session '" << result.session.name << "' ("
-      << result.preset.name << ")\n";
-  out << "  verdict    " << pipeline::VerdictName(result.decision.verdict) << "\n";
-  for (const std::string& reason : result.decision.reasons) out << "             - " << reason << "\n";
-  if (!result.scanner_from_data.empty()) {
-    out << "  scanner    " << result.preset.name << "'s range model; from the data: "
-        << result.scanner_from_data << "\n";
+  out << "wallcal " << io::kToolVersion << ": session '" << result.loaded.session.name << "' ("
+      << result.loaded.preset.name << ")\n";
+  out << "  verdict    " << pipeline::VerdictName(result.decided.decision.verdict) << "\n";
+  for (const std::string& reason : result.decided.decision.reasons)
+    out << "             - " << reason << "\n";
+  if (!result.detection.scanner_from_data.empty()) {
+    out << "  scanner    " << result.loaded.preset.name
+        << "'s range model; from the data: " << result.detection.scanner_from_data << "\n";
   }
-  std::snprintf(line, sizeof(line), "  scans      %lld read, %lld used (%lld standing, %lld moving)",
-                static_cast<long long>(result.scans_total), static_cast<long long>(result.scans_used),
-                static_cast<long long>(result.scans_used - result.scans_used_moving),
-                static_cast<long long>(result.scans_used_moving));
+  std::snprintf(line, sizeof(line),
+                "  scans      %lld read, %lld used (%lld standing, %lld moving)",
+                static_cast<long long>(result.detection.scans_total),
+                static_cast<long long>(result.finish.coverage.scans_used),
+                static_cast<long long>(result.finish.coverage.scans_used -
+                                       result.finish.coverage.scans_used_moving),
+                static_cast<long long>(result.finish.coverage.scans_used_moving));
   out << line;
-  for (const auto& [reason, count] : result.scans_skipped) {
+  for (const auto& [reason, count] : result.ScansSkipped()) {
     out << "; " << count << " " << calib::ScanSkipName(reason);
   }
   out << "\n";
-  out << "  gnss       " << result.fixes_used << " fixes used (by quality:";
-  for (const auto& [q, count] : result.fixes_by_quality) out << " " << q << ":" << count;
-  out << "), " << result.headings_used << " headings\n";
-  if (const calib::GnssEpochMapping& g = result.gnss_epochs;
+  out << "  gnss       " << result.poses.fixes_used << " fixes used (by quality:";
+  for (const auto& [q, count] : result.poses.fixes_by_quality) out << " " << q << ":" << count;
+  out << "), " << result.poses.headings_used << " headings\n";
+  if (const calib::GnssEpochMapping& g = result.poses.gnss_epochs;
       g.status != calib::EpochMappingStatus::kNoLoggerStamp) {
     std::snprintf(line, sizeof(line),
                   "  gnss time  epoch %s: logger stamp − UTC %.4f s (latency + logger clock "
@@ -62,45 +66,48 @@ std::string FormatSummary(const CalibrationResult& result) {
                   static_cast<long long>(g.fixes));
     out << line;
   }
-  if (const calib::MeasuredWhiteNoise& m = result.measured_noise;
+  if (const calib::MeasuredWhiteNoise& m = result.poses.measured_noise;
       m.gnss_white_sigma_m > 0.0 || m.heading_sigma_rad > 0.0) {
-    const bool used = result.options.solver.use_measured_white_noise;
+    const bool used = result.loaded.options.solver.use_measured_white_noise;
     std::snprintf(line, sizeof(line),
                   "  noise      white noise at the stops: GNSS %.4f m, heading %.4f deg (0: too "
                   "few samples); %s solver.gnss_white_sigma_m %.4f m, heading_sigma_deg %.4f deg\n",
                   m.gnss_white_sigma_m, m.heading_sigma_rad * kRadToDeg,
                   used ? "used instead of" : "not used (use_measured_white_noise: false), kept",
-                  result.configured_gnss_white_sigma_m,
-                  result.configured_heading_sigma_rad * kRadToDeg);
+                  result.loaded.options.solver.gnss_white_sigma_m,
+                  result.loaded.options.solver.heading_sigma_rad * kRadToDeg);
     out << line;
   }
-  const bool rover = !result.walls.empty() && result.walls.front().from_rover;
+  const bool rover = !result.survey.walls.empty() && result.survey.walls.front().from_rover;
   char tie[96];
   if (rover) {
     std::snprintf(tie, sizeof(tie), "rover points (no tie)");
   } else {
-    std::snprintf(tie, sizeof(tie), "%d control points (RMS %.4f m)", result.num_control,
-                  result.control_rms_m);
+    std::snprintf(tie, sizeof(tie), "%d control points (RMS %.4f m)", result.survey.tie.num_control,
+                  result.survey.tie.control_rms_m);
   }
   std::snprintf(line, sizeof(line),
                 "  survey     %s, %zu wall(s), UTM zone %d%s, convergence %.3f deg, scale %.6f\n",
-                tie, result.walls.size(), result.frame.zone, result.frame.north ? "N" : "S",
-                result.frame.convergence_rad * kRadToDeg, result.frame.scale_k0);
+                tie, result.survey.walls.size(), result.survey.frame.zone,
+                result.survey.frame.north ? "N" : "S",
+                result.survey.frame.convergence_rad * kRadToDeg, result.survey.frame.scale_k0);
   out << line;
   std::snprintf(line, sizeof(line),
                 "  geometry   %d stations, %d GNSS-error slices, grid headings %.1f..%.1f deg, "
                 "vehicle-to-wall angles %.1f..%.1f deg\n",
-                result.num_dwells, result.num_segments_used, result.heading_min_deg,
-                result.heading_max_deg, result.wall_angle_min_deg, result.wall_angle_max_deg);
+                result.poses.num_dwells, result.finish.coverage.num_segments_used,
+                result.finish.coverage.heading_min_deg, result.finish.coverage.heading_max_deg,
+                result.finish.coverage.wall_angle_min_deg,
+                result.finish.coverage.wall_angle_max_deg);
   out << line;
-  if (e.usable && !result.sigma_known) {
+  if (e.usable && !result.solve.sigma_known) {
     std::snprintf(line, sizeof(line),
                   "  mount      x = %.4f m   y = %.4f m   yaw = %.3f deg  (%s; no sigma: see the "
                   "warning)\n",
                   e.mount.x_m, e.mount.y_m, e.mount.yaw_rad * kRadToDeg, MethodText(e));
     out << line;
   }
-  if (e.usable && result.sigma_known) {
+  if (e.usable && result.solve.sigma_known) {
     const double sx = std::sqrt(std::max(0.0, e.covariance(0, 0)));
     const double sy = std::sqrt(std::max(0.0, e.covariance(1, 1)));
     const double syaw = std::sqrt(std::max(0.0, e.covariance(2, 2)));
@@ -117,7 +124,7 @@ std::string FormatSummary(const CalibrationResult& result) {
                   "notation)\n",
                   -e.mount.y_m, e.mount.x_m, e.mount.yaw_rad * kRadToDeg);
     out << line;
-    const analysis::ErrorBudget& b = result.budget;
+    const analysis::ErrorBudget& b = result.finish.budget;
     if (b.done) {
       static const char* const kAxes[3] = {"x", "y", "yaw"};
       out << "  σ budget  ";
@@ -128,13 +135,13 @@ std::string FormatSummary(const CalibrationResult& result) {
       }
       out << " (largest share of each variance)\n";
     }
-    if (result.change) {
-      out << "  change     " << ChangeText(*result.change) << "\n";
+    if (result.decided.change) {
+      out << "  change     " << ChangeText(*result.decided.change) << "\n";
     }
     std::snprintf(line, sizeof(line),
                   "  residuals  RMS %.4f m over %d of %zu wall observations (%d down-weighted as "
                   "outliers, > 3 sigma)\n",
-                  e.residual_rms_m, e.observations_used, result.observations.size(),
+                  e.residual_rms_m, e.observations_used, result.solve.observations.size(),
                   e.observations_rejected);
     out << line;
     out << "  yaw        relative to the heading sensor's zero at the first scan used (a "
@@ -150,26 +157,26 @@ std::string FormatSummary(const CalibrationResult& result) {
       std::snprintf(line, sizeof(line),
                     "  clock      scanner time offset %+.4f ± %.4f s (true scan time = stamp + "
                     "offset; prior σ %.4f s): %s\n",
-                    result.time_offset_s, result.time_offset_sigma_s,
-                    result.scanner_offset.prior_sigma_s,
-                    pipeline::DelayStatusName(result.scanner_offset.status));
+                    result.solve.scanner_offset.value_s, result.solve.scanner_offset.sigma_s,
+                    result.solve.scanner_offset.prior_sigma_s,
+                    pipeline::DelayStatusName(result.solve.scanner_offset.status));
       out << line;
-      if (result.drives_timing_sigma_s > 0.0) {
+      if (result.solve.drives_timing_sigma_s > 0.0) {
         std::snprintf(line, sizeof(line),
                       "  clock      the moving scans' timing known to ± %.4f s (what their poses "
                       "need: the offset when driving towards a wall, offset + heading delay "
                       "when turning)\n",
-                      result.drives_timing_sigma_s);
+                      result.solve.drives_timing_sigma_s);
         out << line;
       }
     }
-    if (result.heading_delay.status != pipeline::DelayStatus::kNotEstimated) {
+    if (result.solve.heading_delay.status != pipeline::DelayStatus::kNotEstimated) {
       std::snprintf(line, sizeof(line),
                     "  clock      heading delay after the GNSS epochs %+.4f ± %.4f s (prior σ "
                     "%.4f s): %s\n",
-                    result.heading_delay.value_s, result.heading_delay.sigma_s,
-                    result.heading_delay.prior_sigma_s,
-                    pipeline::DelayStatusName(result.heading_delay.status));
+                    result.solve.heading_delay.value_s, result.solve.heading_delay.sigma_s,
+                    result.solve.heading_delay.prior_sigma_s,
+                    pipeline::DelayStatusName(result.solve.heading_delay.status));
       out << line;
     } else {
       out << "  clock      heading delay not estimated (" << MethodText(e)
@@ -177,7 +184,7 @@ std::string FormatSummary(const CalibrationResult& result) {
                                     "heading does not change with time)\n"
                                   : " does not model it)\n");
     }
-    const analysis::ResidualAnalysis& ra = result.residual_analysis;
+    const analysis::ResidualAnalysis& ra = result.finish.residual_analysis;
     if (ra.done) {
       std::snprintf(line, sizeof(line),
                     "  analysis   robust sigma %.4f m, %.1f %% beyond 2 sigma, %zu flagged "
@@ -185,7 +192,7 @@ std::string FormatSummary(const CalibrationResult& result) {
                     ra.robust_sigma_m, 100.0 * ra.outlier_share, ra.flags.size());
       out << line;
     }
-    const analysis::Repeatability& rep = result.repeatability;
+    const analysis::Repeatability& rep = result.finish.repeatability;
     if (rep.done) {
       out << "  repeat    ";
       if (rep.bootstrap_samples > 0) {
@@ -200,11 +207,13 @@ std::string FormatSummary(const CalibrationResult& result) {
                     rep.max_split_shift_yaw_rad * kRadToDeg);
       out << line;
     }
-    if (result.forced) out << "  FORCED     written although the data do not determine the mount\n";
+    if (result.solve.forced)
+      out << "  FORCED     written although the data do not determine the mount\n";
   } else {
-    out << "  mount      NOT DETERMINED: " << e.message << "\n";
+    out << "  mount      NOT DETERMINED: " << result.Why() << "\n";
   }
-  for (const pipeline::Warning& w : result.warnings) out << "  warning    " << w.message << "\n";
+  for (const pipeline::Warning& w : result.AllWarnings())
+    out << "  warning    " << w.message << "\n";
   std::snprintf(line, sizeof(line), "  time       %.2f s\n", result.seconds);
   out << line;
   return out.str();

@@ -12,7 +12,7 @@
 #include "common/sha256.h"
 #include "io/config/offsets_reader.h"
 #include "io/config/session_reader.h"
-#include "pipeline/steps.h"
+#include "pipeline/session.h"
 #include "solvers/mount_problem.h"
 
 namespace wallcal::pipeline {
@@ -31,13 +31,14 @@ namespace {
 void AtOwnScanTime(const CalibrationResult& result, solvers::ScannerObservations* part,
                    std::vector<calib::WallObservation>* moved) {
   const solvers::WarmStart* warm = part->warm.get();
-  if (result.poses == nullptr || warm == nullptr || !result.estimate.time_offset_estimated ||
+  const calib::PoseInterpolator* poses = result.poses.interpolator.get();
+  if (poses == nullptr || warm == nullptr || !result.solve.estimate.time_offset_estimated ||
       warm->time_offset_s == 0.0) {
     return;
   }
   const double move_s = warm->time_offset_s;
-  *moved = result.observations;
-  calib::ShiftObservations(*result.poses, move_s, -move_s, moved);
+  *moved = result.solve.observations;
+  calib::ShiftObservations(*poses, move_s, -move_s, moved);
   if (moved->empty()) return;  // nothing has a pose there: the run's own poses stay
   auto shifted = std::make_shared<solvers::WarmStart>(*warm);
   shifted->time_offset_s -= move_s;
@@ -52,14 +53,15 @@ void AtOwnScanTime(const CalibrationResult& result, solvers::ScannerObservations
 // runs read the same GNSS and heading logs, so their poses start at the same instant.
 void InJointSlices(const CalibrationResult& result, solvers::ScannerObservations* part,
                    std::vector<calib::WallObservation>* moved) {
-  const calib::AlignmentOptions& alignment = result.options.alignment;
+  const calib::AlignmentOptions& alignment = result.loaded.options.alignment;
   const int parts = calib::SliceParts(alignment.segment_max_s, alignment.joint_segment_max_s);
-  if (result.poses == nullptr || parts <= 1) return;
+  const calib::PoseInterpolator* poses = result.poses.interpolator.get();
+  if (poses == nullptr || parts <= 1) return;
   if (part->observations != moved) {
     *moved = *part->observations;
     part->observations = moved;
   }
-  calib::RefineGnssSlices(result.poses->start_s(), alignment.segment_max_s, parts, moved);
+  calib::RefineGnssSlices(poses->start_s(), alignment.segment_max_s, parts, moved);
   if (part->warm == nullptr) return;
   auto refined = std::make_shared<solvers::WarmStart>(*part->warm);
   refined->biases.clear();
@@ -108,33 +110,32 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
       };
     }
     try {
-      run.result = RunCalibration(one, named);
+      run.own = CalibrationSession(one, named).Run();
     } catch (const io::InputError& error) {
       throw io::InputError(prefix + error.what());
     }
-    run.own_estimate = run.result.estimate;
-    run.refused = !run.result.estimate.usable;
     // Named only: its reason is the scanner's own (the summary's REFUSED line, offsets.yaml's
     // refused: list), said once.
-    if (run.refused) refused.push_back("'" + run.spec.id + "'");
+    if (run.refused()) refused.push_back("'" + run.spec.id + "'");
     several.scanners.push_back(std::move(run));
   }
 
   std::vector<solvers::ScannerObservations> parts;
+  std::vector<size_t> in_joint;  // the scanners of the parts, in order
   // The re-interpolated observations the parts point at (one slot per scanner: never resized).
   std::vector<std::vector<calib::WallObservation>> at_scan_time(several.scanners.size());
   for (size_t s = 0; s < several.scanners.size(); ++s) {
-    ScannerRun& run = several.scanners[s];
-    if (run.refused) continue;
-    run.joint_index = static_cast<int>(parts.size());
+    const ScannerRun& run = several.scanners[s];
+    if (run.refused()) continue;
     solvers::ScannerObservations part;
     part.id = run.spec.id;
-    part.observations = &run.result.observations;
-    part.initial = run.result.estimate.mount;
-    part.warm = run.result.estimate.solution_state;
-    AtOwnScanTime(run.result, &part, &at_scan_time[s]);
-    InJointSlices(run.result, &part, &at_scan_time[s]);
+    part.observations = &run.own.solve.observations;
+    part.initial = run.own.solve.estimate.mount;
+    part.warm = run.own.solve.estimate.solution_state;
+    AtOwnScanTime(run.own, &part, &at_scan_time[s]);
+    InJointSlices(run.own, &part, &at_scan_time[s]);
     parts.push_back(part);
+    in_joint.push_back(s);
   }
   std::string refused_text;
   for (size_t i = 0; i < refused.size(); ++i) refused_text += (i > 0 ? ", " : "") + refused[i];
@@ -151,30 +152,31 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
     p.text = "joint adjustment of " + std::to_string(parts.size()) + " scanners";
     progress(p);
   }
-  const solvers::SolverOptions& options = several.scanners.front().result.options.solver;
-  several.joint = solvers::SolveJointMounts(parts, several.scanners.front().result.walls, options);
+  const CalibrationResult& first = several.scanners.front().own;
+  several.joint = solvers::SolveJointMounts(parts, first.survey.walls, first.SolverInUse());
   if (!several.joint.usable) {
     several.outcome = SeveralOutcome::kFailed;
     several.message = "the joint adjustment failed: " + several.joint.message;
     return several;
   }
-  for (ScannerRun& run : several.scanners) {
-    if (run.joint_index < 0) continue;
-    const int k = run.joint_index;
-    run.result.estimate.mount = several.joint.mounts[k];
-    run.result.estimate.covariance = several.joint.covariance.block<3, 3>(3 * k, 3 * k);
-    run.result.time_offset_s = several.joint.time_offset_s[k];
+  for (size_t k = 0; k < in_joint.size(); ++k) {
+    ScannerRun& run = several.scanners[in_joint[k]];
+    JointScannerResult joint;
+    joint.index = static_cast<int>(k);
+    joint.mount = several.joint.mounts[k];
+    joint.covariance = several.joint.covariance.block<3, 3>(3 * k, 3 * k);
+    joint.time_offset_s = several.joint.time_offset_s[k];
     // Its page shows the joint numbers: its panels and site map are drawn with them too.
-    RedrawReportWithMount(run.result, run.result.estimate.mount,
-                          "joint estimate of all scanners", &run.result.report);
+    joint.report = ReportAround(run.own, joint.mount, "joint estimate of all scanners");
+    run.joint = std::move(joint);
   }
   for (size_t a = 0; a < several.scanners.size(); ++a) {
     for (size_t b = a + 1; b < several.scanners.size(); ++b) {
       const ScannerRun& from = several.scanners[a];
       const ScannerRun& to = several.scanners[b];
-      if (from.joint_index < 0 || to.joint_index < 0) continue;
+      if (!from.joint || !to.joint) continue;
       Eigen::Matrix<double, 6, 6> pair;
-      const int i = 3 * from.joint_index, j = 3 * to.joint_index;
+      const int i = 3 * from.joint->index, j = 3 * to.joint->index;
       pair.block<3, 3>(0, 0) = several.joint.covariance.block<3, 3>(i, i);
       pair.block<3, 3>(0, 3) = several.joint.covariance.block<3, 3>(i, j);
       pair.block<3, 3>(3, 0) = several.joint.covariance.block<3, 3>(j, i);
@@ -182,15 +184,14 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
       RelativeMountResult relative;
       relative.from_id = from.spec.id;
       relative.to_id = to.spec.id;
-      relative.mount = solvers::RelativeMountOf(from.result.estimate.mount,
-                                                to.result.estimate.mount, pair);
+      relative.mount = solvers::RelativeMountOf(from.joint->mount, to.joint->mount, pair);
       several.relative.push_back(relative);
     }
   }
   if (previous) {
     const SeveralChanges changes = CompareSeveral(several, *previous);
     for (size_t s = 0; s < several.scanners.size(); ++s) {
-      several.scanners[s].result.change = changes.scanners[s];
+      if (several.scanners[s].joint) several.scanners[s].joint->change = changes.scanners[s];
     }
     for (size_t r = 0; r < several.relative.size(); ++r) {
       several.relative[r].change = changes.relative[r];
@@ -200,9 +201,9 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
   }
   // Each scanner's verdict on its joint estimate (σ, change), as its own run decides it.
   for (ScannerRun& run : several.scanners) {
-    if (run.joint_index >= 0) run.result.decision = DecideCalibration(run.result, run.result.change);
+    if (run.joint) run.joint->decision = DecideJointScanner(run.own, *run.joint);
   }
-  const AcceptanceOptions& acceptance = several.scanners.front().result.options.acceptance;
+  const AcceptanceOptions& acceptance = first.loaded.options.acceptance;
   for (RelativeMountResult& relative : several.relative) {
     relative.decision = DecideRelative(relative.mount, relative.change, acceptance);
   }

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A session with several scanners (session.yaml `scanners:`) as one library call. Each scanner
-// first goes through the one-scanner run (RunCalibration on io::SessionForScanner: its own
-// detection passes, its own clock rounds, its own checks); the scanners that pass are then
+// first goes through its own session (pipeline::CalibrationSession on io::SessionForScanner: its
+// own detection passes, its own clock rounds, its own checks); the scanners that pass are then
 // adjusted together (solvers::SolveJointMounts): one set of GNSS, heading, wall and survey-tie
 // errors, one mount and one time block per scanner. The joint covariance gives each mount's σ
-// and each pair's relative transform with its σ. Nothing is written here.
+// and each pair's relative transform with its σ. Each scanner keeps its own run's result and its
+// joint result side by side (ScannerRun). Nothing is written here.
 
 #include <optional>
 #include <string>
@@ -24,18 +25,32 @@ namespace wallcal::pipeline {
 // and --allow-partial gave the others their result; kFailed: nothing is written.
 enum class SeveralOutcome { kAll, kPartial, kFailed };
 
+// A scanner's part of the joint adjustment: its mount and σ there (the σ includes what the
+// other scanners tell about the shared errors), its clock offset there, the change since the
+// --compare file's entry of this scanner and the verdict on them, and its report's drawings
+// around the joint mount. What the joint adjustment does not re-estimate (the error budget, the
+// residual analysis, the repeatability, the clock offset's σ) stays in the scanner's own run.
+struct JointScannerResult {
+  int index = -1;  // its place in the joint adjustment
+  calib::Mount mount;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // x, y, yaw (m, m, rad)
+  // The clock offset (s): what its own run's poses carry plus what the joint time block adds.
+  double time_offset_s = 0.0;
+  std::optional<Change> change;  // since the --compare file's entry of this scanner
+  Decision decision;             // on the joint mount and σ (pipeline::DecideJointScanner)
+  ReportData report;             // its own run's drawings around the joint mount
+};
+
 struct ScannerRun {
   io::ScannerSpec spec;
-  // Its own run; when it is in the joint adjustment, result.estimate.mount and .covariance are
-  // replaced by the joint ones (its σ then includes what the other scanners tell about the
-  // shared errors), and result.change and result.decision are the joint estimate's (against
-  // the --compare file's entry of this scanner).
-  CalibrationResult result;
-  // Its own run's estimate, before the joint adjustment replaced the mount and σ: what a
-  // calibration of this scanner alone gives (the benchmark differences two of them).
-  solvers::MountEstimate own_estimate;
-  bool refused = false;   // its own run could not determine the mount (result.estimate says why)
-  int joint_index = -1;   // its place in the joint adjustment (-1: not in it)
+  // Its own run: what a calibration of this scanner alone gives (the benchmark differences two
+  // of them). Never changed by the joint adjustment.
+  CalibrationResult own;
+  // Its result in the joint adjustment; empty when it is not in it (refused, or the joint
+  // adjustment failed).
+  std::optional<JointScannerResult> joint;
+  // Its own run could not determine the mount (own.solve.estimate says why).
+  bool refused() const { return !own.solve.estimate.usable; }
 };
 
 struct RelativeMountResult {
@@ -48,7 +63,7 @@ struct RelativeMountResult {
 struct SeveralScannersResult {
   io::SessionSpec session;
   std::vector<ScannerRun> scanners;  // in session.yaml's order
-  solvers::JointMountEstimate joint;  // over the scanners with joint_index >= 0, in that order
+  solvers::JointMountEstimate joint;  // over the scanners with a joint result, in that order
   std::vector<RelativeMountResult> relative;  // every pair of scanners in the joint adjustment
   // --compare: the scanners in one file only (pipeline::SeveralChanges), and the file's digest
   // for offsets.yaml's source.inputs (empty role: no --compare).

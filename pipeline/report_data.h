@@ -25,7 +25,7 @@ struct Station {
   int segment = -1;
   Eigen::Vector2d antenna_local_m = Eigen::Vector2d::Zero();
   double yaw_rad = 0.0;
-  std::vector<int> observations;  // indices into CalibrationResult::observations
+  std::vector<int> observations;  // indices into SolveResult::observations
   Eigen::Vector2d scanner_local_m = Eigen::Vector2d::Zero();
 };
 
@@ -38,7 +38,7 @@ struct ControlMark {
 // One station's scan, detected again around the shown mount with the second pass's gates.
 struct ScanPanel {
   int station = 0;       // into ReportData::stations
-  int observation = 0;   // into CalibrationResult::observations
+  int observation = 0;   // into SolveResult::observations
   int line = 0;          // the scan's line in its log
   bool have_scan = false;
   calib::ScanPoints points;
@@ -74,5 +74,14 @@ struct ReportData {
   std::optional<calib::Mount> truth;  // the simulator's truth.yaml beside session.yaml
   std::vector<std::string> notes;  // what could not be collected, for the page
 };
+
+struct CalibrationResult;
+
+// The report's drawings of `result` again around `mount` (a scanner's joint mount among
+// several): the scanner at each station, each panel's gate and detection from the scan points
+// it kept, the Hough view; nothing is read. The site map's track and survey do not depend on
+// the mount. result.report not collected: returned as it is.
+ReportData ReportAround(const CalibrationResult& result, const calib::Mount& mount,
+                        const std::string& mount_source);
 
 }  // namespace wallcal::pipeline

@@ -18,6 +18,8 @@ const char* WarningKindName(WarningKind kind) {
     case WarningKind::kScansOutOfOrder: return "scans out of order";
     case WarningKind::kBeamCountMismatch: return "beam count mismatch";
     case WarningKind::kDrivesNotUsed: return "drives not used";
+    case WarningKind::kFewIndependentGnssErrors:
+      return "few independent GNSS errors";
     case WarningKind::kResiduals: return "residuals";
     case WarningKind::kNoSigma: return "no sigma";
     case WarningKind::kForcedPresetMismatch: return "forced: preset mismatch";

@@ -15,17 +15,36 @@
 
 namespace wallcal::pipeline {
 
-Decision DecideCalibration(const CalibrationResult& result, const std::optional<Change>& change) {
+namespace {
+
+// The verdict on `estimate` with what the run says of it.
+Decision DecideOn(const solvers::MountEstimate& estimate, const CalibrationResult& run,
+                  const std::optional<Change>& change) {
   DecisionInputs in;
-  in.estimate = &result.estimate;
-  in.forced = result.forced;
-  in.sigma_known = result.sigma_known;
+  in.estimate = &estimate;
+  in.why = run.Why();
+  in.forced = run.solve.forced;
+  in.sigma_known = run.solve.sigma_known;
   in.change = &change;
-  in.acceptance = &result.options.acceptance;
-  for (const analysis::ResidualTrend& t : result.residual_analysis.trends) {
+  in.acceptance = &run.loaded.options.acceptance;
+  for (const analysis::ResidualTrend& t : run.finish.residual_analysis.trends) {
     in.flagged_trends += t.flagged ? 1 : 0;
   }
   return Decide(in);
+}
+
+}  // namespace
+
+Decision DecideCalibration(const CalibrationResult& result, const std::optional<Change>& change) {
+  return DecideOn(result.solve.estimate, result, change);
+}
+
+Decision DecideJointScanner(const CalibrationResult& own, const JointScannerResult& joint) {
+  solvers::MountEstimate estimate;
+  estimate.usable = true;
+  estimate.mount = joint.mount;
+  estimate.covariance = joint.covariance;
+  return DecideOn(estimate, own, joint.change);
 }
 
 Decision DecideRelative(const solvers::RelativeMount& relative, const std::optional<Change>& change,
@@ -84,13 +103,13 @@ Decision DecideSeveral(const SeveralScannersResult& several) {
   };
   bool any = false;
   for (const ScannerRun& run : several.scanners) {
-    if (run.joint_index < 0) {
+    if (!run.joint) {
       d.verdict = std::max(d.verdict, Verdict::kReview);
       d.reasons.push_back(run.spec.id + ": left out (mount not determined)");
       continue;
     }
     any = true;
-    take(run.result.decision, run.spec.id);
+    take(run.joint->decision, run.spec.id);
   }
   for (const RelativeMountResult& relative : several.relative) {
     take(relative.decision, relative.to_id + " in " + relative.from_id);
@@ -117,11 +136,7 @@ io::PreviousOffsets InvertPrevious(const io::PreviousOffsets& a_T_b) {
 }
 
 Change CompareRelative(const solvers::RelativeMount& now, const io::PreviousOffsets& previous) {
-  solvers::MountEstimate estimate;
-  estimate.mount = now.from_T_to;
-  estimate.covariance = now.covariance;
-  estimate.usable = true;
-  return CompareMounts(estimate, previous);
+  return CompareMounts(now.from_T_to, now.covariance, previous);
 }
 
 SeveralChanges CompareSeveral(const SeveralScannersResult& several,
@@ -132,13 +147,13 @@ SeveralChanges CompareSeveral(const SeveralScannersResult& several,
   std::set<std::string> matched;
   for (size_t s = 0; s < several.scanners.size(); ++s) {
     const ScannerRun& run = several.scanners[s];
-    if (run.joint_index < 0) continue;
+    if (!run.joint) continue;
     // A one-scanner file names its scanner by the frame it was calibrated as.
     const std::string& key = previous.several ? run.spec.id : run.spec.frame;
     bool found = false;
     for (const io::PreviousScannerOffsets& old : previous.scanners) {
       if (old.id != key) continue;
-      changes.scanners[s] = CompareMounts(run.result.estimate, old.offsets);
+      changes.scanners[s] = CompareMounts(run.joint->mount, run.joint->covariance, old.offsets);
       matched.insert(old.id);
       found = true;
       break;

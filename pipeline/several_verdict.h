@@ -18,6 +18,7 @@
 namespace wallcal::pipeline {
 
 struct SeveralScannersResult;
+struct JointScannerResult;
 
 // The change of each scanner and relative transform since the previous file (now − previous;
 // σ units from both covariances, pipeline::CompareMounts).
@@ -36,10 +37,12 @@ struct SeveralChanges {
 SeveralChanges CompareSeveral(const SeveralScannersResult& several,
                               const io::PreviousSeveralOffsets& previous);
 
-// The verdict of a scanner's result (pipeline::Decide) on the estimate, forced flag, σ and
-// flagged residual trends `result` holds, with `change`: a one-scanner run's on its own
-// estimate, a scanner of several's on the joint mount and σ.
+// The verdict of a run (pipeline::Decide) on its estimate, forced flag, σ and flagged residual
+// trends, with `change`.
 Decision DecideCalibration(const CalibrationResult& result, const std::optional<Change>& change);
+// The verdict of a scanner of several on its joint mount and σ, with its joint change and what
+// its own run says of it (forced, σ known, flagged residual trends), as its own run decides.
+Decision DecideJointScanner(const CalibrationResult& own, const JointScannerResult& joint);
 
 // The verdict of a relative transform against acceptance.relative_* (σ beyond them: REJECT;
 // a change beyond them or beyond max_change_sigmas combined σ: REVIEW).

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// The survey step of a calibration run (pipeline/steps.h): the survey read, tied to the GNSS
-// (total-station points through control points; a rover's points need no tie) and the walls
+// The survey step of a calibration run (pipeline/internal/steps.h): the survey read, tied to the
+// GNSS (total-station points through control points; a rover's points need no tie) and the walls
 // fitted.
 
 #include <cmath>
@@ -14,13 +14,13 @@
 #include "common/format.h"
 #include "io/survey/survey_reader.h"
 #include "pipeline/checks.h"
-#include "pipeline/steps.h"
+#include "pipeline/internal/steps.h"
 
 namespace wallcal::pipeline {
 
-SurveyStep TieSurveyAndFitWalls(const io::SessionSpec& session,
-                                const solvers::SolverOptions& solver, bool swap_survey_axes) {
-  SurveyStep step;
+SurveyResult TieSurveyAndFitWalls(const io::SessionSpec& session,
+                                  const solvers::SolverOptions& solver, bool swap_survey_axes) {
+  SurveyResult step;
   std::vector<io::SurveyPoint> observations =
       io::ReadSurvey(session.survey_points, session.survey_columns);
   if (calib::IsRoverSurvey(observations)) {
@@ -38,13 +38,13 @@ SurveyStep TieSurveyAndFitWalls(const io::SessionSpec& session,
         session.survey_point_sigma_m.value_or(io::kDefaultRoverPointSigmaM));
     // Points measured more than once are averaged (io/survey_reader.h).
     const io::SurveyCombination combined = io::CombineSurveyObservations(observations);
-    step.survey = combined.points;
+    step.points = combined.points;
     for (const std::string& w : combined.warnings) {
       step.warnings.push_back({WarningKind::kSurveyPoints, w});
     }
     step.tie = calib::RoverTie();
     step.walls =
-        calib::FitWalls(step.survey, session.survey_points, session, step.tie, solver.survey());
+        calib::FitWalls(step.points, session.survey_points, session, step.tie, solver.survey());
     return step;
   }
   if (session.control.empty()) {
@@ -56,9 +56,9 @@ SurveyStep TieSurveyAndFitWalls(const io::SessionSpec& session,
   }
   // Points measured more than once (both faces, two set-ups) are averaged (io/survey_reader.h).
   const io::SurveyCombination combined = io::CombineSurveyObservations(observations);
-  step.survey = combined.points;
+  step.points = combined.points;
   if (swap_survey_axes) {
-    for (io::SurveyPoint& p : step.survey) std::swap(p.x_m, p.y_m);
+    for (io::SurveyPoint& p : step.points) std::swap(p.x_m, p.y_m);
   }
   for (const std::string& w : combined.warnings) {
     step.warnings.push_back({WarningKind::kSurveyPoints, w});
@@ -73,11 +73,11 @@ SurveyStep TieSurveyAndFitWalls(const io::SessionSpec& session,
                                    std::string("survey.control[0] / utm_zone: ") + e.what()));
   }
   // Before the tie: a mirrored survey would fail it with a message about one control point.
-  CheckSurveyNotMirrored(step.survey, session, step.frame);
+  CheckSurveyNotMirrored(step.points, session, step.frame);
   step.tie =
-      calib::TieSurvey(step.survey, session.survey_points, session, step.frame, solver.survey());
+      calib::TieSurvey(step.points, session.survey_points, session, step.frame, solver.survey());
   step.walls =
-      calib::FitWalls(step.survey, session.survey_points, session, step.tie, solver.survey());
+      calib::FitWalls(step.points, session.survey_points, session, step.tie, solver.survey());
   if (step.tie.num_control >= 2 &&
       step.tie.control_rms_m >
           3.0 * std::hypot(solver.control_sigma_m, solver.total_station_sigma_m)) {

@@ -26,16 +26,21 @@ const char* VerdictName(Verdict verdict) {
 }
 
 Change CompareMounts(const solvers::MountEstimate& now, const io::PreviousOffsets& previous) {
+  return CompareMounts(now.mount, now.covariance, previous);
+}
+
+Change CompareMounts(const calib::Mount& now, const Eigen::Matrix3d& covariance,
+                     const io::PreviousOffsets& previous) {
   Change change;
   change.previous_file = previous.file;
   change.previous_created_utc = previous.created_utc;
-  change.dx_m = now.mount.x_m - previous.x_m;
-  change.dy_m = now.mount.y_m - previous.y_m;
-  change.dyaw_rad = WrapAngle(now.mount.yaw_rad - previous.yaw_rad);
+  change.dx_m = now.x_m - previous.x_m;
+  change.dy_m = now.y_m - previous.y_m;
+  change.dyaw_rad = WrapAngle(now.yaw_rad - previous.yaw_rad);
   const double deltas[3] = {change.dx_m, change.dy_m, change.dyaw_rad};
   double* sigmas[3] = {&change.x_sigmas, &change.y_sigmas, &change.yaw_sigmas};
   for (int k = 0; k < 3; ++k) {
-    const double now_sigma = SigmaOf(now.covariance(k, k));
+    const double now_sigma = SigmaOf(covariance(k, k));
     const double previous_sigma =
         previous.sigma_known ? SigmaOf(previous.covariance[4 * k]) : std::numeric_limits<double>::quiet_NaN();
     *sigmas[k] = std::abs(deltas[k]) / std::hypot(now_sigma, previous_sigma);
@@ -57,7 +62,7 @@ Decision Decide(const DecisionInputs& in) {
   };
   if (!e.usable) {
     d.verdict = Verdict::kReject;
-    d.reasons.push_back("mount not determined: " + e.message);
+    d.reasons.push_back("mount not determined: " + (in.why.empty() ? e.message : in.why));
     return d;
   }
   d.verdict = Verdict::kAccept;

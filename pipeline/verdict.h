@@ -5,14 +5,14 @@
 // calibration (calibrate --compare); and the provenance of the run. Computed once here, shown by
 // the summary, offsets.yaml and the report.
 
-#include <optional>
 #include <atomic>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "analysis/error_budget.h"
-#include "pipeline/calibrate_options.h"
 #include "io/types.h"
+#include "pipeline/calibrate_options.h"
 #include "solvers/mount_solver.h"
 
 namespace wallcal::pipeline {
@@ -41,15 +41,21 @@ struct Change {
 // Now minus previous (yaw wrapped to (−π, π]); σ units from both covariances (a covariance
 // with a NaN or a non-positive diagonal counts as unknown).
 Change CompareMounts(const solvers::MountEstimate& now, const io::PreviousOffsets& previous);
+// The same for a mount and its covariance (m, rad) that are not an estimate of their own (a
+// scanner's joint mount among several, a relative transform).
+Change CompareMounts(const calib::Mount& now, const Eigen::Matrix3d& covariance,
+                     const io::PreviousOffsets& previous);
 
 struct Decision {
   Verdict verdict = Verdict::kReject;
   std::vector<std::string> reasons;  // why not ACCEPT (empty for ACCEPT) or what was checked
 };
 
-// `refused` (empty: none) is a refusal by a pipeline check the estimate does not carry itself.
+// What a verdict rests on: the estimate (its usability and σ), whether it was forced or has no
+// σ, the change since the previous calibration, the tolerances and the flagged residual trends.
 struct DecisionInputs {
   const solvers::MountEstimate* estimate = nullptr;
+  std::string why;  // why a refused estimate is refused; empty: its own message
   bool forced = false;
   bool sigma_known = true;
   const std::optional<Change>* change = nullptr;
@@ -57,14 +63,6 @@ struct DecisionInputs {
   int flagged_trends = 0;
 };
 Decision Decide(const DecisionInputs& in);
-
-// Where a run came from, for offsets.yaml.
-struct Provenance {
-  std::string created_utc;  // ISO 8601 UTC, seconds
-  std::string tool_version;
-  std::vector<std::string> command_line;
-  std::vector<io::InputFileDigest> inputs;
-};
 
 // The SHA-256 of each input file of the session (session.yaml, scanner, GNSS and heading logs,
 // survey, options file when given, scanner preset file read, previous offsets of --compare when

@@ -90,9 +90,9 @@ SessionInspection InspectOneScanner(const std::string& session_path,
   };
   auto shared_scan_log = [&]() -> std::optional<ScanLogSummary> {
     take_preview();
-    if (!preview_result || !preview_result->scan_log) return std::nullopt;
-    return SummaryFromTally(spec.scanner_log, std::move(*preview_result->scan_log),
-                            preview_result->scan_lines_skipped);
+    if (!preview_result || !preview_result->detection.scan_log) return std::nullopt;
+    return SummaryFromTally(spec.scanner_log, std::move(*preview_result->detection.scan_log),
+                            preview_result->detection.scan_lines_skipped);
   };
 
   // --- Logs ------------------------------------------------------------------------------
@@ -227,19 +227,19 @@ SessionInspection InspectOneScanner(const std::string& session_path,
   bool detections_complete = false;
   bool wall_never_seen = false;
   if (calibration) {
-    const bool first_pass_refused = !calibration->first_pass.usable;
-    wall_never_seen = first_pass_refused && calibration->first_pass.failure ==
+    const bool first_pass_refused = !calibration->detection.first_pass.usable;
+    wall_never_seen = first_pass_refused && calibration->detection.first_pass.failure ==
                                                 solvers::EstimateFailure::kWallNotDetected;
     detections_complete = !first_pass_refused || wall_never_seen;
     if (!detections_complete) {
       detection_note = "stopped after the first pass (estimate refused: " +
-                       calibration->first_pass.message + ")";
+                       calibration->detection.first_pass.message + ")";
     }
   }
 
-  if (calibration && !calibration->scanner_from_data.empty()) {
-    out << "  scanner   " << calibration->preset.name << "'s range model; from the data: "
-        << calibration->scanner_from_data << "\n";
+  if (calibration && !calibration->detection.scanner_from_data.empty()) {
+    out << "  scanner   " << calibration->loaded.preset.name
+        << "'s range model; from the data: " << calibration->detection.scanner_from_data << "\n";
   }
   out << "\nstations (stops of at least " << Fmt("%.1f", options.alignment.min_dwell_s)
       << " s): " << dwells.size() << "\n";
@@ -255,7 +255,8 @@ SessionInspection InspectOneScanner(const std::string& session_path,
     std::vector<size_t> scan_obs;
     std::vector<double> scan_stamp_s;  // scan k's time, side by side for the stations' scans
     if (calibration) {
-      for (const calib::WallObservation& o : calibration->observations) sorted_obs.push_back(&o);
+      for (const calib::WallObservation& o : calibration->solve.observations)
+        sorted_obs.push_back(&o);
       std::stable_sort(sorted_obs.begin(), sorted_obs.end(),
                        [](const calib::WallObservation* a, const calib::WallObservation* b) {
                          return a->scan_index < b->scan_index;
@@ -316,11 +317,11 @@ SessionInspection InspectOneScanner(const std::string& session_path,
   if (calibration) {
     // One heading per scan, its first observation's, in observation order.
     int max_scan = -1;
-    for (const calib::WallObservation& o : calibration->observations) {
+    for (const calib::WallObservation& o : calibration->solve.observations) {
       max_scan = std::max(max_scan, o.scan_index);
     }
     std::vector<uint8_t> seen(static_cast<size_t>(max_scan + 1), 0);
-    for (const calib::WallObservation& o : calibration->observations) {
+    for (const calib::WallObservation& o : calibration->solve.observations) {
       if (o.scan_index < 0 || seen[o.scan_index]) continue;
       seen[o.scan_index] = 1;
       seen_headings_rad.push_back(HeadingFromYaw(o.pose.yaw_rad));
@@ -331,19 +332,20 @@ SessionInspection InspectOneScanner(const std::string& session_path,
   out << "\nwall detection\n";
   if (calibration && detections_complete) {
     const pipeline::CalibrationResult& c = *calibration;
-    out << "  scans     " << c.scans_total << " in the log, wall seen in " << c.scans_used;
-    for (const auto& [reason, count] : c.scans_skipped) {
+    out << "  scans     " << c.detection.scans_total << " in the log, wall seen in "
+        << c.finish.coverage.scans_used;
+    for (const auto& [reason, count] : c.ScansSkipped()) {
       out << "; " << count << " " << calib::ScanSkipName(reason);
     }
     out << "\n";
-    out << "  observations " << c.observations.size();
-    if (!c.observations.empty()) {
+    out << "  observations " << c.solve.observations.size();
+    if (!c.solve.observations.empty()) {
       double inl = 0.0, rms = 0.0;
-      for (const calib::WallObservation& o : c.observations) {
+      for (const calib::WallObservation& o : c.solve.observations) {
         inl += o.num_inliers;
         rms += o.residual_rms_m;
       }
-      const double n = static_cast<double>(c.observations.size());
+      const double n = static_cast<double>(c.solve.observations.size());
       out << ", mean " << Fmt("%.0f", inl / n) << " inliers, mean fit RMS "
           << Fmt("%.1f", 1000.0 * rms / n) << " mm";
     }
@@ -394,7 +396,7 @@ SessionInspection InspectOneScanner(const std::string& session_path,
   if (calibration) {
     const pipeline::CalibrationResult& c = *calibration;
     if (wall_never_seen) {
-      block("wall never detected: " + c.first_pass.message);
+      block("wall never detected: " + c.detection.first_pass.message);
       geometry_named = true;
     } else if (detections_complete) {
       if (stations_with_wall < so.min_stations && !dwells.empty() &&
@@ -411,9 +413,9 @@ SessionInspection InspectOneScanner(const std::string& session_path,
               "° needed): stop at more varied headings to the wall");
         geometry_named = true;
       }
-      if (static_cast<int64_t>(c.observations.size()) < so.min_observations) {
-        block("too few observations: " + std::to_string(c.observations.size()) + " (at least " +
-              std::to_string(so.min_observations) + " needed)");
+      if (static_cast<int64_t>(c.solve.observations.size()) < so.min_observations) {
+        block("too few observations: " + std::to_string(c.solve.observations.size()) +
+              " (at least " + std::to_string(so.min_observations) + " needed)");
         geometry_named = true;
       }
       if (station_scans_total > 0 && 2 * station_detections_total < station_scans_total) {
@@ -422,25 +424,27 @@ SessionInspection InspectOneScanner(const std::string& session_path,
              " scans at stations (check the wall is in range and unobstructed)");
       }
     }
-    if (!c.estimate.usable && !wall_never_seen) {
-      block("calibrate refuses the estimate: " + c.estimate.message);
+    if (!c.solve.estimate.usable && !wall_never_seen) {
+      block("calibrate refuses the estimate: " + c.Why());
     }
-    for (const pipeline::Warning& w : c.warnings) {
+    for (const pipeline::Warning& w : c.AllWarnings()) {
       if (std::find(result.warnings.begin(), result.warnings.end(), w.message) ==
           result.warnings.end()) {
         warn(w.message);
       }
     }
-    if (c.estimate.usable) {
-      out << "  preview   a calibration now gives x = " << Fmt("%.3f", c.estimate.mount.x_m)
-          << " m, y = " << Fmt("%.3f", c.estimate.mount.y_m) << " m, yaw = "
-          << Fmt("%.2f", c.estimate.mount.yaw_rad * kRadToDeg) << "°";
-      if (c.preview_observations_solved < static_cast<int64_t>(c.observations.size())) {
+    if (c.solve.estimate.usable) {
+      out << "  preview   a calibration now gives x = " << Fmt("%.3f", c.solve.estimate.mount.x_m)
+          << " m, y = " << Fmt("%.3f", c.solve.estimate.mount.y_m)
+          << " m, yaw = " << Fmt("%.2f", c.solve.estimate.mount.yaw_rad * kRadToDeg) << "°";
+      if (c.solve.preview_observations_solved < static_cast<int64_t>(c.solve.observations.size())) {
         // Thinned (pipeline/calibration.h): its residuals are not the session's.
-        out << " (solved on " << c.preview_observations_solved << " of " << c.observations.size()
+        out << " (solved on " << c.solve.preview_observations_solved << " of "
+            << c.solve.observations.size()
             << " observations, evenly spaced, each weighted to stand for the rest)\n";
       } else {
-        out << " (residual RMS " << Fmt("%.1f", 1000.0 * c.estimate.residual_rms_m) << " mm)\n";
+        out << " (residual RMS " << Fmt("%.1f", 1000.0 * c.solve.estimate.residual_rms_m)
+            << " mm)\n";
       }
     }
   }

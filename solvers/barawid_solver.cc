@@ -30,7 +30,8 @@ MountEstimate SolveMountBarawid(const std::vector<calib::WallObservation>& obser
     }
     // Forced: the closed form still needs a solvable normal system (checked below).
     estimate.forced = true;
-    estimate.warnings.push_back("FORCED: " + observability.message);
+    estimate.warnings.push_back(
+        {SolverWarningKind::kForcedObservability, "FORCED: " + observability.message});
   }
   const int n = static_cast<int>(observations.size());
 

@@ -271,6 +271,11 @@ MountEstimate SolveMountProblem(MountProblem& mp, const solvers::SolverOptions& 
 
 namespace {
 
+// The warning of a check that failed but was forced past.
+SolverWarning Forced(const std::string& message) {
+  return {SolverWarningKind::kForcedObservability, "FORCED: " + message};
+}
+
 // The covariance from an information matrix that may be singular: eigenvalues below a floor
 // (relative to the largest) are raised to it, so that an undetermined direction comes out with
 // a huge but finite σ instead of a failure (used only for forced estimates and refits).
@@ -301,11 +306,11 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
   const std::vector<double> weights =
       observation_weight == 1.0 ? std::vector<double>()
                                 : std::vector<double>(observations.size(), observation_weight);
-  std::vector<std::string> forced_warnings;
+  std::vector<SolverWarning> forced_warnings;
   const ObservabilityReport observability = CheckObservability(observations, walls, options);
   if (!observability.ok) {
     if (!force || !observability.solvable) return Refused(initial, EstimateFailure::kNotDetermined, observability.message);
-    forced_warnings.push_back("FORCED: " + observability.message);
+    forced_warnings.push_back(Forced(observability.message));
   }
   std::string error;
   auto mp = BuildMountProblem(observations, walls, options, initial, initial, &error, weights);
@@ -375,7 +380,7 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
       refused.weak_direction = before.weak_direction;
       return refused;
     }
-    if (observability.ok) forced_warnings.push_back("FORCED: " + before.message);
+    if (observability.ok) forced_warnings.push_back(Forced(before.message));
   }
   if (!after.ok) {
     estimate.weak_direction = after.weak_direction;
@@ -385,7 +390,7 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
       estimate.message = after.message;
       return estimate;
     }
-    if (observability.ok && before.ok) forced_warnings.push_back("FORCED: " + after.message);
+    if (observability.ok && before.ok) forced_warnings.push_back(Forced(after.message));
   }
   if (!estimate.usable && force && !forced_warnings.empty() &&
       estimate.failure == EstimateFailure::kCovariance) {
@@ -409,7 +414,7 @@ MountEstimate SolveMountCeres(const std::vector<calib::WallObservation>& observa
                   "correlation time %.0f s): spread the stations over a longer time for a "
                   "smaller σ",
                   estimate.independent_stations, options.gnss_bias_tau_s);
-    estimate.warnings.push_back(line);
+    estimate.warnings.push_back({SolverWarningKind::kFewIndependentGnssErrors, line});
   }
   return estimate;
 }

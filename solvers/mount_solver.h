@@ -42,6 +42,17 @@ enum class EstimateFailure {
   kOutsideMountGuess,  // farther from scanner.mount_guess than its tolerance (set by pipeline/)
 };
 
+// What weakens an estimate without refusing it, typed: the kind says what a caller may act on,
+// the message is for people. A forced kind's message starts with "FORCED: ".
+enum class SolverWarningKind {
+  kForcedObservability,       // force: an observability or determination check failed
+  kFewIndependentGnssErrors,  // the stations count as few independent GNSS-error realisations
+};
+struct SolverWarning {
+  SolverWarningKind kind = SolverWarningKind::kForcedObservability;
+  std::string message;
+};
+
 struct MountEstimate {
   Mount mount;
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // x, y, yaw (m, m, rad)
@@ -56,9 +67,9 @@ struct MountEstimate {
   std::string solver_report;  // Ceres' brief report, or a line for barawid
   // Observability (ceres; barawid fills what its checks know). forced: an observability check
   // failed but the caller asked for the estimate anyway (usable stays true; `warnings` then
-  // starts with "FORCED: ..." and the covariance says how little is known).
+  // starts with the kForcedObservability ones and the covariance says how little is known).
   bool forced = false;
-  std::vector<std::string> warnings;
+  std::vector<SolverWarning> warnings;
   std::string weak_direction;  // e.g. "lateral offset y"; empty when every direction is fine
   // Stations counted as independent GNSS-error realisations (Gauss–Markov, τ): 1 + Σ (1 − ρ²)
   // over consecutive segments with ρ = exp(−Δt/τ).
@@ -105,8 +116,8 @@ inline const char* MethodText(const MountEstimate& estimate) {
 }
 
 // `force`: when an observability check fails (before or after the solve), solve anyway and
-// return the estimate as usable with forced = true and a "FORCED: ..." warning, instead of
-// refusing. Checks that make a solve impossible (no observations, bad wall index) still refuse.
+// return the estimate as usable with forced = true and a kForcedObservability warning, instead
+// of refusing. Checks that make a solve impossible (no observations, bad wall index) still refuse.
 
 // The clock-offset rounds (solve_policy.h) pass `warm`, where the round before ended: the
 // nuisance parameters start there, and with warm->checked the determination check before the

@@ -10,9 +10,9 @@
 #include <fstream>
 #include <map>
 
+#include "io/config/rosbag2_metadata.h"
 #include "io/types.h"
 #include "recording/mcap/internal/mcap_reader.h"
-#include "recording/rosbag2/internal/rosbag2_metadata.h"
 
 namespace wallcal::recording {
 namespace {
@@ -337,10 +337,10 @@ std::unique_ptr<Recording> OpenFolder(const std::string& folder) {
   std::vector<std::string> files;
   std::vector<std::string> notes;
   std::error_code ec;
-  Rosbag2Metadata meta;
+  io::Rosbag2Metadata meta;
   const bool have_meta = fs::is_regular_file(meta_path, ec);
   if (have_meta) {
-    meta = ReadRosbag2Metadata(meta_path.string());
+    meta = io::ReadRosbag2Metadata(meta_path.string());
     if (!meta.compression_format.empty() || !meta.compression_mode.empty()) {
       throw io::InputError(
           io::Where(meta_path.string(), 0,
@@ -379,7 +379,7 @@ std::unique_ptr<Recording> OpenFolder(const std::string& folder) {
   for (const std::string& f : files) parts.push_back(OpenStorageFile(f));
   auto recording = std::make_unique<SplitRecording>(folder, std::move(parts));
   std::vector<std::string> warnings = notes;
-  for (const Rosbag2TopicCount& c : meta.topics) {
+  for (const io::Rosbag2TopicCount& c : meta.topics) {
     const TopicInfo* topic = FindTopic(recording->topics(), c.name);
     const int64_t held = topic != nullptr ? topic->count : 0;
     if (held != c.message_count) {

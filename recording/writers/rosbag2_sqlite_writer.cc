@@ -11,9 +11,9 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "io/config/rosbag2_metadata.h"
 #include "io/output_file.h"
 #include "io/writers/writers.h"
-#include "recording/rosbag2/internal/rosbag2_metadata.h"
 
 namespace wallcal::recording {
 
@@ -171,8 +171,25 @@ void Rosbag2SqliteWriter::Close() {
 void WriteRosbag2Metadata(const std::string& folder, const std::string& storage_identifier,
                           const std::vector<std::string>& relative_files,
                           const std::vector<TopicInfo>& topics) {
-  io::WriteFileAtomically(folder + "/metadata.yaml",
-                          FormatRosbag2Metadata(storage_identifier, relative_files, topics));
+  // The topics' counts and first/last times give message_count, starting_time and duration.
+  io::Rosbag2Metadata meta;
+  meta.version = 5;
+  meta.storage_identifier = storage_identifier;
+  meta.relative_file_paths = relative_files;
+  int64_t first_ns = 0, last_ns = 0;
+  bool any = false;
+  for (const TopicInfo& t : topics) {
+    meta.topics.push_back({t.name, t.type, t.encoding, t.count});
+    if (t.count == 0) continue;
+    const int64_t a = std::llround(t.first_s * 1e9), b = std::llround(t.last_s * 1e9);
+    first_ns = any ? std::min(first_ns, a) : a;
+    last_ns = any ? std::max(last_ns, b) : b;
+    any = true;
+    meta.message_count += t.count;
+  }
+  meta.starting_time_ns = first_ns;
+  meta.duration_ns = last_ns - first_ns;
+  io::WriteFileAtomically(folder + "/metadata.yaml", io::FormatRosbag2Metadata(meta));
 }
 
 }  // namespace wallcal::recording

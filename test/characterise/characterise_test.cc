@@ -141,17 +141,19 @@ TEST(CharacteriseTest, AMeasuredPresetMatchingTheShippedOneLeavesTheMountAlone) 
   // The URG's truth is its shipped preset's model.
   const CharacteriseRequest request = Simulated(Scenario("characterise_urg04lx"), 7, dir);
   const pipeline::CalibrationResult before = Calibrate(request);
-  ASSERT_TRUE(before.estimate.usable) << before.estimate.message;
+  ASSERT_TRUE(before.solve.estimate.usable) << before.solve.estimate.message;
   const Characterisation r = Characterise(request);
   ASSERT_TRUE(r.ok()) << r.reason;
   UsePreset(request.session_path, r.preset);
   const pipeline::CalibrationResult after = Calibrate(request);
-  ASSERT_EQ(after.preset.name, "hokuyo_urg04lx_measured");
-  ASSERT_TRUE(after.estimate.usable) << after.estimate.message;
-  const Eigen::Matrix3d& cov = after.estimate.covariance;
-  EXPECT_LT(std::abs(after.estimate.mount.x_m - before.estimate.mount.x_m), std::sqrt(cov(0, 0)));
-  EXPECT_LT(std::abs(after.estimate.mount.y_m - before.estimate.mount.y_m), std::sqrt(cov(1, 1)));
-  EXPECT_LT(std::abs(after.estimate.mount.yaw_rad - before.estimate.mount.yaw_rad),
+  ASSERT_EQ(after.loaded.preset.name, "hokuyo_urg04lx_measured");
+  ASSERT_TRUE(after.solve.estimate.usable) << after.solve.estimate.message;
+  const Eigen::Matrix3d& cov = after.solve.estimate.covariance;
+  EXPECT_LT(std::abs(after.solve.estimate.mount.x_m - before.solve.estimate.mount.x_m),
+            std::sqrt(cov(0, 0)));
+  EXPECT_LT(std::abs(after.solve.estimate.mount.y_m - before.solve.estimate.mount.y_m),
+            std::sqrt(cov(1, 1)));
+  EXPECT_LT(std::abs(after.solve.estimate.mount.yaw_rad - before.solve.estimate.mount.yaw_rad),
             std::sqrt(cov(2, 2)));
 }
 
@@ -169,17 +171,18 @@ TEST(CharacteriseTest, AMeasuredPresetCorrectsTheMountWhenTheTrueOffsetDiffers) 
   config.truth_offset_c_m = 0.010;
   const CharacteriseRequest request = Simulated(config, 11, FreshScratchDir("offset"));
   const pipeline::CalibrationResult before = Calibrate(request);
-  ASSERT_TRUE(reference.estimate.usable && before.estimate.usable) << before.estimate.message;
+  ASSERT_TRUE(reference.solve.estimate.usable && before.solve.estimate.usable)
+      << before.solve.estimate.message;
   const Characterisation r = Characterise(request);
   ASSERT_TRUE(r.ok()) << r.reason;
   ExpectWithin3Sigma(r.model.b_m, -0.010, "b");
   ExpectWithin3Sigma(r.model.k, 1.0, "k");
   UsePreset(request.session_path, r.preset);
   const pipeline::CalibrationResult after = Calibrate(request);
-  ASSERT_TRUE(after.estimate.usable) << after.estimate.message;
-  const double sigma_x = std::sqrt(after.estimate.covariance(0, 0));
-  const double sigma_y = std::sqrt(after.estimate.covariance(1, 1));
-  const double sigma_yaw = std::sqrt(after.estimate.covariance(2, 2));
+  ASSERT_TRUE(after.solve.estimate.usable) << after.solve.estimate.message;
+  const double sigma_x = std::sqrt(after.solve.estimate.covariance(0, 0));
+  const double sigma_y = std::sqrt(after.solve.estimate.covariance(1, 1));
+  const double sigma_yaw = std::sqrt(after.solve.estimate.covariance(2, 2));
   // The uncorrected offset moves x by about its 1 cm (9.4 mm on this seed). What the measured
   // preset leaves is its own error at the stations' distances: σ(k)·d ⊕ σ(b) with d the middle
   // of the 3–15 m, 3.2 mm here. So x must come back to within 3 of that of the reference, and
@@ -187,14 +190,15 @@ TEST(CharacteriseTest, AMeasuredPresetCorrectsTheMountWhenTheTrueOffsetDiffers) 
   // honest σ); x, y and yaw within their own σ of the reference.
   const double d_mid_m = 0.5 * (r.distance_min_m + r.distance_max_m);
   const double sigma_correction = std::hypot(r.model.k.sigma * d_mid_m, r.model.b_m.sigma);
-  const double dx_before = before.estimate.mount.x_m - reference.estimate.mount.x_m;
-  const double dx_after = after.estimate.mount.x_m - reference.estimate.mount.x_m;
+  const double dx_before = before.solve.estimate.mount.x_m - reference.solve.estimate.mount.x_m;
+  const double dx_after = after.solve.estimate.mount.x_m - reference.solve.estimate.mount.x_m;
   EXPECT_GT(std::abs(dx_before), 0.007);  // the offset does move calibrate's x
   EXPECT_LT(std::abs(dx_after), std::abs(dx_before)) << dx_before << " " << dx_after;
   EXPECT_LT(std::abs(dx_after), 3.0 * sigma_correction) << sigma_correction;
   EXPECT_LT(std::abs(dx_after), sigma_x);
-  EXPECT_LT(std::abs(after.estimate.mount.y_m - reference.estimate.mount.y_m), sigma_y);
-  EXPECT_LT(std::abs(after.estimate.mount.yaw_rad - reference.estimate.mount.yaw_rad), sigma_yaw);
+  EXPECT_LT(std::abs(after.solve.estimate.mount.y_m - reference.solve.estimate.mount.y_m), sigma_y);
+  EXPECT_LT(std::abs(after.solve.estimate.mount.yaw_rad - reference.solve.estimate.mount.yaw_rad),
+            sigma_yaw);
 }
 
 TEST(CharacteriseTest, RefusesASessionWithEveryStationAtOneDistance) {

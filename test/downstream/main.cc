@@ -20,9 +20,9 @@ int main(int argc, char** argv) {
   try {
     const wallcal::pipeline::CalibrationResult result = wallcal::pipeline::RunCalibration(request);
     std::cerr << wallcal::outputs::FormatSummary(result);
-    if (!result.estimate.usable) return 1;
-    std::printf("%.4f %.4f %.6f\n", result.estimate.mount.x_m, result.estimate.mount.y_m,
-                result.estimate.mount.yaw_rad);
+    if (!result.solve.estimate.usable) return 1;
+    std::printf("%.4f %.4f %.6f\n", result.solve.estimate.mount.x_m,
+                result.solve.estimate.mount.y_m, result.solve.estimate.mount.yaw_rad);
     return 0;
   } catch (const wallcal::io::InputError& error) {
     std::cerr << "downstream: " << error.what() << "\n";

@@ -7,12 +7,12 @@
 #include <cstdlib>
 #include <string>
 
+#include "io/config/rosbag2_metadata.h"
 #include "io/types.h"
-#include "recording/rosbag2/internal/rosbag2_metadata.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
-    const wallcal::recording::Rosbag2Metadata meta = wallcal::recording::ParseRosbag2Metadata(
+    const wallcal::io::Rosbag2Metadata meta = wallcal::io::ParseRosbag2Metadata(
         std::string(reinterpret_cast<const char*>(data), size), "metadata.yaml");
     if (meta.relative_file_paths.empty()) std::abort();
     for (const std::string& f : meta.relative_file_paths) {

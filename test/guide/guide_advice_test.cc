@@ -65,12 +65,12 @@ TEST(GuideAdviceTest, AdvisedStopsGiveTheSigmaTheGuidePredicts) {
   pipeline::CalibrateRequest calibrate;
   calibrate.session_path = longer;
   const pipeline::CalibrationResult result = pipeline::RunCalibration(calibrate);
-  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
+  ASSERT_TRUE(result.solve.estimate.usable) << result.solve.estimate.message;
   const guide::Prediction& predicted = report.next.back().after;
   ASSERT_TRUE(predicted.known);
-  const double reported[3] = {std::sqrt(result.estimate.covariance(0, 0)),
-                              std::sqrt(result.estimate.covariance(1, 1)),
-                              std::sqrt(result.estimate.covariance(2, 2))};
+  const double reported[3] = {std::sqrt(result.solve.estimate.covariance(0, 0)),
+                              std::sqrt(result.solve.estimate.covariance(1, 1)),
+                              std::sqrt(result.solve.estimate.covariance(2, 2))};
   const double guided[3] = {predicted.sigma_x_m(), predicted.sigma_y_m(),
                             predicted.sigma_yaw_rad()};
   for (int axis = 0; axis < 3; ++axis) {

@@ -66,10 +66,10 @@ TEST(GuidePredictionTest, SampleSigmaIsCalibratesWithTheMeasuredWhiteNoise) {
   request.session_path = sample;
   request.force = true;
   const pipeline::CalibrationResult result = pipeline::RunCalibration(request);
-  ASSERT_TRUE(result.estimate.usable);
-  ASSERT_TRUE(result.options.solver.use_measured_white_noise);
-  ASSERT_GT(result.measured_noise.gnss_white_sigma_m, 0.0);
-  ASSERT_LT(result.observations.size(), static_cast<size_t>(analysis::kMaxRefitObservations));
+  ASSERT_TRUE(result.solve.estimate.usable);
+  ASSERT_TRUE(result.loaded.options.solver.use_measured_white_noise);
+  ASSERT_GT(result.poses.measured_noise.gnss_white_sigma_m, 0.0);
+  ASSERT_LT(result.solve.observations.size(), static_cast<size_t>(analysis::kMaxRefitObservations));
   guide::GuideOptions guide_request;
   guide_request.session_path = sample;
   const guide::GuideReport report = guide::AssessSession(guide_request);
@@ -77,7 +77,7 @@ TEST(GuidePredictionTest, SampleSigmaIsCalibratesWithTheMeasuredWhiteNoise) {
   const double predicted[3] = {report.predicted.sigma_x_m(), report.predicted.sigma_y_m(),
                                report.predicted.sigma_yaw_rad()};
   for (int axis = 0; axis < 3; ++axis) {
-    const double reported = std::sqrt(result.estimate.covariance(axis, axis));
+    const double reported = std::sqrt(result.solve.estimate.covariance(axis, axis));
     EXPECT_NEAR(predicted[axis] / reported, 1.0, 0.01) << "axis " << axis;
   }
 }

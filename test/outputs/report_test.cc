@@ -267,7 +267,7 @@ TEST(XmlCheckerTest, SelfContainedCheckCatchesFetchesAndScripts) {
 }
 
 TEST_F(ReportTest, CalibrationOfTheSimulatedSessionSucceeded) {
-  ASSERT_TRUE(result_->estimate.usable) << result_->estimate.message;
+  ASSERT_TRUE(result_->solve.estimate.usable) << result_->solve.estimate.message;
 }
 
 TEST_F(ReportTest, PageIsWellFormed) { EXPECT_EQ(XmlProblem(*html_), ""); }
@@ -303,12 +303,14 @@ TEST_F(ReportTest, PageHasThePlots) {
 
 TEST_F(ReportTest, PageShowsTheMountWithSigmaAndTheCounts) {
   char x[32], sx[32];
-  std::snprintf(x, sizeof(x), "%.4f", result_->estimate.mount.x_m);
-  std::snprintf(sx, sizeof(sx), "%.4f", std::sqrt(result_->estimate.covariance(0, 0)));
+  std::snprintf(x, sizeof(x), "%.4f", result_->solve.estimate.mount.x_m);
+  std::snprintf(sx, sizeof(sx), "%.4f", std::sqrt(result_->solve.estimate.covariance(0, 0)));
   EXPECT_NE(html_->find(x), std::string::npos) << x;
   EXPECT_NE(html_->find(sx), std::string::npos) << sx;
-  EXPECT_NE(html_->find(">" + std::to_string(result_->scans_total) + "<"), std::string::npos);
-  EXPECT_NE(html_->find(">" + std::to_string(result_->scans_used) + "<"), std::string::npos);
+  EXPECT_NE(html_->find(">" + std::to_string(result_->detection.scans_total) + "<"),
+            std::string::npos);
+  EXPECT_NE(html_->find(">" + std::to_string(result_->finish.coverage.scans_used) + "<"),
+            std::string::npos);
   EXPECT_NE(html_->find("RTK fixed"), std::string::npos);
   // The scan panels found the wall again in every scan shown.
   EXPECT_EQ(html_->find("Not detected again"), std::string::npos);
@@ -318,10 +320,10 @@ TEST_F(ReportTest, PageShowsTheMountWithSigmaAndTheCounts) {
 
 TEST_F(ReportTest, ResidualAnalysisRepeatabilityAndForceAreShownWhenPresent) {
   CalibrationResult r = *result_;
-  r.session.name = "a<b & \"c\"";  // must be escaped
-  r.forced = true;
-  r.residual_analysis.done = true;
-  r.residual_analysis.robust_sigma_m = 0.0031;
+  r.loaded.session.name = "a<b & \"c\"";  // must be escaped
+  r.solve.forced = true;
+  r.finish.residual_analysis.done = true;
+  r.finish.residual_analysis.robust_sigma_m = 0.0031;
   ResidualTrend trend;
   trend.against = analysis::TrendAxis::kRange;
   trend.unit = "m/m";
@@ -329,17 +331,17 @@ TEST_F(ReportTest, ResidualAnalysisRepeatabilityAndForceAreShownWhenPresent) {
   trend.significance = 5.5;
   trend.flagged = true;
   trend.message = "range scale error: check k";
-  r.residual_analysis.trends.push_back(trend);
-  r.residual_analysis.flags.push_back("residuals grow with range <k>");
-  r.repeatability.done = true;
+  r.finish.residual_analysis.trends.push_back(trend);
+  r.finish.residual_analysis.flags.push_back("residuals grow with range <k>");
+  r.finish.repeatability.done = true;
   RepeatabilitySplit split;
   split.name = "first half";
   split.usable = true;
-  split.mount = r.estimate.mount;
+  split.mount = r.solve.estimate.mount;
   split.mount.x_m += 0.01;
-  r.repeatability.splits.push_back(split);
-  r.time_offset_s = 0.0123;
-  r.time_offset_sigma_s = 0.0011;
+  r.finish.repeatability.splits.push_back(split);
+  r.solve.scanner_offset.value_s = 0.0123;
+  r.solve.scanner_offset.sigma_s = 0.0011;
   const std::string html = FormatReportHtml(r);
   EXPECT_EQ(XmlProblem(html), "");
   testing_support::ExpectContains(html, {
@@ -370,7 +372,7 @@ TEST(ReportUnusableTest, ARefusedEstimateStillGivesAWellFormedReport) {
   request.session_path = dir.string();
   request.collect_report_data = true;
   const CalibrationResult result = RunCalibration(request);
-  ASSERT_FALSE(result.estimate.usable);
+  ASSERT_FALSE(result.solve.estimate.usable);
   const std::string html = FormatReportHtml(result);
   EXPECT_EQ(XmlProblem(html), "");
   EXPECT_EQ(SelfContainedProblem(html), "");
@@ -410,7 +412,7 @@ TEST(SeveralReportTest, IndexShowsEachScannerTheRelativeTransformAndOneSiteMap) 
   // One site map holds both scanners' detections and their positions at the stations.
   EXPECT_EQ(Count(html, "<svg "), 1);
   for (const pipeline::ScannerRun& run : several.scanners) {
-    const size_t drawn = std::min<size_t>(run.result.observations.size(), 1500);
+    const size_t drawn = std::min<size_t>(run.own.solve.observations.size(), 1500);
     EXPECT_NE(html.find(run.spec.id + ": detected wall lines (" + std::to_string(drawn) + " drawn)"),
               std::string::npos)
         << run.spec.id;
@@ -422,9 +424,10 @@ TEST(SeveralReportTest, IndexShowsEachScannerTheRelativeTransformAndOneSiteMap) 
   // (the mount's σ, 13 mm and 0.05° (13 mm at 15 m), and the RTK error, 15 mm, give a few cm
   // at 4.5 σ; a wrong side or frame puts it metres off) and within its ends.
   for (const pipeline::ScannerRun& run : several.scanners) {
-    for (const calib::WallObservation& o : run.result.observations) {
-      const calib::WallGeometry& wall = run.result.walls.at(o.wall_index);
-      const auto [a, b] = outputs::DetectionSegmentLocal(o, wall, run.result.estimate.mount);
+    ASSERT_TRUE(run.joint) << run.spec.id;
+    for (const calib::WallObservation& o : run.own.solve.observations) {
+      const calib::WallGeometry& wall = run.own.survey.walls.at(o.wall_index);
+      const auto [a, b] = outputs::DetectionSegmentLocal(o, wall, run.joint->mount);
       const Eigen::Vector2d along = (wall.end_b_local - wall.end_a_local).normalized();
       const Eigen::Vector2d normal(-along.y(), along.x());
       for (const Eigen::Vector2d& p : {a, b}) {
@@ -450,12 +453,13 @@ TEST(SeveralReportTest, IndexShowsEachScannerTheRelativeTransformAndOneSiteMap) 
     const pipeline::ScannerRun& run = several.scanners[k];
     const sim::SimScanner& truth = config.scanners[k];
     ASSERT_EQ(run.spec.id, truth.id);
-    ASSERT_TRUE(run.result.report.truth.has_value()) << run.spec.id;
+    ASSERT_TRUE(run.own.report.truth.has_value()) << run.spec.id;
     // truth.yaml's numbers are written in full: equal but for the degrees' round-off.
-    EXPECT_NEAR(run.result.report.truth->x_m, truth.mount_x_m, 1e-12) << run.spec.id;
-    EXPECT_NEAR(run.result.report.truth->y_m, truth.mount_y_m, 1e-12) << run.spec.id;
-    EXPECT_NEAR(run.result.report.truth->yaw_rad, truth.mount_yaw_rad, 1e-12) << run.spec.id;
-    const std::string page = outputs::FormatReportHtml(run.result);
+    EXPECT_NEAR(run.own.report.truth->x_m, truth.mount_x_m, 1e-12) << run.spec.id;
+    EXPECT_NEAR(run.own.report.truth->y_m, truth.mount_y_m, 1e-12) << run.spec.id;
+    EXPECT_NEAR(run.own.report.truth->yaw_rad, truth.mount_yaw_rad, 1e-12) << run.spec.id;
+    ASSERT_TRUE(run.joint) << run.spec.id;
+    const std::string page = outputs::FormatReportHtml(run.own, &*run.joint);
     EXPECT_EQ(XmlProblem(page), "") << run.spec.id;
     testing_support::ExpectContains(
         page, {"<h1>wallcal calibration report: two-corner-scanners, scanner " + run.spec.id +
@@ -471,8 +475,7 @@ TEST(SeveralReportTest, AFailedRunStillGivesAWellFormedPage) {
   pipeline::ScannerRun refused;
   refused.spec.id = "rear";
   refused.spec.frame = "rear";
-  refused.refused = true;
-  refused.result.estimate.message = "the wall was not detected";
+  refused.own.solve.estimate.message = "the wall was not detected";
   several.scanners.push_back(refused);
   several.outcome = pipeline::SeveralOutcome::kFailed;
   several.message = "mount not determined for scanner 'rear'";

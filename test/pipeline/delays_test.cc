@@ -54,30 +54,31 @@ TEST(DelaysTest, RecoversGnssLatencyScannerOffsetAndHeadingDelayWithHonestSigma)
       testing_support::ShippedScenario("bench_lms291_delays_continuous");
   const pipeline::CalibrationResult result = CalibrateWith(
       testing_support::SimulatedSession(config, 7, "session"), "calibrate_matched_moving.yaml");
-  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
+  ASSERT_TRUE(result.solve.estimate.usable) << result.solve.estimate.message;
 
   const double gnss_s = config.gnss_latency_s + 0.5 * config.gnss_jitter_s;
-  ASSERT_EQ(result.gnss_epochs.status, calib::EpochMappingStatus::kMapped);
-  EXPECT_NEAR(result.gnss_epochs.offset_s, gnss_s, 1e-3);
+  ASSERT_EQ(result.poses.gnss_epochs.status, calib::EpochMappingStatus::kMapped);
+  EXPECT_NEAR(result.poses.gnss_epochs.offset_s, gnss_s, 1e-3);
   // Robust σ of U(0, 10 ms) is 3.7 ms.
-  EXPECT_NEAR(result.gnss_epochs.jitter_s, 0.0037, 1e-3);
+  EXPECT_NEAR(result.poses.gnss_epochs.jitter_s, 0.0037, 1e-3);
 
-  const double mapped_s = result.gnss_epochs.offset_s;  // where the epochs were placed
+  const double mapped_s = result.poses.gnss_epochs.offset_s;  // where the epochs were placed
   const double dt_truth_s = mapped_s - config.scanner_latency_s + config.scanner_time_offset_s;
-  ASSERT_EQ(result.scanner_offset.status, pipeline::DelayStatus::kDetermined);
-  EXPECT_LT(result.scanner_offset.sigma_s, 1e-3);
-  EXPECT_LT(std::abs(result.scanner_offset.value_s - dt_truth_s),
-            4.0 * result.scanner_offset.sigma_s)
-      << "dt " << result.scanner_offset.value_s << " ± " << result.scanner_offset.sigma_s;
+  ASSERT_EQ(result.solve.scanner_offset.status, pipeline::DelayStatus::kDetermined);
+  EXPECT_LT(result.solve.scanner_offset.sigma_s, 1e-3);
+  EXPECT_LT(std::abs(result.solve.scanner_offset.value_s - dt_truth_s),
+            4.0 * result.solve.scanner_offset.sigma_s)
+      << "dt " << result.solve.scanner_offset.value_s << " ± "
+      << result.solve.scanner_offset.sigma_s;
 
   const double heading_truth_s = config.heading_latency_s - mapped_s;
-  ASSERT_EQ(result.heading_delay.status, pipeline::DelayStatus::kDetermined);
-  EXPECT_LT(result.heading_delay.sigma_s, 2e-3);
-  EXPECT_LT(std::abs(result.heading_delay.value_s - heading_truth_s),
-            4.0 * result.heading_delay.sigma_s)
-      << "δh " << result.heading_delay.value_s << " ± " << result.heading_delay.sigma_s;
+  ASSERT_EQ(result.solve.heading_delay.status, pipeline::DelayStatus::kDetermined);
+  EXPECT_LT(result.solve.heading_delay.sigma_s, 2e-3);
+  EXPECT_LT(std::abs(result.solve.heading_delay.value_s - heading_truth_s),
+            4.0 * result.solve.heading_delay.sigma_s)
+      << "δh " << result.solve.heading_delay.value_s << " ± " << result.solve.heading_delay.sigma_s;
 
-  const solvers::MountEstimate& e = result.estimate;
+  const solvers::MountEstimate& e = result.solve.estimate;
   const double error[3] = {e.mount.x_m - config.mount_x_m, e.mount.y_m - config.mount_y_m,
                            WrapAngle(e.mount.yaw_rad - config.mount_yaw_rad)};
   for (int a = 0; a < 3; ++a) {
@@ -111,10 +112,10 @@ sim::SimulationConfig Scenario(const std::string& file) {
 
 // The clock offset plus the heading delay, what the turns tell (s), and its σ.
 double TurnTiming(const pipeline::CalibrationResult& r) {
-  return r.scanner_offset.value_s + r.heading_delay.value_s;
+  return r.solve.scanner_offset.value_s + r.solve.heading_delay.value_s;
 }
 double TurnTimingSigma(const pipeline::CalibrationResult& r) {
-  const Eigen::Matrix2d& c = r.estimate.time_covariance;
+  const Eigen::Matrix2d& c = r.solve.estimate.time_covariance;
   return std::sqrt(c(0, 0) + 2.0 * c(0, 1) + c(1, 1));
 }
 
@@ -128,26 +129,27 @@ double TurnTimingSigma(const pipeline::CalibrationResult& r) {
 TEST(DelaysTest, CarLikeShortStopsDetermineEachDelay) {
   const sim::SimulationConfig config = Scenario("bench_lms291_delays_short_stops.yaml");
   const pipeline::CalibrationResult result = SimulateAndCalibrate(config, 5, "short_stops");
-  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
-  ASSERT_EQ(result.gnss_epochs.status, calib::EpochMappingStatus::kMapped);
-  const double mapped_s = result.gnss_epochs.offset_s;
+  ASSERT_TRUE(result.solve.estimate.usable) << result.solve.estimate.message;
+  ASSERT_EQ(result.poses.gnss_epochs.status, calib::EpochMappingStatus::kMapped);
+  const double mapped_s = result.poses.gnss_epochs.offset_s;
   const double dt_truth_s = mapped_s - config.scanner_latency_s;
   const double heading_truth_s = config.heading_latency_s - mapped_s;
-  ASSERT_EQ(result.scanner_offset.status, pipeline::DelayStatus::kDetermined);
-  ASSERT_EQ(result.heading_delay.status, pipeline::DelayStatus::kDetermined);
-  EXPECT_LT(result.scanner_offset.sigma_s, 1.5e-3);
-  EXPECT_LT(result.heading_delay.sigma_s, 2e-3);
-  EXPECT_LT(std::abs(result.scanner_offset.value_s - dt_truth_s),
-            4.0 * result.scanner_offset.sigma_s)
-      << "dt " << result.scanner_offset.value_s << " ± " << result.scanner_offset.sigma_s;
-  EXPECT_LT(std::abs(result.heading_delay.value_s - heading_truth_s),
-            4.0 * result.heading_delay.sigma_s)
-      << "δh " << result.heading_delay.value_s << " ± " << result.heading_delay.sigma_s;
+  ASSERT_EQ(result.solve.scanner_offset.status, pipeline::DelayStatus::kDetermined);
+  ASSERT_EQ(result.solve.heading_delay.status, pipeline::DelayStatus::kDetermined);
+  EXPECT_LT(result.solve.scanner_offset.sigma_s, 1.5e-3);
+  EXPECT_LT(result.solve.heading_delay.sigma_s, 2e-3);
+  EXPECT_LT(std::abs(result.solve.scanner_offset.value_s - dt_truth_s),
+            4.0 * result.solve.scanner_offset.sigma_s)
+      << "dt " << result.solve.scanner_offset.value_s << " ± "
+      << result.solve.scanner_offset.sigma_s;
+  EXPECT_LT(std::abs(result.solve.heading_delay.value_s - heading_truth_s),
+            4.0 * result.solve.heading_delay.sigma_s)
+      << "δh " << result.solve.heading_delay.value_s << " ± " << result.solve.heading_delay.sigma_s;
   EXPECT_LT(TurnTimingSigma(result), 0.5e-3);
   EXPECT_LT(std::abs(TurnTiming(result) - (dt_truth_s + heading_truth_s)),
             4.0 * TurnTimingSigma(result))
       << "dt + δh " << TurnTiming(result) << " ± " << TurnTimingSigma(result);
-  EXPECT_EQ(result.scans_used_moving, result.scans_used);
+  EXPECT_EQ(result.finish.coverage.scans_used_moving, result.finish.coverage.scans_used);
 }
 
 // Bench (d1)'s session with drives that move the vehicle sideways along the wall: the velocity
@@ -158,15 +160,15 @@ TEST(DelaysTest, SidewaysDrivesLeaveTheSplitToThePriorsAndFixTheSum) {
   sim::SimulationConfig config = Scenario("bench_lms291_delays_stopgo.yaml");
   config.drive_reverse_m = 0.0;
   const pipeline::CalibrationResult result = SimulateAndCalibrate(config, 4, "sideways");
-  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
-  const double mapped_s = result.gnss_epochs.offset_s;
+  ASSERT_TRUE(result.solve.estimate.usable) << result.solve.estimate.message;
+  const double mapped_s = result.poses.gnss_epochs.offset_s;
   const double sum_truth_s = config.heading_latency_s - config.scanner_latency_s;
-  EXPECT_EQ(result.scanner_offset.status, pipeline::DelayStatus::kNotDetermined);
-  EXPECT_EQ(result.heading_delay.status, pipeline::DelayStatus::kNotDetermined);
-  EXPECT_GT(result.scanner_offset.sigma_s, 0.02);
-  EXPECT_GT(result.heading_delay.sigma_s, 0.02);
-  EXPECT_LT(std::abs(result.heading_delay.value_s - (config.heading_latency_s - mapped_s)),
-            4.0 * result.heading_delay.sigma_s);
+  EXPECT_EQ(result.solve.scanner_offset.status, pipeline::DelayStatus::kNotDetermined);
+  EXPECT_EQ(result.solve.heading_delay.status, pipeline::DelayStatus::kNotDetermined);
+  EXPECT_GT(result.solve.scanner_offset.sigma_s, 0.02);
+  EXPECT_GT(result.solve.heading_delay.sigma_s, 0.02);
+  EXPECT_LT(std::abs(result.solve.heading_delay.value_s - (config.heading_latency_s - mapped_s)),
+            4.0 * result.solve.heading_delay.sigma_s);
   EXPECT_LT(TurnTimingSigma(result), 1e-3);
   EXPECT_LT(std::abs(TurnTiming(result) - sum_truth_s), 4.0 * TurnTimingSigma(result))
       << "dt + δh " << TurnTiming(result) << " ± " << TurnTimingSigma(result);
@@ -184,14 +186,15 @@ TEST(DelaysTest, ClockRoundsMoveWhatTheDataDetermine) {
   const sim::SimulationConfig behind = Scenario("bench_lms291_stopgo_moving_clock.yaml");
   int rounds = -1;
   const pipeline::CalibrationResult late = SimulateAndCalibrate(behind, 6, "behind", &rounds);
-  ASSERT_TRUE(late.estimate.usable) << late.estimate.message;
+  ASSERT_TRUE(late.solve.estimate.usable) << late.solve.estimate.message;
   EXPECT_GE(rounds, 1);
-  EXPECT_EQ(late.scanner_offset.status, pipeline::DelayStatus::kNotDetermined);
-  EXPECT_EQ(late.heading_delay.status, pipeline::DelayStatus::kNotDetermined);
-  EXPECT_GT(late.scanner_offset.value_s, late.heading_delay.value_s);  // the wider prior's share
+  EXPECT_EQ(late.solve.scanner_offset.status, pipeline::DelayStatus::kNotDetermined);
+  EXPECT_EQ(late.solve.heading_delay.status, pipeline::DelayStatus::kNotDetermined);
+  EXPECT_GT(late.solve.scanner_offset.value_s,
+            late.solve.heading_delay.value_s);  // the wider prior's share
   EXPECT_LT(std::abs(TurnTiming(late) - behind.scanner_time_offset_s), 4.0 * TurnTimingSigma(late))
       << "dt + δh " << TurnTiming(late) << " ± " << TurnTimingSigma(late);
-  for (const calib::WallObservation& o : late.observations) {
+  for (const calib::WallObservation& o : late.solve.observations) {
     EXPECT_EQ(o.pose.clock_shift_s, 0.0);
     if (solvers::UsesDwellHeading(o)) continue;
     EXPECT_NEAR(o.pose.heading_shift_s, TurnTiming(late), 0.25 * TurnTimingSigma(late) + 2e-4);
@@ -199,7 +202,7 @@ TEST(DelaysTest, ClockRoundsMoveWhatTheDataDetermine) {
 
   const pipeline::CalibrationResult plain =
       SimulateAndCalibrate(Scenario("bench_lms291_stopgo.yaml"), 6, "plain", &rounds);
-  ASSERT_TRUE(plain.estimate.usable) << plain.estimate.message;
+  ASSERT_TRUE(plain.solve.estimate.usable) << plain.solve.estimate.message;
   EXPECT_EQ(rounds, 0);
 }
 
@@ -213,22 +216,22 @@ TEST(DelaysTest, ClockRoundsConvergeOnAFarScannerClock) {
   config.scanner_time_offset_s = 0.15;
   int rounds = -1;
   const pipeline::CalibrationResult result = SimulateAndCalibrate(config, 8, "far_clock", &rounds);
-  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
-  ASSERT_EQ(result.gnss_epochs.status, calib::EpochMappingStatus::kMapped);
-  const double mapped_s = result.gnss_epochs.offset_s;
+  ASSERT_TRUE(result.solve.estimate.usable) << result.solve.estimate.message;
+  ASSERT_EQ(result.poses.gnss_epochs.status, calib::EpochMappingStatus::kMapped);
+  const double mapped_s = result.poses.gnss_epochs.offset_s;
   const double dt_truth_s = mapped_s - config.scanner_latency_s + config.scanner_time_offset_s;
   const double heading_truth_s = config.heading_latency_s - mapped_s;
-  ASSERT_EQ(result.scanner_offset.status, pipeline::DelayStatus::kDetermined);
-  ASSERT_EQ(result.heading_delay.status, pipeline::DelayStatus::kDetermined);
+  ASSERT_EQ(result.solve.scanner_offset.status, pipeline::DelayStatus::kDetermined);
+  ASSERT_EQ(result.solve.heading_delay.status, pipeline::DelayStatus::kDetermined);
   EXPECT_GE(rounds, 2);
   EXPECT_LT(rounds, solvers::ClockRoundRule().max_rounds);
-  EXPECT_LT(std::abs(result.scanner_offset.value_s - dt_truth_s),
-            4.0 * result.scanner_offset.sigma_s)
-      << "dt " << result.scanner_offset.value_s << " ± " << result.scanner_offset.sigma_s
-      << " after " << rounds << " rounds";
-  EXPECT_LT(std::abs(result.heading_delay.value_s - heading_truth_s),
-            4.0 * result.heading_delay.sigma_s)
-      << "δh " << result.heading_delay.value_s << " ± " << result.heading_delay.sigma_s;
+  EXPECT_LT(std::abs(result.solve.scanner_offset.value_s - dt_truth_s),
+            4.0 * result.solve.scanner_offset.sigma_s)
+      << "dt " << result.solve.scanner_offset.value_s << " ± "
+      << result.solve.scanner_offset.sigma_s << " after " << rounds << " rounds";
+  EXPECT_LT(std::abs(result.solve.heading_delay.value_s - heading_truth_s),
+            4.0 * result.solve.heading_delay.sigma_s)
+      << "δh " << result.solve.heading_delay.value_s << " ± " << result.solve.heading_delay.sigma_s;
 }
 
 // DelayOwnSigma on made-up time blocks (s²): the data's information plus the priors', inverted
@@ -281,10 +284,10 @@ TEST(DelaysTest, StationaryOnlySessionSaysTheHeadingDelayIsNotEstimated) {
       testing_support::SimulatedSession(
           testing_support::ShippedScenario("bench_lms291_delays_stopgo"), 3, "session"),
       "calibrate_matched_standing.yaml");
-  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
-  EXPECT_EQ(result.gnss_epochs.status, calib::EpochMappingStatus::kMapped);
-  EXPECT_EQ(result.heading_delay.status, pipeline::DelayStatus::kNotEstimated);
-  EXPECT_EQ(result.scanner_offset.status, pipeline::DelayStatus::kNotEstimated);
+  ASSERT_TRUE(result.solve.estimate.usable) << result.solve.estimate.message;
+  EXPECT_EQ(result.poses.gnss_epochs.status, calib::EpochMappingStatus::kMapped);
+  EXPECT_EQ(result.solve.heading_delay.status, pipeline::DelayStatus::kNotEstimated);
+  EXPECT_EQ(result.solve.scanner_offset.status, pipeline::DelayStatus::kNotEstimated);
 }
 
 }  // namespace

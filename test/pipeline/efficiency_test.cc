@@ -57,11 +57,11 @@ void CheckSigmaAgainstBound(const Case& c, uint64_t seed) {
   request.session_path = dir.string();
   request.config_path = std::string(WALLCAL_SOURCE_DIR) + "/bench/" + c.options + ".yaml";
   const CalibrationResult result = RunCalibration(request, nullptr);
-  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
+  ASSERT_TRUE(result.solve.estimate.usable) << result.solve.estimate.message;
 
   std::vector<bench::CrbObservation> observations;
   bool any_moving = false;
-  for (const calib::WallObservation& o : result.observations) {
+  for (const calib::WallObservation& o : result.solve.observations) {
     any_moving = any_moving || !o.pose.stationary;
     bench::CrbObservation b;
     b.t_s = o.pose.stamp_s - config.start_time_s + config.scanner_time_offset_s;
@@ -77,7 +77,7 @@ void CheckSigmaAgainstBound(const Case& c, uint64_t seed) {
       bench::ComputeCrb(config, preset, observations, bench::kAllSources, delays, 1600);
   ASSERT_TRUE(crb.ok) << crb.message;
 
-  const solvers::MountEstimate& e = result.estimate;
+  const solvers::MountEstimate& e = result.solve.estimate;
   const double estimate[3] = {e.mount.x_m, e.mount.y_m, e.mount.yaw_rad};
   const double truth[3] = {config.mount_x_m, config.mount_y_m, config.mount_yaw_rad};
   const char* axis[3] = {"x", "y", "yaw"};

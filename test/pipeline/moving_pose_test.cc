@@ -186,15 +186,27 @@ TEST(MovingPoseTest, DrivesAtASecondWallLeaveNoBias) {
   const sim::SimulationConfig config = testing_support::TwoWallsWithOnlyLineFitErrors();
   const fs::path dir = testing_support::SimulatedSession(config, 5, "two_walls");
   // The solver's GNSS model left at an RTK receiver's (its slices free to follow a pattern),
-  // its white noise too (the stops of this noiseless session would measure none).
+  // its white noise the receiver's configured one.
+  const std::string rtk = "  use_gst_sigma: false\n  gnss_bias_sigma_m: 0.03\n";
   const pipeline::CalibrationResult result =
-      Calibrate(dir, "  use_gst_sigma: false\n  gnss_bias_sigma_m: 0.03\n"
-                     "  use_measured_white_noise: false\n"
-                     "alignment:\n  moving_scans_in_stop_and_go: true\n");
-  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
-  EXPECT_GT(result.scans_used_moving, 100);
-  EXPECT_LT(std::abs(result.estimate.mount.x_m - config.mount_x_m), 0.004);
-  EXPECT_LT(std::abs(result.estimate.mount.y_m - config.mount_y_m), 0.004);
+      Calibrate(dir, rtk + "  use_measured_white_noise: false\n" + kDrives);
+  ASSERT_TRUE(result.solve.estimate.usable) << result.solve.estimate.message;
+  EXPECT_GT(result.finish.coverage.scans_used_moving, 100);
+  EXPECT_LT(std::abs(result.solve.estimate.mount.x_m - config.mount_x_m), 0.004);
+  EXPECT_LT(std::abs(result.solve.estimate.mount.y_m - config.mount_y_m), 0.004);
+  // By default the white noise is the stops' measure, here the logs' number format alone (tens
+  // of µm): the drives then count with their line fits' σ, and x scatters over seeds by about
+  // its σ (8.9 mm; 2.3 mm with the configured noise, docs/notes.md). Still no bias beyond it.
+  const pipeline::CalibrationResult measured = Calibrate(dir, rtk + kDrives);
+  ASSERT_TRUE(measured.solve.estimate.usable) << measured.solve.estimate.message;
+  EXPECT_EQ(measured.poses.white_noise.gnss_source, pipeline::NoiseSource::kMeasuredAtStops);
+  EXPECT_LT(measured.poses.white_noise.gnss_white_sigma_m, 1e-4);
+  EXPECT_GT(measured.finish.coverage.scans_used_moving, 100);
+  const Eigen::Matrix3d& c = measured.solve.estimate.covariance;
+  EXPECT_LT(std::abs(measured.solve.estimate.mount.x_m - config.mount_x_m),
+            3.0 * std::sqrt(c(0, 0)));
+  EXPECT_LT(std::abs(measured.solve.estimate.mount.y_m - config.mount_y_m),
+            3.0 * std::sqrt(c(1, 1)));
 }
 
 TEST(MovingPoseTest, StopAndGoUsesTheDrivesWithAnHonestSigma) {
@@ -207,32 +219,34 @@ TEST(MovingPoseTest, StopAndGoUsesTheDrivesWithAnHonestSigma) {
     const fs::path dir = scratch.path() / ("seed" + std::to_string(seed));
     sim::WriteSimulatedSession(config, seed, dir.string());
     const pipeline::CalibrationResult with = Calibrate(dir, kDrives);
-    ASSERT_TRUE(with.estimate.usable) << with.estimate.message;
-    EXPECT_GT(with.scans_used_moving, 50) << "seed " << seed;
-    EXPECT_GT(with.scans_used - with.scans_used_moving, 300) << "seed " << seed;
-    ASSERT_TRUE(with.estimate.time_offset_estimated);
+    ASSERT_TRUE(with.solve.estimate.usable) << with.solve.estimate.message;
+    EXPECT_GT(with.finish.coverage.scans_used_moving, 50) << "seed " << seed;
+    EXPECT_GT(with.finish.coverage.scans_used - with.finish.coverage.scans_used_moving, 300)
+        << "seed " << seed;
+    ASSERT_TRUE(with.solve.estimate.time_offset_estimated);
     // The offset: within 4 of its σ (about 1 ms) of the truth.
-    EXPECT_NEAR(with.time_offset_s, config.scanner_time_offset_s,
-                4.0 * with.time_offset_sigma_s);
-    EXPECT_LT(with.time_offset_sigma_s, 0.005);
-    const double est[3] = {with.estimate.mount.x_m, with.estimate.mount.y_m,
-                           with.estimate.mount.yaw_rad};
+    EXPECT_NEAR(with.solve.scanner_offset.value_s, config.scanner_time_offset_s,
+                4.0 * with.solve.scanner_offset.sigma_s);
+    EXPECT_LT(with.solve.scanner_offset.sigma_s, 0.005);
+    const double est[3] = {with.solve.estimate.mount.x_m, with.solve.estimate.mount.y_m,
+                           with.solve.estimate.mount.yaw_rad};
     for (int a = 0; a < 3; ++a) {
-      const double sigma = std::sqrt(with.estimate.covariance(a, a));
+      const double sigma = std::sqrt(with.solve.estimate.covariance(a, a));
       EXPECT_LT(std::abs(est[a] - truth[a]), 3.5 * sigma) << "seed " << seed << " axis " << a;
     }
     const std::string summary = outputs::FormatSummary(with);
-    EXPECT_NE(summary.find(std::to_string(with.scans_used_moving) + " moving"), std::string::npos)
+    EXPECT_NE(summary.find(std::to_string(with.finish.coverage.scans_used_moving) + " moving"),
+              std::string::npos)
         << summary;
 
     // Standing scans only: less information, so a larger σ in x and y (the all-data bound of
     // this scenario is 8 % / 16 % below the standing-scans one, docs/results.md).
     const pipeline::CalibrationResult without =
         Calibrate(dir, "alignment:\n  moving_scans_in_stop_and_go: false\n");
-    ASSERT_TRUE(without.estimate.usable) << without.estimate.message;
-    EXPECT_EQ(without.scans_used_moving, 0);
-    EXPECT_LT(with.estimate.covariance(0, 0), without.estimate.covariance(0, 0));
-    EXPECT_LT(with.estimate.covariance(1, 1), without.estimate.covariance(1, 1));
+    ASSERT_TRUE(without.solve.estimate.usable) << without.solve.estimate.message;
+    EXPECT_EQ(without.finish.coverage.scans_used_moving, 0);
+    EXPECT_LT(with.solve.estimate.covariance(0, 0), without.solve.estimate.covariance(0, 0));
+    EXPECT_LT(with.solve.estimate.covariance(1, 1), without.solve.estimate.covariance(1, 1));
   }
 }
 
@@ -242,19 +256,19 @@ TEST(MovingPoseTest, DrivesAreDroppedWhenTheOffsetIsNotDetermined) {
   // No offset σ is this small: the drives go, with a warning, and the counts say so.
   const pipeline::CalibrationResult strict =
       Calibrate(dir, std::string(kDrives) + "  moving_max_time_offset_sigma_s: 0.000001\n");
-  ASSERT_TRUE(strict.estimate.usable) << strict.estimate.message;
-  EXPECT_EQ(strict.scans_used_moving, 0);
-  EXPECT_GT(strict.scans_skipped.at(calib::ScanSkip::kVehicleMoving), 50);
+  ASSERT_TRUE(strict.solve.estimate.usable) << strict.solve.estimate.message;
+  EXPECT_EQ(strict.finish.coverage.scans_used_moving, 0);
+  EXPECT_GT(strict.ScansSkipped().at(calib::ScanSkip::kVehicleMoving), 50);
   bool warned = false;
-  for (const pipeline::Warning& w : strict.warnings) {
+  for (const pipeline::Warning& w : strict.AllWarnings()) {
     warned = warned || w.kind == pipeline::WarningKind::kDrivesNotUsed;
   }
   EXPECT_TRUE(warned);
   // barawid estimates no clock offset: standing scans only.
   const pipeline::CalibrationResult barawid =
       Calibrate(dir, kDrives, solvers::Method::kBarawid);
-  ASSERT_TRUE(barawid.estimate.usable) << barawid.estimate.message;
-  EXPECT_EQ(barawid.scans_used_moving, 0);
+  ASSERT_TRUE(barawid.solve.estimate.usable) << barawid.solve.estimate.message;
+  EXPECT_EQ(barawid.finish.coverage.scans_used_moving, 0);
 }
 
 }  // namespace

@@ -62,7 +62,7 @@ CalibrationResult Calibrate(const fs::path& dir, bool force = false,
 }
 
 double Sigma(const CalibrationResult& result, int axis) {
-  return std::sqrt(result.estimate.covariance(axis, axis));
+  return std::sqrt(result.solve.estimate.covariance(axis, axis));
 }
 
 TEST(PipelineChecksTest, DegenerateSessionIsRefusedAndNamesTheWeakAxis) {
@@ -70,19 +70,20 @@ TEST(PipelineChecksTest, DegenerateSessionIsRefusedAndNamesTheWeakAxis) {
   config.heading_spread_rad = 6.0 * kDegToRad;  // all stations face north
   const fs::path dir = Simulated(config, 5, "degenerate");
   const CalibrationResult refused = Calibrate(dir);
-  EXPECT_FALSE(refused.estimate.usable);
-  EXPECT_NE(refused.estimate.message.find("lateral offset y is not determined"), std::string::npos)
-      << refused.estimate.message;
-  testing_support::ExpectContains(refused.estimate.message, {"headings", "turned ≥ 30°"});
-  EXPECT_FALSE(refused.forced);
+  EXPECT_FALSE(refused.solve.estimate.usable);
+  EXPECT_NE(refused.solve.estimate.message.find("lateral offset y is not determined"),
+            std::string::npos)
+      << refused.solve.estimate.message;
+  testing_support::ExpectContains(refused.solve.estimate.message, {"headings", "turned ≥ 30°"});
+  EXPECT_FALSE(refused.solve.forced);
 
   const CalibrationResult forced = Calibrate(dir, /*force=*/true);
-  ASSERT_TRUE(forced.estimate.usable) << forced.estimate.message;
-  EXPECT_TRUE(forced.forced);
+  ASSERT_TRUE(forced.solve.estimate.usable) << forced.solve.estimate.message;
+  EXPECT_TRUE(forced.solve.forced);
   const io::OffsetsDocument doc = MakeOffsetsDocument(forced);
   bool warned = false;
-  for (const Warning& w : forced.warnings) warned = warned || IsForced(w.kind);
-  ASSERT_EQ(doc.warnings.size(), forced.warnings.size());
+  for (const Warning& w : forced.AllWarnings()) warned = warned || IsForced(w.kind);
+  ASSERT_EQ(doc.warnings.size(), forced.AllWarnings().size());
   EXPECT_TRUE(warned);
   EXPECT_NE(FormatSummary(forced).find("FORCED"), std::string::npos);
   // The forced σ says how little is known sideways.
@@ -97,18 +98,18 @@ TEST(PipelineChecksTest, SecondPerpendicularWallShrinksSigma) {
   const fs::path two_dir = Simulated(config, 7, "two_walls");
   const CalibrationResult one = Calibrate(one_dir);
   const CalibrationResult two = Calibrate(two_dir);
-  ASSERT_TRUE(one.estimate.usable) << one.estimate.message;
-  ASSERT_TRUE(two.estimate.usable) << two.estimate.message;
-  ASSERT_EQ(two.walls.size(), 2u);
+  ASSERT_TRUE(one.solve.estimate.usable) << one.solve.estimate.message;
+  ASSERT_TRUE(two.solve.estimate.usable) << two.solve.estimate.message;
+  ASSERT_EQ(two.survey.walls.size(), 2u);
   int on_second = 0;
-  for (const auto& o : two.observations) on_second += o.wall_index == 1 ? 1 : 0;
+  for (const auto& o : two.solve.observations) on_second += o.wall_index == 1 ? 1 : 0;
   EXPECT_GT(on_second, 50);
   std::printf("[ walls    ] sigma y one wall %.4f m, two walls %.4f m; x %.4f / %.4f m\n",
               Sigma(one, 1), Sigma(two, 1), Sigma(one, 0), Sigma(two, 0));
   EXPECT_LT(Sigma(two, 1), 0.8 * Sigma(one, 1));
   EXPECT_LE(Sigma(two, 0), Sigma(one, 0) * 1.05);
   // The truth is inside the reported uncertainty.
-  EXPECT_LT(std::abs(two.estimate.mount.y_m - config.mount_y_m), 4.0 * Sigma(two, 1));
+  EXPECT_LT(std::abs(two.solve.estimate.mount.y_m - config.mount_y_m), 4.0 * Sigma(two, 1));
 }
 
 
@@ -128,22 +129,22 @@ TEST(PipelineChecksTest, ShortStretchesOfASecondWallAreTakenInTheTightGate) {
   const CalibrationResult taken = Calibrate(dir, false, matched);
   const CalibrationResult left =
       Calibrate(dir, false, matched + "detector:\n  tight_min_inliers: 15\n");
-  ASSERT_TRUE(taken.estimate.usable) << taken.estimate.message;
-  ASSERT_TRUE(left.estimate.usable) << left.estimate.message;
+  ASSERT_TRUE(taken.solve.estimate.usable) << taken.solve.estimate.message;
+  ASSERT_TRUE(left.solve.estimate.usable) << left.solve.estimate.message;
   int short_lines = 0, short_on_first = 0;
-  for (const auto& o : taken.observations) {
+  for (const auto& o : taken.solve.observations) {
     if (o.num_inliers >= 15) continue;
     EXPECT_GE(o.num_inliers, 5);
     ++short_lines;
     short_on_first += o.wall_index == 0 ? 1 : 0;
   }
-  for (const auto& o : left.observations) EXPECT_GE(o.num_inliers, 15);
+  for (const auto& o : left.solve.observations) EXPECT_GE(o.num_inliers, 15);
   std::printf("[ short    ] %d lines of < 15 beams; sigma x %.4f m with them, %.4f m without\n",
               short_lines, Sigma(taken, 0), Sigma(left, 0));
   EXPECT_GT(short_lines, 20);
   EXPECT_EQ(short_on_first, 0);
   EXPECT_LT(Sigma(taken, 0), 0.95 * Sigma(left, 0));
-  EXPECT_LT(std::abs(taken.estimate.mount.x_m - config.mount_x_m), 4.0 * Sigma(taken, 0));
+  EXPECT_LT(std::abs(taken.solve.estimate.mount.x_m - config.mount_x_m), 4.0 * Sigma(taken, 0));
   fs::remove_all(dir);
 }
 TEST(PipelineChecksTest, MovingScansRecoverAKnownScannerClockOffset) {
@@ -154,52 +155,54 @@ TEST(PipelineChecksTest, MovingScansRecoverAKnownScannerClockOffset) {
   // well as the drives do (with it free, below, they tell only dt + δh).
   const CalibrationResult result = Calibrate(
       dir, false, "alignment:\n  use_moving_scans: true\nsolver:\n  heading_delay_sigma_s: 0\n");
-  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
-  ASSERT_TRUE(result.estimate.time_offset_estimated);
-  EXPECT_EQ(result.heading_delay.status, DelayStatus::kNotEstimated);
-  std::printf("[ clock    ] time offset %.4f ± %.4f s (true 0.15)\n", result.time_offset_s,
-              result.time_offset_sigma_s);
-  EXPECT_GT(result.time_offset_sigma_s, 0.0);
+  ASSERT_TRUE(result.solve.estimate.usable) << result.solve.estimate.message;
+  ASSERT_TRUE(result.solve.estimate.time_offset_estimated);
+  EXPECT_EQ(result.solve.heading_delay.status, DelayStatus::kNotEstimated);
+  std::printf("[ clock    ] time offset %.4f ± %.4f s (true 0.15)\n",
+              result.solve.scanner_offset.value_s, result.solve.scanner_offset.sigma_s);
+  EXPECT_GT(result.solve.scanner_offset.sigma_s, 0.0);
   // The poses are re-interpolated at the estimated scan times (the solver's p + v·dt alone,
   // poor where the vehicle accelerates, gave 0.135 ± 0.002 s): the truth is within 4σ.
-  EXPECT_LT(std::abs(result.time_offset_s - 0.15), 4.0 * result.time_offset_sigma_s);
-  EXPECT_LT(std::abs(result.time_offset_s - 0.15), 0.005);
-  EXPECT_LT(std::abs(result.estimate.mount.x_m - config.mount_x_m), 4.0 * Sigma(result, 0));
+  EXPECT_LT(std::abs(result.solve.scanner_offset.value_s - 0.15),
+            4.0 * result.solve.scanner_offset.sigma_s);
+  EXPECT_LT(std::abs(result.solve.scanner_offset.value_s - 0.15), 0.005);
+  EXPECT_LT(std::abs(result.solve.estimate.mount.x_m - config.mount_x_m), 4.0 * Sigma(result, 0));
 
   // The heading's delay free (the default): dt from the drives' velocity across the wall alone,
   // a wider σ that still covers the truth; the heading delay is reported with its status.
   const CalibrationResult free_delay =
       Calibrate(dir, false, "alignment:\n  use_moving_scans: true\n");
-  ASSERT_TRUE(free_delay.estimate.usable) << free_delay.estimate.message;
-  EXPECT_NE(free_delay.heading_delay.status, DelayStatus::kNotEstimated);
-  EXPECT_GE(free_delay.time_offset_sigma_s, result.time_offset_sigma_s);
-  EXPECT_LT(std::abs(free_delay.time_offset_s - 0.15), 4.0 * free_delay.time_offset_sigma_s);
-  EXPECT_LT(std::abs(free_delay.heading_delay.value_s),
-            4.0 * free_delay.heading_delay.sigma_s);  // the simulated heading has no delay
+  ASSERT_TRUE(free_delay.solve.estimate.usable) << free_delay.solve.estimate.message;
+  EXPECT_NE(free_delay.solve.heading_delay.status, DelayStatus::kNotEstimated);
+  EXPECT_GE(free_delay.solve.scanner_offset.sigma_s, result.solve.scanner_offset.sigma_s);
+  EXPECT_LT(std::abs(free_delay.solve.scanner_offset.value_s - 0.15),
+            4.0 * free_delay.solve.scanner_offset.sigma_s);
+  EXPECT_LT(std::abs(free_delay.solve.heading_delay.value_s),
+            4.0 * free_delay.solve.heading_delay.sigma_s);  // the simulated heading has no delay
 
   // Stations only: the offset is not estimated and says so.
   const CalibrationResult still =
       Calibrate(dir, false, "alignment:\n  moving_scans_in_stop_and_go: false\n");
-  ASSERT_TRUE(still.estimate.usable) << still.estimate.message;
-  EXPECT_FALSE(still.estimate.time_offset_estimated);
-  EXPECT_EQ(still.time_offset_sigma_s, 0.0);
+  ASSERT_TRUE(still.solve.estimate.usable) << still.solve.estimate.message;
+  EXPECT_FALSE(still.solve.estimate.time_offset_estimated);
+  EXPECT_EQ(still.solve.scanner_offset.sigma_s, 0.0);
 }
 
 TEST(PipelineChecksTest, LongGnssErrorSlicesAreWarnedAbout) {
   const fs::path dir = Simulated(Sapporo(), 4, "long_slices");
   const auto warned = [](const CalibrationResult& result) {
-    for (const Warning& w : result.warnings) {
+    for (const Warning& w : result.AllWarnings()) {
       if (w.kind == WarningKind::kSliceTooLong) return true;
     }
     return false;
   };
   // The default (0.25 s against τ = 60 s) is not warned about; 5 s is, with the length to use.
   const CalibrationResult normal = Calibrate(dir);
-  ASSERT_TRUE(normal.estimate.usable) << normal.estimate.message;
+  ASSERT_TRUE(normal.solve.estimate.usable) << normal.solve.estimate.message;
   EXPECT_FALSE(warned(normal));
   const CalibrationResult coarse = Calibrate(dir, false, "alignment:\n  segment_max_s: 5.0\n");
   EXPECT_TRUE(warned(coarse));
-  for (const Warning& w : coarse.warnings) {
+  for (const Warning& w : coarse.AllWarnings()) {
     if (w.kind == WarningKind::kSliceTooLong) {
       EXPECT_NE(w.message.find("use at most 0.25 s"), std::string::npos) << w.message;
     }
@@ -219,9 +222,9 @@ TEST(PipelineChecksTest, CleanTwoWallSessionsHaveNoResidualTrendFlags) {
     const std::string options((std::istreambuf_iterator<char>(matched)),
                               std::istreambuf_iterator<char>());
     const CalibrationResult result = Calibrate(dir, false, options);
-    ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
-    EXPECT_TRUE(result.residual_analysis.flags.empty())
-        << "seed " << seed << ": " << result.residual_analysis.flags.front();
+    ASSERT_TRUE(result.solve.estimate.usable) << result.solve.estimate.message;
+    EXPECT_TRUE(result.finish.residual_analysis.flags.empty())
+        << "seed " << seed << ": " << result.finish.residual_analysis.flags.front();
   }
 }
 
@@ -235,17 +238,17 @@ TEST(PipelineChecksTest, CleanTwoWallSessionsHaveNoResidualTrendFlags) {
 solvers::Mount SolvePerfectObservations(const fs::path& dir, const sim::SimulationConfig& config,
                                         const std::string& options_yaml) {
   const CalibrationResult result = Calibrate(dir, false, options_yaml);
-  EXPECT_TRUE(result.estimate.usable) << result.estimate.message;
+  EXPECT_TRUE(result.solve.estimate.usable) << result.solve.estimate.message;
   const solvers::Mount truth{config.mount_x_m, config.mount_y_m, config.mount_yaw_rad};
-  std::vector<calib::WallObservation> perfect = result.observations;
+  std::vector<calib::WallObservation> perfect = result.solve.observations;
   for (calib::WallObservation& o : perfect) {
-    o.rho_m = calib::PredictRho(o, result.walls[o.wall_index], truth);
-    o.theta_rad = calib::PredictTheta(o, result.walls[o.wall_index], truth);
+    o.rho_m = calib::PredictRho(o, result.survey.walls[o.wall_index], truth);
+    o.theta_rad = calib::PredictTheta(o, result.survey.walls[o.wall_index], truth);
   }
   const solvers::SolverOptions solver = pipeline::ReadCalibrateOptions((dir / "calibrate.yaml").string()).solver;
   std::string error;
   const auto problem =
-      solvers::BuildMountProblem(perfect, result.walls, solver, truth, truth, &error);
+      solvers::BuildMountProblem(perfect, result.survey.walls, solver, truth, truth, &error);
   EXPECT_NE(problem, nullptr) << error;
   if (problem == nullptr) return truth;
   solvers::SolveMountProblem(*problem, solver, false);
@@ -273,14 +276,14 @@ TEST(PipelineChecksTest, PerfectObservationsReturnTheTruth) {
 TEST(PipelineChecksTest, ResidualAnalysisAndRepeatabilityComeWithTheEstimate) {
   const fs::path dir = Simulated(Sapporo(), 3, "analysis");
   const CalibrationResult result = Calibrate(dir, false, "solver:\n  bootstrap_samples: 20\n");
-  ASSERT_TRUE(result.estimate.usable) << result.estimate.message;
-  const ResidualAnalysis& ra = result.residual_analysis;
+  ASSERT_TRUE(result.solve.estimate.usable) << result.solve.estimate.message;
+  const ResidualAnalysis& ra = result.finish.residual_analysis;
   ASSERT_TRUE(ra.done);
   EXPECT_GT(ra.robust_sigma_m, 0.0);
   EXPECT_LT(ra.robust_sigma_m, 0.02);
   EXPECT_EQ(ra.trends.size(), 6u);
   EXPECT_TRUE(ra.flags.empty()) << ra.flags.front();
-  const Repeatability& rep = result.repeatability;
+  const Repeatability& rep = result.finish.repeatability;
   ASSERT_TRUE(rep.done);
   EXPECT_EQ(rep.splits.size(), 4u);
   EXPECT_GT(rep.bootstrap_samples, 10);
@@ -308,20 +311,20 @@ TEST(PipelineChecksTest, ThreadCountDoesNotChangeTheResult) {
   const CalibrationResult one = RunCalibration(request);
   request.threads = 2;
   const CalibrationResult two = RunCalibration(request);
-  ASSERT_TRUE(one.estimate.usable) << one.estimate.message;
-  ASSERT_TRUE(two.estimate.usable) << two.estimate.message;
-  ASSERT_EQ(one.observations.size(), two.observations.size());
-  for (size_t i = 0; i < one.observations.size(); ++i) {
-    EXPECT_EQ(one.observations[i].scan_index, two.observations[i].scan_index);
-    EXPECT_EQ(one.observations[i].rho_m, two.observations[i].rho_m);
+  ASSERT_TRUE(one.solve.estimate.usable) << one.solve.estimate.message;
+  ASSERT_TRUE(two.solve.estimate.usable) << two.solve.estimate.message;
+  ASSERT_EQ(one.solve.observations.size(), two.solve.observations.size());
+  for (size_t i = 0; i < one.solve.observations.size(); ++i) {
+    EXPECT_EQ(one.solve.observations[i].scan_index, two.solve.observations[i].scan_index);
+    EXPECT_EQ(one.solve.observations[i].rho_m, two.solve.observations[i].rho_m);
   }
-  EXPECT_EQ(one.scans_skipped, two.scans_skipped);
-  EXPECT_NEAR(one.estimate.mount.x_m, two.estimate.mount.x_m, 1e-9);
-  EXPECT_NEAR(one.estimate.mount.y_m, two.estimate.mount.y_m, 1e-9);
-  EXPECT_NEAR(one.estimate.mount.yaw_rad, two.estimate.mount.yaw_rad, 1e-9);
+  EXPECT_EQ(one.ScansSkipped(), two.ScansSkipped());
+  EXPECT_NEAR(one.solve.estimate.mount.x_m, two.solve.estimate.mount.x_m, 1e-9);
+  EXPECT_NEAR(one.solve.estimate.mount.y_m, two.solve.estimate.mount.y_m, 1e-9);
+  EXPECT_NEAR(one.solve.estimate.mount.yaw_rad, two.solve.estimate.mount.yaw_rad, 1e-9);
   for (int k = 0; k < 3; ++k) {
-    EXPECT_NEAR(std::sqrt(one.estimate.covariance(k, k)), std::sqrt(two.estimate.covariance(k, k)),
-                1e-9);
+    EXPECT_NEAR(std::sqrt(one.solve.estimate.covariance(k, k)),
+                std::sqrt(two.solve.estimate.covariance(k, k)), 1e-9);
   }
 }
 

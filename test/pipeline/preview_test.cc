@@ -49,18 +49,18 @@ TEST(PreviewTest, ThinnedPreviewAgreesWithTheCalibration) {
   const pipeline::CalibrationResult full = pipeline::RunCalibration(request);
   request.preview = true;
   const pipeline::CalibrationResult preview = pipeline::RunCalibration(request);
-  ASSERT_TRUE(full.estimate.usable) << full.estimate.message;
-  ASSERT_TRUE(preview.estimate.usable) << preview.estimate.message;
+  ASSERT_TRUE(full.solve.estimate.usable) << full.solve.estimate.message;
+  ASSERT_TRUE(preview.solve.estimate.usable) << preview.solve.estimate.message;
 
   // Thinned for the solve, every detection kept for inspect's counts.
-  ASSERT_GT(full.observations.size(), 2u * analysis::kMaxRefitObservations);
-  EXPECT_LE(preview.preview_observations_solved, analysis::kMaxRefitObservations);
-  EXPECT_GT(preview.preview_observations_solved, analysis::kMaxRefitObservations / 2);
-  EXPECT_GE(preview.observations.size(), full.observations.size());
-  EXPECT_TRUE(preview.estimate.residual_rho_m.empty());  // they were the thinned set's
+  ASSERT_GT(full.solve.observations.size(), 2u * analysis::kMaxRefitObservations);
+  EXPECT_LE(preview.solve.preview_observations_solved, analysis::kMaxRefitObservations);
+  EXPECT_GT(preview.solve.preview_observations_solved, analysis::kMaxRefitObservations / 2);
+  EXPECT_GE(preview.solve.observations.size(), full.solve.observations.size());
+  EXPECT_TRUE(preview.solve.estimate.residual_rho_m.empty());  // they were the thinned set's
 
-  const solvers::MountEstimate& f = full.estimate;
-  const solvers::MountEstimate& p = preview.estimate;
+  const solvers::MountEstimate& f = full.solve.estimate;
+  const solvers::MountEstimate& p = preview.solve.estimate;
   const double full_values[3] = {f.mount.x_m, f.mount.y_m, f.mount.yaw_rad};
   const double preview_values[3] = {p.mount.x_m, p.mount.y_m, p.mount.yaw_rad};
   for (int k = 0; k < 3; ++k) {
@@ -111,20 +111,20 @@ TEST(PreviewTest, SecondPassTallyIsTheScanLogSummary) {
   request.session_path = dir.string();
   request.preview = true;
   const pipeline::CalibrationResult preview = pipeline::RunCalibration(request);
-  ASSERT_TRUE(preview.estimate.usable) << preview.estimate.message;
-  ASSERT_TRUE(preview.scan_log.has_value());
-  const calib::ScanLogTally& tally = *preview.scan_log;
+  ASSERT_TRUE(preview.solve.estimate.usable) << preview.solve.estimate.message;
+  ASSERT_TRUE(preview.detection.scan_log.has_value());
+  const calib::ScanLogTally& tally = *preview.detection.scan_log;
 
   const io::SessionSpec spec = io::ReadSession(dir.string());
   const io::ScannerPreset preset = io::LoadScannerPreset(spec.scanner_model, pipeline::PresetDirs());
   const recording::ScanOpener opener = recording::MakeScanOpener(spec, &preset);
-  const calib::DetectorOptions& detector = preview.options.detector;
+  const calib::DetectorOptions& detector = preview.loaded.options.detector;
   const preflight::internal::ScanLogSummary read = preflight::internal::ReadScanLog(
       spec.scanner_log, spec.scanner_time_offset_s, &preset, detector.min_range_m,
       detector.mixed_pixel_jump_m, &opener);
 
-  ASSERT_GT(preview.scans_skipped.count(calib::ScanSkip::kNoPoseBeforeLogs), 0u);
-  EXPECT_EQ(preview.scans_skipped.at(calib::ScanSkip::kNoPoseBeforeLogs), 5);
+  ASSERT_GT(preview.ScansSkipped().count(calib::ScanSkip::kNoPoseBeforeLogs), 0u);
+  EXPECT_EQ(preview.ScansSkipped().at(calib::ScanSkip::kNoPoseBeforeLogs), 5);
   EXPECT_EQ(tally.stamps_s, read.stamps_s);
   EXPECT_EQ(tally.beams, read.beams);
   EXPECT_EQ(tally.readings.valid, read.readings.valid);
@@ -136,7 +136,7 @@ TEST(PreviewTest, SecondPassTallyIsTheScanLogSummary) {
   EXPECT_EQ(tally.first_step_rad, read.first_step_rad);
   EXPECT_EQ(tally.first_max_range_m, read.first_max_range_m);
   const preflight::internal::ScanLogSummary shared = preflight::internal::SummaryFromTally(
-      spec.scanner_log, tally, preview.scan_lines_skipped);
+      spec.scanner_log, tally, preview.detection.scan_lines_skipped);
   EXPECT_EQ(shared.stats.records, read.stats.records);
   EXPECT_EQ(shared.stats.start_s, read.stats.start_s);
   EXPECT_EQ(shared.stats.end_s, read.stats.end_s);

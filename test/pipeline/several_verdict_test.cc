@@ -21,10 +21,16 @@ ScannerRun Calibrated(const std::string& id, const std::string& frame, int joint
   ScannerRun run;
   run.spec.id = id;
   run.spec.frame = frame;
-  run.joint_index = joint_index;
-  run.result.estimate.mount = mount;
-  run.result.estimate.covariance = Eigen::Vector3d(1e-4, 1e-4, 1e-6).asDiagonal();
-  run.result.estimate.usable = true;
+  run.own.solve.estimate.mount = mount;
+  run.own.solve.estimate.covariance = Eigen::Vector3d(1e-4, 1e-4, 1e-6).asDiagonal();
+  run.own.solve.estimate.usable = true;
+  if (joint_index >= 0) {
+    JointScannerResult joint;
+    joint.index = joint_index;
+    joint.mount = mount;
+    joint.covariance = run.own.solve.estimate.covariance;
+    run.joint = joint;
+  }
   return run;
 }
 
@@ -46,7 +52,7 @@ SeveralScannersResult TwoOfThree() {
   several.scanners.push_back(Calibrated("left", "laser_left", 0, {2.45, 0.75, 0.5236}));
   several.scanners.push_back(Calibrated("right", "laser_right", 1, {2.45, -0.75, -0.5236}));
   ScannerRun rear = Calibrated("rear", "rear", -1, {-1.0, 0.0, kPi});
-  rear.refused = true;
+  rear.own.solve.estimate.usable = false;
   several.scanners.push_back(rear);
   RelativeMountResult relative;
   relative.from_id = "left";
@@ -144,16 +150,20 @@ TEST(SeveralVerdictTest, OneScannerFileIsMatchedByTheScannersFrame) {
 }
 
 TEST(SeveralVerdictTest, ScannerVerdictFollowsTheSigmaAndChangeItIsGiven) {
-  CalibrationResult result = TwoOfThree().scanners[0].result;  // σ 10 mm, 0.057°
-  EXPECT_EQ(DecideCalibration(result, std::nullopt).verdict, Verdict::kAccept);
+  const ScannerRun run = TwoOfThree().scanners[0];  // σ 10 mm, 0.057°
+  JointScannerResult joint = *run.joint;
+  EXPECT_EQ(DecideJointScanner(run.own, joint).verdict, Verdict::kAccept);
   // σ yaw 0.057° is within the default 0.2°; a joint σ beyond it rejects.
-  result.estimate.covariance(2, 2) = std::pow(0.3 / kRadToDeg, 2);
-  EXPECT_EQ(DecideCalibration(result, std::nullopt).verdict, Verdict::kReject);
-  result.estimate.covariance(2, 2) = 1e-6;
+  joint.covariance(2, 2) = std::pow(0.3 / kRadToDeg, 2);
+  EXPECT_EQ(DecideJointScanner(run.own, joint).verdict, Verdict::kReject);
+  // The own run's σ decides its own verdict: the joint one does not change it.
+  EXPECT_EQ(DecideCalibration(run.own, std::nullopt).verdict, Verdict::kAccept);
+  joint.covariance(2, 2) = 1e-6;
   Change moved;
   moved.previous_file = "old.yaml";
   moved.dx_m = 0.03;  // beyond acceptance.max_change_xy_m (20 mm)
-  const Decision decision = DecideCalibration(result, moved);
+  joint.change = moved;
+  const Decision decision = DecideJointScanner(run.own, joint);
   EXPECT_EQ(decision.verdict, Verdict::kReview);
   ASSERT_EQ(decision.reasons.size(), 1u);
   EXPECT_NE(decision.reasons[0].find("max_change_xy_m"), std::string::npos) << decision.reasons[0];
@@ -193,9 +203,9 @@ TEST(SeveralVerdictTest, RelativeTransformIsJudgedByItsOwnTolerances) {
 
 TEST(SeveralVerdictTest, RunVerdictIsTheWorstAndALeftOutScannerIsAtLeastReview) {
   SeveralScannersResult several = TwoOfThree();
-  several.scanners[0].result.decision.verdict = Verdict::kAccept;
-  several.scanners[1].result.decision.verdict = Verdict::kAccept;
-  several.scanners[2].result.decision.verdict = Verdict::kReject;  // refused: left out
+  several.scanners[0].joint->decision.verdict = Verdict::kAccept;
+  several.scanners[1].joint->decision.verdict = Verdict::kAccept;
+  several.scanners[2].own.decided.decision.verdict = Verdict::kReject;  // refused: left out
   several.relative[0].decision.verdict = Verdict::kAccept;
   Decision run = DecideSeveral(several);
   EXPECT_EQ(run.verdict, Verdict::kReview);
@@ -208,7 +218,7 @@ TEST(SeveralVerdictTest, RunVerdictIsTheWorstAndALeftOutScannerIsAtLeastReview) 
   EXPECT_EQ(run.verdict, Verdict::kReject);
   ASSERT_EQ(run.reasons.size(), 1u);
   EXPECT_EQ(run.reasons[0], "right in left: REJECT");
-  several.scanners[0].result.decision.verdict = Verdict::kReview;
+  several.scanners[0].joint->decision.verdict = Verdict::kReview;
   several.relative[0].decision.verdict = Verdict::kAccept;
   EXPECT_EQ(DecideSeveral(several).verdict, Verdict::kReview);
 }

@@ -125,8 +125,9 @@ TEST(MultiScannerTest, SessionListsEveryScannerWithItsOwnLog) {
 TEST(MultiScannerTest, RelativeTransformIsTheDifferenceOfTheMounts) {
   const pipeline::SeveralScannersResult result = Calibrate(TextSession());
   ASSERT_EQ(result.outcome, pipeline::SeveralOutcome::kAll) << result.message;
-  const solvers::Mount& a = result.scanners[0].result.estimate.mount;
-  const solvers::Mount& b = result.scanners[1].result.estimate.mount;
+  ASSERT_TRUE(result.scanners[0].joint && result.scanners[1].joint);
+  const solvers::Mount& a = result.scanners[0].joint->mount;
+  const solvers::Mount& b = result.scanners[1].joint->mount;
   const solvers::Mount& rel = result.relative[0].mount.from_T_to;
   // Back to b: a ∘ rel.
   EXPECT_NEAR(a.x_m + std::cos(a.yaw_rad) * rel.x_m - std::sin(a.yaw_rad) * rel.y_m, b.x_m, 1e-9);
@@ -151,8 +152,9 @@ TEST(MultiScannerTest, JointMountIsNoSurerThanEachScannersOwnRun) {
   ASSERT_EQ(result.outcome, pipeline::SeveralOutcome::kAll) << result.message;
   for (const auto& run : result.scanners) {
     for (int axis = 0; axis < 2; ++axis) {
-      const double joint = std::sqrt(run.result.estimate.covariance(axis, axis));
-      const double own = std::sqrt(run.own_estimate.covariance(axis, axis));
+      ASSERT_TRUE(run.joint) << run.spec.id;
+      const double joint = std::sqrt(run.joint->covariance(axis, axis));
+      const double own = std::sqrt(run.own.solve.estimate.covariance(axis, axis));
       EXPECT_GT(joint, 0.97 * own) << run.spec.id << (axis == 0 ? " x" : " y");
     }
   }
@@ -163,11 +165,14 @@ TEST(MultiScannerTest, EachScannersPageIsDrawnWithItsJointMount) {
       Calibrate(TextSession(), /*allow_partial=*/false, /*collect_report_data=*/true);
   ASSERT_EQ(result.outcome, pipeline::SeveralOutcome::kAll) << result.message;
   for (const pipeline::ScannerRun& run : result.scanners) {
-    const solvers::Mount& joint = run.result.estimate.mount;
-    const pipeline::ReportData& report = run.result.report;
+    ASSERT_TRUE(run.joint) << run.spec.id;
+    const solvers::Mount& joint = run.joint->mount;
+    const pipeline::ReportData& report = run.joint->report;
     ASSERT_TRUE(report.collected && report.have_mount) << run.spec.id;
     // The joint adjustment moved the mount (else this test could not tell the two apart).
-    ASSERT_NE(joint.x_m, run.own_estimate.mount.x_m) << run.spec.id;
+    ASSERT_NE(joint.x_m, run.own.solve.estimate.mount.x_m) << run.spec.id;
+    // Its own run's drawings stay around its own mount.
+    EXPECT_EQ(run.own.report.mount.x_m, run.own.solve.estimate.mount.x_m) << run.spec.id;
     EXPECT_EQ(report.mount.x_m, joint.x_m) << run.spec.id;
     EXPECT_EQ(report.mount.y_m, joint.y_m) << run.spec.id;
     EXPECT_EQ(report.mount.yaw_rad, joint.yaw_rad) << run.spec.id;
@@ -184,9 +189,9 @@ TEST(MultiScannerTest, EachScannersPageIsDrawnWithItsJointMount) {
     for (const pipeline::ScanPanel& panel : report.panels) {
       if (!panel.have_scan) continue;
       ++drawn;
-      const calib::WallObservation& o = run.result.observations[panel.observation];
+      const calib::WallObservation& o = run.own.solve.observations[panel.observation];
       const calib::LineGate gate =
-          calib::GateFor(o, run.result.walls[o.wall_index], joint, report.tight_gates);
+          calib::GateFor(o, run.own.survey.walls[o.wall_index], joint, report.tight_gates);
       EXPECT_EQ(panel.gate.rho_m, gate.rho_m) << run.spec.id;
       EXPECT_EQ(panel.gate.theta_rad, gate.theta_rad) << run.spec.id;
       EXPECT_TRUE(panel.detection.found) << run.spec.id << ": " << panel.detection.reason;
@@ -194,9 +199,9 @@ TEST(MultiScannerTest, EachScannersPageIsDrawnWithItsJointMount) {
     EXPECT_GT(drawn, 0) << run.spec.id;
     ASSERT_TRUE(report.hough.have) << run.spec.id;
     const pipeline::ScanPanel& middle = report.panels[report.hough.panel];
-    const calib::WallObservation& o = run.result.observations[middle.observation];
+    const calib::WallObservation& o = run.own.solve.observations[middle.observation];
     const calib::LineGate centre =
-        calib::GateFor(o, run.result.walls[o.wall_index], joint, report.tight_gates);
+        calib::GateFor(o, run.own.survey.walls[o.wall_index], joint, report.tight_gates);
     EXPECT_EQ(report.hough.window.rho_m, centre.rho_m) << run.spec.id;
     EXPECT_EQ(report.hough.window.theta_rad, centre.theta_rad) << run.spec.id;
   }
@@ -326,8 +331,9 @@ TEST(MultiScannerTest, GuideAndCharacteriseTakeOneScannerOfTheSessionByName) {
     ASSERT_EQ(guided.exit_code, 0) << guided.err;
     testing_support::Json j;
     ASSERT_TRUE(testing_support::JsonParser(guided.out).Parse(&j)) << guided.out;
-    const double own_x_m = std::sqrt(run.own_estimate.covariance(0, 0));
-    const double joint_x_m = std::sqrt(run.result.estimate.covariance(0, 0));
+    ASSERT_TRUE(run.joint) << run.spec.id;
+    const double own_x_m = std::sqrt(run.own.solve.estimate.covariance(0, 0));
+    const double joint_x_m = std::sqrt(run.joint->covariance(0, 0));
     const double guided_x_m = j["predicted_sigma"]["x_m"].number;
     EXPECT_NEAR(guided_x_m / own_x_m, 1.0, 0.01) << run.spec.id;
     EXPECT_NEAR(guided_x_m / joint_x_m, 1.0, 0.03) << run.spec.id;

@@ -82,23 +82,24 @@ const std::string kCalibrate = testing_support::WallcalCommand("calibrate");
 
 TEST(RecordingSessionTest, EveryFormatCalibratesToTheSameMount) {
   const pipeline::CalibrationResult text = Calibrate(TextSession());
-  ASSERT_TRUE(text.estimate.usable) << text.estimate.message;
-  const Eigen::Matrix3d& cov = text.estimate.covariance;
+  ASSERT_TRUE(text.solve.estimate.usable) << text.solve.estimate.message;
+  const Eigen::Matrix3d& cov = text.solve.estimate.covariance;
   const double sx = std::sqrt(cov(0, 0)), sy = std::sqrt(cov(1, 1)), syaw = std::sqrt(cov(2, 2));
   for (const std::string format : {"ros1", "ros1-bz2", "ros1-lz4", "mcap", "db3"}) {
     SCOPED_TRACE(format);
     const pipeline::CalibrationResult r = Calibrate(SessionAs(format));
-    ASSERT_TRUE(r.estimate.usable) << r.estimate.message;
+    ASSERT_TRUE(r.solve.estimate.usable) << r.solve.estimate.message;
     std::printf("[ formats  ] %-9s x %.6f y %.6f yaw %.6f deg; text x %.6f y %.6f yaw %.6f\n",
-                format.c_str(), r.estimate.mount.x_m, r.estimate.mount.y_m,
-                r.estimate.mount.yaw_rad * kRadToDeg, text.estimate.mount.x_m,
-                text.estimate.mount.y_m, text.estimate.mount.yaw_rad * kRadToDeg);
-    EXPECT_LT(std::abs(r.estimate.mount.x_m - text.estimate.mount.x_m), 0.1 * sx);
-    EXPECT_LT(std::abs(r.estimate.mount.y_m - text.estimate.mount.y_m), 0.1 * sy);
-    EXPECT_LT(std::abs(r.estimate.mount.yaw_rad - text.estimate.mount.yaw_rad), 0.1 * syaw);
-    EXPECT_EQ(r.scans_total, text.scans_total);
-    EXPECT_EQ(r.fixes_used, text.fixes_used);  // float fixes dropped by σ as by quality
-    EXPECT_EQ(r.headings_used, text.headings_used);
+                format.c_str(), r.solve.estimate.mount.x_m, r.solve.estimate.mount.y_m,
+                r.solve.estimate.mount.yaw_rad * kRadToDeg, text.solve.estimate.mount.x_m,
+                text.solve.estimate.mount.y_m, text.solve.estimate.mount.yaw_rad * kRadToDeg);
+    EXPECT_LT(std::abs(r.solve.estimate.mount.x_m - text.solve.estimate.mount.x_m), 0.1 * sx);
+    EXPECT_LT(std::abs(r.solve.estimate.mount.y_m - text.solve.estimate.mount.y_m), 0.1 * sy);
+    EXPECT_LT(std::abs(r.solve.estimate.mount.yaw_rad - text.solve.estimate.mount.yaw_rad),
+              0.1 * syaw);
+    EXPECT_EQ(r.detection.scans_total, text.detection.scans_total);
+    EXPECT_EQ(r.poses.fixes_used, text.poses.fixes_used);  // float fixes dropped by σ as by quality
+    EXPECT_EQ(r.poses.headings_used, text.poses.headings_used);
   }
 }
 
@@ -156,7 +157,7 @@ TEST(RecordingSessionTest, SentencesImuAndReceiveStamps) {
   EXPECT_NEAR(logs.gnss.fixes[3].stamp_s - text_gnss.fixes[3].stamp_s, 0.25, 1e-6);
   EXPECT_NEAR(logs.headings.headings[3].stamp_s - text_heading.headings[3].stamp_s, 0.25, 1e-6);
   // The whole session with these streams calibrates (header stamps).
-  EXPECT_TRUE(Calibrate(dir).estimate.usable);
+  EXPECT_TRUE(Calibrate(dir).solve.estimate.usable);
 
   ReplaceInFile(dir / "session.yaml", "  topic: /nmea\n", "  topic: /nmea\n  stamp: later\n");
   try {

@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "io/config/rosbag2_metadata.h"
 #include "io/types.h"
-#include "recording/rosbag2/internal/rosbag2_metadata.h"
 #include "recording/rosbag2/internal/rosbag2_sqlite_reader.h"
 #include "recording/writers/mcap_writer.h"
 #include "recording/writers/rosbag2_sqlite_writer.h"
@@ -276,7 +276,7 @@ TEST(Rosbag2SqliteTest, UnknownTopicAndOtherSerializationThrow) {
 }
 
 TEST(Rosbag2MetadataTest, ParsesRosbag2Yaml) {
-  const Rosbag2Metadata meta = ParseRosbag2Metadata(
+  const io::Rosbag2Metadata meta = io::ParseRosbag2Metadata(
       "rosbag2_bagfile_information:\n"
       "  version: 5\n"
       "  storage_identifier: sqlite3\n"
@@ -300,27 +300,29 @@ TEST(Rosbag2MetadataTest, ParsesRosbag2Yaml) {
 
 TEST(Rosbag2MetadataTest, BadYamlSaysWhereAndWhat) {
   std::string error = ThrownMessage<io::InputError>([] {
-    ParseRosbag2Metadata("rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n", "m.yaml");
+    io::ParseRosbag2Metadata("rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n",
+                             "m.yaml");
   });
   EXPECT_NE(error.find("relative_file_paths"), std::string::npos) << error;
   error = ThrownMessage<io::InputError>([] {
-    ParseRosbag2Metadata(
+    io::ParseRosbag2Metadata(
         "rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n"
         "  relative_file_paths: [a.db3]\n  message_count: lots\n",
         "m.yaml");
   });
   EXPECT_NE(error.find("m.yaml:4: 'message_count' is not an integer"), std::string::npos) << error;
-  error = ThrownMessage<io::InputError>([] { ParseRosbag2Metadata("key: [unclosed\n", "m.yaml"); });
+  error =
+      ThrownMessage<io::InputError>([] { io::ParseRosbag2Metadata("key: [unclosed\n", "m.yaml"); });
   EXPECT_NE(error.find("m.yaml:"), std::string::npos) << error;
   error = ThrownMessage<io::InputError>([] {
-    ParseRosbag2Metadata(
+    io::ParseRosbag2Metadata(
         "rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n"
         "  relative_file_paths: [a.db3]\n  topics_with_message_count:\n"
         "    - topic_metadata: {name: '', type: x}\n",
         "m.yaml");
   });
   EXPECT_NE(error.find("m.yaml:5: a topic_metadata has an empty name"), std::string::npos) << error;
-  error = ThrownMessage<io::InputError>([] { ParseRosbag2Metadata("other: 1\n", "m.yaml"); });
+  error = ThrownMessage<io::InputError>([] { io::ParseRosbag2Metadata("other: 1\n", "m.yaml"); });
   EXPECT_NE(error.find("rosbag2_bagfile_information"), std::string::npos) << error;
 }
 

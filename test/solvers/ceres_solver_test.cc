@@ -475,7 +475,9 @@ TEST(SolveMountCeresTest, ConditioningCheckRefusesAWeakAxisAndNamesIt) {
   ASSERT_TRUE(forced.usable) << forced.message;
   EXPECT_TRUE(forced.forced);
   ASSERT_FALSE(forced.warnings.empty());
-  EXPECT_EQ(forced.warnings.front().rfind("FORCED: ", 0), 0u) << forced.warnings.front();
+  EXPECT_EQ(forced.warnings.front().kind, SolverWarningKind::kForcedObservability);
+  EXPECT_EQ(forced.warnings.front().message.rfind("FORCED: ", 0), 0u)
+      << forced.warnings.front().message;
   EXPECT_GT(Sigma(forced).y(), options.max_sigma_xy_m);
   EXPECT_LT(Sigma(forced).x(), options.max_sigma_xy_m);
 

@@ -46,9 +46,10 @@ inline std::vector<CutCheck> CheckGuideOnCuts(const sim::SimulationConfig& confi
     request.force = true;
     request.threads = threads;
     const pipeline::CalibrationResult result = pipeline::RunCalibration(request);
-    if (result.estimate.usable) {
+    if (result.solve.estimate.usable) {
       check.calibrated = true;
-      for (int a = 0; a < 3; ++a) check.reported[a] = std::sqrt(result.estimate.covariance(a, a));
+      for (int a = 0; a < 3; ++a)
+        check.reported[a] = std::sqrt(result.solve.estimate.covariance(a, a));
     }
     guide::GuideOptions guide_request;
     guide_request.session_path = cut.string();

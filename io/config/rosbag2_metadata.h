@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// rosbag2's metadata.yaml (the bag folder's index): which storage files hold the recording, in
-// order, and what rosbag2 counted. Keys read (versions 4 to 9; other keys are ignored):
+// rosbag2's metadata.yaml (a bag folder's index), read and written: which storage files hold
+// the recording, in order, and what rosbag2 counted. recording/ opens the folder with it. Keys read
+// (versions 4 to 9; other keys are ignored):
 //   rosbag2_bagfile_information:
 //     version, storage_identifier ("sqlite3" | "mcap"), relative_file_paths: [names],
 //     duration: {nanoseconds}, starting_time: {nanoseconds_since_epoch}, message_count,
@@ -13,9 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "recording/recording.h"
-
-namespace wallcal::recording {
+namespace wallcal::io {
 
 struct Rosbag2TopicCount {
   std::string name, type, serialization_format;
@@ -39,10 +38,8 @@ struct Rosbag2Metadata {
 Rosbag2Metadata ParseRosbag2Metadata(const std::string& text, const std::string& name);
 Rosbag2Metadata ReadRosbag2Metadata(const std::string& path);
 
-// metadata.yaml as rosbag2 writes it (version 5 keys) for storage files and topics (their
-// counts and first/last times give message_count, starting_time and duration).
-std::string FormatRosbag2Metadata(const std::string& storage_identifier,
-                                  const std::vector<std::string>& relative_files,
-                                  const std::vector<TopicInfo>& topics);
+// metadata.yaml as rosbag2 writes it (version 5 keys) from `meta` (its version is written as 5;
+// each topic's offered_qos_profiles empty).
+std::string FormatRosbag2Metadata(const Rosbag2Metadata& meta);
 
-}  // namespace wallcal::recording
+}  // namespace wallcal::io

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "recording/rosbag2/internal/rosbag2_metadata.h"
+#include "io/config/rosbag2_metadata.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -9,7 +9,7 @@
 
 #include "io/types.h"
 
-namespace wallcal::recording {
+namespace wallcal::io {
 namespace {
 
 int LineOf(const YAML::Node& node) {
@@ -26,8 +26,8 @@ T Get(const YAML::Node& map, const char* key, const std::string& name, const cha
   const YAML::Node node = map[key];
   if (!node.IsDefined() || node.IsNull()) {
     if (required) {
-      throw io::InputError(
-          io::Where(name, LineOf(map), std::string("missing '") + key + "'; expected " + expected));
+      throw InputError(
+          Where(name, LineOf(map), std::string("missing '") + key + "'; expected " + expected));
     }
     return fallback;
   }
@@ -35,8 +35,7 @@ T Get(const YAML::Node& map, const char* key, const std::string& name, const cha
     if (!node.IsScalar()) throw YAML::BadConversion(node.Mark());
     return node.as<T>();
   } catch (const YAML::Exception&) {
-    throw io::InputError(
-        io::Where(name, LineOf(node), std::string("'") + key + "' is not " + expected));
+    throw InputError(Where(name, LineOf(node), std::string("'") + key + "' is not " + expected));
   }
 }
 
@@ -47,15 +46,15 @@ Rosbag2Metadata ParseRosbag2Metadata(const std::string& text, const std::string&
   try {
     root = YAML::Load(text);
   } catch (const YAML::ParserException& e) {
-    throw io::InputError(io::Where(name, e.mark.line + 1, "YAML syntax error: " + e.msg));
+    throw InputError(Where(name, e.mark.line + 1, "YAML syntax error: " + e.msg));
   } catch (const YAML::Exception& e) {
-    throw io::InputError(io::Where(name, 0, std::string("cannot read YAML: ") + e.what()));
+    throw InputError(Where(name, 0, std::string("cannot read YAML: ") + e.what()));
   }
   const YAML::Node info = IsMap(root) ? root["rosbag2_bagfile_information"] : YAML::Node();
   if (!IsMap(info)) {
-    throw io::InputError(io::Where(name, LineOf(root),
-                                   "expected a 'rosbag2_bagfile_information' map "
-                                   "(a rosbag2 metadata.yaml)"));
+    throw InputError(Where(name, LineOf(root),
+                           "expected a 'rosbag2_bagfile_information' map "
+                           "(a rosbag2 metadata.yaml)"));
   }
   Rosbag2Metadata meta;
   meta.version = Get<int>(info, "version", name, "an integer", false, 0);
@@ -75,32 +74,29 @@ Rosbag2Metadata ParseRosbag2Metadata(const std::string& text, const std::string&
   }
   const YAML::Node files = info["relative_file_paths"];
   if (!IsSequence(files) || files.size() == 0) {
-    throw io::InputError(io::Where(name, LineOf(files.IsDefined() ? files : info),
-                                   "expected 'relative_file_paths': a list of storage files"));
+    throw InputError(Where(name, LineOf(files.IsDefined() ? files : info),
+                           "expected 'relative_file_paths': a list of storage files"));
   }
   for (const YAML::Node& file : files) {
     if (!file.IsDefined() || !file.IsScalar() || file.Scalar().empty()) {
-      throw io::InputError(
-          io::Where(name, LineOf(file), "a relative_file_paths entry is not a file name"));
+      throw InputError(Where(name, LineOf(file), "a relative_file_paths entry is not a file name"));
     }
     meta.relative_file_paths.push_back(file.Scalar());
   }
   const YAML::Node topics = info["topics_with_message_count"];
   if (topics.IsDefined() && !topics.IsNull()) {
     if (!IsSequence(topics)) {
-      throw io::InputError(
-          io::Where(name, LineOf(topics), "'topics_with_message_count' is not a list"));
+      throw InputError(Where(name, LineOf(topics), "'topics_with_message_count' is not a list"));
     }
     for (const YAML::Node& entry : topics) {
       const YAML::Node topic = IsMap(entry) ? entry["topic_metadata"] : YAML::Node();
       if (!IsMap(topic)) {
-        throw io::InputError(
-            io::Where(name, LineOf(entry), "expected 'topic_metadata' with the topic"));
+        throw InputError(Where(name, LineOf(entry), "expected 'topic_metadata' with the topic"));
       }
       Rosbag2TopicCount count;
       count.name = Get<std::string>(topic, "name", name, "a topic name", true, "");
       if (count.name.empty()) {
-        throw io::InputError(io::Where(name, LineOf(topic), "a topic_metadata has an empty name"));
+        throw InputError(Where(name, LineOf(topic), "a topic_metadata has an empty name"));
       }
       count.type = Get<std::string>(topic, "type", name, "a type name", false, "");
       count.serialization_format =
@@ -114,52 +110,40 @@ Rosbag2Metadata ParseRosbag2Metadata(const std::string& text, const std::string&
 
 Rosbag2Metadata ReadRosbag2Metadata(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw io::InputError(io::Where(path, 0, "cannot open; expected a rosbag2 metadata.yaml"));
+  if (!in) throw InputError(Where(path, 0, "cannot open; expected a rosbag2 metadata.yaml"));
   std::ostringstream text;
   text << in.rdbuf();
   return ParseRosbag2Metadata(text.str(), path);
 }
 
-std::string FormatRosbag2Metadata(const std::string& storage_identifier,
-                                  const std::vector<std::string>& relative_files,
-                                  const std::vector<TopicInfo>& topics) {
-  int64_t count = 0, first_ns = 0, last_ns = 0;
-  bool any = false;
-  for (const TopicInfo& t : topics) {
-    if (t.count == 0) continue;
-    const int64_t a = std::llround(t.first_s * 1e9), b = std::llround(t.last_s * 1e9);
-    first_ns = any ? std::min(first_ns, a) : a;
-    last_ns = any ? std::max(last_ns, b) : b;
-    any = true;
-    count += t.count;
-  }
+std::string FormatRosbag2Metadata(const Rosbag2Metadata& meta) {
   YAML::Emitter out;
   out << YAML::BeginMap << YAML::Key << "rosbag2_bagfile_information" << YAML::Value
       << YAML::BeginMap;
   out << YAML::Key << "version" << YAML::Value << 5;
-  out << YAML::Key << "storage_identifier" << YAML::Value << storage_identifier;
+  out << YAML::Key << "storage_identifier" << YAML::Value << meta.storage_identifier;
   out << YAML::Key << "duration" << YAML::Value << YAML::BeginMap << YAML::Key << "nanoseconds"
-      << YAML::Value << (last_ns - first_ns) << YAML::EndMap;
+      << YAML::Value << meta.duration_ns << YAML::EndMap;
   out << YAML::Key << "starting_time" << YAML::Value << YAML::BeginMap << YAML::Key
-      << "nanoseconds_since_epoch" << YAML::Value << first_ns << YAML::EndMap;
-  out << YAML::Key << "message_count" << YAML::Value << count;
+      << "nanoseconds_since_epoch" << YAML::Value << meta.starting_time_ns << YAML::EndMap;
+  out << YAML::Key << "message_count" << YAML::Value << meta.message_count;
   out << YAML::Key << "topics_with_message_count" << YAML::Value << YAML::BeginSeq;
-  for (const TopicInfo& t : topics) {
+  for (const Rosbag2TopicCount& t : meta.topics) {
     out << YAML::BeginMap << YAML::Key << "topic_metadata" << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "name" << YAML::Value << t.name;
     out << YAML::Key << "type" << YAML::Value << t.type;
-    out << YAML::Key << "serialization_format" << YAML::Value << t.encoding;
+    out << YAML::Key << "serialization_format" << YAML::Value << t.serialization_format;
     out << YAML::Key << "offered_qos_profiles" << YAML::Value << "";
-    out << YAML::EndMap << YAML::Key << "message_count" << YAML::Value << t.count << YAML::EndMap;
+    out << YAML::EndMap << YAML::Key << "message_count" << YAML::Value << t.message_count
+        << YAML::EndMap;
   }
   out << YAML::EndSeq;
-  out << YAML::Key << "compression_format" << YAML::Value << "";
-  out << YAML::Key << "compression_mode" << YAML::Value << "";
+  out << YAML::Key << "compression_format" << YAML::Value << meta.compression_format;
+  out << YAML::Key << "compression_mode" << YAML::Value << meta.compression_mode;
   out << YAML::Key << "relative_file_paths" << YAML::Value << YAML::BeginSeq;
-  for (const std::string& f : relative_files) out << f;
+  for (const std::string& f : meta.relative_file_paths) out << f;
   out << YAML::EndSeq << YAML::EndMap << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
 
-}  // namespace wallcal::recording
+}  // namespace wallcal::io
