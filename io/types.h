@@ -72,6 +72,19 @@ struct HeadingSample {
   int line = 0;
 };
 
+// One sample of the vehicle's attitude from an attitude stream: an NMEA $PASHR or $PTNL,AVR
+// sentence, or a ROS sensor_msgs/Imu orientation. Vehicle frame x forward, y left, z up.
+struct AttitudeSample {
+  double stamp_s = 0.0;   // logging clock (as a heading's)
+  double roll_rad = 0.0;  // about x: positive right side down
+  double pitch_rad = 0.0;  // about y: positive nose up
+  // The stream's own 1σ of each (PASHR's σ fields, the Imu's orientation covariance); NaN when
+  // it gives none (the session's attitude.sigma_deg stands in).
+  double roll_sigma_rad = kNaN;
+  double pitch_sigma_rad = kNaN;
+  int line = 0;  // 1-based line in its text log; message index + 1 in a recording
+};
+
 // How a skipped line counts: lines a healthy log has too (comments, blank lines, other NMEA
 // sentences, CARMEN PARAM/ODOM lines) are informational; the rest are problems worth a warning.
 enum class SkipSeverity { kInformational, kProblem };
@@ -115,6 +128,7 @@ struct SkipCounts {
 struct NmeaLog {
   std::vector<GnssFix> fixes;            // sorted by stamp_s as read; all qualities
   std::vector<HeadingSample> headings;   // sorted by stamp_s as read
+  std::vector<AttitudeSample> attitudes;  // $PASHR and $PTNL,AVR, sorted by stamp_s as read
   std::map<int, int64_t> fixes_by_quality;
   SkipCounts skipped;
   int64_t lines_read = 0;
@@ -162,6 +176,12 @@ enum class SurveyColumns { kHeader, kPNEZD, kPENZD };
 // A rover-surveyed wall point's horizontal 1σ per axis (m) when neither the survey file nor
 // survey.point_sigma_m gives one: an RTK fix held on a pole for a few seconds.
 inline constexpr double kDefaultRoverPointSigmaM = 0.010;
+// The 1σ of a tape-measured scanner height (scanner.z_sigma_m), of a scanner tilt taken from an
+// inclinometer or the drawings (scanner.tilt_sigma_deg: 0.2°), and of one attitude sample's
+// roll and pitch where the stream gives none (attitude.sigma_deg: 0.1°).
+inline constexpr double kDefaultScannerZSigmaM = 0.02;
+inline constexpr double kDefaultScannerTiltSigmaRad = 0.2 * 3.14159265358979323846 / 180.0;
+inline constexpr double kDefaultAttitudeSigmaRad = 0.1 * 3.14159265358979323846 / 180.0;
 
 // A survey point whose WGS84 position RTK-GNSS also measured.
 struct ControlPoint {
@@ -214,6 +234,16 @@ inline constexpr double kDefaultGnssMaxSigmaM = 0.05;
 
 // One scanner of a session that lists several (session.yaml `scanners:`): the keys of
 // `scanner:` plus its id and the frame its transform is published under.
+// The scanner's own tilt on the vehicle (session.yaml scanner.pitch_deg, roll_deg,
+// tilt_sigma_deg; from an inclinometer or the drawings): pitch positive nose up, roll positive
+// right side down (rad). Not given: level, with that σ.
+struct ScannerTilt {
+  double pitch_rad = 0.0;
+  double roll_rad = 0.0;
+  double sigma_rad = kDefaultScannerTiltSigmaRad;  // 1σ of each
+  bool given = false;  // pitch_deg or roll_deg is in session.yaml
+};
+
 struct ScannerSpec {
   std::string id;     // unique in the session
   std::string frame;  // the child frame of its transform; the id unless `frame:` is given
@@ -225,6 +255,8 @@ struct ScannerSpec {
   StampSource stamp = StampSource::kHeader;
   std::optional<MountGuess> mount_guess;
   std::optional<double> z_m;
+  double z_sigma_m = kDefaultScannerZSigmaM;
+  ScannerTilt tilt;
 };
 
 struct SessionSpec {
@@ -249,6 +281,8 @@ struct SessionSpec {
   // antenna is negative), measured by hand: the 2-D calibration cannot see it. Unset: the
   // emitted transforms carry z = 0 and say so.
   std::optional<double> scanner_z_m;
+  double scanner_z_sigma_m = kDefaultScannerZSigmaM;  // scanner.z_sigma_m: the tape's 1σ
+  ScannerTilt scanner_tilt;
 
   std::string gnss_log;
   int min_fix_quality = 4;  // 4 = RTK fixed only; 5 also accepts float
@@ -260,6 +294,16 @@ struct SessionSpec {
   HeadingReference heading_reference = HeadingReference::kTrueNorth;
   std::string heading_topic;  // QuaternionStamped, Imu or nmea_msgs/Sentence
   StampSource heading_stamp = StampSource::kHeader;
+
+  // attitude: the vehicle's roll and pitch stream (attitude.log: a text log with $PASHR or
+  // $PTNL,AVR sentences, which may be the heading log, or a recording with attitude.topic, a
+  // sensor_msgs/Imu topic); empty: none (the yard is estimated from the GNSS heights).
+  std::string attitude_log;
+  std::string attitude_topic;
+  StampSource attitude_stamp = StampSource::kHeader;
+  double attitude_time_offset_s = 0.0;  // added to every attitude sample's time
+  // attitude.sigma_deg: the 1σ of one sample of roll and of pitch where the stream gives none.
+  double attitude_sigma_rad = kDefaultAttitudeSigmaRad;
 
   std::string survey_points;  // resolved path
   SurveyColumns survey_columns = SurveyColumns::kHeader;  // CSV only; a GSI file is recognised

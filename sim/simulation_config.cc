@@ -58,6 +58,9 @@ void ReadKeys(io::OptionsMap& section, SimulationConfig& config) {
 void SimulationConfig::Validate() const {
   io::CheckOptions("simulation.", *this, VisitSimulationConfig<io::OptionChecker>);
   io::CheckOptions("simulation.", *this, VisitOptionalKeys<io::OptionChecker>);
+  if (attitude_sentence != "pashr" && attitude_sentence != "avr") {
+    Fail("simulation.attitude_sentence", "pashr or avr", "'" + attitude_sentence + "'");
+  }
   for (size_t i = 0; i < walls.size(); ++i) {
     const SimWall& wall = walls[i];
     const double length_m = std::hypot(wall.x1_m - wall.x0_m, wall.y1_m - wall.y0_m);

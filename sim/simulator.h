@@ -43,6 +43,8 @@ struct SimulatedSession {
   std::vector<io::GnssFix> fixes;
   // Measured TRUE headings at heading_rate_hz (clockwise from true north, rad, [0, 2π)).
   std::vector<io::HeadingSample> headings;
+  // Measured attitude (roll, pitch) at attitude_rate_hz; empty when the config has none.
+  std::vector<io::AttitudeSample> attitudes;
   // Total-station points (its own right-handed frame, ground metres, noisy). Control points C1,
   // C2 come first with code "CTRL", then W001, W002, … on each surveyed wall (code = wall code).
   // survey_mode rover: R001, R002, … at the foot of each surveyed wall every survey_spacing_m,
