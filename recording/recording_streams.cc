@@ -404,7 +404,8 @@ ScanTail::ScanTail(const io::SessionSpec& spec, const io::ScannerPreset* preset)
   if (!tail_) {
     throw io::InputError(io::Where(
         spec.scanner_log, 0,
-        "not read on as it grows; expected a ROS 1 bag, an MCAP file or a .db3 file"));
+        "not read on as it grows; expected a ROS 1 bag, an MCAP file, a .db3 file or a rosbag2 "
+        "folder"));
   }
 }
 
@@ -419,7 +420,7 @@ TailRead ScanTail::ReadOn(std::vector<io::ScanRecord>* scans) {
   RosType type = RosType::kOther;
   std::unique_ptr<TailTopics> seen;  // the topics met, once the first message comes
   LaserScanMsg msg;
-  const TailRead read = tail_->ReadOn(spec_.scanner_topic, [&](const RecordedMessage& m) {
+  const TailRead read = tail_->ReadOn({spec_.scanner_topic}, [&](const RecordedMessage& m) {
     if (!seen) {
       seen = std::make_unique<TailTopics>(*tail_);
       type = CheckTopic(*seen, spec_.scanner_topic, AcceptedScanTypes(), "scanner.topic");

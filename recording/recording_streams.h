@@ -86,10 +86,11 @@ io::GnssFix FixFromNavSatFix(const NavSatFixMsg& msg, double stamp_s, double max
 // Heading clockwise from north, [0, 2π), of an ENU orientation quaternion.
 double HeadingFromEnuQuaternion(double x, double y, double z, double w);
 
-// The LaserScan topic of a ROS 1 bag, an MCAP file or a .db3 file still being written, decoded
-// as the file grows (recording/recording_tail.h): each read decodes only the scans of the whole records
-// added since the last one. Scans come in receive-time order within a chunk, file order across
-// chunks; ScanRecord::line = the message's index on the topic + 1, as MakeScanOpener gives.
+// The LaserScan topic of a ROS 1 bag, an MCAP file, a .db3 file or a rosbag2 folder still being
+// written, decoded as it grows (recording/recording_tail.h): each read decodes only the scans of
+// the whole records added since the last one. Scans come in receive-time order within a chunk,
+// file order across chunks and storage files; ScanRecord::line = the message's index on the
+// topic + 1, as MakeScanOpener gives.
 class ScanTail {
  public:
   // `preset`, when not null, is checked against every scan and must outlive this. Throws
@@ -99,7 +100,7 @@ class ScanTail {
   ScanTail(const ScanTail&) = delete;
   ScanTail& operator=(const ScanTail&) = delete;
 
-  // True for a ROS 1 bag, an MCAP file or a .db3 file (not a rosbag2 folder or a text log).
+  // True for a ROS 1 bag, an MCAP file, a .db3 file or a rosbag2 folder (not a text log).
   static bool Supports(const std::string& path);
 
   // Appends the scans the recording gained to *scans. TailRead::restarted: the file shrank and
