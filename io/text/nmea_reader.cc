@@ -350,6 +350,26 @@ class NmeaParser {
   std::deque<PendingGst> pending_gst_;
 };
 
+// Parses one ended line (its text without the line end) as ParseNmea does: numbered, its BOM
+// stripped when it is the first.
+void ParseLine(std::string_view text, NmeaLog* log, NmeaParser* parser) {
+  ++log->lines_read;
+  if (log->lines_read == 1) StripUtf8Bom(&text);
+  parser->Line(text, static_cast<int>(log->lines_read));
+}
+
+// The log as a whole read ends it: a copy of `log` with `last` (a line not yet ended; empty:
+// none) parsed and the GSTs still waiting for their GGA counted.
+NmeaLog FinishedCopy(const NmeaLog& log, const NmeaParser& parser, std::string_view last) {
+  NmeaLog copy = log;
+  NmeaParser finishing = parser;
+  finishing.set_log(&copy);
+  if (!last.empty()) ParseLine(last, &copy, &finishing);
+  finishing.Finish();
+  return copy;
+}
+
+
 }  // namespace
 
 NmeaLog ReadNmea(const std::string& path) {
@@ -390,11 +410,8 @@ NmeaLog ParseNmea(std::istream& in, const std::string& name) {
   NmeaParser parser(&log, first_date);
   std::string line;
   while (NextLine(in, &line, name, log.lines_read + 1)) {
-    ++log.lines_read;
-    std::string_view text = TrimLineEnd(line);
     // A byte-order mark would hide the first line's logger-time prefix (and date it 1970).
-    if (log.lines_read == 1) StripUtf8Bom(&text);
-    parser.Line(text, static_cast<int>(log.lines_read));
+    ParseLine(TrimLineEnd(line), &log, &parser);
   }
   if (in.bad()) throw InputError(Where(name, 0, "read error"));
   parser.Finish();
@@ -522,9 +539,7 @@ int64_t NmeaFollower::ReadMore() {
     if (static_cast<int64_t>(text.size()) > max_line_bytes) {
       ThrowLineTooLong(path, log.lines_read + 1, max_line_bytes);
     }
-    ++log.lines_read;
-    if (log.lines_read == 1) StripUtf8Bom(&text);
-    parser.Line(text, static_cast<int>(log.lines_read));
+    ParseLine(text, &log, &parser);
   });
   s.tail.assign(bytes, tail, std::string::npos);
   const bool tail_ends_in_cr = !s.tail.empty() && s.tail.back() == '\r';
@@ -539,19 +554,56 @@ int64_t NmeaFollower::ReadMore() {
 NmeaLog NmeaFollower::Log() const {
   const State& s = *state_;
   if (s.gzip || !s.parser) return s.log;
-  NmeaLog log = s.log;
-  NmeaParser parser = *s.parser;
-  parser.set_log(&log);
-  if (!s.tail.empty()) {
-    // As ReadNmea reads a last line without its end.
-    std::string_view text(s.tail);
-    if (text.back() == '\r') text.remove_suffix(1);
-    ++log.lines_read;
-    if (log.lines_read == 1) StripUtf8Bom(&text);
-    parser.Line(text, static_cast<int>(log.lines_read));
+  // As ReadNmea reads a last line without its end.
+  std::string_view last(s.tail);
+  if (!last.empty() && last.back() == '\r') last.remove_suffix(1);
+  return FinishedCopy(s.log, *s.parser, last);
+}
+
+struct NmeaLineFeed::State {
+  std::string name;
+  NmeaLog log;
+  std::optional<int64_t> first_date;
+  std::optional<NmeaParser> parser;  // fills `log`
+  std::vector<std::string> undated;  // the lines added before any date (none came yet)
+};
+
+NmeaLineFeed::NmeaLineFeed(std::string name) : state_(std::make_unique<State>()) {
+  state_->name = std::move(name);
+}
+NmeaLineFeed::~NmeaLineFeed() = default;
+NmeaLineFeed::NmeaLineFeed(NmeaLineFeed&&) noexcept = default;
+NmeaLineFeed& NmeaLineFeed::operator=(NmeaLineFeed&&) noexcept = default;
+
+void NmeaLineFeed::Add(std::string_view line) {
+  static const int64_t max_line_bytes = CurrentInputLimits().max_line_bytes;
+  State& s = *state_;
+  if (static_cast<int64_t>(line.size()) > max_line_bytes) {
+    ThrowLineTooLong(s.name, s.log.lines_read + 1, max_line_bytes);
   }
-  parser.Finish();
-  return log;
+  if (!s.first_date) {
+    std::string_view text = line;
+    if (s.undated.empty()) StripUtf8Bom(&text);
+    s.first_date = nmea::LineDate(text);
+    if (s.first_date) {
+      // ParseNmea dates the plain sentences before the first RMC/ZDA with it.
+      s.log = NmeaLog{};
+      s.parser.emplace(&s.log, s.first_date);
+      for (const std::string& before : s.undated) ParseLine(before, &s.log, &*s.parser);
+      s.undated.clear();
+      s.undated.shrink_to_fit();
+    } else {
+      s.undated.emplace_back(line);
+    }
+  }
+  if (!s.parser) s.parser.emplace(&s.log, s.first_date);
+  ParseLine(line, &s.log, &*s.parser);
+}
+
+NmeaLog NmeaLineFeed::Log() const {
+  const State& s = *state_;
+  if (!s.parser) return s.log;
+  return FinishedCopy(s.log, *s.parser, std::string_view());
 }
 
 }  // namespace wallcal::io
