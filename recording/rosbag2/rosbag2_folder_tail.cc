@@ -110,7 +110,7 @@ bool Rosbag2FolderTail::ReadPart(Part* part, bool later, const std::set<std::str
   std::map<std::string, int64_t> before;
   const TailRead got = part->tail->ReadOn(topic_names, [&](const RecordedMessage& m) {
     TopicInfo* topic = Topic(m.topic->name, m.topic->type, m.topic->md5sum, m.topic->encoding);
-    const auto [it, first] = before.try_emplace(m.topic->name, topic->count);
+    const auto it = before.try_emplace(m.topic->name, topic->count).first;
     RecordedMessage out = m;
     out.topic = topic;
     out.index = it->second + (m.index - part->counted[m.topic->name]);
@@ -162,12 +162,13 @@ TailRead Rosbag2FolderTail::ReadOn(const std::set<std::string>& topic_names,
     if (!ReadPart(&part, later, topic_names, fn, &read)) {
       // A file shrank between the check above and its read: what was passed on is not the
       // folder's as one read sees it. The caller is told, and the next read starts anew.
+      const std::string what = part.path + ":byte " + std::to_string(part.size) +
+                               ": the file ends before the bytes read from it at the last read "
+                               "(a new recording in the folder?); expected it to grow: the "
+                               "folder is read again from its start";
       Reset();
       restart_pending_ = true;
-      throw io::InputError(part.path + ":byte " + std::to_string(part.size) +
-                           ": the file ends before the bytes read from it at the last read (a "
-                           "new recording in the folder?); expected it to grow: the folder is "
-                           "read again from its start");
+      throw io::InputError(what);
     }
   }
   for (const Part& part : parts_) {
