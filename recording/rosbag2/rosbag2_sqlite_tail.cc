@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 // A rosbag2 sqlite3 storage file (.db3) read on as it is written (recording/recording_tail.h):
 // each read takes the rows of `messages` after the last id read, ordered by timestamp (ties:
-// id) within the read; the rows on other topics are counted, their data not read. The database
-// is opened read-only for each read, so SQLite shows the rows committed by then; a transaction
-// still open is read next time. The byte offsets of a TailRead are the file's sizes (where the
-// last read stopped: the size it saw).
+// id) within the read (read in id order when that is their timestamp order, as a recorder
+// writes them; sorted otherwise); the rows on other topics are counted, their data not read.
+// The database is opened read-only for each read, so SQLite shows the rows committed by then; a
+// transaction still open is read next time. The byte offsets of a TailRead are the file's sizes
+// (where the last read stopped: the size it saw).
 
 #include <sqlite3.h>
 
@@ -105,25 +106,34 @@ class SqliteTail : public FileTail {
       wanted.insert(id);
       wanted_list += (wanted_list.empty() ? "" : ",") + std::to_string(id);
     }
-    // The rows gained, counted by topic without reading their data; the wanted ones read next.
+    // The rows gained, in id order without their data: the other topics' counted, the last id
+    // read, and whether the wanted ones are in timestamp order already (a recorder writes them
+    // as they come), so that the second query reads their data without sorting it.
     int64_t last_id = last_id_;
+    bool any = false, in_order = true;
+    int64_t last_stamp = 0;
     {
-      Query counts(db,
-                   "SELECT topic_id, COUNT(*), MAX(id) FROM messages WHERE id > ?1 "
-                   "GROUP BY topic_id");
-      sqlite3_bind_int64(counts.get(), 1, last_id_);
-      while (counts.Step()) {
-        last_id = std::max(last_id, counts.Int(2));
-        const auto topic = topic_of_id_.find(counts.Int(0));
+      Query rows(db, "SELECT id, topic_id, timestamp FROM messages WHERE id > ?1 ORDER BY id");
+      sqlite3_bind_int64(rows.get(), 1, last_id_);
+      while (rows.Step()) {
+        last_id = rows.Int(0);
+        const auto topic = topic_of_id_.find(rows.Int(1));
         // Rows naming a topic id the topics table lacks are not read (as OpenRosbag2 does).
-        if (topic != topic_of_id_.end() && wanted.count(topic->first) == 0) {
-          topic->second->count += counts.Int(1);
+        if (topic == topic_of_id_.end()) continue;
+        if (wanted.count(topic->first) == 0) {
+          ++topic->second->count;
+          continue;
         }
+        const int64_t stamp = rows.Int(2);
+        in_order = in_order && (!any || stamp >= last_stamp);
+        last_stamp = stamp;
+        any = true;
       }
     }
-    if (!wanted.empty() && last_id > last_id_) {
+    if (any) {
       Query rows(db, ("SELECT id, topic_id, timestamp, data FROM messages WHERE id > ?1 AND "
-                      "id <= ?2 AND topic_id IN (" + wanted_list + ") ORDER BY timestamp, id")
+                      "id <= ?2 AND topic_id IN (" + wanted_list + ") ORDER BY " +
+                      (in_order ? "id" : "timestamp, id"))
                          .c_str());
       sqlite3_bind_int64(rows.get(), 1, last_id_);
       sqlite3_bind_int64(rows.get(), 2, last_id);

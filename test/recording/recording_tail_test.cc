@@ -216,6 +216,34 @@ TEST(RecordingTailTest, ReadsTheRowsADb3FileGained) {
   ExpectEveryScanOnce(read);
 }
 
+// Rows whose timestamps are not in id order (a recorder's cache written out of order): a read
+// passes them on in timestamp order, as the whole reader does.
+TEST(RecordingTailTest, PassesADb3FilesRowsOnInTimestampOrder) {
+  const testing_support::ScratchDir scratch("wallcal_recording_tail_");
+  const fs::path path = scratch.path() / "shuffled.db3";
+  {
+    Rosbag2SqliteWriter writer(path.string(), Rosbag2Layout::kHumble);
+    const int64_t scan = writer.AddTopic("/scan", "sensor_msgs/msg/LaserScan",
+                                         RosTypeDefinition(RosType::kLaserScan));
+    for (int i = 0; i < 40; ++i) {
+      const int k = i % 2 == 0 ? i + 1 : i - 1;  // pairs swapped: 1, 0, 3, 2, ...
+      const LaserScanMsg m = Scan(k);
+      writer.Write(scan, m.header.stamp_s, EncodeLaserScan(m, WireFormat::kCdr));
+    }
+    writer.Close();
+  }
+  io::SessionSpec spec;
+  spec.scanner_log = path.string();
+  spec.scanner_topic = "/scan";
+  ScanTail tail(spec, nullptr);
+  std::vector<io::ScanRecord> read;
+  tail.ReadOn(&read);
+  ASSERT_EQ(read.size(), 40u);
+  for (size_t i = 0; i < read.size(); ++i) {
+    EXPECT_EQ(read[i].stamp_s, Scan(static_cast<int>(i)).header.stamp_s) << "scan " << i;
+  }
+}
+
 TEST(RecordingTailTest, OtherContainersHaveNoTail) {
   const testing_support::ScratchDir scratch("wallcal_recording_tail_");
   const fs::path text = scratch.path() / "scans.clf";
