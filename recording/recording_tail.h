@@ -12,7 +12,7 @@
 // summary is read (a file still being written has none); an MCAP file's Data End or Footer ends
 // the reads.
 //
-// A rosbag2 folder (rosbag2/internal/rosbag2_sqlite_reader.h, rosbag2_folder_tail.cc): its
+// A rosbag2 folder (rosbag2/internal/rosbag2_folder.h, rosbag2_folder_tail.cc): its
 // storage files (.db3 or .mcap) in split order, metadata.yaml's relative_file_paths first when
 // it is there, then the storage files it does not list (a recording that went on after a split)
 // by their _N suffix; each read on through the .db3 or MCAP tail, the next one read as soon as
