@@ -46,9 +46,9 @@ const CommandHelp& GuideHelp() {
            "\"distance_m\", \"dwell_s\", \"wait_s\"}, ...]} (σ not yet known: null)"},
           {"--follow", "", "", ValueKind::kNone, {},
            "check the logs once a second and print again when they grew, until\n"
-           "enough or Ctrl-C (with --json: one object per line); the scan and NMEA\n"
-           "logs are read on from where the last read stopped (a rosbag2 folder\n"
-           "whole each time); logs not yet holding two fixes and a scan are waited for"},
+           "enough or Ctrl-C (with --json: one object per line); the logs (text logs,\n"
+           "recordings, rosbag2 folders) are read on from where the last read stopped;\n"
+           "logs not yet holding two fixes and a scan are waited for"},
           {"--max-seconds", "", "S", ValueKind::kWord, {},
            "with --follow: stop after S seconds (default: no limit)"},
           {"--plan", "", "MINUTES", ValueKind::kWord, {},

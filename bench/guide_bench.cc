@@ -26,6 +26,7 @@
 #include "sim/recording_session.h"
 #include "sim/simulation_config.h"
 #include "test/support/guide_check.h"
+#include "test/support/rosbag2_folders.h"
 
 namespace {
 
@@ -152,7 +153,13 @@ void PrintReport(const char* what, const guide::GuideReport& report, double s, d
 // A recording (ROS 1 bag, MCAP) is grown by bytes instead, its last 60/3600 cut off for the
 // first read and 1/3600 added for each update (about a second of its messages).
 // --gzip: the text scan log written gzip-compressed.
-int Speed(const fs::path& scratch, int updates, sim::SessionFormat format, bool gzip) {
+// --rosbag2 (with --format db3 or mcap): the recording split into a rosbag2 folder of six storage
+// files (ten minutes each), grown as a recorder writes it (test/support/rosbag2_folders.h: a
+// .db3 file row by row in place, an MCAP file by bytes; each split file appearing in turn).
+// --format db3 alone: one .db3 file, grown row by row in place.
+// --at F: the updates end at F of the hour (the first read N seconds before, N = --updates).
+int Speed(const fs::path& scratch, int updates, sim::SessionFormat format, bool gzip,
+          bool rosbag2, double at) {
   sim::SimulationConfig config = Scenario("bench_lms291_hour.yaml");
   const fs::path whole = scratch / "hour";
   sim::WriteSimulatedSession(config, 7, whole.string(), format);
@@ -169,9 +176,18 @@ int Speed(const fs::path& scratch, int updates, sim::SessionFormat format, bool 
     first_s = std::strtod(gnss.c_str(), nullptr);
     last_s = std::strtod(gnss.c_str() + gnss.rfind('\n', gnss.size() - 2) + 1, nullptr);
   } else {
-    for (const char* name : {"session.bag", "session.mcap"}) {
+    for (const char* name : {"session.bag", "session.mcap", "session.db3"}) {
       if (fs::exists(whole / name)) recording = name;
     }
+  }
+  // A .db3 file cannot be cut at a byte: it grows by rows, as a one-file folder does.
+  std::optional<testing_support::SplitFolder> split;
+  const int split_files = rosbag2 ? 6 : 1;
+  if (rosbag2 || format == sim::SessionFormat::kDb3) {
+    split = testing_support::SplitIntoFiles((whole / recording).string(),
+                                            whole / "split" / "session", split_files);
+    fs::remove(whole / recording);
+    recording.clear();
   }
   const std::string recorded = recording.empty() ? "" : ReadAll(whole / recording);
   // The recording up to t_s of its [first_s, last_s], by bytes.
@@ -188,9 +204,17 @@ int Speed(const fs::path& scratch, int updates, sim::SessionFormat format, bool 
     for (const char* name : {"session.yaml", "survey.csv"}) fs::copy_file(whole / name, dir / name);
     std::vector<GrowingLog> logs = original;
     for (GrowingLog& log : logs) log.path = dir / log.path;
-    double t_s = last_s - 60.0;
+    double t_s = at > 0.0 ? first_s + at * (last_s - first_s) - updates : last_s - 60.0;
     for (GrowingLog& log : logs) log.WriteUpTo(t_s);
     if (!recording.empty()) write_recording(dir, t_s);
+    std::optional<testing_support::GrowingRosbag2Folder> folder;
+    const auto share = [&](double t) { return (t - first_s) / (last_s - first_s); };
+    if (split) {
+      folder.emplace(*split, dir / "session", /*metadata=*/false);
+      folder->WriteUpTo(share(t_s));
+      testing_support::PointSessionAt(
+          dir, (rosbag2 ? folder->path() : folder->path() / split->files[0]).string());
+    }
     guide::GuideOptions options;
     options.session_path = dir.string();
     options.threads = 2;
@@ -205,12 +229,16 @@ int Speed(const fs::path& scratch, int updates, sim::SessionFormat format, bool 
     auto start = std::chrono::steady_clock::now();
     double cpu_start = CpuSeconds();
     const guide::GuideReport first = session.Refresh();
-    PrintReport("first read (59 minutes):", first, Seconds(start), CpuSeconds() - cpu_start);
+    const std::string first_read =
+        "first read (" + std::to_string(static_cast<int>(std::lround((t_s - first_s) / 60.0))) +
+        " minutes):";
+    PrintReport(first_read.c_str(), first, Seconds(start), CpuSeconds() - cpu_start);
     std::vector<double> times, cpu_times;
     for (int k = 0; k < updates; ++k) {
       t_s += 1.0;
       for (GrowingLog& log : logs) log.WriteUpTo(t_s);
       if (!recording.empty()) write_recording(dir, t_s);
+      if (folder) folder->WriteUpTo(share(t_s));
       start = std::chrono::steady_clock::now();
       cpu_start = CpuSeconds();
       const guide::GuideReport report = session.Refresh();
@@ -239,6 +267,8 @@ int main(int argc, char** argv) {
   int updates = 10;
   sim::SessionFormat format = sim::SessionFormat::kText;
   bool gzip = false;
+  bool rosbag2 = false;
+  double at = -1.0;
   std::vector<std::string> scenarios;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -250,6 +280,10 @@ int main(int argc, char** argv) {
       seeds = std::atoi(argv[++i]);
     } else if (arg == "--gzip") {
       gzip = true;
+    } else if (arg == "--rosbag2") {
+      rosbag2 = true;
+    } else if (arg == "--at" && i + 1 < argc) {
+      at = std::atof(argv[++i]);
     } else if (arg == "--format" && i + 1 < argc) {
       const std::optional<sim::SessionFormat> parsed = sim::ParseSessionFormat(argv[++i]);
       if (!parsed) {
@@ -263,7 +297,8 @@ int main(int argc, char** argv) {
       stations = std::atoi(argv[++i]);
     } else if (arg == "--help") {
       std::cout << "usage: guide_bench --check [SCENARIO.yaml ...] [--stations N] | --crew | "
-                   "--speed [--updates N] [--format F | --gzip] [--seeds N (default 20)]\n"
+                   "--speed [--updates N] [--format F [--rosbag2] | --gzip] [--at F] "
+                   "[--seeds N (default 20)]\n"
                    "  --check     the guide's σ over calibrate's on sessions cut after 30, 60 and "
                    "100 % of their scans\n"
                    "              (scenarios from configs/simulate/; --stations overrides their "
@@ -272,7 +307,11 @@ int main(int argc, char** argv) {
                    "  --speed     an hour-long session followed as it grows: the first read of 59 minutes,\n"
                    "              then N updates (default 10), each after a second more of logs;\n"
                    "              --format ros1, mcap, ...: recorded as one recording, grown by bytes;\n"
-                   "              --gzip: the CARMEN scan log gzip-compressed (a member per write)\n"
+                   "              --gzip: the CARMEN scan log gzip-compressed (a member per write);\n"
+                   "              --rosbag2 (--format db3 or mcap): a rosbag2 folder of six split "
+                   "files, grown in place;\n"
+                   "              --at F: the updates end at F of the hour (default: the first "
+                   "read a minute before its end)\n"
                    "  --transcript DIR  one guided crew, the guide's report after each stop\n";
       return 0;
     } else {
@@ -288,7 +327,11 @@ int main(int argc, char** argv) {
   } else if (mode == "--crew") {
     status = bench::RunCrew(seeds, scratch);
   } else if (mode == "--speed") {
-    status = Speed(scratch, updates, format, gzip);
+    if (rosbag2 && format != sim::SessionFormat::kDb3 && format != sim::SessionFormat::kMcap) {
+      std::cerr << "guide_bench: --rosbag2 takes --format db3 or mcap\n";
+      return 2;
+    }
+    status = Speed(scratch, updates, format, gzip, rosbag2, at);
   } else {
     std::cerr << "guide_bench: give --check, --crew or --speed\n";
   }

@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <set>
 #include <thread>
 
 #include "io/config/session_reader.h"
@@ -13,15 +14,28 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// What the session's logs look like now: their sizes and modification times.
+// A file's size and modification time, "path:size:time;".
+std::string FileSignature(const fs::path& path) {
+  std::error_code ec;
+  const auto size = fs::file_size(path, ec);
+  const auto time = fs::last_write_time(path, ec);
+  return path.string() + ":" + std::to_string(ec ? 0 : size) + ":" +
+         std::to_string(time.time_since_epoch().count()) + ";";
+}
+
+// What the session's logs look like now: their sizes and modification times; a folder's (a
+// rosbag2 folder's) those of the files in it, whose writes leave the folder's own time as it is.
 std::string LogSignature(const io::SessionSpec& session) {
   std::string signature;
   for (const std::string& path : {session.scanner_log, session.gnss_log, session.heading_log}) {
+    signature += FileSignature(path);
     std::error_code ec;
-    const auto size = fs::file_size(path, ec);
-    const auto time = fs::last_write_time(path, ec);
-    signature += path + ":" + std::to_string(ec ? 0 : size) + ":" +
-                 std::to_string(time.time_since_epoch().count()) + ";";
+    if (!fs::is_directory(path, ec)) continue;
+    std::set<fs::path> files;
+    for (const fs::directory_entry& entry : fs::directory_iterator(path, ec)) {
+      files.insert(entry.path());
+    }
+    for (const fs::path& file : files) signature += FileSignature(file);
   }
   return signature;
 }

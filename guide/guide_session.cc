@@ -27,7 +27,7 @@ struct GuideSession::State {
   // The calibration run on the logs as they are: loaded and surveyed once, then at each refresh
   // the poses, the detection of what the scan log gained and a preview solve.
   std::unique_ptr<pipeline::CalibrationSession> run;
-  std::unique_ptr<ScanFeed> scans;  // null: the scan log is read whole at each refresh
+  std::unique_ptr<ScanFeed> scans;
   bool first_pass_done = false;
   // The scans read and settled: their observations (poses as last given), how many scans come
   // before the first not settled.
@@ -102,12 +102,9 @@ GuideReport GuideSession::Refresh() {
     const pipeline::LoadResult& loaded = s.run->Load();
     s.scans = ScanFeed::For(loaded.session, &loaded.preset);
     s.pose_logs.emplace(loaded.session);
-    if (s.scans) s.run->Survey();
+    s.run->Survey();
   }
   last_read_ = ReadCounts{};
-  if (!s.scans) {
-    return ReportOn(pipeline::RunCalibration(s.run->request()), options_.max_next);
-  }
   pipeline::CalibrationSession& run = *s.run;
   {
     const pipeline::PoseResult& poses = run.Poses(s.pose_logs->Read());

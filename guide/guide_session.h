@@ -1,17 +1,18 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The guide kept between refreshes, so that an update reads only what the logs gained since the
-// last one. The scan log is read on from where the last read stopped (guide/scan_feed.h): a
-// CARMEN text log from the line of the first scan not yet settled (a gzip-compressed one is
-// inflated up to there, not parsed), a ROS 1 bag, an MCAP file or a rosbag2 .db3 file from the
-// end of the last whole record read (a record still being written is read next time), with its
-// decoded scans from the first not yet settled kept in memory. The scans already read keep
-// their wall observations (detected once, with the gates of the first read's first pass) and
-// are only given their poses anew (a dwell that grew moves its mean pose); the scans of the
-// last seconds before the pose logs' end, whose poses may still change, are detected again next
-// time. The pose logs are read on from where the last read stopped too (guide/pose_logs.h; a
-// recording's GNSS and heading topics are read whole). A session whose scans are in a rosbag2
-// folder is read whole at each refresh, its pose logs with it.
+// last one. It holds a preview pipeline::CalibrationSession: loaded and surveyed once, then at
+// each refresh asked for the poses on the pose logs as they are, the detection of the scans the
+// log gained and the solve. The scan log is read on from where the last read stopped
+// (guide/scan_feed.h): a CARMEN text log from the line of the first scan not yet settled (a
+// gzip-compressed one is inflated up to there, not parsed), a ROS 1 bag, an MCAP file, a
+// rosbag2 .db3 file or a rosbag2 folder from the end of the last whole record read (a record
+// still being written is read next time), with its decoded scans from the first not yet
+// settled kept in memory. The scans already read keep their wall observations (detected once,
+// with the gates of the first read's first pass) and are only given their poses anew (a dwell
+// that grew moves its mean pose); the scans of the last seconds before the pose logs' end,
+// whose poses may still change, are detected again next time. The pose logs are read on from
+// where the last read stopped too (guide/pose_logs.h).
 
 #include <cstdint>
 #include <memory>

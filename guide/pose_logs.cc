@@ -17,6 +17,10 @@ io::NmeaLog ReadOn(const std::string& path, std::optional<io::NmeaFollower>* fol
   return (*follower)->Log();
 }
 
+PoseLogRead ReadOf(const recording::TailRead& tail) {
+  return PoseLogRead{static_cast<int64_t>(tail.from_byte), static_cast<int64_t>(tail.file_bytes)};
+}
+
 }  // namespace
 
 PoseLogFollower::PoseLogFollower(io::SessionSpec session) : session_(std::move(session)) {}
@@ -28,11 +32,20 @@ recording::PoseLogs PoseLogFollower::Read() {
   const bool gnss_recorded = recording::IsRecording(spec.gnss_log);
   const bool heading_recorded = recording::IsRecording(spec.heading_log);
   recording::PoseLogs logs;
-  if (gnss_recorded || heading_recorded) {
-    logs = recording::ReadPoseLogs(spec, gnss_recorded, heading_recorded);
-  }
   gnss_read_ = PoseLogRead{};
   heading_read_ = PoseLogRead{};
+  if (!gnss_recorded && !heading_recorded) {
+    recorded_.reset();
+  } else {
+    if (!recorded_ || gnss_recorded != gnss_recorded_ || heading_recorded != heading_recorded_) {
+      recorded_ = std::make_unique<recording::PoseTail>(spec, gnss_recorded, heading_recorded);
+      gnss_recorded_ = gnss_recorded;
+      heading_recorded_ = heading_recorded;
+    }
+    logs = recorded_->ReadOn();
+    if (gnss_recorded) gnss_read_ = ReadOf(recorded_->gnss_read());
+    if (heading_recorded) heading_read_ = ReadOf(recorded_->heading_read());
+  }
   if (gnss_recorded) {
     gnss_.reset();
   } else {

@@ -3,11 +3,15 @@
 // A session's GNSS and heading logs kept between the guide's refreshes, so that a refresh reads
 // only what they gained: an NMEA text log is read on from where the last read stopped
 // (io::NmeaFollower: the reader's state carried over, a last line still being written read
-// again next time). A gzip-compressed log and a recording's topics (ROS 1 bag, MCAP, rosbag2)
-// are read whole at each refresh. Either way Read() returns what recording::ReadPoseLogs returns
-// for the logs as they are now, for pipeline::PosesFromLogs.
+// again next time), a recording's GNSS and heading topics (ROS 1 bag, MCAP, .db3, rosbag2
+// folder) from the end of the last whole record read (recording::PoseTail: the decoders' state
+// carried over; both topics in one pass when they share the recording). A gzip-compressed NMEA
+// log is read whole at each refresh. Either way Read() returns what recording::ReadPoseLogs
+// returns for the logs as they are now, for pipeline::PosesFromLogs, but for the container
+// readers' warnings about a recording still being written (recording::PoseTail).
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 
 #include "io/text/nmea_reader.h"
@@ -16,8 +20,9 @@
 
 namespace wallcal::guide {
 
-// Where a pose log was read from: the byte the last Read() started at (0: from its start, as a
-// recording or a gzip-compressed log always is) and the bytes read up to (0 for a recording).
+// Where a pose log was read from at the last Read(): the byte it started at (0: from its
+// start, as a gzip-compressed log always is; a recording: recording::TailRead::from_byte) and
+// the log's size then (a rosbag2 folder: its storage files').
 struct PoseLogRead {
   int64_t from_byte = 0;
   int64_t bytes = 0;
@@ -28,8 +33,8 @@ class PoseLogFollower {
   // The logs and topics of `session` (copied).
   explicit PoseLogFollower(io::SessionSpec session);
 
-  // Reads what the logs gained since the last call (everything, the first time). Throws
-  // io::InputError as recording::ReadPoseLogs does.
+  // Reads what the logs gained since the last call (everything, the first time). A log that
+  // shrank is read from its start. Throws io::InputError as recording::ReadPoseLogs does.
   recording::PoseLogs Read();
 
   const PoseLogRead& gnss_read() const { return gnss_read_; }
@@ -39,6 +44,9 @@ class PoseLogFollower {
   io::SessionSpec session_;
   std::optional<io::NmeaFollower> gnss_;     // a text GNSS log
   std::optional<io::NmeaFollower> heading_;  // a text heading log other than the GNSS log
+  // The recorded streams: which ones, and their tail.
+  bool gnss_recorded_ = false, heading_recorded_ = false;
+  std::unique_ptr<recording::PoseTail> recorded_;
   PoseLogRead gnss_read_;
   PoseLogRead heading_read_;
 };

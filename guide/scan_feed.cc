@@ -147,13 +147,19 @@ std::unique_ptr<ScanFeed> ScanFeed::For(const io::SessionSpec& session,
                                         const io::ScannerPreset* preset) {
   const std::string& log = session.scanner_log;
   std::error_code error;
-  if (!fs::is_directory(log, error) && fs::file_size(log, error) < kTellingBytes && !error) {
+  if (fs::is_directory(log, error)) {
+    if (!recording::IsRecording(log)) {
+      // `ros2 bag record` makes the folder, then its first storage file.
+      throw io::InputError(io::Where(log, 0,
+                                     "a folder without a storage file yet; expected a rosbag2 "
+                                     "folder (metadata.yaml, .db3 or .mcap files)"));
+    }
+  } else if (fs::file_size(log, error) < kTellingBytes && !error) {
     throw io::InputError(io::Where(log, 0,
                                    "too short yet to tell a text log from a recording; expected "
                                    "at least " + std::to_string(kTellingBytes) + " bytes"));
   }
   if (recording::ScanTail::Supports(log)) return std::make_unique<RecordingFeed>(session, preset);
-  if (recording::IsRecording(log)) return nullptr;  // a rosbag2 folder
   return std::make_unique<CarmenFeed>(log);
 }
 

@@ -2,10 +2,11 @@
 #pragma once
 // The scans of a session that is still being recorded, read on from where the last refresh
 // stopped: a CARMEN text log from the byte of the first scan not yet settled (a gzip-compressed
-// one is inflated from its start up to there, but not parsed), a ROS 1 bag or an MCAP file
-// from the end of the last whole record read (recording::ScanTail), its decoded scans from the
-// first not yet settled kept in memory; a rosbag2 .db3 file from the rows after the last one
-// read. A rosbag2 folder has no feed: the guide reads it whole at each refresh.
+// one is inflated from its start up to there, but not parsed); a recording through
+// recording::ScanTail, its decoded scans from the first not yet settled kept in memory: a ROS 1
+// bag or an MCAP file from the end of the last whole record read, a rosbag2 .db3 file from the
+// rows after the last one read, a rosbag2 folder file by file (each of its storage files so,
+// the next one read as soon as it appears; recording/recording_tail.h).
 
 #include <cstdint>
 #include <memory>
@@ -29,16 +30,18 @@ struct ScanMark {
 struct FeedRead {
   bool restarted = false;  // the log shrank (a new recording under the same name): read anew
   int64_t from_byte = 0;   // where the log was read on from (0: its start; a CARMEN log:
-                           // a byte of its text, of the inflated text when gzip-compressed)
-  int64_t log_bytes = 0;   // the log's file size when read
+                           // a byte of its text, of the inflated text when gzip-compressed;
+                           // a rosbag2 folder: of its storage files' bytes in split order)
+  int64_t log_bytes = 0;   // the log's file size when read (a folder: its storage files')
 };
 
 class ScanFeed {
  public:
   virtual ~ScanFeed() = default;
-  // A feed for the session's scan log, or nullptr when it is read whole at each refresh (a
-  // rosbag2 folder). Throws io::InputError for a log too short yet to tell its kind
-  // (under 16 bytes): a caller following it tries again. `preset` (checked against a recording's scans) must outlive the feed.
+  // A feed for the session's scan log (never null). Throws io::InputError for a log too short
+  // yet to tell its kind (under 16 bytes) or a folder without a storage file yet: a caller
+  // following it tries again. `preset` (checked against a recording's scans) must outlive the
+  // feed.
   static std::unique_ptr<ScanFeed> For(const io::SessionSpec& session,
                                        const io::ScannerPreset* preset);
 

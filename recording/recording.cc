@@ -7,9 +7,10 @@
 
 #include "common/enum_text.h"
 #include "io/types.h"
+#include "recording/internal/file_tail.h"
 #include "recording/mcap/internal/mcap_reader.h"
-#include "recording/recording_tail.h"
 #include "recording/rosbag1/internal/rosbag1_reader.h"
+#include "recording/rosbag2/internal/rosbag2_folder.h"
 #include "recording/rosbag2/internal/rosbag2_sqlite_reader.h"
 
 namespace wallcal::recording {
@@ -42,8 +43,7 @@ const char* RecordingFormatName(RecordingFormat format) {
 
 bool IsRecording(const std::string& path) {
   std::error_code error;
-  if (fs::is_directory(path, error))
-    return fs::is_regular_file(fs::path(path) / "metadata.yaml", error);
+  if (fs::is_directory(path, error)) return IsRosbag2Folder(path);
   if (!fs::is_regular_file(path, error)) return false;
   return MagicOf(path) != Magic::kNone;
 }
@@ -69,7 +69,9 @@ std::unique_ptr<Recording> OpenRecording(const std::string& path) {
 
 std::unique_ptr<RecordingTail> OpenRecordingTail(const std::string& path) {
   std::error_code error;
-  if (fs::is_directory(path, error)) return nullptr;
+  if (fs::is_directory(path, error)) {
+    return IsRosbag2Folder(path) ? OpenRosbag2FolderTail(path) : nullptr;
+  }
   switch (MagicOf(path)) {
     case Magic::kRos1:
       return OpenRos1BagTail(path);
@@ -83,8 +85,7 @@ std::unique_ptr<RecordingTail> OpenRecordingTail(const std::string& path) {
   return nullptr;
 }
 
-TailRead RecordingTail::ReadOn(const std::string& topic_name,
-                               const std::function<void(const RecordedMessage&)>& fn) {
+TailRead FileTail::ReadOn(const std::set<std::string>& topic_names, const MessageFn& fn) {
   TailRead read;
   std::error_code error;
   read.file_bytes = static_cast<uint64_t>(fs::file_size(path_, error));
@@ -96,7 +97,7 @@ TailRead RecordingTail::ReadOn(const std::string& topic_name,
     read.restarted = true;
   }
   read.from_byte = resume_byte_;
-  resume_byte_ = Walk(resume_byte_, read.file_bytes, topic_name, [&](const RecordedMessage& m) {
+  resume_byte_ = Walk(resume_byte_, read.file_bytes, topic_names, [&](const RecordedMessage& m) {
     ++read.messages;
     fn(m);
   });

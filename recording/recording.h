@@ -73,11 +73,15 @@ class Recording {
 };
 
 // True when the file's first bytes are a recording's magic ("#ROSBAG V2.0\n", MCAP's
-// "\x89MCAP0\r\n", SQLite's "SQLite format 3\0") or `path` is a rosbag2 folder (metadata.yaml).
+// "\x89MCAP0\r\n", SQLite's "SQLite format 3\0") or `path` is a rosbag2 folder (a folder
+// holding a metadata.yaml or a .db3 or .mcap storage file: one still being recorded has no
+// metadata.yaml yet).
 bool IsRecording(const std::string& path);
 
 // Opens a recording by content. A rosbag2 folder is read through its metadata.yaml (every
-// storage file it lists, in order). Throws io::InputError when the file is none of the formats.
+// storage file it lists, in order, then those it does not list) or, without one, from the
+// storage files it holds (rosbag2/internal/rosbag2_sqlite_reader.h). Throws io::InputError when
+// the file is none of the formats.
 std::unique_ptr<Recording> OpenRecording(const std::string& path);
 
 }  // namespace wallcal::recording

@@ -4,36 +4,23 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <set>
-#include <sstream>
 
 #include "common/angles.h"
 #include "io/scanner_geometry.h"
 #include "io/text/carmen_reader.h"
-#include "io/text/nmea_reader.h"
+#include "recording/internal/stream_decoding.h"
 #include "recording/recording_tail.h"
 
 namespace wallcal::recording {
-namespace {
 
 int LineOf(int64_t index) { return static_cast<int>(std::min<int64_t>(index + 1, INT_MAX)); }
-
-std::string TypeList(const std::vector<RosType>& types) {
-  std::string text;
-  for (size_t i = 0; i < types.size(); ++i) {
-    text += (i == 0 ? "" : i + 1 == types.size() ? " or " : ", ");
-    text += RosTypeName(types[i]);
-  }
-  return text;
-}
 
 std::string Describe(const RecordedMessage& m) {
   return "topic " + m.topic->name + " message " + std::to_string(m.index + 1);
 }
 
-// Throws the decoder's failure as an io::InputError naming the file, topic, message and byte.
 void Require(const DecodeResult& result, const Recording& recording, const RecordedMessage& m,
              RosType type) {
   if (result.ok()) return;
@@ -52,35 +39,20 @@ double StampOf(const RosHeader& header, const RecordedMessage& m, io::StampSourc
   return stamp == io::StampSource::kReceive ? m.receive_s : header.stamp_s;
 }
 
-// One session stream on a recording topic.
-struct TopicStream {
-  std::string topic;
-  io::StampSource stamp = io::StampSource::kHeader;
-  RosType type = RosType::kOther;
-};
-
-// The sentences of an nmea_msgs/Sentence topic as logger-stamped text lines.
-struct SentenceText {
-  std::ostringstream text;
-  int64_t messages = 0;
-};
-
-io::NmeaLog ParseSentences(SentenceText* sentences, const std::string& name) {
-  std::istringstream in(sentences->text.str());
-  return io::ParseNmea(in, name);
+TailTopics::TailTopics(const RecordingTail& tail) : format_(tail.format()) {
+  path_ = tail.path();
+  for (const auto& [name, topic] : tail.topics()) topics_.push_back(topic);
 }
 
-void AppendSentence(const NmeaSentenceMsg& msg, double stamp_s, SentenceText* out) {
-  std::string sentence = msg.sentence;
-  for (char& c : sentence) {
-    if (c == '\n' || c == '\r') c = ' ';
+namespace {
+
+std::string TypeList(const std::vector<RosType>& types) {
+  std::string text;
+  for (size_t i = 0; i < types.size(); ++i) {
+    text += (i == 0 ? "" : i + 1 == types.size() ? " or " : ", ");
+    text += RosTypeName(types[i]);
   }
-  char prefix[48];
-  std::snprintf(prefix, sizeof(prefix), "%.9f ", stamp_s);
-  // A negative or non-finite stamp cannot be a logger prefix: the line is then counted by the
-  // NMEA reader as it would count it in a text log.
-  out->text << (std::isfinite(stamp_s) && stamp_s >= 0 ? prefix : "") << sentence << '\n';
-  ++out->messages;
+  return text;
 }
 
 // Reads the GNSS stream (gnss != nullptr) and/or the heading stream of one recording, in one
@@ -88,99 +60,11 @@ void AppendSentence(const NmeaSentenceMsg& msg, double stamp_s, SentenceText* ou
 void ReadRecordedPoses(const std::string& path, const TopicStream* gnss, double max_sigma_m,
                        const TopicStream* heading, PoseLogs* out) {
   std::unique_ptr<Recording> recording = OpenRecording(path);
-  TopicStream g, h;
-  std::set<std::string> topics;
-  if (gnss != nullptr) {
-    g = *gnss;
-    g.type = CheckTopic(*recording, g.topic, AcceptedGnssTypes(), "gnss.topic");
-    topics.insert(g.topic);
-  }
-  if (heading != nullptr) {
-    h = *heading;
-    h.type = CheckTopic(*recording, h.topic, AcceptedHeadingTypes(), "heading.topic");
-    topics.insert(h.topic);
-  }
-  SentenceText gnss_sentences, heading_sentences;
-  bool gnss_without_covariance = false;
-  double last_fix_s = -INFINITY, last_heading_s = -INFINITY;
-  NavSatFixMsg fix_msg;
-  NmeaSentenceMsg sentence_msg;
-  QuaternionMsg quaternion_msg;
-  recording->ForEach(topics, [&](const RecordedMessage& m) {
-    const bool for_gnss = gnss != nullptr && m.topic->name == g.topic;
-    const bool for_heading = heading != nullptr && m.topic->name == h.topic;
-    const RosType type = for_gnss ? g.type : h.type;
-    if (type == RosType::kNmeaSentence) {
-      Require(DecodeNmeaSentence(m.data, m.size, m.wire, &sentence_msg), *recording, m, type);
-      if (for_gnss)
-        AppendSentence(sentence_msg, StampOf(sentence_msg.header, m, g.stamp), &gnss_sentences);
-      if (for_heading) {
-        AppendSentence(sentence_msg, StampOf(sentence_msg.header, m, h.stamp), &heading_sentences);
-      }
-      return;
-    }
-    if (for_gnss && type == RosType::kNavSatFix) {
-      Require(DecodeNavSatFix(m.data, m.size, m.wire, &fix_msg), *recording, m, type);
-      ++out->gnss.lines_read;
-      const double stamp_s = StampOf(fix_msg.header, m, g.stamp);
-      const io::GnssFix fix = FixFromNavSatFix(fix_msg, stamp_s, max_sigma_m, LineOf(m.index));
-      if (fix.quality == 0) {
-        out->gnss.skipped.Add("NavSatFix without a fix (status -1)", fix.line);
-        return;
-      }
-      if (fix_msg.position_covariance_type == 0) gnss_without_covariance = true;
-      ++out->gnss.fixes_by_quality[fix.quality];
-      if (!(stamp_s > last_fix_s)) {
-        out->gnss.skipped.Add("time not increasing", fix.line);
-        return;
-      }
-      last_fix_s = stamp_s;
-      out->gnss.fixes.push_back(fix);
-      return;
-    }
-    if (for_heading) {
-      const DecodeResult r = type == RosType::kImu
-                                 ? DecodeImu(m.data, m.size, m.wire, &quaternion_msg)
-                                 : DecodeQuaternionStamped(m.data, m.size, m.wire, &quaternion_msg);
-      Require(r, *recording, m, type);
-      ++out->headings.lines_read;
-      const int line = LineOf(m.index);
-      if (type == RosType::kImu && quaternion_msg.orientation_covariance[0] == -1.0) {
-        out->headings.skipped.Add("Imu without orientation (covariance[0] = -1)", line);
-        return;
-      }
-      const double norm =
-          std::sqrt(quaternion_msg.x * quaternion_msg.x + quaternion_msg.y * quaternion_msg.y +
-                    quaternion_msg.z * quaternion_msg.z + quaternion_msg.w * quaternion_msg.w);
-      if (!std::isfinite(norm) || norm < 1e-6) {
-        out->headings.skipped.Add("quaternion not finite or zero", line);
-        return;
-      }
-      const double stamp_s = StampOf(quaternion_msg.header, m, h.stamp);
-      if (!(stamp_s > last_heading_s)) {
-        out->headings.skipped.Add("time not increasing", line);
-        return;
-      }
-      last_heading_s = stamp_s;
-      io::HeadingSample sample;
-      sample.stamp_s = stamp_s;
-      sample.heading_rad = HeadingFromEnuQuaternion(quaternion_msg.x, quaternion_msg.y,
-                                                    quaternion_msg.z, quaternion_msg.w);
-      sample.line = line;
-      out->headings.headings.push_back(sample);
-    }
-  });
-  if (gnss != nullptr && g.type == RosType::kNmeaSentence) {
-    out->gnss = ParseSentences(&gnss_sentences, path + " " + g.topic);
-  }
-  if (heading != nullptr && h.type == RosType::kNmeaSentence) {
-    out->headings = ParseSentences(&heading_sentences, path + " " + h.topic);
-  }
-  if (gnss_without_covariance) {
-    out->warnings.push_back(path + ": " + g.topic +
-                            ": NavSatFix without position covariance: RTK float fixes cannot be "
-                            "told apart from fixed ones (all fixes with status >= 0 are used)");
-  }
+  PoseDecoder decoder(path, gnss, heading, max_sigma_m);
+  decoder.CheckTopics(*recording);
+  recording->ForEach(decoder.topics(),
+                     [&](const RecordedMessage& m) { decoder.Take(m, *recording); });
+  decoder.AddTo(out);
   for (const std::string& w : recording->warnings()) out->warnings.push_back(w);
 }
 
@@ -242,21 +126,6 @@ std::vector<io::ScanRecord> ReadRecordedScans(const io::SessionSpec& spec,
   });
   return scans;
 }
-
-// The topics a RecordingTail has met, seen as a Recording (for CheckTopic and messages).
-class TailTopics : public Recording {
- public:
-  explicit TailTopics(const RecordingTail& tail) : format_(tail.format()) {
-    path_ = tail.path();
-    for (const auto& [name, topic] : tail.topics()) topics_.push_back(topic);
-  }
-  RecordingFormat format() const override { return format_; }
-  void ForEach(const std::set<std::string>&,
-               const std::function<void(const RecordedMessage&)>&) override {}
-
- private:
-  RecordingFormat format_;
-};
 
 }  // namespace
 
@@ -404,7 +273,8 @@ ScanTail::ScanTail(const io::SessionSpec& spec, const io::ScannerPreset* preset)
   if (!tail_) {
     throw io::InputError(io::Where(
         spec.scanner_log, 0,
-        "not read on as it grows; expected a ROS 1 bag, an MCAP file or a .db3 file"));
+        "not read on as it grows; expected a ROS 1 bag, an MCAP file, a .db3 file or a rosbag2 "
+        "folder"));
   }
 }
 
@@ -419,7 +289,7 @@ TailRead ScanTail::ReadOn(std::vector<io::ScanRecord>* scans) {
   RosType type = RosType::kOther;
   std::unique_ptr<TailTopics> seen;  // the topics met, once the first message comes
   LaserScanMsg msg;
-  const TailRead read = tail_->ReadOn(spec_.scanner_topic, [&](const RecordedMessage& m) {
+  const TailRead read = tail_->ReadOn({spec_.scanner_topic}, [&](const RecordedMessage& m) {
     if (!seen) {
       seen = std::make_unique<TailTopics>(*tail_);
       type = CheckTopic(*seen, spec_.scanner_topic, AcceptedScanTypes(), "scanner.topic");

@@ -32,6 +32,7 @@
 // message that does not decode (file, topic, message index, byte offset), a scanner preset
 // that does not match the LaserScan messages (beam count, increment, range_max: both named).
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -86,10 +87,11 @@ io::GnssFix FixFromNavSatFix(const NavSatFixMsg& msg, double stamp_s, double max
 // Heading clockwise from north, [0, 2π), of an ENU orientation quaternion.
 double HeadingFromEnuQuaternion(double x, double y, double z, double w);
 
-// The LaserScan topic of a ROS 1 bag, an MCAP file or a .db3 file still being written, decoded
-// as the file grows (recording/recording_tail.h): each read decodes only the scans of the whole records
-// added since the last one. Scans come in receive-time order within a chunk, file order across
-// chunks; ScanRecord::line = the message's index on the topic + 1, as MakeScanOpener gives.
+// The LaserScan topic of a ROS 1 bag, an MCAP file, a .db3 file or a rosbag2 folder still being
+// written, decoded as it grows (recording/recording_tail.h): each read decodes only the scans of
+// the whole records added since the last one. Scans come in receive-time order within a chunk,
+// file order across chunks and storage files; ScanRecord::line = the message's index on the
+// topic + 1, as MakeScanOpener gives.
 class ScanTail {
  public:
   // `preset`, when not null, is checked against every scan and must outlive this. Throws
@@ -99,7 +101,7 @@ class ScanTail {
   ScanTail(const ScanTail&) = delete;
   ScanTail& operator=(const ScanTail&) = delete;
 
-  // True for a ROS 1 bag, an MCAP file or a .db3 file (not a rosbag2 folder or a text log).
+  // True for a ROS 1 bag, an MCAP file, a .db3 file or a rosbag2 folder (not a text log).
   static bool Supports(const std::string& path);
 
   // Appends the scans the recording gained to *scans. TailRead::restarted: the file shrank and
@@ -112,6 +114,40 @@ class ScanTail {
   io::SessionSpec spec_;
   const io::ScannerPreset* preset_;
   std::unique_ptr<RecordingTail> tail_;
+};
+
+// The GNSS and heading topics of a session's recordings (ROS 1 bag, MCAP, .db3, rosbag2 folder)
+// read on as they grow (recording/recording_tail.h): each read decodes only the messages of the
+// whole records gained since the last one, with the decoders' state carried over (the last
+// stamps of the "time not increasing" check, the NMEA reader's state for nmea_msgs/Sentence
+// topics), so that the logs returned are those ReadPoseLogs returns for the recordings as they
+// are now, but for its warnings: only the decoders' own (a NavSatFix topic without covariance)
+// are given, not the container readers' (no index, no summary, no metadata.yaml), which a
+// recording still being written always earns. Messages come in the order of ScanTail's.
+class PoseTail {
+ public:
+  // `gnss` / `heading`: that stream is in a recording (IsRecording of its log) and is read, as
+  // for ReadPoseLogs; one RecordingTail for both when they share the recording. Reads nothing
+  // yet. Throws io::InputError for a log that is not a recording.
+  PoseTail(const io::SessionSpec& spec, bool gnss, bool heading);
+  ~PoseTail();
+  PoseTail(const PoseTail&) = delete;
+  PoseTail& operator=(const PoseTail&) = delete;
+
+  // Reads what the recordings gained and returns the streams read so far (a recording read
+  // anew, TailRead::restarted, has its stream decoded anew). Throws io::InputError as
+  // ReadPoseLogs does (a topic missing or of another type, a message that does not decode:
+  // its recording is then read from its start next time) and for a damaged record.
+  PoseLogs ReadOn();
+  // What the last ReadOn read of the GNSS recording and of the heading recording (the same
+  // when they share one; all zero for a stream not read).
+  const TailRead& gnss_read() const;
+  const TailRead& heading_read() const;
+
+ private:
+  struct Source;
+  std::vector<std::unique_ptr<Source>> sources_;  // the GNSS recording's first
+  size_t heading_source_ = SIZE_MAX;              // the heading recording's place in sources_
 };
 
 }  // namespace wallcal::recording

@@ -30,6 +30,7 @@
 #include <istream>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "io/types.h"
 
@@ -76,6 +77,29 @@ class NmeaFollower {
   // The bytes read so far (the file's size at the last ReadMore()).
   int64_t bytes_read() const;
   const std::string& path() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+// NMEA lines handed over one at a time as they come (a recording's nmea_msgs/Sentence messages,
+// each a logger-stamped line), parsed with the reader's state carried over as NmeaFollower
+// carries it over a growing file. Log() is what ParseNmea returns for the lines added so far
+// joined by '\n'. The lines are kept until the first RMC/ZDA date comes: it dates what came
+// before it, which is then parsed again.
+class NmeaLineFeed {
+ public:
+  // `name` stands for the lines' source in messages.
+  explicit NmeaLineFeed(std::string name);
+  ~NmeaLineFeed();
+  NmeaLineFeed(NmeaLineFeed&&) noexcept;
+  NmeaLineFeed& operator=(NmeaLineFeed&&) noexcept;
+
+  // One line without its line end (it holds no '\n' or '\r'). Throws InputError for a line
+  // longer than WALLCAL_MAX_LINE_BYTES, as ParseNmea does.
+  void Add(std::string_view line);
+  NmeaLog Log() const;
 
  private:
   struct State;

@@ -13,8 +13,8 @@
 
 #include "recording/internal/byte_source.h"
 #include "recording/mcap/internal/mcap_reader.h"
+#include "recording/internal/file_tail.h"
 #include "recording/mcap/internal/mcap_recording.h"
-#include "recording/recording_tail.h"
 
 namespace wallcal::recording {
 namespace {
@@ -23,9 +23,9 @@ using mcap::Cursor;
 using mcap::GetU64;
 using mcap::kRecordHeaderSize;
 
-class McapTail : public RecordingTail {
+class McapTail : public FileTail {
  public:
-  explicit McapTail(std::string path) : RecordingTail(std::move(path)) {}
+  explicit McapTail(std::string path) : FileTail(std::move(path)) {}
   RecordingFormat format() const override { return RecordingFormat::kMcap; }
 
  protected:
@@ -34,8 +34,8 @@ class McapTail : public RecordingTail {
     channels_.clear();
     ended_ = false;
   }
-  uint64_t Walk(uint64_t from_byte, uint64_t file_bytes, const std::string& topic_name,
-                const std::function<void(const RecordedMessage&)>& fn) override;
+  uint64_t Walk(uint64_t from_byte, uint64_t file_bytes, const std::set<std::string>& topic_names,
+                const MessageFn& fn) override;
 
  private:
   struct Channel {
@@ -44,27 +44,26 @@ class McapTail : public RecordingTail {
     std::string encoding;
     TopicInfo* info = nullptr;  // set when its topic's type is known
   };
-  // One message on the wanted topic: its bytes stay in the buffer they came from.
+  // One message on a wanted topic: its bytes stay in the buffer they came from.
   struct Message {
+    TopicInfo* topic;
     uint64_t log_time_ns;
     const uint8_t* data;
     size_t size;
   };
-  // A schema, channel or message record; a message on `topic_name` is added to *messages.
+  // A schema, channel or message record; a message on `topic_names` is added to *messages.
   void Take(uint8_t op, const uint8_t* content, uint64_t len, uint64_t offset,
-            const std::string& topic_name, std::vector<Message>* messages);
+            const std::set<std::string>& topic_names, std::vector<Message>* messages);
   std::vector<uint8_t> Unpack(const std::vector<uint8_t>& content, uint64_t offset) const;
-  void Emit(std::vector<Message>* messages, uint64_t offset,
-            const std::function<void(const RecordedMessage&)>& fn);
+  void Emit(std::vector<Message>* messages, uint64_t offset, const MessageFn& fn);
 
   std::map<uint16_t, std::string> schemas_;  // id -> name ("sensor_msgs/msg/LaserScan")
   std::map<uint16_t, Channel> channels_;
-  TopicInfo* wanted_ = nullptr;
   bool ended_ = false;  // Data End or Footer read: nothing more comes
 };
 
 void McapTail::Take(uint8_t op, const uint8_t* content, uint64_t len, uint64_t offset,
-                    const std::string& topic_name, std::vector<Message>* messages) {
+                    const std::set<std::string>& topic_names, std::vector<Message>* messages) {
   Cursor c(content, static_cast<size_t>(len), path_, offset,
            op == mcap::kSchema ? "Schema" : op == mcap::kChannel ? "Channel" : "Message");
   if (op == mcap::kSchema) {
@@ -95,10 +94,9 @@ void McapTail::Take(uint8_t op, const uint8_t* content, uint64_t len, uint64_t o
       channel.info = Topic(channel.topic, schema != schemas_.end() ? schema->second : "", "",
                            channel.encoding);
     }
-    if (channel.topic == topic_name && channel.info->encoding == channel.encoding) {
-      wanted_ = channel.info;
+    if (topic_names.count(channel.topic) > 0 && channel.info->encoding == channel.encoding) {
       const size_t size = c.left();
-      messages->push_back({log_time_ns, c.Take(size, "data"), size});
+      messages->push_back({channel.info, log_time_ns, c.Take(size, "data"), size});
     } else {
       ++channel.info->count;
     }
@@ -111,27 +109,26 @@ std::vector<uint8_t> McapTail::Unpack(const std::vector<uint8_t>& content, uint6
       .records;
 }
 
-void McapTail::Emit(std::vector<Message>* messages, uint64_t offset,
-                    const std::function<void(const RecordedMessage&)>& fn) {
+void McapTail::Emit(std::vector<Message>* messages, uint64_t offset, const MessageFn& fn) {
   std::stable_sort(messages->begin(), messages->end(), [](const Message& a, const Message& b) {
     return a.log_time_ns < b.log_time_ns;
   });
   for (const Message& m : *messages) {
     RecordedMessage message;
-    message.topic = wanted_;
+    message.topic = m.topic;
     message.wire = WireFormat::kCdr;
     message.receive_s = static_cast<double>(m.log_time_ns) * 1e-9;
     message.data = m.data;
     message.size = m.size;
-    message.index = wanted_->count++;
+    message.index = m.topic->count++;
     message.file_offset = offset;
     fn(message);
   }
   messages->clear();
 }
 
-uint64_t McapTail::Walk(uint64_t from_byte, uint64_t file_bytes, const std::string& topic_name,
-                        const std::function<void(const RecordedMessage&)>& fn) {
+uint64_t McapTail::Walk(uint64_t from_byte, uint64_t file_bytes,
+                        const std::set<std::string>& topic_names, const MessageFn& fn) {
   if (ended_) return from_byte;
   const std::unique_ptr<ByteSource> source = OpenFileSource(path_);
   file_bytes = std::min(file_bytes, source->size());
@@ -167,11 +164,11 @@ uint64_t McapTail::Walk(uint64_t from_byte, uint64_t file_bytes, const std::stri
         const std::vector<uint8_t> records = Unpack(content, off);
         mcap::WalkRecords(records, path_, off,
                           [&](uint8_t inner, const uint8_t* data, uint64_t n, size_t) {
-                            Take(inner, data, n, off, topic_name, &messages);
+                            Take(inner, data, n, off, topic_names, &messages);
                           });
         Emit(&messages, off, fn);
       } else {
-        Take(op, content.data(), len, off, topic_name, &messages);
+        Take(op, content.data(), len, off, topic_names, &messages);
         Emit(&messages, off, fn);
       }
     }

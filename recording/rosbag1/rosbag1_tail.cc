@@ -13,7 +13,7 @@
 
 #include "io/types.h"
 #include "recording/internal/byte_source.h"
-#include "recording/recording_tail.h"
+#include "recording/internal/file_tail.h"
 #include "recording/rosbag1/internal/bag_compression.h"
 #include "recording/rosbag1/internal/rosbag1_reader.h"
 #include "recording/rosbag1/internal/rosbag1_records.h"
@@ -28,9 +28,9 @@ using bag1::RecordStatus;
 // are 768 kB; one large message makes a chunk of its own size, tens of MB at most.
 constexpr size_t kMaxOpenChunkBytes = size_t{256} << 20;
 
-class Ros1BagTail : public RecordingTail {
+class Ros1BagTail : public FileTail {
  public:
-  explicit Ros1BagTail(std::string path) : RecordingTail(std::move(path)) {}
+  explicit Ros1BagTail(std::string path) : FileTail(std::move(path)) {}
   RecordingFormat format() const override { return RecordingFormat::kRos1Bag; }
 
  protected:
@@ -39,8 +39,8 @@ class Ros1BagTail : public RecordingTail {
     open_chunk_pos_ = 0;
     open_chunk_read_ = 0;
   }
-  uint64_t Walk(uint64_t from_byte, uint64_t file_bytes, const std::string& topic_name,
-                const std::function<void(const RecordedMessage&)>& fn) override;
+  uint64_t Walk(uint64_t from_byte, uint64_t file_bytes, const std::set<std::string>& topic_names,
+                const MessageFn& fn) override;
 
  private:
   [[noreturn]] void Fail(uint64_t offset, const std::string& what) const {
@@ -53,12 +53,11 @@ class Ros1BagTail : public RecordingTail {
   // filled in) gives what its bytes in the file hold so far.
   std::vector<uint8_t> ChunkData(const ByteSource& source, const RecordRef& record, bool open,
                                  uint64_t file_bytes) const;
-  // Passes the chunk's messages on `topic_name` from record offset `from` on to `fn`, by
+  // Passes the chunk's messages on `topic_names` from record offset `from` on to `fn`, by
   // receive time (ties: chunk order); an open chunk's walk stops at its first record not whole.
   // Returns the offset after the last whole record.
   size_t WalkChunk(const std::vector<uint8_t>& data, size_t from, bool open, uint64_t pos,
-                   const std::string& topic_name,
-                   const std::function<void(const RecordedMessage&)>& fn);
+                   const std::set<std::string>& topic_names, const MessageFn& fn);
 
   std::map<uint32_t, TopicInfo*> connections_;
   uint64_t open_chunk_pos_ = 0;  // the open chunk the last read stopped in (0: none)
@@ -132,15 +131,15 @@ std::vector<uint8_t> Ros1BagTail::ChunkData(const ByteSource& source, const Reco
 }
 
 size_t Ros1BagTail::WalkChunk(const std::vector<uint8_t>& data, size_t from, bool open,
-                              uint64_t pos, const std::string& topic_name,
-                              const std::function<void(const RecordedMessage&)>& fn) {
+                              uint64_t pos, const std::set<std::string>& topic_names,
+                              const MessageFn& fn) {
   struct Message {
+    TopicInfo* topic;
     int64_t time_ns;
     size_t data_pos;
     uint32_t data_len;
   };
   std::vector<Message> messages;
-  TopicInfo* wanted = nullptr;
   size_t at = from;
   std::string why;
   while (at < data.size()) {
@@ -160,9 +159,10 @@ size_t Ros1BagTail::WalkChunk(const std::vector<uint8_t>& data, size_t from, boo
                       " of the chunk lacks conn or time");
       }
       const auto it = connections_.find(conn);
-      if (it != connections_.end() && it->second != nullptr && it->second->name == topic_name) {
-        wanted = it->second;
-        messages.push_back({time_ns, static_cast<size_t>(inner.data_pos), inner.data_len});
+      if (it != connections_.end() && it->second != nullptr &&
+          topic_names.count(it->second->name) > 0) {
+        messages.push_back(
+            {it->second, time_ns, static_cast<size_t>(inner.data_pos), inner.data_len});
       } else if (it != connections_.end() && it->second != nullptr) {
         ++it->second->count;
       }
@@ -173,20 +173,20 @@ size_t Ros1BagTail::WalkChunk(const std::vector<uint8_t>& data, size_t from, boo
                    [](const Message& a, const Message& b) { return a.time_ns < b.time_ns; });
   for (const Message& m : messages) {
     RecordedMessage message;
-    message.topic = wanted;
+    message.topic = m.topic;
     message.wire = WireFormat::kRos1;
     message.receive_s = bag1::TimeSeconds(m.time_ns);
     message.data = data.data() + m.data_pos;
     message.size = m.data_len;
-    message.index = wanted->count++;
+    message.index = m.topic->count++;
     message.file_offset = pos;
     fn(message);
   }
   return at;
 }
 
-uint64_t Ros1BagTail::Walk(uint64_t from_byte, uint64_t file_bytes, const std::string& topic_name,
-                           const std::function<void(const RecordedMessage&)>& fn) {
+uint64_t Ros1BagTail::Walk(uint64_t from_byte, uint64_t file_bytes,
+                           const std::set<std::string>& topic_names, const MessageFn& fn) {
   const std::unique_ptr<ByteSource> source = OpenFileSource(path_);
   file_bytes = std::min(file_bytes, source->size());
   uint64_t pos = from_byte;
@@ -210,7 +210,7 @@ uint64_t Ros1BagTail::Walk(uint64_t from_byte, uint64_t file_bytes, const std::s
     if (record.op == bag1::kOpChunk) {
       const size_t from = pos == open_chunk_pos_ ? open_chunk_read_ : 0;
       const size_t read = WalkChunk(ChunkData(*source, record, open, file_bytes), from, open,
-                                    pos, topic_name, fn);
+                                    pos, topic_names, fn);
       open_chunk_pos_ = open ? pos : 0;
       open_chunk_read_ = open ? read : 0;
       if (open) break;  // read from the chunk's start next time

@@ -4,7 +4,6 @@
 #include <sqlite3.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +12,7 @@
 #include "io/config/rosbag2_metadata.h"
 #include "io/types.h"
 #include "recording/mcap/internal/mcap_reader.h"
+#include "recording/rosbag2/internal/rosbag2_folder.h"
 
 namespace wallcal::recording {
 namespace {
@@ -306,67 +306,13 @@ std::unique_ptr<Recording> OpenStorageFile(const std::string& path) {
   return std::make_unique<Db3Recording>(path);
 }
 
-// Orders names like rosbag2 numbers its files: "bag_2.db3" before "bag_10.db3".
-bool NaturalLess(const std::string& a, const std::string& b) {
-  size_t i = 0, j = 0;
-  while (i < a.size() && j < b.size()) {
-    if (std::isdigit(static_cast<unsigned char>(a[i])) &&
-        std::isdigit(static_cast<unsigned char>(b[j]))) {
-      size_t ei = i, ej = j;
-      while (ei < a.size() && std::isdigit(static_cast<unsigned char>(a[ei]))) ++ei;
-      while (ej < b.size() && std::isdigit(static_cast<unsigned char>(b[ej]))) ++ej;
-      const std::string na = a.substr(i, ei - i), nb = b.substr(j, ej - j);
-      const std::string ta = na.substr(std::min(na.find_first_not_of('0'), na.size()));
-      const std::string tb = nb.substr(std::min(nb.find_first_not_of('0'), nb.size()));
-      if (ta.size() != tb.size()) return ta.size() < tb.size();
-      if (ta != tb) return ta < tb;
-      i = ei;
-      j = ej;
-    } else {
-      if (a[i] != b[j]) return a[i] < b[j];
-      ++i;
-      ++j;
-    }
-  }
-  return a.size() - i < b.size() - j;
-}
-
 std::unique_ptr<Recording> OpenFolder(const std::string& folder) {
-  const fs::path dir(folder);
-  const fs::path meta_path = dir / "metadata.yaml";
-  std::vector<std::string> files;
+  const Rosbag2Files found = FindRosbag2Files(folder);
+  const std::vector<std::string>& files = found.paths;
+  const std::string meta_path = (fs::path(folder) / "metadata.yaml").string();
+  const io::Rosbag2Metadata& meta = found.metadata;
   std::vector<std::string> notes;
-  std::error_code ec;
-  io::Rosbag2Metadata meta;
-  const bool have_meta = fs::is_regular_file(meta_path, ec);
-  if (have_meta) {
-    meta = io::ReadRosbag2Metadata(meta_path.string());
-    if (!meta.compression_format.empty() || !meta.compression_mode.empty()) {
-      throw io::InputError(
-          io::Where(meta_path.string(), 0,
-                    "compressed rosbag2 (compression_format '" + meta.compression_format +
-                        "', mode '" + meta.compression_mode +
-                        "') is not read; expected an uncompressed bag (ros2 bag convert)"));
-    }
-    for (const std::string& rel : meta.relative_file_paths) {
-      fs::path file = dir / rel;
-      // Early rosbag2 wrote paths relative to the bag's parent folder ("bag/bag_0.db3").
-      const fs::path alt = dir.parent_path() / rel;
-      if (!fs::exists(file, ec) && fs::exists(alt, ec)) file = alt;
-      if (!fs::is_regular_file(file, ec)) {
-        throw io::InputError(io::Where(
-            meta_path.string(), 0, "lists storage file " + rel + ", which is not in the folder"));
-      }
-      files.push_back(file.string());
-    }
-  } else {
-    for (const auto& entry : fs::directory_iterator(dir, ec)) {
-      const std::string ext = entry.path().extension().string();
-      if (entry.is_regular_file(ec) && (ext == ".db3" || ext == ".mcap")) {
-        files.push_back(entry.path().string());
-      }
-    }
-    std::sort(files.begin(), files.end(), NaturalLess);
+  if (!found.has_metadata) {
     if (files.empty()) {
       throw io::InputError(io::Where(folder, 0,
                                      "neither a metadata.yaml nor .db3/.mcap files: not a "
@@ -374,6 +320,13 @@ std::unique_ptr<Recording> OpenFolder(const std::string& folder) {
     }
     notes.push_back(folder + ": no metadata.yaml (the recorder did not finish?): read the " +
                     std::to_string(files.size()) + " storage files found, in name order");
+  } else if (static_cast<size_t>(found.listed) < files.size()) {
+    std::string names;
+    for (size_t i = static_cast<size_t>(found.listed); i < files.size(); ++i) {
+      names += (names.empty() ? "" : ", ") + fs::path(files[i]).filename().string();
+    }
+    notes.push_back(meta_path + ": does not list " + names +
+                    " (the recorder went on after writing it?): read after the files it lists");
   }
   std::vector<std::unique_ptr<Recording>> parts;
   for (const std::string& f : files) parts.push_back(OpenStorageFile(f));
@@ -383,7 +336,7 @@ std::unique_ptr<Recording> OpenFolder(const std::string& folder) {
     const TopicInfo* topic = FindTopic(recording->topics(), c.name);
     const int64_t held = topic != nullptr ? topic->count : 0;
     if (held != c.message_count) {
-      warnings.push_back(meta_path.string() + ": counts " + std::to_string(c.message_count) +
+      warnings.push_back(meta_path + ": counts " + std::to_string(c.message_count) +
                          " messages on " + c.name + ", the storage files hold " +
                          std::to_string(held));
     }

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // wallcal guide --follow on logs that are still being written: a text log appended line by line
-// (an unfinished last line included), a ROS 1 bag without its index and an MCAP file without
-// its summary, each grown in pieces by a writer thread while the program runs. The guide must
+// (an unfinished last line included), a ROS 1 bag without its index, an MCAP file without
+// its summary and a rosbag2 folder whose split files appear (.db3 and MCAP storage), each grown
+// in pieces by a writer thread while the program runs. The guide must
 // print again as they grow, each time on what has been written. And the guide kept between
 // refreshes (GuideSession) reads a text scan log on from where it stopped, with the outcome of
 // a fresh read of the whole.
@@ -15,6 +16,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -28,6 +30,7 @@
 #include "test/support/program_runner.h"
 #include "test/support/scratch_dir.h"
 #include "test/support/guide_expect.h"
+#include "test/support/rosbag2_folders.h"
 #include "test/support/scratch_files.h"
 
 namespace wallcal {
@@ -76,6 +79,19 @@ void Grow(const std::vector<std::pair<fs::path, std::string>>& files,
   }
 }
 
+// Runs guide --follow on the session in `dir` (tolerances of 1 mm) while a thread runs `grow`.
+std::vector<Update> FollowWhileGrowing(const fs::path& dir, const std::function<void()>& grow) {
+  const fs::path options = dir / "tight.yaml";
+  std::ofstream(options) << "acceptance:\n  max_sigma_xy_m: 0.001\n  max_sigma_yaw_deg: 0.001\n";
+  std::thread writer(grow);
+  const testing_support::ProgramRun run =
+      testing_support::RunWallcal({"guide", dir.string(), "--follow", "--json", "--max-seconds",
+                                   "15", "--next", "1", "--config", options.string()});
+  writer.join();
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  return Updates(run.out);
+}
+
 // Simulates the session, truncates its logs to the first share, and runs guide --follow while
 // a thread grows them to the whole.
 std::vector<Update> FollowGrowingSession(sim::SessionFormat format,
@@ -93,15 +109,32 @@ std::vector<Update> FollowGrowingSession(sim::SessionFormat format,
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(content.data(), static_cast<std::streamsize>(shares[0] * content.size()));
   }
-  const fs::path options = dir / "tight.yaml";
-  std::ofstream(options) << "acceptance:\n  max_sigma_xy_m: 0.001\n  max_sigma_yaw_deg: 0.001\n";
-  std::thread writer(Grow, files, shares);
-  const testing_support::ProgramRun run =
-      testing_support::RunWallcal({"guide", dir.string(), "--follow", "--json", "--max-seconds",
-                                   "15", "--next", "1", "--config", options.string()});
-  writer.join();
-  EXPECT_EQ(run.exit_code, 0) << run.err;
-  return Updates(run.out);
+  return FollowWhileGrowing(dir, [&files, &shares] { Grow(files, shares); });
+}
+
+// Simulates the session as one recording, splits it into a rosbag2 folder of three storage
+// files, shows the folder with its first share written, and runs guide --follow while a thread
+// grows it to the whole (each split file appearing in turn).
+std::vector<Update> FollowGrowingFolder(sim::SessionFormat format, bool metadata,
+                                        const sim::SimulationConfig& config) {
+  const testing_support::ScratchDir scratch("wallcal_guide_follow_rosbag2_");
+  const fs::path dir = scratch.path() / "session";
+  sim::WriteSimulatedSession(config, 5, dir.string(), format);
+  const fs::path recorded =
+      dir / (format == sim::SessionFormat::kMcap ? "session.mcap" : "session.db3");
+  const testing_support::SplitFolder complete =
+      testing_support::SplitIntoFiles(recorded.string(), scratch.path() / "complete" / "bag", 3);
+  fs::remove(recorded);
+  testing_support::GrowingRosbag2Folder folder(complete, dir / "bag", metadata);
+  const std::vector<double> shares = {0.35, 0.55, 0.8, 1.0};
+  folder.WriteUpTo(shares[0]);
+  testing_support::PointSessionAt(dir, folder.path().string());
+  return FollowWhileGrowing(dir, [&folder, &shares] {
+    for (size_t piece = 1; piece < shares.size(); ++piece) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+      folder.WriteUpTo(shares[piece]);
+    }
+  });
 }
 
 void ExpectGrowsToTheWhole(const std::vector<Update>& updates) {
@@ -135,6 +168,16 @@ TEST(GuideFollowTest, FollowsAnMcapFileBeingWritten) {
   sim::SimulationConfig config = Sapporo();
   config.log_every_n = 1;
   ExpectGrowsToTheWhole(FollowGrowingSession(sim::SessionFormat::kMcap, {"session.mcap"}, config));
+}
+
+TEST(GuideFollowTest, FollowsARosbag2FolderBeingRecorded) {
+  ExpectGrowsToTheWhole(FollowGrowingFolder(sim::SessionFormat::kDb3, false, Sapporo()));
+}
+
+TEST(GuideFollowTest, FollowsAnMcapStorageRosbag2FolderBeingRecorded) {
+  sim::SimulationConfig config = Sapporo();
+  config.log_every_n = 1;
+  ExpectGrowsToTheWhole(FollowGrowingFolder(sim::SessionFormat::kMcap, true, config));
 }
 
 // The scan log cut in the middle of a line (as a logger leaves it between two writes), the

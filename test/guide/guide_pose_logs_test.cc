@@ -4,11 +4,21 @@
 // the heading log in the middle of a sentence, then both grown to the whole. The grown session
 // holds the fixes and headings of a fresh read to the one, and reports what a fresh session
 // reports (within what the scan log's own reading on leaves: guide_follow_test.cc).
+//
+// A recording's GNSS and heading topics are read on too (PoseLogFollower over
+// recording::PoseTail): a ROS 1 bag, an MCAP file, a .db3 file and rosbag2 folders grown in
+// steps, and an MCAP file whose nmea_msgs/Sentence topic carries both streams (its first date
+// arriving late). After each step Read() gives what recording::ReadPoseLogs gives for the
+// recording as it stands, record for record.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -16,11 +26,17 @@
 
 #include "guide/guide_session.h"
 #include "guide/pose_logs.h"
+#include "io/config/session_reader.h"
 #include "io/text/nmea_reader.h"
+#include "io/writers/writers.h"
+#include "recording/recording_streams.h"
+#include "recording/writers/mcap_writer.h"
 #include "sim/recording_session.h"
 #include "sim/simulation_config.h"
-#include "test/support/scratch_dir.h"
 #include "test/support/guide_expect.h"
+#include "test/support/nmea_logs.h"
+#include "test/support/rosbag2_folders.h"
+#include "test/support/scratch_dir.h"
 #include "test/support/scratch_files.h"
 
 namespace wallcal {
@@ -125,6 +141,167 @@ TEST(PoseLogFollowerTest, ReadsOneLogOnceForBoth) {
   EXPECT_EQ(logs.headings.headings.size(), 1u);
   EXPECT_EQ(logs.gnss.fixes.size(), io::ReadNmea(path.string()).fixes.size());
   EXPECT_EQ(logs.headings.fixes.size(), logs.gnss.fixes.size());
+}
+
+// ---- recordings --------------------------------------------------------------------------
+
+using testing_support::GrowingRosbag2Folder;
+
+// Every scan logged (75 Hz): an MCAP file's 1 MiB chunks then close several times over the
+// session, as a recorder's do over a longer one.
+sim::SimulationConfig SapporoConfig() {
+  sim::SimulationConfig config = sim::ReadSimulationConfig(
+      std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/lms291_sapporo.yaml");
+  config.log_every_n = 1;
+  return config;
+}
+
+// Reads the follower on after each step of `grow` (shares of the recording) and expects the
+// logs of a whole read of the recording as it stands, each read after the first started where
+// the last one stopped. A step the whole reader refuses (no topic yet: an MCAP file's first
+// chunk not closed; a split file's header not whole yet) is not compared; the follower is read
+// on all the same.
+void ExpectReadOnAsWhole(const std::string& session_dir, const std::function<void(double)>& grow,
+                         const std::string& what) {
+  const io::SessionSpec spec = io::ReadSession(session_dir);
+  guide::PoseLogFollower follower(spec);
+  int compared = 0;
+  bool compared_before = false;
+  for (const double share : {0.15, 0.4, 0.41, 0.62, 0.77, 1.0}) {
+    grow(share);
+    const std::string where = what + " at " + std::to_string(share);
+    recording::PoseLogs whole;
+    try {
+      whole = recording::ReadPoseLogs(spec);
+    } catch (const io::InputError&) {
+      try {
+        follower.Read();
+      } catch (const io::InputError&) {
+      }
+      continue;
+    }
+    const recording::PoseLogs logs = follower.Read();
+    testing_support::ExpectSameLog(logs.gnss, whole.gnss, where + ", GNSS");
+    testing_support::ExpectSameLog(logs.headings, whole.headings, where + ", heading");
+    EXPECT_GT(logs.gnss.fixes.size(), 0u) << where;
+    EXPECT_GT(logs.headings.headings.size(), 0u) << where;
+    if (compared_before) {
+      EXPECT_GT(follower.gnss_read().from_byte, 0) << where;
+    }
+    EXPECT_EQ(follower.heading_read().from_byte, follower.gnss_read().from_byte) << where;
+    compared_before = true;
+    ++compared;
+  }
+  EXPECT_GE(compared, 4) << what;
+}
+
+// Grows the file at `path` to a share of `content`, cut at any byte.
+std::function<void(double)> GrowByBytes(const fs::path& path) {
+  return [path, content = testing_support::ReadFile(path)](double share) {
+    testing_support::WriteFirstBytes(
+        path, content, static_cast<size_t>(share * static_cast<double>(content.size())));
+  };
+}
+
+struct RecordingCase {
+  const char* name;
+  sim::SessionFormat format;  // as simulated
+  bool folder;                // split into a rosbag2 folder (4 files)
+  bool metadata;
+};
+
+class PoseLogFollowerRecordingTest : public testing::TestWithParam<RecordingCase> {};
+
+TEST_P(PoseLogFollowerRecordingTest, ReadsARecordingOnAsAWholeReadOfEachStep) {
+  const testing_support::ScratchDir scratch("wallcal_pose_logs_recorded_");
+  const fs::path dir = scratch.path() / "session";
+  sim::WriteSimulatedSession(SapporoConfig(), 13, dir.string(), GetParam().format);
+  const io::SessionSpec spec = io::ReadSession(dir.string());
+  const std::string recorded = spec.gnss_log;
+  if (GetParam().format == sim::SessionFormat::kRos1 ||
+      (GetParam().format == sim::SessionFormat::kMcap && !GetParam().folder)) {
+    ExpectReadOnAsWhole(dir.string(), GrowByBytes(recorded), GetParam().name);
+    return;
+  }
+  // A .db3 file grown row by row in place, or a rosbag2 folder growing file by file.
+  const testing_support::SplitFolder complete = testing_support::SplitIntoFiles(
+      recorded, scratch.path() / "complete" / "rec", GetParam().folder ? 4 : 1, 64 * 1024);
+  fs::remove(recorded);
+  GrowingRosbag2Folder folder(complete, dir / "rec", GetParam().metadata);
+  folder.WriteUpTo(0.05);
+  testing_support::PointSessionAt(
+      dir, GetParam().folder ? folder.path().string() : (folder.path() / complete.files[0]).string());
+  ExpectReadOnAsWhole(dir.string(), [&](double share) { folder.WriteUpTo(share); },
+                      GetParam().name);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Recordings, PoseLogFollowerRecordingTest,
+    testing::Values(RecordingCase{"Ros1Bag", sim::SessionFormat::kRos1, false, false},
+                    RecordingCase{"Mcap", sim::SessionFormat::kMcap, false, false},
+                    RecordingCase{"Db3", sim::SessionFormat::kDb3, false, false},
+                    RecordingCase{"Rosbag2FolderDb3", sim::SessionFormat::kDb3, true, false},
+                    RecordingCase{"Rosbag2FolderMcap", sim::SessionFormat::kMcap, true, true}),
+    [](const testing::TestParamInfo<RecordingCase>& param_info) {
+      return param_info.param.name;
+    });
+
+// "$body*hh" with the right checksum.
+std::string Sentence(const std::string& body) { return "$" + body + "*" + io::NmeaChecksum(body); }
+
+// GNSS and heading as nmea_msgs/Sentence messages on one topic of an MCAP file: the simulated
+// session's NMEA lines, their logger stamps in the header, and an RMC a third of the way in
+// whose date is the day after the stamps' (it dates the GGAs before it too, which moves their
+// epochs by a day: they are read again when it comes). Grown by bytes.
+TEST(PoseLogFollowerRecordingTest, ReadsNmeaSentenceTopicsOnAsAWholeReadOfEachStep) {
+  const testing_support::ScratchDir scratch("wallcal_pose_logs_sentences_");
+  const fs::path dir = scratch.path() / "session";
+  sim::WriteSimulatedSession(SapporoConfig(), 13, dir.string(), sim::SessionFormat::kText);
+  std::vector<std::pair<double, std::string>> lines;
+  for (const char* name : {"gnss.nmea", "heading.nmea"}) {
+    std::istringstream in(testing_support::ReadFile(dir / name));
+    for (std::string line; std::getline(in, line);) {
+      const size_t space = line.find(' ');
+      if (space == std::string::npos || line[space + 1] != '$') continue;
+      lines.emplace_back(std::stod(line.substr(0, space)), line.substr(space + 1));
+    }
+  }
+  std::stable_sort(lines.begin(), lines.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  ASSERT_GT(lines.size(), 300u);
+  {
+    const double stamp_s = lines[lines.size() / 3].first;
+    const std::time_t t = static_cast<std::time_t>(stamp_s) + 86400;
+    std::tm utc{};
+    gmtime_r(&t, &utc);
+    char body[96];
+    std::snprintf(body, sizeof body, "GPRMC,%02d%02d%02d.00,A,4304.2741,N,14120.3917,E,0.0,0.0,%02d%02d%02d,,,A",
+                  utc.tm_hour, utc.tm_min, utc.tm_sec, utc.tm_mday, utc.tm_mon + 1,
+                  utc.tm_year % 100);
+    lines.insert(lines.begin() + static_cast<long>(lines.size() / 3), {stamp_s, Sentence(body)});
+  }
+  const fs::path path = dir / "nmea.mcap";
+  {
+    recording::McapWriter writer(path.string(), recording::ChunkCompression::kZstd, 4096);
+    const uint16_t channel = writer.AddChannel(
+        "/nmea", "nmea_msgs/msg/Sentence",
+        recording::RosTypeDefinition(recording::RosType::kNmeaSentence,
+                                     recording::WireFormat::kCdr));
+    recording::NmeaSentenceMsg msg;
+    msg.header.frame_id = "gps";
+    for (const auto& [stamp_s, sentence] : lines) {
+      msg.header.stamp_s = stamp_s;
+      msg.sentence = sentence;
+      writer.Write(channel, stamp_s, stamp_s,
+                   recording::EncodeNmeaSentence(msg, recording::WireFormat::kCdr));
+    }
+    writer.Close();
+  }
+  io::SessionSpec spec = io::ReadSession(dir.string());
+  spec.gnss_log = spec.heading_log = path.string();
+  spec.gnss_topic = spec.heading_topic = "/nmea";
+  io::WriteFileAtomically(spec.file, io::FormatSessionYaml(spec));
+  ExpectReadOnAsWhole(dir.string(), GrowByBytes(path), "nmea_msgs/Sentence");
 }
 
 }  // namespace

@@ -6,7 +6,9 @@
 // (the recorder between two writes) is read at the next refresh, not reported as damage.
 //
 // A gzip-compressed CARMEN log is read on the same way (inflated up to where the last read
-// stopped, parsed from there).
+// stopped, parsed from there). A rosbag2 folder (.db3 or MCAP storage, with and without
+// metadata.yaml) is read on file by file as split files appear, and a folder replaced by a
+// shorter recording is read from its start.
 //
 // The sessions are simulated and written by the project's recording writers, then cut, as the
 // --follow tests do: a cut bag or MCAP file is what a recorder leaves on disk while it runs (no
@@ -26,6 +28,7 @@
 #include "sim/simulation_config.h"
 #include "test/support/scratch_dir.h"
 #include "test/support/guide_expect.h"
+#include "test/support/rosbag2_folders.h"
 #include "test/support/scratch_files.h"
 
 namespace wallcal {
@@ -157,6 +160,80 @@ TEST(GuideResumeGzipTest, ReadsAGzipScanLogOnFromWhereItStopped) {
   EXPECT_EQ(grown.stations.size(), fresh.stations.size());
   testing_support::ExpectSameSigma(grown.predicted, fresh.predicted);
 }
+
+// A rosbag2 folder being recorded: the simulated session split into 4 storage files
+// (test/support/rosbag2_folders.h), grown so that a split file appears between two refreshes.
+// After each step the report is that of a fresh session on the same folder: the same stations,
+// the σ within 1 %, every scan read once (kept + detected = a fresh read's), the same fixes and
+// headings.
+struct FolderCase {
+  const char* name;
+  sim::SessionFormat format;  // kDb3: .db3 storage; kMcap: .mcap storage
+  bool metadata;
+};
+
+class GuideResumeRosbag2Test : public testing::TestWithParam<FolderCase> {};
+
+TEST_P(GuideResumeRosbag2Test, ReadsARosbag2FolderOnFileByFile) {
+  const testing_support::ScratchDir scratch("wallcal_guide_resume_rosbag2_");
+  const fs::path dir = scratch.path() / "session";
+  sim::WriteSimulatedSession(Sapporo(), 11, dir.string(), GetParam().format);
+  const fs::path recorded =
+      dir / (GetParam().format == sim::SessionFormat::kMcap ? "session.mcap" : "session.db3");
+  const testing_support::SplitFolder complete = testing_support::SplitIntoFiles(
+      recorded.string(), scratch.path() / "complete" / "session", 4,
+      256 * 1024);  // a few MCAP chunks a file
+  ASSERT_EQ(complete.files.size(), 4u);
+  fs::remove(recorded);
+  testing_support::GrowingRosbag2Folder folder(complete, dir / "session", GetParam().metadata);
+  folder.WriteUpTo(0.5);
+  testing_support::PointSessionAt(dir, folder.path().string());
+  guide::GuideOptions options;
+  options.session_path = dir.string();
+  options.threads = 2;
+
+  guide::GuideSession session(options);
+  const guide::GuideReport first = session.Refresh();
+  EXPECT_FALSE(session.last_read().incremental);
+  EXPECT_GE(first.stations.size(), 3u);
+  for (const double share : {0.6, 0.8, 1.0}) {
+    SCOPED_TRACE("at " + std::to_string(share));
+    folder.WriteUpTo(share);
+    const guide::GuideReport grown = session.Refresh();
+    const guide::ReadCounts read = session.last_read();
+    guide::GuideSession fresh_session(options);
+    const guide::GuideReport fresh = fresh_session.Refresh();
+    const guide::ReadCounts& whole = fresh_session.last_read();
+    ASSERT_TRUE(fresh.predicted.known);
+    EXPECT_TRUE(read.incremental);
+    EXPECT_GT(read.scans_kept, 0);
+    EXPECT_EQ(read.scans_kept + read.scans_detected, whole.scans_detected);
+    EXPECT_GT(read.gnss_log.from_byte, 0);
+    EXPECT_EQ(read.fixes_used, whole.fixes_used);
+    EXPECT_EQ(read.headings_used, whole.headings_used);
+    ASSERT_EQ(grown.stations.size(), fresh.stations.size());
+    testing_support::ExpectSameSigma(grown.predicted, fresh.predicted);
+    for (size_t i = 0; i < fresh.stations.size(); ++i) {
+      EXPECT_NEAR(grown.stations[i].scans, fresh.stations[i].scans, 2) << "station " << i;
+    }
+  }
+
+  // The folder replaced by a shorter recording (the same name recorded again): from its start.
+  folder.Restart();
+  folder.WriteUpTo(0.5);
+  const guide::GuideReport again = session.Refresh();
+  EXPECT_FALSE(session.last_read().incremental);
+  EXPECT_EQ(session.last_read().scans_kept, 0);
+  EXPECT_EQ(again.stations.size(), first.stations.size());
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Storages, GuideResumeRosbag2Test,
+    testing::Values(FolderCase{"Db3", sim::SessionFormat::kDb3, false},
+                    FolderCase{"Db3WithMetadata", sim::SessionFormat::kDb3, true},
+                    FolderCase{"Mcap", sim::SessionFormat::kMcap, false},
+                    FolderCase{"McapWithMetadata", sim::SessionFormat::kMcap, true}),
+    [](const testing::TestParamInfo<FolderCase>& param_info) { return param_info.param.name; });
 
 }  // namespace
 }  // namespace wallcal

@@ -176,6 +176,26 @@ TEST(Rosbag2SqliteTest, FolderOfTwoFilesReadsInOrder) {
   EXPECT_NE(again->warnings()[0].find("counts 99 messages on /scan"), std::string::npos);
 }
 
+// metadata.yaml written at a split lists the files closed then: the files after them (the
+// recording went on) are read after the listed ones, in number order, with a warning; a folder
+// being recorded, without metadata.yaml and with storage files, is a recording.
+TEST(Rosbag2SqliteTest, FolderReadsTheFilesMetadataDoesNotListAfterTheListedOnes) {
+  const std::string dir = FreshScratchFolder("split_going_on");
+  std::vector<TopicInfo> topics = WriteDb3(dir + "/bag_0.db3", Rosbag2Layout::kIron, 0, 10);
+  EXPECT_TRUE(IsRecording(dir));
+  WriteDb3(dir + "/bag_1.db3", Rosbag2Layout::kIron, 10, 10);
+  WriteDb3(dir + "/bag_2.db3", Rosbag2Layout::kIron, 20, 5);
+  WriteRosbag2Metadata(dir, "sqlite3", {"bag_0.db3"}, topics);
+  auto rec = OpenRosbag2(dir);
+  ASSERT_GE(rec->warnings().size(), 1u);  // and its counts, which are the first file's
+  EXPECT_NE(rec->warnings()[0].find("does not list bag_1.db3, bag_2.db3"), std::string::npos)
+      << rec->warnings()[0];
+  ExpectSequence(Collect(*rec, {"/scan"}), 25);
+
+  const std::string empty = FreshScratchFolder("not_yet");
+  EXPECT_FALSE(IsRecording(empty));
+}
+
 TEST(Rosbag2SqliteTest, FolderWithoutMetadataReadsFilesInNumberOrder) {
   const std::string dir = FreshScratchFolder("crashed");
   for (int part = 0; part < 11; ++part) {

@@ -2,6 +2,8 @@
 // io::NmeaFollower: an NMEA log read in pieces, as a logger writes it (cut at any byte: inside a
 // sentence, inside a CRLF, between a GGA and its GST), gives exactly what one whole read of the
 // same bytes gives: the fixes, headings, counts and skipped lines with their first line numbers.
+// io::NmeaLineFeed: the same lines handed over one at a time (a recording's sentence messages)
+// give what one whole read of them gives, after each line.
 
 #include <gtest/gtest.h>
 
@@ -10,51 +12,24 @@
 #include <cstring>
 #include <fstream>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "io/text/nmea_reader.h"
 #include "io/writers/writers.h"
+#include "test/support/nmea_logs.h"
 #include "test/support/scratch_files.h"
 
 namespace wallcal::io {
 namespace {
 
+using testing_support::ExpectSameLog;
 using testing_support::ScratchPath;
 using testing_support::WriteFile;
 
 // "$body*hh" with the right checksum.
 std::string S(const std::string& body) { return "$" + body + "*" + NmeaChecksum(body); }
-
-// Equal as doubles, NaN equal to NaN (a fix without its GST).
-bool Same(double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == b; }
-
-void ExpectSameLog(const NmeaLog& pieces, const NmeaLog& whole, const std::string& where) {
-  SCOPED_TRACE(where);
-  ASSERT_EQ(pieces.fixes.size(), whole.fixes.size());
-  for (size_t i = 0; i < whole.fixes.size(); ++i) {
-    const GnssFix& a = pieces.fixes[i];
-    const GnssFix& b = whole.fixes[i];
-    EXPECT_TRUE(Same(a.stamp_s, b.stamp_s) && Same(a.lat_deg, b.lat_deg) &&
-                Same(a.lon_deg, b.lon_deg) && Same(a.height_m, b.height_m) &&
-                a.quality == b.quality && a.satellites == b.satellites && Same(a.hdop, b.hdop) &&
-                Same(a.sigma_lat_m, b.sigma_lat_m) && Same(a.sigma_lon_m, b.sigma_lon_m) &&
-                Same(a.utc_epoch_s, b.utc_epoch_s) && a.line == b.line)
-        << "fix " << i << " (line " << b.line << ")";
-  }
-  ASSERT_EQ(pieces.headings.size(), whole.headings.size());
-  for (size_t i = 0; i < whole.headings.size(); ++i) {
-    const HeadingSample& a = pieces.headings[i];
-    const HeadingSample& b = whole.headings[i];
-    EXPECT_TRUE(a.stamp_s == b.stamp_s && a.heading_rad == b.heading_rad && a.line == b.line)
-        << "heading " << i << " (line " << b.line << ")";
-  }
-  EXPECT_EQ(pieces.fixes_by_quality, whole.fixes_by_quality);
-  EXPECT_EQ(pieces.skipped.by_reason, whole.skipped.by_reason);
-  EXPECT_EQ(pieces.skipped.first_line, whole.skipped.first_line);
-  EXPECT_EQ(pieces.skipped.severity, whole.skipped.severity);
-  EXPECT_EQ(pieces.lines_read, whole.lines_read);
-}
 
 // Writes `text` up to each cut in turn and reads on after each; every time, the follower's log
 // must be the whole read of what the file holds then. Returns the bytes each read started at.
@@ -203,6 +178,45 @@ TEST(NmeaFollowerTest, ReadsANewLogUnderTheSameNameFromItsStart) {
   ExpectSameLog(follower.Log(), ReadNmea(path), "replaced");
   ASSERT_EQ(follower.Log().headings.size(), 1u);
   EXPECT_EQ(follower.Log().headings[0].stamp_s, 2000.0);
+}
+
+// The lines of `text` as ParseNmea splits them ('\n', "\r\n" or a lone '\r' ends one),
+// handed to a line feed one at a time: after each, the feed's log is the whole read of the
+// lines so far.
+void FeedLineByLine(const std::string& text, const std::string& name) {
+  NmeaLineFeed feed(name);
+  std::string so_far;
+  size_t start = 0;
+  int lines = 0;
+  while (start < text.size()) {
+    size_t end = text.find_first_of("\r\n", start);
+    if (end == std::string::npos) end = text.size();
+    const std::string line = text.substr(start, end - start);
+    start = end + (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n' ? 2 : 1);
+    feed.Add(line);
+    so_far += line + "\n";
+    std::istringstream whole(so_far);
+    ExpectSameLog(feed.Log(), ParseNmea(whole, name),
+                  name + " after line " + std::to_string(++lines));
+  }
+  EXPECT_GT(lines, 0);
+}
+
+TEST(NmeaLineFeedTest, LineByLineReadsAsTheWhole) {
+  FeedLineByLine(PlainCapture(), "capture");
+  // The first date after plain sentences: they are dated again when it comes.
+  std::string late;
+  late += S("GPGGA,120000.00,4304.2741,N,14120.3917,E,4,14,0.7,72.0,M,19.2,M,,") + "\n";
+  late += "1700000000.5 " + S("GPGGA,120000.50,4304.2741,N,14120.3917,E,4,14,0.7,72.0,M,19.2,M,,") +
+          "\n";
+  late += S("HEHDT,35.5,T") + "\n";
+  late += S("GPRMC,120001.00,A,4304.2741,N,14120.3917,E,0.0,0.0,261126,,,A") + "\n";
+  late += S("GPGGA,120002.00,4304.2743,N,14120.3919,E,4,14,0.7,72.2,M,19.2,M,,") + "\n";
+  FeedLineByLine(late, "late date");
+  std::ifstream in(std::string(WALLCAL_SOURCE_DIR) + "/samples/lms291-sapporo/gnss.nmea",
+                   std::ios::binary);
+  const std::string sample((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  FeedLineByLine(sample.substr(0, sample.find('\n', 20000) + 1), "sample gnss.nmea");
 }
 
 }  // namespace
