@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The guide's report as a map of the site (what guide --serve's page draws, from guide --json):
 // the walls, each station's pose, the vehicle, each next stop as the pose the stop model places
-// it at and the move to it in words; and a warning the crew should see: a wall never detected.
+// it at and the move to it in words; and the warnings a crew should see: a wall never detected,
+// a log that stopped growing, fixes below RTK fixed while the GNSS log grows.
 
 #include <gtest/gtest.h>
 
@@ -186,6 +187,74 @@ TEST(GuideMapTest, WarnsOfAWallNeverDetected) {
     }
   }
   EXPECT_NE(guide::GuideJson(report).find("\"kind\": \"wall not seen\""), std::string::npos);
+}
+
+// A GGA line (after its logger stamp) with the fix quality `quality` and its checksum anew.
+std::string WithQuality(const std::string& line, char quality) {
+  const size_t dollar = line.find('$'), star = line.find('*');
+  if (dollar == std::string::npos || star == std::string::npos || line.find("GGA,") == std::string::npos) {
+    return line;
+  }
+  std::string sentence = line.substr(dollar + 1, star - dollar - 1);
+  size_t field = 0;
+  for (int commas = 0; commas < 6 && field != std::string::npos; ++commas) field = sentence.find(',', field) + 1;
+  sentence[field] = quality;
+  unsigned checksum = 0;
+  for (char c : sentence) checksum ^= static_cast<unsigned char>(c);
+  char hex[4];
+  std::snprintf(hex, sizeof(hex), "%02X", checksum);
+  return line.substr(0, dollar + 1) + sentence + "*" + hex;
+}
+
+TEST(GuideFollowWarningsTest, WarnsOfLogsThatStopGrowingAndOfFloatFixes) {
+  const testing_support::ScratchDir scratch("wallcal_guide_map_");
+  const fs::path cut = CutSession(scratch.path(), 0.4);
+  const fs::path tight = scratch.path() / "tight.yaml";
+  std::ofstream(tight) << "acceptance:\n  max_sigma_xy_m: 0.001\n  max_sigma_yaw_deg: 0.001\n";
+  // The rest of the GNSS log, every fix RTK float (quality 5), appended a piece at a time.
+  const std::string whole = testing_support::ReadFile(scratch.path() / "full" / "gnss.nmea");
+  const std::string kept = testing_support::ReadFile(cut / "gnss.nmea");
+  std::vector<std::string> floats;
+  std::istringstream rest(whole.substr(kept.size()));
+  for (std::string line; std::getline(rest, line);) floats.push_back(WithQuality(line, '5') + "\n");
+  ASSERT_GT(floats.size(), 100u);
+  std::atomic<bool> done{false};
+  std::thread writer([&] {
+    for (size_t i = 0; i < floats.size() && !done.load(); i += 20) {
+      std::ofstream out(cut / "gnss.nmea", std::ios::app);
+      for (size_t j = i; j < std::min(floats.size(), i + 20); ++j) out << floats[j];
+      out.close();
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+  });
+  guide::GuideOptions options;
+  options.session_path = cut.string();
+  options.config_path = tight.string();
+  options.threads = 2;
+  guide::GuideSession session(options);
+  guide::FollowOptions follow;
+  follow.period_s = 0.25;
+  follow.max_seconds = 8.0;
+  follow.stale_after_s = 2.0;
+  bool stale_scans = false, floats_seen = false;
+  guide::Follow(
+      &session, follow,
+      [&](const guide::GuideReport& report) {
+        for (const guide::GuideWarning& w : report.warnings) {
+          if (w.kind == guide::GuideWarningKind::kLogStale && w.subject.find("scans.clf") != std::string::npos) {
+            stale_scans = true;
+          }
+          if (w.kind == guide::GuideWarningKind::kFixesNotAccepted) {
+            floats_seen = true;
+            EXPECT_NE(w.message.find("gnss.nmea"), std::string::npos) << w.message;
+          }
+        }
+      },
+      [](const std::string&) {});
+  done = true;
+  writer.join();
+  EXPECT_TRUE(stale_scans) << "no warning that the scan log stopped growing";
+  EXPECT_TRUE(floats_seen) << "no warning of the GNSS log growing without RTK-fixed fixes";
 }
 
 }  // namespace
