@@ -9,7 +9,7 @@
 set -euo pipefail
 packages=(build-essential cmake pkg-config libeigen3-dev libceres-dev libopencv-dev
           libgeographiclib-dev libyaml-cpp-dev libgtest-dev zlib1g-dev libbz2-dev
-          liblz4-dev libzstd-dev libsqlite3-dev libssl-dev)
+          liblz4-dev libzstd-dev libsqlite3-dev libssl-dev libcpp-httplib-dev)
 for extra in "$@"; do
   case "$extra" in
     fuzz) packages+=(clang libclang-rt-dev) ;;
