@@ -170,9 +170,13 @@ TEST(GuidePageBrowserTest, ShowsWhatGuideJsonSaysAsTheLogsGrow) {
       std::this_thread::sleep_for(std::chrono::milliseconds(250));
       matched = ReadPage(&browser, &shown) && Matches(shown, expected);
     }
+    const Json& sigma = expected["predicted_sigma"];
     EXPECT_TRUE(matched) << "step " << k << " (" << kSteps[k] << " of the scans): the page shows "
-                         << shown.Text() << "; guide --json says " << once.out
-                         << "\nthe guide's stderr:\n" << guide.Err();
+                         << shown.Text() << "; guide --json says stations "
+                         << expected["stations"].number << ", enough " << expected["enough"].b
+                         << ", σ x " << sigma["x_m"].number << " m, y " << sigma["y_m"].number
+                         << " m, yaw " << sigma["yaw_deg"].number << "°\nthe guide's stderr:\n"
+                         << guide.Err();
     if (screenshot != nullptr && k == kSteps.size() / 2) {
       std::this_thread::sleep_for(std::chrono::seconds(1));  // the status line settled
       std::string png;
