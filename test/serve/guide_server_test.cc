@@ -18,6 +18,7 @@
 
 #include "guide/guide.h"
 #include "guide/guide_text.h"
+#include "io/types.h"
 #include "serve/guide_server.h"
 #include "serve/listen_address.h"
 #include "serve/live_board.h"
@@ -176,6 +177,27 @@ TEST_F(GuideServerTest, RefusesRequestsWithoutItsTokenAwayFromLoopback) {
   EXPECT_EQ(HttpGet(port_, "/?token=" + token).status, 200);
   EXPECT_EQ(HttpGet(port_, "/live.json?token=" + token).status, 200);
   ExpectNewest();
+}
+
+TEST(GuideServerAddressTest, NeedsItsTokenOnEveryAddressWhenNotBoundToLoopback) {
+  // Bound to every address (as for a tablet), so asked through loopback too: the token rule
+  // follows the address bound, not the one a request comes in on.
+  serve::LiveBoard board;
+  serve::ServeOptions options;
+  options.address.host = "0.0.0.0";
+  serve::GuideServer server(&board, options);
+  try {
+    server.Start();
+  } catch (const io::InputError& e) {
+    GTEST_SKIP() << "cannot bind 0.0.0.0 here: " << e.what();
+  }
+  ASSERT_EQ(server.token().size(), 32u);
+  EXPECT_EQ(HttpGet(server.port(), "/").status, 403);
+  EXPECT_EQ(HttpGet(server.port(), "/live.json").status, 403);
+  EXPECT_EQ(HttpGet(server.port(), "/?token=" + server.token()).status, 200);
+  for (const std::string& url : server.Urls()) {
+    EXPECT_NE(url.find("?token=" + server.token()), std::string::npos) << url;
+  }
 }
 
 TEST_F(GuideServerTest, ServesItsFixedPathsOnlyAndNothingFromTheFileSystem) {
