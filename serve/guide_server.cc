@@ -27,6 +27,9 @@ constexpr char kPagePolicy[] =
     "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data:; "
     "connect-src 'self'; base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
 
+// Connections waiting for acceptance (the kernel caps it at net.core.somaxconn).
+constexpr int kListenBacklog = 128;
+
 void Plain(httplib::Response& res, int status, const std::string& text) {
   res.status = status;
   res.set_content(text + "\n", "text/plain; charset=utf-8");
@@ -96,6 +99,7 @@ void GuideServer::Start() {
                          ": cannot listen there (not an address of this machine, or the port is "
                          "in use or reserved)");
   }
+  front_->WidenBacklog(kListenBacklog);
   if (!gate_->Start()) throw io::InputError("--serve: cannot start the server's thread");
   listening_ = std::thread([this] { front_->listen_after_bind(); });
   // Stop() can only end the accepting loop once it runs (httplib::Server::stop does nothing

@@ -97,6 +97,11 @@ HttpFront::HttpFront(ConnectionGate* gate) : gate_(gate) {
   });
 }
 
+void HttpFront::WidenBacklog(int backlog) {
+  // listen() again on a listening socket sets its backlog anew (Linux).
+  if (svr_sock_ != INVALID_SOCKET) ::listen(svr_sock_, backlog);
+}
+
 bool HttpFront::process_and_close_socket(socket_t sock) {
   gate_->Adopt(sock);
   return true;

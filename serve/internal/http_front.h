@@ -34,6 +34,11 @@ class HttpFront : public httplib::Server {
   // request parsing and the handlers set on this server. Never touches a socket.
   std::string Answer(const std::string& head, int fd);
 
+  // After bind: lets `backlog` connections wait for acceptance (the library's listen() takes
+  // 5; beyond, a burst of connections is lost in the kernel instead of reaching the gate,
+  // which answers what it cannot take 503).
+  void WidenBacklog(int backlog);
+
  private:
   // cpp-httplib calls this on its accepting thread for every accepted socket (through the
   // inline task queue set in the constructor): the socket goes to the gate.
