@@ -182,7 +182,8 @@ void PrintUrls(const serve::GuideServer& server, std::ostream& out) {
 }
 
 // --serve: the guide as without it, each report also published to the page; the server stops
-// kLastReportLingerS after the guide ends (Ctrl-C ends both at once).
+// once a page has fetched the last report, at most kLastReportLingerS after the guide ends
+// (Ctrl-C ends both at once).
 int RunServed(const GuideCommandLine& line) {
   serve::LiveBoard board;
   serve::ServeOptions options;
