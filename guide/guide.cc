@@ -63,6 +63,7 @@ std::vector<StationSummary> SummariseStations(const pipeline::CalibrationResult&
     int heading_samples = 0;
     int64_t scans = 0;  // a scan's observations are adjacent: counted at each new scan_index
     int last_scan = -1;
+    std::vector<const calib::WallObservation*> posed;  // every observation, for its mean pose
   };
   std::map<int, Accumulator> by_station;
   for (const calib::WallObservation& o : result.solve.observations) {
@@ -85,6 +86,7 @@ std::vector<StationSummary> SummariseStations(const pipeline::CalibrationResult&
       ++a.scans;
       a.last_scan = o.scan_index;
     }
+    a.posed.push_back(&o);
   }
   std::vector<StationSummary> stations;
   std::vector<double> rates, heading_rates, distances;
@@ -96,6 +98,7 @@ std::vector<StationSummary> SummariseStations(const pipeline::CalibrationResult&
     s.vehicle_to_wall_rad = std::atan2(a.sin_sum, a.cos_sum);
     s.distance_m = a.distance_sum / a.count;
     s.scans = a.scans;
+    s.pose = MeanPose(a.posed).value_or(SitePose{});
     stations.push_back(s);
     distances.push_back(s.distance_m);
     const double span = a.end_s - a.start_s;
@@ -134,6 +137,72 @@ double FitScale(const StopModel& model, const std::vector<calib::WallObservation
   return UpperMedian(ratios, 1.0);
 }
 
+// The site as the map draws it: the walls, where the vehicle is, the dwells without a wall, and
+// the warnings the observations give (walls not seen, calibrate's warnings on the logs).
+void DescribeSite(const pipeline::CalibrationResult& result, double first_s,
+                  GuideReport* report) {
+  report->walls = result.survey.walls;
+  double stamp_s = 0.0;
+  if (result.poses.interpolator != nullptr) {
+    calib::VehiclePose end;
+    if (result.poses.interpolator->At(result.poses.interpolator->end_s(), &end) == calib::PoseStatus::kOk) {
+      report->vehicle = SitePose{end.antenna_local_m, end.yaw_rad};
+      stamp_s = end.stamp_s;
+    }
+  }
+  if (!report->vehicle) report->vehicle = LatestPose(result.solve.observations, &stamp_s);
+  if (report->vehicle) report->vehicle_s = stamp_s - first_s;
+  const solvers::MountEstimate& estimate = result.solve.estimate;
+  if (estimate.usable) {
+    report->mount = estimate.mount;
+  } else if (result.loaded.session.mount_guess) {
+    const auto& guess = *result.loaded.session.mount_guess;
+    report->mount = calib::Mount{guess.x_m, guess.y_m, guess.yaw_rad};
+  }
+  if (report->vehicle && report->mount) report->scanner = ScannerAt(*report->vehicle, *report->mount);
+
+  std::set<int> seen_walls, seen_dwells;
+  for (const calib::WallObservation& o : result.solve.observations) {
+    seen_walls.insert(o.wall_index);
+    if (o.pose.stationary) seen_dwells.insert(o.pose.segment);
+  }
+  if (result.poses.interpolator != nullptr) {
+    const std::vector<calib::Dwell>& dwells = result.poses.interpolator->dwells();
+    for (size_t d = 0; d < dwells.size(); ++d) {
+      if (seen_dwells.count(static_cast<int>(d)) > 0) continue;
+      report->stops_without_wall.push_back(SitePose{dwells[d].mean_p_local_m, dwells[d].mean_yaw_rad});
+    }
+    if (!report->stops_without_wall.empty()) {
+      report->warnings.push_back(
+          {GuideWarningKind::kStopsWithoutWall, "",
+           Format("the vehicle stood %zu time(s) where no wall was detected",
+                  report->stops_without_wall.size())});
+    }
+  }
+  if (!report->stations.empty()) {
+    for (size_t w = 0; w < result.survey.walls.size(); ++w) {
+      if (seen_walls.count(static_cast<int>(w)) > 0) continue;
+      report->warnings.push_back({GuideWarningKind::kWallNotSeen, result.survey.walls[w].id,
+                                  "wall " + result.survey.walls[w].id +
+                                      ": not detected from any station yet"});
+    }
+  }
+  for (const pipeline::Warning& w : result.AllWarnings()) {
+    if (pipeline::IsForced(w.kind)) continue;  // the note says it (report->message)
+    // The run's own words (fixes below the accepted quality among them); the follower adds a
+    // warning of its own when the GNSS log grows without accepted fixes (guide/follow.cc).
+    report->warnings.push_back(
+        {GuideWarningKind::kRun, pipeline::WarningKindName(w.kind), w.message});
+  }
+}
+
+// The σ's worst axis and ellipse, for the reason a session is not enough and its picture.
+void DescribeSigma(GuideReport* report) {
+  report->worst_axis = WorstSigmaAxis(report->predicted, report->acceptance);
+  report->worst_ratio = WorstSigmaRatio(report->predicted, report->acceptance);
+  report->ellipse = EllipseOf(report->predicted);
+}
+
 }  // namespace
 
 void GuideOptions::Validate() const {
@@ -165,6 +234,7 @@ GuideReport ReportOn(const pipeline::CalibrationResult& result, int max_next) {
   report.logged_s = last_s - first_s;
   report.stations = SummariseStations(result, first_s, &model);
   model.side = Sides(model.walls, result.solve.observations);
+  DescribeSite(result, first_s, &report);
 
   const solvers::MountEstimate& estimate = result.solve.estimate;
   const solvers::WarmStart* warm = estimate.solution_state.get();
@@ -228,6 +298,10 @@ GuideReport ReportOn(const pipeline::CalibrationResult& result, int max_next) {
       }
     }
   }
+  std::vector<StopSpec> stops;
+  for (const Advice& a : report.next) stops.push_back(a.stop);
+  report.targets = TargetsFor(model, stops, report.vehicle);
+  DescribeSigma(&report);
   return report;
 }
 
@@ -259,6 +333,10 @@ GuideReport PlanSession(const GuideOptions& options, double budget_s) {
                             "takes %.2f min; give at least --plan %.2f",
                             budget_s / 60.0, kMinPlanStops, shortest_s / 60.0, shortest_s / 60.0);
   }
+  report.walls = result.survey.walls;
+  if (result.loaded.session.mount_guess) report.mount = model.mount;
+  report.targets = TargetsFor(model, report.plan->stops, std::nullopt);
+  DescribeSigma(&report);
   return report;
 }
 

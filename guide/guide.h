@@ -7,11 +7,14 @@
 // guide between refreshes of logs that grow; the command line is apps/guide_command.cc.
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "guide/guide_warnings.h"
 #include "guide/prediction.h"
+#include "guide/stop_poses.h"
 #include "pipeline/calibrate_options.h"
 #include "pipeline/calibration.h"
 
@@ -38,6 +41,7 @@ struct StationSummary {
   double vehicle_to_wall_rad = 0.0;  // φ, Barawid et al. 2007 Eq. 8
   double distance_m = 0.0;           // the antenna from the wall
   int64_t scans = 0;                 // scans with the wall detected
+  SitePose pose;  // the mean antenna position and yaw of its scans with the wall (local frame)
 };
 
 // Why no σ can be predicted yet (typed; the message says it for people).
@@ -62,6 +66,32 @@ struct GuideReport {
   // --plan: the best plan for the budget (no logs read).
   std::optional<Plan> plan;
   double plan_budget_s = 0.0;
+
+  // Why not enough, typed: the axis whose σ is furthest over its tolerance and by how much
+  // (WorstSigmaRatio; +∞ when the σ is not known).
+  SigmaAxis worst_axis = SigmaAxis::kX;
+  double worst_ratio = std::numeric_limits<double>::infinity();
+  SigmaEllipse ellipse;  // the σ of x and y as an ellipse (zero when not known)
+  // The site as a map shows it, in the local frame (calib/observation.h). The surveyed walls:
+  std::vector<calib::WallGeometry> walls;
+  // The vehicle's latest pose: the pose logs' end when the run kept its pose interpolator, else
+  // its pose at the last scan that saw a wall. None before any. Its time is counted as the
+  // stations' are (s from the first scan used).
+  std::optional<SitePose> vehicle;
+  double vehicle_s = 0.0;
+  // The mount the scanner is drawn with: the estimate when usable, else scanner.mount_guess; and
+  // the scanner where it puts it at `vehicle` (none without either).
+  std::optional<calib::Mount> mount;
+  std::optional<ScannerPlace> scanner;
+  // The dwells of the pose logs where no wall was detected, at their mean pose (known only when
+  // the run kept its pose interpolator).
+  std::vector<SitePose> stops_without_wall;
+  // Each stop of `next` (with --plan, of plan->stops) as a pose on the site and the move to it:
+  // the first from `vehicle`, each next from the stop before.
+  std::vector<StopTarget> targets;
+  // What the crew should know that is not a σ: walls not seen, fixes not accepted, and (added by
+  // Follow) logs that stopped growing.
+  std::vector<GuideWarning> warnings;
 };
 
 // Reads the session's logs as they are now (a text log's unfinished last line, a recording

@@ -8,6 +8,8 @@
 #include <memory>
 #include <string>
 
+#include <Eigen/Eigenvalues>
+
 #include "common/angles.h"
 #include "solvers/information.h"
 #include "solvers/problem_extension.h"
@@ -117,6 +119,42 @@ double WorstSigmaRatio(const Prediction& prediction,
   return std::max({prediction.sigma_x_m() / acceptance.max_sigma_xy_m,
                    prediction.sigma_y_m() / acceptance.max_sigma_xy_m,
                    prediction.sigma_yaw_rad() / acceptance.max_sigma_yaw_rad});
+}
+
+const char* SigmaAxisName(SigmaAxis axis) {
+  switch (axis) {
+    case SigmaAxis::kX: return "x";
+    case SigmaAxis::kY: return "y";
+    case SigmaAxis::kYaw: return "yaw";
+  }
+  return "";
+}
+
+SigmaAxis WorstSigmaAxis(const Prediction& prediction,
+                         const pipeline::AcceptanceOptions& acceptance) {
+  if (!prediction.known) return SigmaAxis::kX;
+  const double x = prediction.sigma_x_m() / acceptance.max_sigma_xy_m;
+  const double y = prediction.sigma_y_m() / acceptance.max_sigma_xy_m;
+  const double yaw = prediction.sigma_yaw_rad() / acceptance.max_sigma_yaw_rad;
+  if (x >= y && x >= yaw) return SigmaAxis::kX;
+  return y >= yaw ? SigmaAxis::kY : SigmaAxis::kYaw;
+}
+
+SigmaEllipse EllipseOf(const Prediction& prediction) {
+  SigmaEllipse ellipse;
+  if (!prediction.known) return ellipse;
+  const Eigen::Matrix2d xy = prediction.covariance.topLeftCorner<2, 2>();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(xy);
+  if (eigen.info() != Eigen::Success) return ellipse;
+  // Eigenvalues in increasing order: the last is the major axis.
+  ellipse.major_m = std::sqrt(std::max(eigen.eigenvalues()(1), 0.0));
+  ellipse.minor_m = std::sqrt(std::max(eigen.eigenvalues()(0), 0.0));
+  const Eigen::Vector2d major = eigen.eigenvectors().col(1);
+  double angle = std::atan2(major.y(), major.x());
+  if (angle > 0.5 * kPi) angle -= kPi;
+  if (angle <= -0.5 * kPi) angle += kPi;
+  ellipse.angle_rad = angle;
+  return ellipse;
 }
 
 double AngleSpread(const std::vector<double>& angles_rad) {

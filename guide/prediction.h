@@ -58,6 +58,23 @@ Prediction PredictMount(const StopModel& model, const Evidence& evidence,
 // known. ≤ 1: the σ part of the acceptance is met.
 double WorstSigmaRatio(const Prediction& prediction, const pipeline::AcceptanceOptions& acceptance);
 
+// The axis whose σ is furthest over its tolerance (σ/tolerance largest; x first on a tie).
+enum class SigmaAxis { kX, kY, kYaw };
+const char* SigmaAxisName(SigmaAxis axis);  // "x", "y", "yaw"
+// The axis WorstSigmaRatio takes its ratio from (kX when the σ is not known).
+SigmaAxis WorstSigmaAxis(const Prediction& prediction,
+                         const pipeline::AcceptanceOptions& acceptance);
+
+// The 1σ ellipse of the mount's x and y (vehicle frame: x forward, y left): its semi-axes (m)
+// and the major axis' direction (rad, ccw from the vehicle's x, in (−π/2, π/2]).
+struct SigmaEllipse {
+  double major_m = 0.0;
+  double minor_m = 0.0;
+  double angle_rad = 0.0;
+};
+// The ellipse of `prediction` (all zero when it is not known).
+SigmaEllipse EllipseOf(const Prediction& prediction);
+
 // A stop and the prediction once it (and the advised stops before it) is made.
 struct Advice {
   StopSpec stop;

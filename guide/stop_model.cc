@@ -77,9 +77,7 @@ bool ModelLineFit(const StopModel& model, const calib::WallGeometry& wall,
   return std::isfinite(fit->sigma_rho_m) && std::isfinite(fit->sigma_theta_rad);
 }
 
-bool AppendStopObservations(const StopModel& model, const StopSpec& stop, double start_s,
-                            int station_id, std::vector<calib::WallObservation>* observations,
-                            std::vector<double>* weights) {
+bool StopPose(const StopModel& model, const StopSpec& stop, SitePose* pose) {
   if (stop.wall_index < 0 || stop.wall_index >= static_cast<int>(model.walls.size())) return false;
   const calib::WallGeometry& wall = model.walls[stop.wall_index];
   const double side = stop.wall_index < static_cast<int>(model.side.size())
@@ -87,14 +85,31 @@ bool AppendStopObservations(const StopModel& model, const StopSpec& stop, double
                           : 1.0;
   const Eigen::Vector2d normal = side * wall.normal_local;  // towards the wall
   const double normal_angle = std::atan2(normal.y(), normal.x());
-  const double yaw_rad = WrapAngle(normal_angle - stop.vehicle_to_wall_rad);  // ψ
+  pose->yaw_rad = WrapAngle(normal_angle - stop.vehicle_to_wall_rad);  // ψ
   const Eigen::Vector2d lever(model.mount.x_m, model.mount.y_m);
   // The scanner abreast of the wall's centre: the antenna where that puts it.
-  const Eigen::Vector2d centre = WallCentre(wall);
-  const Eigen::Vector2d lever_local = Rotation(yaw_rad) * lever;
+  const Eigen::Vector2d lever_local = Rotation(pose->yaw_rad) * lever;
   const Eigen::Vector2d along(-wall.normal_local.y(), wall.normal_local.x());
-  const Eigen::Vector2d antenna =
-      centre - normal * stop.distance_m - along * along.dot(lever_local);
+  pose->antenna_local_m =
+      WallCentre(wall) - normal * stop.distance_m - along * along.dot(lever_local);
+  return true;
+}
+
+bool AppendStopObservations(const StopModel& model, const StopSpec& stop, double start_s,
+                            int station_id, std::vector<calib::WallObservation>* observations,
+                            std::vector<double>* weights) {
+  SitePose placed;
+  if (!StopPose(model, stop, &placed)) return false;
+  const calib::WallGeometry& wall = model.walls[stop.wall_index];
+  const double side = stop.wall_index < static_cast<int>(model.side.size())
+                          ? model.side[stop.wall_index]
+                          : 1.0;
+  const Eigen::Vector2d normal = side * wall.normal_local;  // towards the wall
+  const double normal_angle = std::atan2(normal.y(), normal.x());
+  const double yaw_rad = placed.yaw_rad;
+  const Eigen::Vector2d lever(model.mount.x_m, model.mount.y_m);
+  const Eigen::Vector2d centre = WallCentre(wall);
+  const Eigen::Vector2d antenna = placed.antenna_local_m;
 
   const double mid_s = start_s + 0.5 * stop.dwell_s;
   const double drift_yaw = model.heading_drift_rad_per_s * (mid_s - model.heading_reference_s);

@@ -29,6 +29,13 @@ struct StopSpec {
   double wait_s = 30.0;
 };
 
+// A vehicle pose on the site: the antenna in the local frame (m) and the vehicle's yaw (rad, its
+// x axis ccw from grid east, as calib::VehiclePose::yaw_rad).
+struct SitePose {
+  Eigen::Vector2d antenna_local_m = Eigen::Vector2d::Zero();
+  double yaw_rad = 0.0;
+};
+
 // What a synthetic stop needs from the session (or, for a plan, from the survey and preset).
 struct StopModel {
   std::vector<calib::WallGeometry> walls;
@@ -73,6 +80,11 @@ struct LineFitModel {
 bool ModelLineFit(const StopModel& model, const calib::WallGeometry& wall,
                   const Eigen::Vector2d& scanner_local_m, double scanner_yaw_rad,
                   LineFitModel* fit);
+
+// Where the model puts `stop`: the vehicle at stop.vehicle_to_wall_rad to its wall (on the side
+// model.side says), the antenna stop.distance_m from the wall, and the scanner (at model.mount)
+// abreast of the middle of the wall's surveyed extent. False when stop.wall_index is not a wall.
+bool StopPose(const StopModel& model, const StopSpec& stop, SitePose* pose);
 
 // The observations of `stop` standing from start_s to start_s + dwell_s, appended to
 // *observations with their weights (scans per slice). False (nothing appended) when the wall

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Numbers and strings in the JSON that --emit json prints (one scanner or several).
+// Numbers in the JSON that --emit json prints (one scanner or several).
 
 #include <cmath>
 #include <cstdio>
 #include <string>
+
+#include "common/json_text.h"  // JsonString
 
 namespace wallcal::outputs {
 
@@ -19,23 +21,5 @@ inline std::string Num(double value) {
 
 // Num, with a non-finite number as JSON null (a σ the method does not give).
 inline std::string JsonNum(double value) { return std::isfinite(value) ? Num(value) : "null"; }
-
-// A JSON string: quotes and backslashes escaped, control characters as \u00XX.
-inline std::string JsonString(const std::string& text) {
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
-      out += buffer;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
 
 }  // namespace wallcal::outputs

@@ -3,7 +3,8 @@
 # Every source file of the project names its licence on its first line (after a #! line):
 #   // SPDX-License-Identifier: Apache-2.0     (.cc, .h, .h.in)
 #   # SPDX-License-Identifier: Apache-2.0      (CMakeLists.txt, .cmake, .cmake.in, .sh)
-# Source files: the tracked .cc .h .in .cmake .sh and CMakeLists.txt files, less data
+#   <!-- SPDX-License-Identifier: Apache-2.0 -->   (.html)
+# Source files: the tracked .cc .h .in .cmake .sh .html and CMakeLists.txt files, less data
 # (samples/, test/bad_sessions/: sessions, not sources).
 # Usage: scripts/check-spdx.sh [--fix]
 #   lists the files missing the line and exits 1 if any; --fix adds the line to them first.
@@ -22,6 +23,7 @@ while IFS= read -r -d '' file; do
   fi
   case "$file" in
     *.cc|*.h|*.h.in) line="// $tag" ;;
+    *.html) line="<!-- $tag -->" ;;
     *) line="# $tag" ;;
   esac
   if [ $fix = 1 ]; then
@@ -40,10 +42,10 @@ while IFS= read -r -d '' file; do
   fi
 done < <(if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
            git ls-files -z --cached --others --exclude-standard -- \
-             '*.cc' '*.h' '*.in' '*.cmake' '*.sh' 'CMakeLists.txt' '*/CMakeLists.txt'
+             '*.cc' '*.h' '*.in' '*.cmake' '*.sh' '*.html' 'CMakeLists.txt' '*/CMakeLists.txt'
          else  # a copy without git: every such file but the build folders'
            find . \( -name 'build*' -prune \) -o -type f \( -name '*.cc' -o -name '*.h' -o \
-             -name '*.in' -o -name '*.cmake' -o -name '*.sh' -o -name CMakeLists.txt \) \
+             -name '*.in' -o -name '*.cmake' -o -name '*.sh' -o -name '*.html' -o -name CMakeLists.txt \) \
              -printf '%P\0'
          fi)
 if [ $missing -gt 0 ]; then
