@@ -138,6 +138,8 @@ SolveResult Solve(const CalibrateRequest& request, const ProgressFn& progress,
   }
   std::vector<calib::WallObservation>& obs = step.observations;
   obs = std::move(observations);
+  // Into the level model the adjustment works in (nothing on a level site).
+  ApplySiteCorrections(so_far.site, so_far.survey.walls, start, &obs);
   Say(progress, Stage::kSolving,
       std::string("solving (") + solvers::MethodName(request.method) + ") on " +
           std::to_string(obs.size()) + " observations");
@@ -206,6 +208,9 @@ SolveResult Solve(const CalibrateRequest& request, const ProgressFn& progress,
   step.heading_delay =
       ClassifyDelay(estimate.heading_delay_estimated, estimate.heading_delay_s,
                     estimate.heading_delay_sigma_s, heading_prior_s, determined(1));
+  if (request.method == solvers::Method::kCeres && !request.preview) {
+    PropagateSiteTerms(so_far, start, &step);
+  }
   CheckEstimate(request, so_far, &step);
   if (request.preview) RestoreDetections(std::move(all), &step);
   // The drives left out first, then what the estimate says of itself, then the checks after it.
