@@ -197,7 +197,7 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
   out += "  y: " + io::ShortestNumber(config.mount_y_m) + "\n";
   out += "  yaw: " + io::ShortestNumber(config.mount_yaw_rad) + "\n";
   out += "  yaw_deg: " + io::ShortestScaled(config.mount_yaw_rad, kRadToDeg) + "\n";
-  // The 3-D mount only when set: older scenarios' truth.yaml stays as it was.
+  // The 3-D mount only when set: a 2-D scenario's truth.yaml has no such keys.
   if (!std::isnan(config.mount_z_m)) {
     out += "  z: " + io::ShortestNumber(config.mount_z_m) + "  # up from the antenna (m)\n";
   }

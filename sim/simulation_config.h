@@ -33,8 +33,8 @@ struct SimWall {
   // the foot lies h·tan(lean) from the base line. NaN: not set (vertical; key lean_deg).
   double lean_rad = kNaN;
   // The heights above the wall's foot (m, each within [0, height_m]) at which the crew measures
-  // points on its face at every survey station along it. Empty: as always, 0.5 m and
-  // height_m − 0.5 m with a total station, the foot (0 m) with a rover.
+  // points on its face at every survey station along it. Empty: 0.5 m and height_m − 0.5 m
+  // with a total station, the foot (0 m) with a rover.
   std::vector<double> survey_heights_m;
   double LeanRad() const { return std::isnan(lean_rad) ? 0.0 : lean_rad; }
 };

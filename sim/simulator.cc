@@ -61,10 +61,9 @@ std::vector<io::GnssFix> SimulateGnss(const sim::SimulationConfig& config,
   // GST σ per horizontal axis: the bias and white parts are independent.
   const double sigma_fixed_m = std::hypot(sigma_b, config.gnss_white_sigma_m);
   // Vertical RTK scatter is typically about twice the horizontal (assumption). The 2-D model
-  // draws it from the horizontal white stream, as it always has; a 3-D site still draws (and
-  // discards) that number, so that its horizontal noise is its level twin's, and takes its
-  // vertical bias and white noise from streams of their own, gnss_vertical_factor times the
-  // horizontal ones.
+  // draws it from the horizontal white stream; a 3-D site draws (and discards) that number, so
+  // that its horizontal noise is its level twin's, and takes its vertical bias and white noise
+  // from streams of their own, gnss_vertical_factor times the horizontal ones.
   const double sigma_up_m = 2.0 * config.gnss_white_sigma_m;
   const bool three_d = site.has_ground;
   const double factor = config.GnssVerticalFactor();

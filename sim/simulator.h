@@ -21,8 +21,8 @@
 //   top), the ground. The trajectory is planned in the horizontal: antenna_enu_m is the
 //   antenna's horizontal place, its height follows the ground.
 // - A configuration with none of the 3-D site's keys (SimulationConfig::IsThreeDSite) is the
-//   2-D model, exactly as before: no ground, walls without foot or top, the antenna, the scanner
-//   plane and the site origin in one horizontal plane, GGA heights the site's plus vertical noise.
+//   2-D model: no ground, walls without foot or top, the antenna, the scanner plane and the
+//   site origin in one horizontal plane, GGA heights the site's plus vertical noise.
 // - Angles are radians; headings are TRUE headings, clockwise from true north, in [0, 2π).
 
 #include <Eigen/Core>

@@ -17,8 +17,8 @@
 //   its origin in its x–y plane at the beam's bearing (ccw from its x axis).
 // A configuration with no key of the 3-D site (SimulationConfig::IsThreeDSite) is the 2-D
 // model: no ground, walls without foot or top, the antenna and the scanner at the site origin's
-// height, every beam horizontal. The code below then computes exactly (bit for bit) what the 2-D
-// simulator computed: the tilts are applied only when one is not zero.
+// height, every beam horizontal. The code below then does the 2-D model's arithmetic operation
+// for operation (its files bit for bit): the tilts are applied only when one is not zero.
 
 #include <Eigen/Core>
 #include <optional>

@@ -41,7 +41,7 @@ inline io::ScannerPreset PerfectPreset() {
   return p;
 }
 
-// An upright wall from (x0, y0) to (x1, y1), surveyed as the crew always has.
+// An upright wall from (x0, y0) to (x1, y1), surveyed at the default heights.
 inline sim::SimWall Wall(const std::string& id, const std::string& code, double x0_m,
                          double y0_m, double x1_m, double y1_m, double height_m = 3.0) {
   sim::SimWall wall;
