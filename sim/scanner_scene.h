@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The simulator's scene (surveyed walls, an unsurveyed wall, trees) and its ray casting, and the
-// scanner's range model (Ye & Borenstein 2002; Okubo, Ye & Borenstein 2009: z = Int(n·y + c + ξ)).
-// Internal to sim/.
+// The scanner's range model (Ye & Borenstein 2002; Okubo, Ye & Borenstein 2009:
+// z = Int(n·y + c + ξ)) over the site's surfaces (sim/site_geometry.h). Internal to sim/.
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -15,67 +14,21 @@
 
 #include "common/angles.h"
 #include "sim/simulation_config.h"
+#include "sim/site_geometry.h"
 #include "io/types.h"
 
 #include "sim/trajectory.h"
 
 namespace wallcal::sim::detail {
 
-// ---- Scene and ray casting -------------------------------------------------------------------
-struct Hit {
-  double range_m;
-  double cos_incidence;  // |cos| of the angle between the beam and the surface normal
-  int wall_index;        // into config.walls; -1 for an obstacle
-};
-
-class Scene {
- public:
-  explicit Scene(const sim::SimulationConfig& config) {
-    for (const auto& w : config.walls) walls_.push_back({{w.x0_m, w.y0_m}, {w.x1_m, w.y1_m}});
-    for (const auto& o : config.obstacles) circles_.push_back({{o.x_m, o.y_m}, o.radius_m});
-  }
-
-  // Nearest surface along the ray origin + t·dir, t > 0 (dir a unit vector).
-  std::optional<Hit> Cast(const Eigen::Vector2d& origin, const Eigen::Vector2d& dir) const {
-    constexpr double kMinT = 1e-9;
-    std::optional<Hit> best;
-    auto offer = [&best](double t, double cos_inc, int wall_index) {
-      if (!best || t < best->range_m) best = Hit{t, cos_inc, wall_index};
-    };
-    int wall_index = -1;
-    for (const auto& [p0, p1] : walls_) {
-      ++wall_index;
-      // origin + t·dir = p0 + s·e  =>  t = (w×e)/(dir×e), s = (w×dir)/(dir×e), w = p0 − origin.
-      const Eigen::Vector2d e = p1 - p0;
-      const double denom = Cross(dir, e);
-      const double length = e.norm();
-      if (length <= 0.0 || std::abs(denom) < 1e-12 * length) continue;  // parallel
-      const Eigen::Vector2d w = p0 - origin;
-      const double t = Cross(w, e) / denom;
-      const double s = Cross(w, dir) / denom;
-      if (t > kMinT && s >= 0.0 && s <= 1.0) offer(t, std::abs(denom) / length, wall_index);
-    }
-    for (const auto& [centre, radius] : circles_) {
-      const Eigen::Vector2d f = origin - centre;
-      const double half_b = f.dot(dir);
-      const double disc = half_b * half_b - (f.squaredNorm() - radius * radius);
-      if (disc < 0.0) continue;
-      const double root = std::sqrt(disc);
-      double t = -half_b - root;
-      if (t <= kMinT) t = -half_b + root;  // the scanner inside the obstacle: its far side
-      if (t <= kMinT) continue;
-      const Eigen::Vector2d normal = (origin + t * dir - centre) / radius;
-      offer(t, std::abs(normal.dot(dir)), -1);
-    }
-    return best;
-  }
-
- private:
-  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> walls_;
-  std::vector<std::pair<Eigen::Vector2d, double>> circles_;
-};
-
 // ---- Scanner model ----------------------------------------------------------------------------
+// A footprint's two edges on one surface: one wall (seen obliquely) or the ground. Anything else
+// with their ranges apart is a depth jump.
+inline bool OneSurface(const Hit& a, const Hit& b) {
+  if (a.surface == Surface::kGround) return b.surface == Surface::kGround;
+  return a.wall_index >= 0 && a.wall_index == b.wall_index;
+}
+
 class ScannerModel {
  public:
   ScannerModel(const sim::SimulationConfig& config, const io::ScannerPreset& preset, uint64_t seed)
@@ -98,24 +51,28 @@ class ScannerModel {
   // A range offset added to every return of the following scans (warm-up drift, m).
   void set_drift_m(double drift_m) { drift_m_ = drift_m; }
 
-  io::ScanRecord Scan(const Pose& pose, double stamp_s) {
+  // Beams of the written scans whose return came from the ground (a 3-D site's yard).
+  int64_t ground_returns() const { return ground_returns_; }
+
+  io::ScanRecord Scan(const SimScannerPose& pose, double stamp_s) {
     io::ScanRecord scan;
     scan.stamp_s = stamp_s;
     scan.start_angle_rad = preset_.start_angle_rad;
     scan.angular_step_rad = preset_.angular_step_rad;
     scan.max_range_m = preset_.max_range_m;
     scan.ranges_m.resize(preset_.num_beams);
-    const Eigen::Vector2d origin =
-        pose.antenna_enu_m + Rotate(pose.yaw_rad, {config_.mount_x_m, config_.mount_y_m});
-    const double scanner_yaw_rad = pose.yaw_rad + config_.mount_yaw_rad;
-    const double c = std::cos(scanner_yaw_rad), s = std::sin(scanner_yaw_rad);
-    const auto to_enu = [c, s](const Eigen::Vector2d& v) {
-      return Eigen::Vector2d(c * v.x() - s * v.y(), s * v.x() + c * v.y());
+    const double c = std::cos(pose.yaw_enu_rad), s = std::sin(pose.yaw_enu_rad);
+    // Level (the 2-D model's case): the beam turned by the scanner's yaw, z = 0; tilted: the
+    // tilt first, then the yaw.
+    const auto to_enu = [c, s, &pose](const Eigen::Vector2d& v) {
+      if (!pose.tilted) return Eigen::Vector3d(c * v.x() - s * v.y(), s * v.x() + c * v.y(), 0.0);
+      const Eigen::Vector3d t = pose.tilt * Eigen::Vector3d(v.x(), v.y(), 0.0);
+      return Eigen::Vector3d(c * t.x() - s * t.y(), s * t.x() + c * t.y(), t.z());
     };
     for (int i = 0; i < preset_.num_beams; ++i) {
       const BeamDirections& b = beams_[i];
-      scan.ranges_m[i] =
-          static_cast<float>(Beam(origin, to_enu(b.centre), to_enu(b.lower), to_enu(b.upper)));
+      scan.ranges_m[i] = static_cast<float>(
+          Beam(pose.origin_enu_m, to_enu(b.centre), to_enu(b.lower), to_enu(b.upper)));
     }
     return scan;
   }
@@ -143,8 +100,8 @@ class ScannerModel {
   }
 
   // One beam along `dir`; `lower`, `upper`: the edges of its footprint (±0.4 angular step).
-  double Beam(const Eigen::Vector2d& origin, const Eigen::Vector2d& dir,
-              const Eigen::Vector2d& lower, const Eigen::Vector2d& upper) {
+  double Beam(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
+              const Eigen::Vector3d& lower, const Eigen::Vector3d& upper) {
     const std::optional<Hit> hit = scene_.Cast(origin, dir);
     // One draw per beam whatever happens, so the noise of a beam does not depend on the others.
     const double xi_m = range_noise_.Normal(preset_.range_sigma_m);
@@ -153,19 +110,20 @@ class ScannerModel {
     // returns a range between the foreground and the background. Two sub-rays at ±0.4 of the
     // angular step stand in for the footprint's edges. A jump is two surfaces: both edges on
     // one wall is that wall seen obliquely (its edges' ranges differ by r·tan i·0.8 step, over
-    // 0.1 m beyond about 37° at 8 m), whose return is the surface's, not a mixed one.
+    // 0.1 m beyond about 37° at 8 m), whose return is the surface's, not a mixed one; so are
+    // both edges on the ground.
     std::optional<double> true_range_m;
     if (config_.mixed_pixel_probability > 0.0) {
       const auto lo = scene_.Cast(origin, lower);
       const auto hi = scene_.Cast(origin, upper);
-      const bool one_wall = lo && hi && lo->wall_index >= 0 && lo->wall_index == hi->wall_index;
-      if (lo && hi && !one_wall && std::abs(lo->range_m - hi->range_m) > 0.1) {
+      if (lo && hi && !OneSurface(*lo, *hi) && std::abs(lo->range_m - hi->range_m) > 0.1) {
         const double u = mixed_noise_.Uniform();
         const double v = mixed_noise_.Uniform();
         if (u < config_.mixed_pixel_probability)
           true_range_m = lo->range_m + v * (hi->range_m - lo->range_m);
       }
     }
+    bool from_ground = false;
     if (!true_range_m) {
       if (!hit) return NoReturnValue(NoReturn::kNoEcho);
       // Too oblique a surface sends too little light back (Okubo et al. 2009; Ye & Borenstein 2002: incidence limits).
@@ -173,6 +131,7 @@ class ScannerModel {
         return NoReturnValue(NoReturn::kTooOblique);
       }
       true_range_m = hit->range_m;
+      from_ground = hit->surface == Surface::kGround;
     }
     if (*true_range_m >= preset_.max_range_m) return NoReturnValue(NoReturn::kOutOfRange);
     // Seeds 000/001 simulation model: z = Int(n·y + c + ξ), Int the range resolution.
@@ -181,11 +140,13 @@ class ScannerModel {
     if (z_m >= preset_.max_range_m) return NoReturnValue(NoReturn::kOutOfRange);
     if (z_m < std::max(preset_.min_range_m, preset_.error_codes_below_m))
       return NoReturnValue(NoReturn::kNoEcho);
+    ground_returns_ += from_ground;
     return z_m;
   }
 
   const sim::SimulationConfig& config_;
   const io::ScannerPreset& preset_;
+  int64_t ground_returns_ = 0;
   Scene scene_;
   Noise range_noise_;
   Noise mixed_noise_;

@@ -51,7 +51,7 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
     for (const std::string& tmp : written) fs::remove(tmp, ignored);
   };
   SimulatedSession sim;
-  int64_t scans_written = 0, scans_lost = 0;
+  int64_t scans_written = 0, scans_lost = 0, ground_returns = 0;
   for (size_t k = 0; k < runs.size(); ++k) {
     const std::string scans_tmp = runs[k].second + ".tmp-" + std::to_string(::getpid());
     std::ofstream scans(scans_tmp, std::ios::binary | std::ios::trunc);
@@ -70,6 +70,7 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
       scans.close();
       scans_written += one.scans_written;
       scans_lost += one.scans_lost;
+      ground_returns += one.ground_returns;
       if (k == 0) sim = std::move(one);
     } catch (...) {
       scans.close();
@@ -107,7 +108,21 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
     guess.y_m = std::round(scanner.mount_y_m * 10.0) / 10.0;
     guess.yaw_rad = std::round(scanner.mount_yaw_rad * kRadToDeg / 5.0) * 5.0 / kRadToDeg;
     entry.mount_guess = guess;
+    if (config.write_z_m && !std::isnan(scanner.z_m)) entry.z_m = scanner.z_m;
+    if (config.write_tilt) {
+      entry.tilt.pitch_rad = std::isnan(scanner.pitch_rad) ? 0.0 : scanner.pitch_rad;
+      entry.tilt.roll_rad = std::isnan(scanner.roll_rad) ? 0.0 : scanner.roll_rad;
+      entry.tilt.given = true;
+    }
     spec.scanners.push_back(entry);
+  }
+  // The scanner's height and tilt as the crew measured them (write_z_m, write_tilt): exact, with
+  // the session's default σ.
+  if (config.write_z_m && !std::isnan(config.mount_z_m)) spec.scanner_z_m = config.mount_z_m;
+  if (config.write_tilt) {
+    spec.scanner_tilt.pitch_rad = config.scanner_pitch_rad;
+    spec.scanner_tilt.roll_rad = config.scanner_roll_rad;
+    spec.scanner_tilt.given = true;
   }
   spec.gnss_log = (folder / "gnss.nmea").string();
   spec.heading_log = (folder / "heading.nmea").string();
@@ -132,6 +147,7 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
   SimulateSummary summary;
   summary.scans_written = scans_written;
   summary.scans_lost = scans_lost;
+  summary.ground_returns = ground_returns;
   summary.fixes = static_cast<int64_t>(sim.fixes.size());
   summary.headings = static_cast<int64_t>(sim.headings.size());
   summary.survey_points = static_cast<int64_t>(sim.survey.size());

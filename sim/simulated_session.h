@@ -14,6 +14,7 @@ namespace wallcal::sim {
 // renamed, so an interrupted run leaves no half-written file behind; session.yaml comes last.
 struct SimulateSummary {
   int64_t scans_written = 0, scans_lost = 0, fixes = 0, headings = 0, survey_points = 0;
+  int64_t ground_returns = 0;  // beams that returned from the ground (a 3-D site), all scanners
   double duration_s = 0.0;
 };
 SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& config, uint64_t seed,

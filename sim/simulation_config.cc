@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "sim/simulation_config.h"
 
+#include <cmath>
+#include <string>
 #include <utility>
 
 #include "io/config/options_text.h"
@@ -12,8 +14,9 @@ namespace {
 using namespace io::option_checks;  // NOLINT: the checks every Validate() makes
 
 // The keys a scenario carries beside VisitSimulationConfig's, and their checks: the per-stream
-// delays, the car-like drives, more scanners and the scanner's true range model (NaN: the
-// preset's), which truth.yaml writes only when set (FormatTruthYaml).
+// delays, the car-like drives, more scanners, the scanner's true range model (NaN: the
+// preset's), the 3-D site (NaN: not set) and the attitude stream, which truth.yaml writes only
+// when set (FormatTruthYaml).
 template <class V>
 void VisitOptionalKeys(V& v, SimulationConfig& c) {
   v.Number("gnss_latency_s", c.gnss_latency_s, io::InRange(0.0, 10.0));
@@ -23,6 +26,19 @@ void VisitOptionalKeys(V& v, SimulationConfig& c) {
   v.Number("station_distance_far_m", c.station_distance_far_m, io::NonNegative());
   v.Number("drive_reverse_m", c.drive_reverse_m, io::InRange(0.0, 100.0));
   v.Scaled("weave_turn_deg", c.weave_turn_rad, kRadToDeg, io::InRange(0.0, 90.0));
+  v.Number("yard_grade_pct", c.yard_grade_pct, io::InRange(0.0, 100.0));
+  v.Scaled("yard_grade_dir_deg", c.yard_grade_dir_rad, kRadToDeg, io::InRange(-360.0, 360.0));
+  v.Number("antenna_height_m", c.antenna_height_m, io::AboveUpTo(0.0, 20.0).OrUnset());
+  v.Number("gnss_vertical_factor", c.gnss_vertical_factor, io::InRange(0.0, 100.0).OrUnset());
+  v.Number("mount_z_m", c.mount_z_m, io::InRange(-10.0, 10.0).OrUnset());
+  v.Scaled("scanner_pitch_deg", c.scanner_pitch_rad, kRadToDeg, io::InRange(-45.0, 45.0));
+  v.Scaled("scanner_roll_deg", c.scanner_roll_rad, kRadToDeg, io::InRange(-45.0, 45.0));
+  v.Boolean("write_z_m", c.write_z_m);
+  v.Boolean("write_tilt", c.write_tilt);
+  v.Number("attitude_rate_hz", c.attitude_rate_hz, io::NonNegative());
+  v.Scaled("attitude_white_sigma_deg", c.attitude_white_sigma_rad, kRadToDeg, io::NonNegative());
+  v.Text("attitude_sentence", c.attitude_sentence);
+  v.Boolean("attitude_own_log", c.attitude_own_log);
   v.List("scanners", c.scanners, [](V& item, SimScanner& s) { VisitSimScanner(item, s); });
   std::string survey_mode = c.survey_mode == SurveyMode::kRover ? "rover" : "total_station";
   v.Text("survey_mode", survey_mode);
@@ -68,6 +84,30 @@ void SimulationConfig::Validate() const {
       Fail("simulation.walls[" + std::to_string(i) + "].x1_m/y1_m",
            "a different point from x0_m/y0_m", "the same");
     }
+    for (size_t k = 0; k < wall.survey_heights_m.size(); ++k) {
+      if (wall.survey_heights_m[k] > wall.height_m) {
+        Fail("simulation.walls[" + std::to_string(i) + "].survey_heights_m[" +
+                 std::to_string(k) + "]",
+             "within the wall's height_m (" + Number(wall.height_m) + ")",
+             Number(wall.survey_heights_m[k]));
+      }
+    }
+  }
+  // The scanner above the ground: a 3-D site's antenna stands AntennaHeightM() above it.
+  if (IsThreeDSite()) {
+    auto check_above = [this](const std::string& key, double z_m) {
+      if (!(AntennaHeightM() + z_m > 0.0)) {
+        Fail(key, "> -antenna_height_m (" + Number(-AntennaHeightM()) +
+                      ": the scanner above the ground)",
+             Number(z_m));
+      }
+    };
+    check_above("simulation.mount_z_m", MountZM());
+    for (size_t i = 0; i < scanners.size(); ++i) {
+      if (!std::isnan(scanners[i].z_m)) {
+        check_above("simulation.scanners[" + std::to_string(i) + "].z_m", scanners[i].z_m);
+      }
+    }
   }
   for (size_t i = 0; i < scanners.size(); ++i) {
     for (size_t j = 0; j < i; ++j) {
@@ -79,16 +119,37 @@ void SimulationConfig::Validate() const {
   }
 }
 
+bool SimulationConfig::IsThreeDSite() const {
+  const auto set = [](double value) { return !std::isnan(value); };
+  const auto tilted = [](double value) { return !std::isnan(value) && value != 0.0; };
+  if (yard_grade_pct != 0.0 || set(antenna_height_m) || set(gnss_vertical_factor) ||
+      set(mount_z_m) || scanner_pitch_rad != 0.0 || scanner_roll_rad != 0.0) {
+    return true;
+  }
+  for (const SimWall& wall : walls) {
+    if (tilted(wall.lean_rad)) return true;
+  }
+  for (const SimScanner& scanner : scanners) {
+    if (set(scanner.z_m) || tilted(scanner.pitch_rad) || tilted(scanner.roll_rad)) return true;
+  }
+  return false;
+}
+
 SimulationConfig ForScanner(const SimulationConfig& config, size_t index) {
   SimulationConfig one = config;
   const SimScanner& scanner = config.scanners.at(index);
   one.mount_x_m = scanner.mount_x_m;
   one.mount_y_m = scanner.mount_y_m;
   one.mount_yaw_rad = scanner.mount_yaw_rad;
+  one.mount_z_m = scanner.z_m;
+  one.scanner_pitch_rad = std::isnan(scanner.pitch_rad) ? 0.0 : scanner.pitch_rad;
+  one.scanner_roll_rad = std::isnan(scanner.roll_rad) ? 0.0 : scanner.roll_rad;
   one.scanner_time_offset_s = scanner.scanner_time_offset_s;
   one.scanner_latency_s = scanner.scanner_latency_s;
   one.scanner_noise_stream = static_cast<uint32_t>(index);
   one.scanners.clear();
+  // The site is the vehicle's, not the scanner's: every scanner's run sees the same one.
+  if (config.IsThreeDSite() && !one.IsThreeDSite()) one.antenna_height_m = config.AntennaHeightM();
   return one;
 }
 
@@ -115,6 +176,9 @@ SimulationConfig ReadTruthYaml(const std::string& file) {
           mount.Number("yaw", config.mount_yaw_rad);
           double yaw_deg = 0.0;
           mount.Number("yaw_deg", yaw_deg);
+          mount.Number("z", config.mount_z_m);
+          mount.Scaled("pitch_deg", config.scanner_pitch_rad, kRadToDeg);
+          mount.Scaled("roll_deg", config.scanner_roll_rad, kRadToDeg);
         });
         top.Allow({"seed"});
       },
@@ -133,6 +197,16 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
   out += "  y: " + io::ShortestNumber(config.mount_y_m) + "\n";
   out += "  yaw: " + io::ShortestNumber(config.mount_yaw_rad) + "\n";
   out += "  yaw_deg: " + io::ShortestScaled(config.mount_yaw_rad, kRadToDeg) + "\n";
+  // The 3-D mount only when set: a 2-D scenario's truth.yaml has no such keys.
+  if (!std::isnan(config.mount_z_m)) {
+    out += "  z: " + io::ShortestNumber(config.mount_z_m) + "  # up from the antenna (m)\n";
+  }
+  if (config.scanner_pitch_rad != 0.0 || config.scanner_roll_rad != 0.0) {
+    out += "  pitch_deg: " + io::ShortestScaled(config.scanner_pitch_rad, kRadToDeg) +
+           "  # nose up +\n";
+    out += "  roll_deg: " + io::ShortestScaled(config.scanner_roll_rad, kRadToDeg) +
+           "  # right side down +\n";
+  }
   out += "seed: " + std::to_string(seed) + "\n";
   out += "simulation:\n";
   out += simulation.Block(2);
@@ -153,6 +227,37 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
   }
   if (config.weave_turn_rad != 0.0) {
     out += "  weave_turn_deg: " + io::ShortestScaled(config.weave_turn_rad, kRadToDeg) + "\n";
+  }
+  // The 3-D site's keys, each only when set.
+  if (config.yard_grade_pct != 0.0) {
+    out += "  yard_grade_pct: " + io::ShortestNumber(config.yard_grade_pct) + "\n";
+  }
+  if (config.yard_grade_dir_rad != 0.0) {
+    out += "  yard_grade_dir_deg: " + io::ShortestScaled(config.yard_grade_dir_rad, kRadToDeg) +
+           "\n";
+  }
+  for (const auto& [key, value] :
+       {std::pair<const char*, double>{"antenna_height_m", config.antenna_height_m},
+        {"gnss_vertical_factor", config.gnss_vertical_factor},
+        {"mount_z_m", config.mount_z_m}}) {
+    if (!std::isnan(value)) out += std::string("  ") + key + ": " + io::ShortestNumber(value) + "\n";
+  }
+  for (const auto& [key, value] :
+       {std::pair<const char*, double>{"scanner_pitch_deg", config.scanner_pitch_rad},
+        {"scanner_roll_deg", config.scanner_roll_rad}}) {
+    if (value != 0.0) {
+      out += std::string("  ") + key + ": " + io::ShortestScaled(value, kRadToDeg) + "\n";
+    }
+  }
+  if (!config.write_z_m) out += "  write_z_m: false\n";
+  if (config.write_tilt) out += "  write_tilt: true\n";
+  if (config.attitude_rate_hz != 0.0) {
+    out += "  attitude_rate_hz: " + io::ShortestNumber(config.attitude_rate_hz) + "\n";
+    out += "  attitude_white_sigma_deg: " +
+           io::ShortestScaled(config.attitude_white_sigma_rad, kRadToDeg) + "\n";
+    out += "  attitude_sentence: " + config.attitude_sentence + "\n";
+    out += std::string("  attitude_own_log: ") + (config.attitude_own_log ? "true" : "false") +
+           "\n";
   }
   if (!config.scanners.empty()) {
     out += "  scanners:\n";

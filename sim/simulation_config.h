@@ -17,7 +17,10 @@ namespace wallcal::sim {
 
 using io::kNaN;
 
-// A straight wall in the simulated site's local ground frame (east, north, metres).
+// A straight wall in the simulated site's local ground frame (east, north, metres). In the 3-D
+// site (SimulationConfig::IsThreeDSite, sim/site_geometry.h) it stands on the ground from its
+// foot up to height_m (measured vertically) and may lean; in the 2-D model it has neither foot
+// nor top.
 struct SimWall {
   std::string id;
   std::string code;        // survey code; empty: not surveyed (a distractor wall)
@@ -25,6 +28,15 @@ struct SimWall {
   double x1_m = 0.0, y1_m = 0.0;  // other end
   double height_m = 3.0;
   double survey_spacing_m = 1.0;  // total-station point spacing along the wall
+  // The wall's plane tilted from vertical about its base line (rad): positive, its top leans
+  // towards the left of the direction from (x0, y0) to (x1, y1); a point of its face h above
+  // the foot lies h·tan(lean) from the base line. NaN: not set (vertical; key lean_deg).
+  double lean_rad = kNaN;
+  // The heights above the wall's foot (m, each within [0, height_m]) at which the crew measures
+  // points on its face at every survey station along it. Empty: 0.5 m and height_m − 0.5 m
+  // with a total station, the foot (0 m) with a rover.
+  std::vector<double> survey_heights_m;
+  double LeanRad() const { return std::isnan(lean_rad) ? 0.0 : lean_rad; }
 };
 
 // A round obstacle (tree trunk, person) in the local ground frame.
@@ -55,6 +67,11 @@ struct SimScanner {
   double mount_yaw_rad = 0.0;
   double scanner_time_offset_s = 0.0;
   double scanner_latency_s = 0.0;
+  // Its height relative to the antenna and its tilt (SimulationConfig mount_z_m,
+  // scanner_pitch_rad, scanner_roll_rad); NaN: not set (0).
+  double z_m = kNaN;
+  double pitch_rad = kNaN;
+  double roll_rad = kNaN;
 };
 
 // How the simulated crew surveys the walls (SimulationConfig::survey_mode).
@@ -70,10 +87,33 @@ struct SimulationConfig {
   std::string scanner_model = "sick_lms291";
   double log_every_n = 1;  // log every n-th scan (>= 1)
   double scanner_time_offset_s = 0.0;  // true offset: logged scan time = true time - this
-  // True mount (vehicle frame: x forward, y left)
+  // True mount (vehicle frame: x forward, y left, z up)
   double mount_x_m = 2.57;
   double mount_y_m = 0.056;
   double mount_yaw_rad = 0.048869;  // 2.8 deg
+  // ---- The 3-D site (sim/site_geometry.h). Any of these keys set (IsThreeDSite) makes the
+  // site three-dimensional: a ground plane through the site origin at site_height_m, graded
+  // yard_grade_pct % rising towards yard_grade_dir_rad; the vehicle standing on it (its roll and
+  // pitch follow the ground under its heading) with the antenna antenna_height_m above it along
+  // its normal; walls from the ground up to their height_m; a GGA height that is the antenna's,
+  // off by vertical RTK noise gnss_vertical_factor times the horizontal. None set: the 2-D
+  // model (no ground, antenna and scanner plane at the site origin's height). Each is written to
+  // truth.yaml only when set. NaN: not set (the value in brackets).
+  double yard_grade_pct = 0.0;        // rise per 100 m along the steepest direction (>= 0)
+  double yard_grade_dir_rad = 0.0;    // where the ground rises towards: cw from true north
+  double antenna_height_m = kNaN;     // [3.0] antenna above the ground, along its normal
+  double gnss_vertical_factor = kNaN;  // [2.0] vertical RTK noise / horizontal, white and bias
+  // The scanner's origin relative to the antenna along the vehicle's z axis (m, negative below
+  // it) [0]; its tilt on the vehicle: scanner frame = R_v·Rz(mount_yaw)·Ry(−pitch)·Rx(roll),
+  // pitch positive nose up, roll positive right side down.
+  double mount_z_m = kNaN;
+  double scanner_pitch_rad = 0.0;
+  double scanner_roll_rad = 0.0;
+  // What the crew writes into session.yaml: scanner.z_m when write_z_m and mount_z_m is set
+  // (each scanner's z_m likewise); scanner.pitch_deg/roll_deg when write_tilt (the crew does
+  // not always know the tilt).
+  bool write_z_m = true;
+  bool write_tilt = false;
   // Walls and clutter (local east/north metres relative to the site origin)
   std::vector<SimWall> walls;
   std::vector<SimObstacle> obstacles;
@@ -118,9 +158,10 @@ struct SimulationConfig {
   // Attitude stream (the vehicle's roll and pitch), sampled at attitude_rate_hz (0: none), each
   // axis off by attitude_white_sigma_rad. Text sessions: $PASHR sentences (attitude_sentence
   // "pashr") or $PTNL,AVR ("avr"), in the heading log or, with attitude_own_log, in a log of
-  // their own (attitude.nmea); recordings: a sensor_msgs/Imu topic.
+  // their own (attitude.nmea); recordings: a sensor_msgs/Imu topic. Written to truth.yaml only
+  // when attitude_rate_hz is not 0.
   double attitude_rate_hz = 0.0;
-  double attitude_white_sigma_rad = 0.0017;  // 0.1 deg
+  double attitude_white_sigma_rad = 0.1 * kDegToRad;
   std::string attitude_sentence = "pashr";
   bool attitude_own_log = false;
   // Survey. kTotalStation: a total-station survey in its own frame, tied by two RTK control
@@ -178,6 +219,15 @@ struct SimulationConfig {
   // range noise is independent while the GNSS, heading and survey draws are shared. Set by the
   // session writer, not a key.
   uint32_t scanner_noise_stream = 0;
+  // The site is three-dimensional: a key of the 3-D site above is set (a wall's lean_deg, a
+  // scanner's z_m, pitch_deg or roll_deg count too). False: the 2-D model.
+  bool IsThreeDSite() const;
+  // The 3-D site's values, with their defaults where a key is not set.
+  double AntennaHeightM() const { return std::isnan(antenna_height_m) ? 3.0 : antenna_height_m; }
+  double GnssVerticalFactor() const {
+    return std::isnan(gnss_vertical_factor) ? 2.0 : gnss_vertical_factor;
+  }
+  double MountZM() const { return std::isnan(mount_z_m) ? 0.0 : mount_z_m; }
   bool HasScannerTruth() const {
     return !std::isnan(truth_scale_n) || !std::isnan(truth_offset_c_m) ||
            !std::isnan(truth_sigma_m) || !std::isnan(truth_resolution_m) ||
@@ -188,9 +238,10 @@ struct SimulationConfig {
 };
 
 // The keys every scenario and truth.yaml carry and their checks, for any visitor of
-// io/config/options_map.h. The per-stream delays, the car-like drives, more scanners and the
-// scanner's true range model are read beside them (ReadSimulationConfig) and written only when
-// set.
+// io/config/options_map.h. The per-stream delays, the car-like drives, more scanners, the
+// scanner's true range model and the 3-D site are read beside them (ReadSimulationConfig) and
+// written only when set; so are a wall's lean_deg and survey_heights_m and a scanner's z_m,
+// pitch_deg and roll_deg (unset, they are left out of its flow map).
 template <class V>
 void VisitSimWall(V& v, SimWall& w) {
   v.Text("id", w.id, io::NonEmpty());
@@ -201,6 +252,8 @@ void VisitSimWall(V& v, SimWall& w) {
   v.Number("y1_m", w.y1_m, io::Finite());
   v.Number("height_m", w.height_m, io::Positive());
   v.Number("survey_spacing_m", w.survey_spacing_m, io::Positive());
+  v.Scaled("lean_deg", w.lean_rad, kRadToDeg, io::InRange(-30.0, 30.0).OrUnset());
+  v.Numbers("survey_heights_m", w.survey_heights_m, io::NonNegative());
 }
 
 template <class V>
@@ -218,6 +271,9 @@ void VisitSimScanner(V& v, SimScanner& s) {
   v.Scaled("mount_yaw_deg", s.mount_yaw_rad, kRadToDeg, io::InRange(-180.0, 180.0));
   v.Number("scanner_time_offset_s", s.scanner_time_offset_s, io::Finite());
   v.Number("scanner_latency_s", s.scanner_latency_s, io::InRange(0.0, 10.0));
+  v.Number("z_m", s.z_m, io::InRange(-10.0, 10.0).OrUnset());
+  v.Scaled("pitch_deg", s.pitch_rad, kRadToDeg, io::InRange(-45.0, 45.0).OrUnset());
+  v.Scaled("roll_deg", s.roll_rad, kRadToDeg, io::InRange(-45.0, 45.0).OrUnset());
 }
 
 template <class V>
@@ -254,10 +310,6 @@ void VisitSimulationConfig(V& v, SimulationConfig& c) {
   v.Scaled("heading_drift_deg_per_h", c.heading_drift_rad_per_s, kDegPerHourPerRadPerS,
            io::Finite());
   v.Scaled("heading_bias_deg", c.heading_bias_rad, kRadToDeg, io::Finite());
-  v.Number("attitude_rate_hz", c.attitude_rate_hz, io::NonNegative());
-  v.Scaled("attitude_white_sigma_deg", c.attitude_white_sigma_rad, kRadToDeg, io::NonNegative());
-  v.Text("attitude_sentence", c.attitude_sentence);
-  v.Boolean("attitude_own_log", c.attitude_own_log);
   v.Number("total_station_sigma_m", c.total_station_sigma_m, io::NonNegative());
   v.Number("control_sigma_m", c.control_sigma_m, io::NonNegative());
   v.Scaled("survey_rotation_deg", c.survey_rotation_rad, kRadToDeg, io::Finite());
@@ -272,16 +324,19 @@ void VisitSimulationConfig(V& v, SimulationConfig& c) {
 // maps. Throws io::InputError "file:line: ..." for a bad or unknown key.
 SimulationConfig ReadSimulationConfig(const std::string& file);
 
-// The one-scanner configuration of config.scanners[index]: its mount and clock in the
-// single scanner's fields, its own noise streams (scanner_noise_stream = index), no list.
+// The one-scanner configuration of config.scanners[index]: its mount (height and tilt
+// included) and clock in the single scanner's fields, its own noise streams
+// (scanner_noise_stream = index), no list; a 3-D site stays 3-D (the antenna's height is set
+// when only another scanner's keys made it so).
 SimulationConfig ForScanner(const SimulationConfig& config, size_t index);
 
 // truth.yaml as written by FormatTruthYaml: the settings under `simulation:`, the exact mount
 // under `truth:`.
 SimulationConfig ReadTruthYaml(const std::string& file);
 
-// truth.yaml: `truth: {x, y, yaw, yaw_deg}` (the true mount), `seed:` and `simulation:` with
-// every SimulationConfig key (names as in ReadSimulationConfig). ReadTruthYaml reads it back.
+// truth.yaml: `truth: {x, y, yaw, yaw_deg}` (the true mount; with z when mount_z_m is set,
+// pitch_deg and roll_deg when the scanner is tilted), `seed:` and `simulation:` with every
+// SimulationConfig key (names as in ReadSimulationConfig). ReadTruthYaml reads it back.
 std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed);
 
 }  // namespace wallcal::sim

@@ -44,7 +44,7 @@ std::vector<std::pair<double, double>> FloatPeriods(const sim::SimulationConfig&
 }
 
 std::vector<io::GnssFix> SimulateGnss(const sim::SimulationConfig& config,
-                                      const Trajectory& trajectory,
+                                      const Trajectory& trajectory, const Site& site,
                                       const GeographicLib::LocalCartesian& enu, uint64_t seed) {
   const auto float_periods = FloatPeriods(config, trajectory.duration_s(), seed);
   Noise bias_noise(seed, Stream::kGnssBias);
@@ -60,8 +60,20 @@ std::vector<io::GnssFix> SimulateGnss(const sim::SimulationConfig& config,
   Eigen::Vector2d bias(bias_noise.Normal(sigma_b), bias_noise.Normal(sigma_b));
   // GST σ per horizontal axis: the bias and white parts are independent.
   const double sigma_fixed_m = std::hypot(sigma_b, config.gnss_white_sigma_m);
-  // Vertical RTK scatter is typically about twice the horizontal (assumption; 2-D model only).
+  // Vertical RTK scatter is typically about twice the horizontal (assumption). The 2-D model
+  // draws it from the horizontal white stream; a 3-D site draws (and discards) that number, so
+  // that its horizontal noise is its level twin's, and takes its vertical bias and white noise
+  // from streams of their own, gnss_vertical_factor times the horizontal ones.
   const double sigma_up_m = 2.0 * config.gnss_white_sigma_m;
+  const bool three_d = site.has_ground;
+  const double factor = config.GnssVerticalFactor();
+  std::optional<Noise> vertical_bias_noise, vertical_white_noise;
+  double vertical_bias_m = 0.0;
+  if (three_d) {
+    vertical_bias_noise.emplace(seed, Stream::kGnssVerticalBias);
+    vertical_white_noise.emplace(seed, Stream::kGnssVerticalWhite);
+    vertical_bias_m = vertical_bias_noise->Normal(factor * sigma_b);
+  }
 
   std::vector<io::GnssFix> fixes;
   const int64_t count = SampleCount(trajectory.duration_s(), config.gnss_rate_hz);
@@ -75,6 +87,12 @@ std::vector<io::GnssFix> SimulateGnss(const sim::SimulationConfig& config,
     const Eigen::Vector2d white(white_noise.Normal(config.gnss_white_sigma_m),
                                 white_noise.Normal(config.gnss_white_sigma_m));
     const double up_m = white_noise.Normal(sigma_up_m);
+    if (three_d && j > 0) {
+      vertical_bias_m =
+          phi * vertical_bias_m + vertical_bias_noise->Normal(factor * sigma_b * drive);
+    }
+    const double vertical_white_m =
+        three_d ? vertical_white_noise->Normal(factor * config.gnss_white_sigma_m) : 0.0;
     const bool is_float =
         std::any_of(float_periods.begin(), float_periods.end(),
                     [t_s](const auto& p) { return t_s >= p.first && t_s < p.second; });
@@ -90,7 +108,10 @@ std::vector<io::GnssFix> SimulateGnss(const sim::SimulationConfig& config,
       fix.utc_epoch_s = fix.stamp_s;
       fix.stamp_s += config.gnss_latency_s + config.gnss_jitter_s * jitter_noise.Uniform();
     }
-    enu.Reverse(p.x(), p.y(), scale * up_m, fix.lat_deg, fix.lon_deg, fix.height_m);
+    const double height_m = three_d ? site.AntennaUpM(pose.antenna_enu_m) +
+                                          scale * (vertical_bias_m + vertical_white_m)
+                                    : scale * up_m;
+    enu.Reverse(p.x(), p.y(), height_m, fix.lat_deg, fix.lon_deg, fix.height_m);
     fix.quality = is_float ? 5 : 4;
     fix.satellites = 14;
     fix.hdop = 0.7;
@@ -127,9 +148,57 @@ std::vector<io::HeadingSample> SimulateHeadings(const sim::SimulationConfig& con
   return headings;
 }
 
+// ---- Attitude -------------------------------------------------------------------------------
+// The vehicle's true roll and pitch on the ground (Site::AttitudeAt) plus white noise of
+// attitude_white_sigma_rad on each, roll then pitch drawn per sample.
+std::vector<io::AttitudeSample> SimulateAttitudes(const sim::SimulationConfig& config,
+                                                  const Trajectory& trajectory, const Site& site,
+                                                  uint64_t seed) {
+  std::vector<io::AttitudeSample> attitudes;
+  if (!(config.attitude_rate_hz > 0.0)) return attitudes;
+  Noise noise(seed, Stream::kAttitude);
+  const double sigma_rad = config.attitude_white_sigma_rad;
+  const int64_t count = SampleCount(trajectory.duration_s(), config.attitude_rate_hz);
+  attitudes.reserve(count);
+  for (int64_t j = 0; j < count; ++j) {
+    const double t_s = j / config.attitude_rate_hz;
+    const VehicleAttitude truth = site.AttitudeAt(trajectory.At(t_s).yaw_rad);
+    io::AttitudeSample sample;
+    sample.stamp_s = config.start_time_s + t_s + config.heading_latency_s;
+    sample.roll_rad = truth.roll_rad + noise.Normal(sigma_rad);
+    sample.pitch_rad = truth.pitch_rad + noise.Normal(sigma_rad);
+    sample.roll_sigma_rad = sigma_rad;
+    sample.pitch_sigma_rad = sigma_rad;
+    attitudes.push_back(sample);
+  }
+  return attitudes;
+}
+
+// The true pose at true time t_s: the planned (horizontal) pose on the site's ground.
+SimTruthPose TruthAt(const sim::SimulationConfig& config, const Site& site,
+                     const Trajectory& trajectory, double t_s) {
+  const Pose pose = trajectory.At(t_s);
+  SimTruthPose truth;
+  truth.stamp_s = config.start_time_s + t_s;
+  truth.antenna_enu_m = pose.antenna_enu_m;
+  truth.yaw_enu_rad = pose.yaw_rad;
+  truth.stationary = pose.stationary;
+  const VehicleAttitude attitude = site.AttitudeAt(pose.yaw_rad);
+  truth.roll_rad = attitude.roll_rad;
+  truth.pitch_rad = attitude.pitch_rad;
+  truth.antenna_up_m = site.AntennaUpM(pose.antenna_enu_m);
+  return truth;
+}
+
+SimScannerPose ScannerPoseAt(const ScannerMount& mount, const SimTruthPose& pose) {
+  return ScannerPoseOf(mount, pose.antenna_enu_m, pose.antenna_up_m, pose.yaw_enu_rad,
+                       {pose.roll_rad, pose.pitch_rad});
+}
+
 // ---- Survey ---------------------------------------------------------------------------------
 // Total-station frame: x axis rotated survey_rotation_rad ccw from true east, origin at
-// (survey_origin_x_m, survey_origin_y_m) ENU; z up from the ground at the wall foot (z = 0).
+// (survey_origin_x_m, survey_origin_y_m) ENU; z the ENU up from the site origin (the 2-D
+// model's ground and wall foot: z = 0).
 struct SurveyFrame {
   Eigen::Vector2d origin_enu_m;
   double rotation_rad;
@@ -149,6 +218,14 @@ std::vector<Eigen::Vector2d> SurveyStationsAlong(const SimWall& w) {
   std::vector<Eigen::Vector2d> stations;
   for (int k = 0; k <= steps; ++k) stations.push_back(w0 + (k * spacing_m / length_m) * (w1 - w0));
   return stations;
+}
+
+// The heights above a wall's foot at which the crew measures its face: the wall's own, or by
+// default 0.5 m and height − 0.5 m (total station), the foot (rover).
+std::vector<double> SurveyHeightsM(const SimWall& w, SurveyMode mode) {
+  if (!w.survey_heights_m.empty()) return w.survey_heights_m;
+  if (mode == SurveyMode::kRover) return {0.0};
+  return {0.5, w.height_m - 0.5};
 }
 
 }  // namespace
@@ -242,21 +319,22 @@ double RunDurationS(const sim::SimulationConfig& config) {
 std::vector<SimTruthPose> TruePosesAt(const sim::SimulationConfig& config,
                                       const std::vector<double>& t_s) {
   const Trajectory trajectory = PlanTrajectory(config, CheckTrajectoryConfig(config));
+  const Site site = SiteOf(config);
   std::vector<SimTruthPose> poses;
   poses.reserve(t_s.size());
-  for (double t : t_s) {
-    const Pose pose = trajectory.At(t);
-    poses.push_back({config.start_time_s + t, pose.antenna_enu_m, pose.yaw_rad, pose.stationary});
-  }
+  for (double t : t_s) poses.push_back(TruthAt(config, site, trajectory, t));
   return poses;
+}
+
+SimScannerPose TrueScannerPose(const sim::SimulationConfig& config, const SimTruthPose& pose) {
+  return ScannerPoseAt(MountOf(config), pose);
 }
 
 std::vector<SimBeamHit> TrueBeamHits(const sim::SimulationConfig& config,
                                      const io::ScannerPreset& preset, const SimTruthPose& pose) {
   const Scene scene(config);
-  const Eigen::Vector2d origin =
-      pose.antenna_enu_m + Rotate(pose.yaw_enu_rad, {config.mount_x_m, config.mount_y_m});
-  const double scanner_yaw_rad = pose.yaw_enu_rad + config.mount_yaw_rad;
+  const SimScannerPose scanner = TrueScannerPose(config, pose);
+  const Eigen::Vector3d& origin = scanner.origin_enu_m;
   const double cos_max_incidence = std::cos(preset.max_incidence_rad);
   const double half_rad = 0.4 * preset.angular_step_rad;  // footprint edges, as in ScannerModel
   std::vector<SimBeamHit> hits;
@@ -264,20 +342,21 @@ std::vector<SimBeamHit> TrueBeamHits(const sim::SimulationConfig& config,
   for (int i = 0; i < preset.num_beams; ++i) {
     SimBeamHit hit;
     hit.bearing_rad = preset.start_angle_rad + i * preset.angular_step_rad;
-    const double enu_rad = scanner_yaw_rad + hit.bearing_rad;
-    const std::optional<Hit> centre = scene.Cast(origin, Direction(enu_rad));
+    const std::optional<Hit> centre = scene.Cast(origin, scanner.BeamEnu(hit.bearing_rad));
     if (centre) {
       hit.range_m = centre->range_m;
       hit.wall_index = centre->wall_index;
+      hit.ground = centre->surface == Surface::kGround;
       hit.cos_incidence = centre->cos_incidence;
       hit.returned = centre->cos_incidence >= cos_max_incidence &&
                      centre->range_m < preset.max_range_m;
     }
-    const auto lo = scene.Cast(origin, Direction(enu_rad - half_rad));
-    const auto hi = scene.Cast(origin, Direction(enu_rad + half_rad));
-    // As in ScannerModel: a jump needs two surfaces (one wall seen obliquely is none).
-    const bool one_wall = lo && hi && lo->wall_index >= 0 && lo->wall_index == hi->wall_index;
-    hit.footprint_edge = lo && hi && !one_wall && std::abs(lo->range_m - hi->range_m) > 0.1;
+    const auto lo = scene.Cast(origin, scanner.BeamEnu(hit.bearing_rad - half_rad));
+    const auto hi = scene.Cast(origin, scanner.BeamEnu(hit.bearing_rad + half_rad));
+    // As in ScannerModel: a jump needs two surfaces (one wall seen obliquely is none, nor is
+    // the ground).
+    hit.footprint_edge =
+        lo && hi && !OneSurface(*lo, *hi) && std::abs(lo->range_m - hi->range_m) > 0.1;
     hits.push_back(hit);
   }
   return hits;
@@ -296,6 +375,7 @@ SimulatedSession Simulate(const sim::SimulationConfig& config, const io::Scanner
 
   SimulatedSession session;
   const Trajectory trajectory = PlanTrajectory(config, *first_surveyed);
+  const Site site = SiteOf(config);
   const double duration_s = trajectory.duration_s();
   // The site's tangent plane: ENU axes are TRUE east/north, not the UTM grid.
   const GeographicLib::LocalCartesian enu(config.site_lat_deg, config.site_lon_deg,
@@ -310,34 +390,36 @@ SimulatedSession Simulate(const sim::SimulationConfig& config, const io::Scanner
       static_cast<int64_t>(std::floor(duration_s * kTruthPeriodDivisor + 1e-9)) + 1;
   session.truth_poses.reserve(truth_count);
   for (int64_t k = 0; k < truth_count; ++k) {
-    const double t_s = k / kTruthPeriodDivisor;
-    const Pose pose = trajectory.At(t_s);
-    session.truth_poses.push_back(
-        {config.start_time_s + t_s, pose.antenna_enu_m, pose.yaw_rad, pose.stationary});
+    session.truth_poses.push_back(TruthAt(config, site, trajectory, k / kTruthPeriodDivisor));
   }
 
-  session.fixes = SimulateGnss(config, trajectory, enu, seed);
+  session.fixes = SimulateGnss(config, trajectory, site, enu, seed);
   session.headings = SimulateHeadings(config, trajectory, seed);
+  session.attitudes = SimulateAttitudes(config, trajectory, site, seed);
 
-  // Rover survey: the pole's tip at the foot of the wall every survey_spacing_m, measured
-  // straight in the GNSS's frame (the simulator's WGS84); no control points.
+  // Rover survey: the pole's tip at the foot of the wall (or on its face at survey_heights_m)
+  // every survey_spacing_m, measured straight in the GNSS's frame (the simulator's WGS84); no
+  // control points.
   if (config.survey_mode == SurveyMode::kRover) {
     Noise rover_noise(seed, Stream::kSurvey);
     int number = 0;
     for (const auto& w : config.walls) {
       if (w.code.empty()) continue;
       for (const Eigen::Vector2d& p_enu : SurveyStationsAlong(w)) {
-        io::SurveyPoint point;
-        char id[16];
-        std::snprintf(id, sizeof(id), "R%03d", ++number);
-        point.id = id;
-        point.code = w.code;
-        point.frame = io::SurveyFrame::kGeodetic;
-        const double e = p_enu.x() + rover_noise.Normal(config.rover_sigma_m);
-        const double n = p_enu.y() + rover_noise.Normal(config.rover_sigma_m);
-        const double u = rover_noise.Normal(2.0 * config.rover_sigma_m);
-        enu.Reverse(e, n, u, point.lat_deg, point.lon_deg, point.z_m);
-        session.survey.push_back(point);
+        for (double h_m : SurveyHeightsM(w, config.survey_mode)) {
+          const Eigen::Vector3d q = WallFacePoint(site, w, p_enu, h_m);
+          io::SurveyPoint point;
+          char id[16];
+          std::snprintf(id, sizeof(id), "R%03d", ++number);
+          point.id = id;
+          point.code = w.code;
+          point.frame = io::SurveyFrame::kGeodetic;
+          const double e = q.x() + rover_noise.Normal(config.rover_sigma_m);
+          const double n = q.y() + rover_noise.Normal(config.rover_sigma_m);
+          const double u = q.z() + rover_noise.Normal(2.0 * config.rover_sigma_m);
+          enu.Reverse(e, n, u, point.lat_deg, point.lon_deg, point.z_m);
+          session.survey.push_back(point);
+        }
       }
     }
   }
@@ -351,6 +433,7 @@ SimulatedSession Simulate(const sim::SimulationConfig& config, const io::Scanner
     const double sigma_ts = config.total_station_sigma_m;
     auto add_point = [&](const std::string& id, const std::string& code,
                          const Eigen::Vector2d& p_enu, double z_m) {
+      // The total station is levelled, its z the ENU up.
       const Eigen::Vector2d p_station = frame.ToStation(p_enu);
       io::SurveyPoint point;
       point.id = id;
@@ -371,25 +454,31 @@ SimulatedSession Simulate(const sim::SimulationConfig& config, const io::Scanner
     for (int i = 0; i < 2; ++i) {
       const Eigen::Vector2d p_enu = a + fractions[i] * (b - a) + 2.0 * out_normal;
       const std::string id = "C" + std::to_string(i + 1);
-      add_point(id, "CTRL", p_enu, 0.0);
+      // On the ground: a 3-D site's graded yard, the 2-D model's z = 0.
+      const double ground_m = site.has_ground ? site.GroundUpM(p_enu) : 0.0;
+      add_point(id, "CTRL", p_enu, ground_m);
       io::ControlPoint control;
       control.id = id;
       const double e = p_enu.x() + control_noise.Normal(config.control_sigma_m);
       const double n = p_enu.y() + control_noise.Normal(config.control_sigma_m);
-      const double u = control_noise.Normal(config.control_sigma_m);
+      const double u_noise_m = control_noise.Normal(config.control_sigma_m);
+      const double u = site.has_ground ? ground_m + u_noise_m : u_noise_m;
       enu.Reverse(e, n, u, control.lat_deg, control.lon_deg, control.h_m);
       session.control.push_back(control);
     }
 
-    // Wall points every survey_spacing_m from the first end, at 0.5 m and height − 0.5 m.
+    // Wall points every survey_spacing_m from the first end, on the face at each survey height
+    // above the foot (0.5 m and height − 0.5 m unless the wall says): with a lean, the points
+    // at two heights give it.
     int number = 0;
     for (const auto& w : config.walls) {
       if (w.code.empty()) continue;
       for (const Eigen::Vector2d& p_enu : SurveyStationsAlong(w)) {
-        for (double z_m : {0.5, w.height_m - 0.5}) {
+        for (double h_m : SurveyHeightsM(w, config.survey_mode)) {
+          const Eigen::Vector3d q = WallFacePoint(site, w, p_enu, h_m);
           char id[16];
           std::snprintf(id, sizeof(id), "W%03d", ++number);
-          add_point(id, w.code, p_enu, z_m);
+          add_point(id, w.code, {q.x(), q.y()}, q.z());
         }
       }
     }
@@ -403,6 +492,7 @@ SimulatedSession Simulate(const sim::SimulationConfig& config, const io::Scanner
   const uint64_t scanner_seed =
       seed ^ (static_cast<uint64_t>(config.scanner_noise_stream) * 0x9E3779B97F4A7C15ull);
   ScannerModel scanner(config, true_preset, scanner_seed);
+  const ScannerMount mount = MountOf(config);
   Noise lost_noise(scanner_seed, Stream::kLostScan);
   const int64_t log_every = std::max<int64_t>(1, std::llround(config.log_every_n));
   const int64_t scan_count =
@@ -420,12 +510,13 @@ SimulatedSession Simulate(const sim::SimulationConfig& config, const io::Scanner
     // ≤ 13 mm during a sweep. At the stations that is exact; in continuous mode it leaves out
     // the sweep's motion skew (the tool treats scans as instantaneous too).
     scanner.set_drift_m(RangeDriftM(config, t_s));
-    const io::ScanRecord scan =
-        scanner.Scan(trajectory.At(t_s), config.start_time_s + t_s - config.scanner_time_offset_s +
-                                             config.scanner_latency_s);
+    const io::ScanRecord scan = scanner.Scan(
+        ScannerPoseAt(mount, TruthAt(config, site, trajectory, t_s)),
+        config.start_time_s + t_s - config.scanner_time_offset_s + config.scanner_latency_s);
     ++session.scans_written;
     if (sink) sink(scan);
   }
+  session.ground_returns = scanner.ground_returns();
   return session;
 }
 

@@ -37,6 +37,9 @@ enum class Stream : uint32_t {
   kSurvey = 8,
   kControl = 9,
   kGnssJitter = 10,
+  kGnssVerticalBias = 11,   // drawn only in a 3-D site
+  kGnssVerticalWhite = 12,  // drawn only in a 3-D site
+  kAttitude = 13,
 };
 
 class Noise {

@@ -12,8 +12,10 @@
 //   v.Scaled(key, double&, file_per_unit, check)  the file holds value * file_per_unit (degrees)
 //   v.Integer(key, int&, check), v.Boolean(key, bool&), v.Text(key, std::string&, check)
 //   v.List(key, std::vector<T>&, visit_item)  a list of maps, each visited by visit_item(v, T&)
+//   v.Numbers(key, std::vector<double>&, check)  a list of numbers ([0.3, 2.5]), each checked
 // Every key is optional: an absent key leaves the default of the declaration. Every check is
-// optional too (Check{}: any value the reader takes).
+// optional too (Check{}: any value the reader takes). A key left unset (a NaN with an
+// OrUnset() check, an empty list of numbers) is not written (io/config/options_text.h).
 
 #include <functional>
 #include <string>
@@ -104,6 +106,12 @@ class OptionChecker {
   void Text(const std::string& key, const std::string& value, const Check& check = {}) const {
     check.Apply(prefix_ + key, value);
   }
+  void Numbers(const std::string& key, const std::vector<double>& values,
+               const Check& check = {}) const {
+    for (size_t i = 0; i < values.size(); ++i) {
+      check.Apply(prefix_ + key + "[" + std::to_string(i) + "]", values[i]);
+    }
+  }
   template <class T, class F>
   void List(const std::string& key, std::vector<T>& items, F visit_item) const {
     for (size_t i = 0; i < items.size(); ++i) {
@@ -142,6 +150,9 @@ class OptionsMap {
   virtual void Integer(const std::string& key, int& value, const Check& check = {}) = 0;
   virtual void Boolean(const std::string& key, bool& value) = 0;
   virtual void Text(const std::string& key, std::string& value, const Check& check = {}) = 0;
+  // A list of finite numbers; an empty value (`key:` or `key: []`) clears it.
+  virtual void Numbers(const std::string& key, std::vector<double>& values,
+                       const Check& check = {}) = 0;
 
   // The map under `key`, when present: visit(it), then its unknown keys are refused.
   virtual void Section(const std::string& key, const std::function<void(OptionsMap&)>& visit) = 0;

@@ -3,6 +3,7 @@
 // Writing an option struct as YAML through its Visit function (io/config/options_map.h): the
 // writing visitor collects `key: value` pairs; lists become one flow map per item.
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -13,13 +14,25 @@ namespace wallcal::io {
 
 class OptionsText {
  public:
-  // The checks are Validate()'s: what is written is the struct as it stands.
-  void Number(const std::string& key, double& value, const Check& /*check*/ = {}) {
+  // The checks are Validate()'s: what is written is the struct as it stands, but for a key
+  // left unset (NaN with an OrUnset() check, an empty list of numbers): that is left out, so
+  // that a file without the key reads back the same.
+  void Number(const std::string& key, double& value, const Check& check = {}) {
+    if (check.nan_is_unset && std::isnan(value)) return;
     Add(key, ShortestNumber(value));
   }
   void Scaled(const std::string& key, double& value, double file_per_unit,
-              const Check& /*check*/ = {}) {
+              const Check& check = {}) {
+    if (check.nan_is_unset && std::isnan(value)) return;
     Add(key, ShortestScaled(value, file_per_unit));
+  }
+  void Numbers(const std::string& key, std::vector<double>& values, const Check& /*check*/ = {}) {
+    if (values.empty()) return;
+    std::string text = "[";
+    for (size_t i = 0; i < values.size(); ++i) {
+      text += (i > 0 ? ", " : "") + ShortestNumber(values[i]);
+    }
+    Add(key, text + "]");
   }
   void Integer(const std::string& key, int& value, const Check& /*check*/ = {}) {
     Add(key, std::to_string(value));

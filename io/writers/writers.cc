@@ -140,7 +140,9 @@ std::string FormatSessionYaml(const SessionSpec& spec) {
   const auto scanner_keys = [&spec, &out](const std::string& indent, const std::string& model,
                                           const std::string& log, const std::string& topic,
                                           double time_offset_s,
-                                          const std::optional<MountGuess>& guess) {
+                                          const std::optional<MountGuess>& guess,
+                                          const std::optional<double>& z_m,
+                                          const ScannerTilt& tilt) {
     out += indent + "model: " + YamlText(model) + "\n";
     out += indent + "log: " + YamlText(RelativeTo(spec.dir, log)) + "\n";
     if (!topic.empty()) out += indent + "topic: " + YamlText(topic) + "\n";
@@ -150,18 +152,25 @@ std::string FormatSessionYaml(const SessionSpec& spec) {
              ", y: " + ShortestNumber(guess->y_m) +
              ", yaw_deg: " + ShortestScaled(guess->yaw_rad, kRadToDeg) + "}\n";
     }
+    // The scanner's height and tilt as measured by hand, when the session has them.
+    if (z_m) out += indent + "z_m: " + ShortestNumber(*z_m) + "\n";
+    if (tilt.given) {
+      out += indent + "pitch_deg: " + ShortestScaled(tilt.pitch_rad, kRadToDeg) + "\n";
+      out += indent + "roll_deg: " + ShortestScaled(tilt.roll_rad, kRadToDeg) + "\n";
+    }
   };
   if (spec.scanners.empty()) {
     out += "scanner:\n";
     scanner_keys("  ", spec.scanner_model, spec.scanner_log, spec.scanner_topic,
-                 spec.scanner_time_offset_s, spec.mount_guess);
+                 spec.scanner_time_offset_s, spec.mount_guess, spec.scanner_z_m,
+                 spec.scanner_tilt);
   } else {
     out += "scanners:\n";
     for (const ScannerSpec& scanner : spec.scanners) {
       out += "  - id: " + YamlText(scanner.id) + "\n";
       if (scanner.frame != scanner.id) out += "    frame: " + YamlText(scanner.frame) + "\n";
       scanner_keys("    ", scanner.model, scanner.log, scanner.topic, scanner.time_offset_s,
-                   scanner.mount_guess);
+                   scanner.mount_guess, scanner.z_m, scanner.tilt);
     }
   }
   out += "gnss:\n";

@@ -35,8 +35,8 @@ std::string FormatSurveyCsv(const std::vector<SurveyPoint>& points);
 // lon_deg with 9 decimals (0.1 mm), z_m (the ellipsoidal height) with 4.
 std::string FormatRoverSurveyCsv(const std::vector<SurveyPoint>& points);
 
-// session.yaml for `spec`; paths written relative to spec.dir. ReadSession reads it back to the
-// same spec.
+// session.yaml for `spec`; paths written relative to spec.dir; a scanner's z_m when set and its
+// pitch_deg and roll_deg when its tilt is given. ReadSession reads it back to the same spec.
 std::string FormatSessionYaml(const SessionSpec& spec);
 
 // Two upper-case hex digits: XOR of the bytes of `body` (the text between '$' and '*').

@@ -88,8 +88,8 @@ TEST(SimulationConfigTest, TruthYamlRoundTrips) {
   config.mount_yaw_rad = 0.0488692190558412;
   config.heading_drift_rad_per_s = 2.42e-6;
   config.write_gst = false;
-  config.walls = {{"north", "WALL1", -10, 20, 10, 20, 3.0, 0.5},
-                  {"shed", "", 15, 0, 15, 8, 2.5, 1.0}};
+  config.walls = {{"north", "WALL1", -10, 20, 10, 20, 3.0, 0.5, kNaN, {}},
+                  {"shed", "", 15, 0, 15, 8, 2.5, 1.0, kNaN, {}}};
   config.obstacles = {{1.0, 5.0, 0.3}};
   const std::string path = WriteFile(ScratchFolder("truth") + "/truth.yaml", FormatTruthYaml(config, 42));
 

@@ -25,7 +25,7 @@ Eigen::Vector2d StationToEnu(const sim::SimulationConfig& c, const io::SurveyPoi
 TEST(SimulatorTest, SurveyPointsLieOnTheWall) {
   sim::SimulationConfig config = NoiseFreeConfig();
   // A distractor wall without a code is not surveyed.
-  config.walls.push_back({"shed", "", 20.0, -5.0, 20.0, 5.0, 2.5, 1.0});
+  config.walls.push_back(Wall("shed", "", 20.0, -5.0, 20.0, 5.0, 2.5));
   const Collected exact = RunSim(config, CheapPreset(), 71);
   ASSERT_EQ(exact.session.walls.size(), 1u);
   EXPECT_EQ(exact.session.walls[0].id, "north_wall");
@@ -105,7 +105,7 @@ TEST(SimulatorTest, DefaultWallsOnlyWhenNoneGiven) {
   EXPECT_DOUBLE_EQ(std::abs(with_default.walls[0].x1_m - with_default.walls[0].x0_m), 30.0);
 
   sim::SimulationConfig own;
-  own.walls.push_back({"east", "E1", 10.0, -5.0, 10.0, 5.0, 3.0, 1.0});
+  own.walls.push_back(Wall("east", "E1", 10.0, -5.0, 10.0, 5.0));
   const sim::SimulationConfig kept = WithDefaultWalls(own);
   ASSERT_EQ(kept.walls.size(), 1u);
   EXPECT_EQ(kept.walls[0].id, "east");
@@ -129,7 +129,7 @@ TEST(SimulatorTest, TrueBeamHitsNameTheSurfaceAndSeeOcclusions) {
   const double yaw = kPi / 2.0 - config.mount_yaw_rad;
   const Eigen::Vector2d lever(std::cos(yaw) * config.mount_x_m - std::sin(yaw) * config.mount_y_m,
                               std::sin(yaw) * config.mount_x_m + std::cos(yaw) * config.mount_y_m);
-  const SimTruthPose pose{config.start_time_s, Eigen::Vector2d(0.0, 6.5) - lever, yaw, false};
+  const SimTruthPose pose = PoseAt(config, Eigen::Vector2d(0.0, 6.5) - lever, yaw);
   const std::vector<SimBeamHit> hits = TrueBeamHits(config, preset, pose);
   ASSERT_EQ(hits.size(), 181u);
   const SimBeamHit& ahead = hits[90];  // bearing 0: the post's near side

@@ -493,7 +493,7 @@ TEST(SimulatorTest, ScanStampsRunEarlyByTheTimeOffset) {
 
 TEST(SimulatorTest, StationsFaceAnyWallFromTheOriginSide) {
   sim::SimulationConfig config = NoiseFreeConfig();
-  config.walls = {{"east", "E1", 12.0, 10.0, 12.0, -10.0, 3.0, 1.0}};  // x = 12 m
+  config.walls = {Wall("east", "E1", 12.0, 10.0, 12.0, -10.0)};  // x = 12 m
   const Collected run = RunSim(config, CheapPreset(), 91);
   const auto stations = Stations(run.session, config.start_time_s);
   ASSERT_EQ(static_cast<int>(stations.size()), config.num_stations);

@@ -4,6 +4,7 @@
 // default and noise-free configs, and a run collected in memory. Shared by the simulator's tests.
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "common/angles.h"
@@ -38,6 +39,31 @@ inline io::ScannerPreset PerfectPreset() {
   p.sim_offset_c_m = 0.0;
   p.range_resolution_m = 1e-12;
   return p;
+}
+
+// An upright wall from (x0, y0) to (x1, y1), surveyed at the default heights.
+inline sim::SimWall Wall(const std::string& id, const std::string& code, double x0_m,
+                         double y0_m, double x1_m, double y1_m, double height_m = 3.0) {
+  sim::SimWall wall;
+  wall.id = id;
+  wall.code = code;
+  wall.x0_m = x0_m;
+  wall.y0_m = y0_m;
+  wall.x1_m = x1_m;
+  wall.y1_m = y1_m;
+  wall.height_m = height_m;
+  return wall;
+}
+
+// The vehicle's pose at start_time_s: its antenna at antenna_enu_m heading yaw_enu_rad, level.
+inline SimTruthPose PoseAt(const sim::SimulationConfig& config,
+                           const Eigen::Vector2d& antenna_enu_m, double yaw_enu_rad) {
+  SimTruthPose pose;
+  pose.stamp_s = config.start_time_s;
+  pose.antenna_enu_m = antenna_enu_m;
+  pose.yaw_enu_rad = yaw_enu_rad;
+  pose.stationary = false;
+  return pose;
 }
 
 inline sim::SimulationConfig DefaultConfig() { return WithDefaultWalls(sim::SimulationConfig{}); }

@@ -156,6 +156,17 @@ class MapReader : public OptionsMap {
     CheckNoControl(value, key);
     out = value.Scalar();
   }
+  void Numbers(const std::string& key, std::vector<double>& out,
+               const Check& /*check*/ = {}) override {
+    const YAML::Node value = Find(key);
+    if (!value.IsDefined()) return;
+    out.clear();
+    if (value.IsNull()) return;
+    if (!value.IsSequence()) Bad(value, key, "a list of numbers");
+    for (size_t i = 0; i < value.size(); ++i) {
+      out.push_back(ToNumber(value[i], key + "[" + std::to_string(i) + "]"));
+    }
+  }
   void ListOfMaps(const std::string& key, const std::function<void()>& clear,
                   const std::function<void(OptionsMap&)>& item) override {
     const YAML::Node value = Find(key);
