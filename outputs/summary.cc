@@ -37,7 +37,7 @@ std::string SiteText(const CalibrationResult& result) {
   const pipeline::SiteResult& site = result.site;
   std::string out;
   if (site.corrected || result.solve.unknown_height_bias) {
-    out += "  site       attitude from the " +
+    out += "  site       attitude: " +
            std::string(calib::AttitudeSourceName(site.attitude.source()));
     if (site.attitude_samples > 0) {
       out += Format(" (%lld samples, %.1f Hz, roll %+.2f..%+.2f°, pitch %+.2f..%+.2f°)",

@@ -168,6 +168,15 @@ SiteResult SiteFromPoses(const CalibrationResult& so_far, const RunState& state)
     // below the antenna. Without it, only a grade told from level is.
     site.attitude = calib::AttitudeModel::FromYard(yard);
   }
+  site.yard_unmeasured = site.attitude.source() == calib::AttitudeSource::kLevel &&
+                        !yard.fitted && site.placement.z_m != 0.0 && site.attitude_samples < 2;
+  if (site.yard_unmeasured) {
+    site.warnings.push_back(
+        {WarningKind::kSite,
+         "the stations do not spread over an area (all at one distance from the wall): the "
+         "yard's grade cannot be measured from the GNSS heights and the site is taken as level; "
+         "stand at two distances from the wall, or log an attitude stream (attitude:)"});
+  }
   bool leaning = false;
   for (const calib::WallGeometry& wall : so_far.survey.walls) leaning |= wall.lean_rad != 0.0;
   const bool tilted = site.placement.pitch_rad != 0.0 || site.placement.roll_rad != 0.0;
@@ -201,6 +210,13 @@ std::vector<std::string> SiteReviews(const CalibrationResult& run,
           "antenna's reference point to the scanner's optical centre, negative below the "
           "antenna)");
     }
+  }
+  if (site.yard_unmeasured) {
+    reasons.push_back(Format(
+        "the yard's grade is not measured (the stations lie along one line) and the scanner is "
+        "%.2f m from the antenna's height: a 2 %% grade would move it %.0f mm; stand at two "
+        "distances from the wall or log an attitude stream (attitude:)",
+        std::abs(site.placement.z_m), 20.0 * std::abs(site.placement.z_m)));
   }
   if (site.roll_disagrees || site.pitch_disagrees) {
     reasons.push_back(Format(

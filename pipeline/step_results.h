@@ -101,6 +101,10 @@ struct SiteResult {
   // (a sign reversed, a sensor turned): which, and by how much (rad, RMS at the stations).
   bool roll_disagrees = false, pitch_disagrees = false;
   double roll_mismatch_rad = 0.0, pitch_mismatch_rad = 0.0;
+  // The scanner's height is given, there is no stream, and the stations do not spread over an
+  // area (all at one distance from the wall): the yard's grade cannot be measured, the site is
+  // taken as level.
+  bool yard_unmeasured = false;
   bool corrected = false;  // the level corrections apply
   Warnings warnings;
 };
