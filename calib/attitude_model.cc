@@ -27,6 +27,12 @@ double YardPlane::RiseDirectionRad() const {
   return WrapTwoPi(std::atan2(grade.x(), grade.y()));
 }
 
+double YardPlane::RiseDirectionDeg(double resolution_deg) const {
+  const double deg =
+      std::round(RiseDirectionRad() * 180.0 / kPi / resolution_deg) * resolution_deg;
+  return deg >= 360.0 ? deg - 360.0 : deg;
+}
+
 YardPlane FitYard(const std::vector<HeightSample>& samples, double min_spacing_s,
                   double correlation_s) {
   std::vector<const HeightSample*> kept;

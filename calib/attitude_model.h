@@ -40,6 +40,8 @@ struct YardPlane {
   double GradePercent() const { return 100.0 * grade.norm(); }
   // The direction the ground rises towards, clockwise from grid north (rad, [0, 2π)).
   double RiseDirectionRad() const;
+  // The same in degrees rounded to `resolution_deg`, in [0, 360) after the rounding.
+  double RiseDirectionDeg(double resolution_deg) const;
 };
 
 // Fits the plane by least squares to samples at most one per `min_spacing_s`; needs 3 samples

@@ -50,7 +50,7 @@ std::string SiteText(const CalibrationResult& result) {
                     "the plane)",
                     site.yard.GradePercent(),
                     100.0 * std::sqrt(std::max(0.0, site.yard.grade_covariance.trace())),
-                    site.yard.RiseDirectionRad() * kRadToDeg, site.yard.residual_rms_m);
+                    site.yard.RiseDirectionDeg(1.0), site.yard.residual_rms_m);
     }
     out += site.z_given ? Format("; scanner z %+.3f ± %.3f m", site.placement.z_m, site.z_sigma_m)
                         : std::string("; scanner z not given (scanner.z_m)");

@@ -97,7 +97,7 @@ void CheckStreamAgainstYard(const std::vector<calib::Dwell>& dwells,
         {WarningKind::kSite,
          Format("the attitude stream's %s disagrees with the yard the GNSS heights show "
                 "(grade %.1f %% rising towards %.0f°): RMS %.2f° off at the stations",
-                axis, yard.GradePercent(), yard.RiseDirectionRad() * kRadToDeg,
+                axis, yard.GradePercent(), yard.RiseDirectionDeg(1.0),
                 mismatch * kRadToDeg) +
              (cross < 0.0 ? ", its sign reversed" : "") +
              "; check the stream's sign convention (roll positive right side down, pitch "
@@ -199,7 +199,7 @@ std::vector<std::string> SiteReviews(const CalibrationResult& run,
       const std::string ground =
           site.yard.fitted
               ? Format("the yard rises %.1f %% towards %.0f° (from the GNSS heights)",
-                       site.yard.GradePercent(), site.yard.RiseDirectionRad() * kRadToDeg)
+                       site.yard.GradePercent(), site.yard.RiseDirectionDeg(1.0))
               : std::string("the attitude stream shows the vehicle tilted");
       reasons.push_back(
           ground +
@@ -225,7 +225,7 @@ std::vector<std::string> SiteReviews(const CalibrationResult& run,
         site.roll_disagrees && site.pitch_disagrees ? "roll and pitch"
         : site.roll_disagrees                       ? "roll"
                                                     : "pitch",
-        site.yard.GradePercent(), site.yard.RiseDirectionRad() * kRadToDeg));
+        site.yard.GradePercent(), site.yard.RiseDirectionDeg(1.0)));
   }
   return reasons;
 }

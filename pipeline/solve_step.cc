@@ -209,7 +209,17 @@ SolveResult Solve(const CalibrateRequest& request, const ProgressFn& progress,
       ClassifyDelay(estimate.heading_delay_estimated, estimate.heading_delay_s,
                     estimate.heading_delay_sigma_s, heading_prior_s, determined(1));
   if (request.method == solvers::Method::kCeres && !request.preview) {
-    PropagateSiteTerms(so_far, start, &step);
+    calib::Mount corrected_at = start;
+    if (so_far.site.corrected && step.estimate.usable && step.estimate.solution_state) {
+      // The corrections again at the solution (they were made at the start, off by the first
+      // pass's error times the tilt), and the two Gauss–Newton steps of a clock round from it.
+      corrected_at = step.estimate.mount;
+      ApplySiteCorrections(so_far.site, walls, corrected_at, &obs);
+      solvers::MountEstimate again = solvers::ClockRoundStep(
+          obs, walls, solver, step.estimate, *step.estimate.solution_state, nullptr);
+      if (again.usable) step.estimate = std::move(again);
+    }
+    PropagateSiteTerms(so_far, corrected_at, &step);
   }
   CheckEstimate(request, so_far, &step);
   if (request.preview) RestoreDetections(std::move(all), &step);
