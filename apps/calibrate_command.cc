@@ -442,7 +442,8 @@ int wallcal::apps::RunCalibrate(int argc, char** argv) {
       summary_out << std::flush;
       std::cout << outputs::FormatEmit(*emit, result.solve.estimate,
                                        result.loaded.session.antenna_in_base, frames,
-                                       result.loaded.session.scanner_z_m, &result.decided.decision)
+                                       result.loaded.session.scanner_z_m, &result.decided.decision,
+                                       result.loaded.session.scanner_tilt)
                 << std::flush;
     }
     return 0;

@@ -8,6 +8,7 @@
 // distances share one unit.
 
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,17 @@ struct WallGeometry {
   // Its points were measured by a GNSS rover (a geodetic survey): then sigma_offset_m and
   // sigma_angle_rad are the rover points' fit alone, and there is no tie.
   bool from_rover = false;
+  // The wall as a plane (calib/site_geometry.h): normal_local and offset_m describe its trace
+  // at reference_height_m (the mean height of its survey points, on the GNSS's ellipsoidal
+  // heights through the control points' vertical tie; NaN without one), and its top leans
+  // towards +normal_local by tan(lean_rad) per metre of height. lean_fitted: the survey's
+  // heights span enough to fit a lean (fitted_lean_rad, its 1σ sigma_lean_rad); lean_rad is
+  // that fit where it is beyond 4 σ from upright, else 0.
+  double lean_rad = 0.0;
+  double fitted_lean_rad = 0.0;
+  double sigma_lean_rad = 0.0;
+  bool lean_fitted = false;
+  double reference_height_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The scanner mount: vehicle_T_scanner, the scanner's origin and x axis in the vehicle frame
@@ -128,6 +140,13 @@ struct WallObservation {
   double range_max_m = 0.0;
   double residual_rms_m = 0.0;  // RMS of the inliers about the fitted line
   VehiclePose pose;             // the vehicle at the scan's time
+  // The level correction the solve took out of rho_m and theta_rad (calib/site_geometry.h: what
+  // the vehicle's attitude, the scanner's height and tilt and the wall's lean put into the
+  // line beyond the level model), and the variance (m²) the attitude's noise adds to rho_m.
+  // All 0 on a level site.
+  double rho_correction_m = 0.0;
+  double theta_correction_rad = 0.0;
+  double attitude_var_rho_m2 = 0.0;
 };
 
 // The key of the GNSS-error slice an observation belongs to (see VehiclePose::gnss_segment).

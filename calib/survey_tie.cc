@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -20,6 +21,11 @@ constexpr double kCoincidentM = 0.01;
 // coordinates or a wrong datum, not noise.
 constexpr double kAbsurdResidualM = 1.0;
 constexpr double kMinWallSpanM = 0.5;
+// The height span of a wall's survey points from which its lean is fitted (m): at 0.5 m and a
+// total station's 3 mm the lean is known to about 0.5°.
+constexpr double kMinLeanSpanM = 0.5;
+// A fitted lean further from upright than this many of its σ is the wall's (else upright).
+constexpr double kLeanSignificance = 4.0;
 
 std::string Metres(double value_m) {
   std::ostringstream out;
@@ -149,6 +155,67 @@ std::string CodesFound(const std::vector<io::SurveyPoint>& survey) {
   return out.empty() ? "none" : out;
 }
 
+// The offset (m) from the survey's heights to the GNSS's ellipsoidal heights: the mean of
+// (RTK height − surveyed height) over the control points the survey holds; 0 for a rover's
+// survey (its heights are ellipsoidal already); NaN when no control point ties them.
+double VerticalTie(const std::vector<io::SurveyPoint>& survey, const io::SessionSpec& spec) {
+  double sum_m = 0.0;
+  int count = 0;
+  bool geodetic = !survey.empty();
+  for (const io::SurveyPoint& point : survey) geodetic = geodetic && point.frame == io::SurveyFrame::kGeodetic;
+  if (geodetic) return 0.0;
+  for (const io::ControlPoint& control : spec.control) {
+    for (const io::SurveyPoint& point : survey) {
+      if (point.id != control.id) continue;
+      sum_m += control.h_m - point.z_m;
+      ++count;
+      break;
+    }
+  }
+  return count > 0 ? sum_m / count : std::numeric_limits<double>::quiet_NaN();
+}
+
+// The wall's lean from its points' heights (calib/observation.h, WallGeometry::lean_rad): the
+// points' distance across the fitted line against their height, a straight line whose slope
+// is tan(lean); fitted when the heights span kMinLeanSpanM. The reference height is the
+// points' mean height, tied to the GNSS's by `tie_m` (NaN: untied).
+void FitLean(const std::vector<Eigen::Vector2d>& points, const std::vector<double>& heights_m,
+             const std::vector<double>& sigmas_m, const Eigen::Vector2d& centroid, double tie_m,
+             WallGeometry* wall) {
+  const size_t n = points.size();
+  double mean_height_m = 0.0;
+  for (double h : heights_m) mean_height_m += h / static_cast<double>(n);
+  wall->reference_height_m = mean_height_m + tie_m;
+  double min_h = heights_m.front(), max_h = heights_m.front();
+  for (double h : heights_m) {
+    min_h = std::min(min_h, h);
+    max_h = std::max(max_h, h);
+  }
+  if (max_h - min_h < kMinLeanSpanM || n < 3) return;
+  // Weighted by 1/σ²: slope = Σ w dh across / Σ w dh², its variance 1 / Σ w dh².
+  double sw = 0.0, swh = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    const double w = 1.0 / (sigmas_m[i] * sigmas_m[i]);
+    sw += w;
+    swh += w * heights_m[i];
+  }
+  const double weighted_mean_h = swh / sw;
+  double swhh = 0.0, swha = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    const double w = 1.0 / (sigmas_m[i] * sigmas_m[i]);
+    const double dh = heights_m[i] - weighted_mean_h;
+    swhh += w * dh * dh;
+    swha += w * dh * wall->normal_local.dot(points[i] - centroid);
+  }
+  wall->fitted_lean_rad = std::atan(swha / swhh);
+  wall->sigma_lean_rad = 1.0 / std::sqrt(swhh);
+  wall->lean_fitted = true;
+  // An upright wall's fit scatters about zero by its σ: taken as leaning beyond 4 σ only.
+  if (std::abs(wall->fitted_lean_rad) > kLeanSignificance * wall->sigma_lean_rad) {
+    wall->lean_rad = wall->fitted_lean_rad;
+  }
+}
+
 }  // namespace
 
 bool SameSurveyCode(const std::string& a, const std::string& b) {
@@ -264,6 +331,7 @@ std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
   std::vector<WallGeometry> walls;
   for (const io::WallSpec& wall_spec : spec.walls) {
     std::vector<Eigen::Vector2d> points;
+    std::vector<double> heights_m;  // the points' heights, in the survey's own vertical datum
     std::vector<double> sigmas_m;  // each point's σ per axis: the file's (a rover's), or the
                                    // total station's
     bool from_rover = true;
@@ -271,6 +339,7 @@ std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
       if (!SameSurveyCode(point.code, wall_spec.code)) continue;
       points.push_back(tie.local_R_survey * Eigen::Vector2d(point.x_m, point.y_m) +
                        tie.local_t_survey);
+      heights_m.push_back(point.z_m);
       sigmas_m.push_back(point.sigma_m > 0.0 ? point.sigma_m : options.total_station_sigma_m);
       from_rover = from_rover && point.frame == io::SurveyFrame::kGeodetic;
     }
@@ -352,6 +421,7 @@ std::vector<WallGeometry> FitWalls(const std::vector<io::SurveyPoint>& survey,
     wall.tie_sigma_translation_m = tie.sigma_translation_m;
     wall.tie_sigma_rotation_rad = tie.sigma_rotation_rad;
     wall.tie_lever_m = lever_m;
+    FitLean(points, heights_m, sigmas_m, centroid, VerticalTie(survey, spec), &wall);
     walls.push_back(wall);
   }
   return walls;

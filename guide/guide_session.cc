@@ -112,6 +112,7 @@ GuideReport GuideSession::Refresh() {
     last_read_.heading_log = s.pose_logs->heading_read();
     last_read_.fixes_used = poses.fixes_used;
     last_read_.headings_used = poses.headings_used;
+    run.Site();  // the yard and attitude as the logs hold them now
   }
   ScanFeed* scans = s.scans.get();
   // The first time, the preset is checked against the scan log before the feed decodes its

@@ -20,9 +20,13 @@ const char* kHeightNote =
     "z = 0: the scanner's height relative to the GNSS antenna is not known (give it as "
     "scanner.z_m in session.yaml); the 2-D calibration does not measure it";
 
+// An angle of ROS's roll-pitch-yaw: "0" when untilted.
+std::string RosAngle(double angle_rad) { return angle_rad == 0.0 ? "0" : Num(angle_rad); }
+
 std::string Ros2Line(const PlanarTransform& t) {
   return "ros2 run tf2_ros static_transform_publisher --x " + Num(t.x_m) + " --y " + Num(t.y_m) +
-         " --z " + Num(t.z_m) + " --yaw " + Num(t.yaw_rad) + " --pitch 0 --roll 0 --frame-id " +
+         " --z " + Num(t.z_m) + " --yaw " + Num(t.yaw_rad) + " --pitch " +
+         RosAngle(0.0 - t.pitch_rad) + " --roll " + RosAngle(t.roll_rad) + " --frame-id " +
          t.parent + " --child-frame-id " + t.child + "\n";
 }
 
@@ -30,7 +34,8 @@ std::string UrdfJoint(const PlanarTransform& t) {
   return "<joint name=\"" + t.parent + "_to_" + t.child + "\" type=\"fixed\">\n" +
          "  <parent link=\"" + t.parent + "\"/>\n" + "  <child link=\"" + t.child + "\"/>\n" +
          "  <origin xyz=\"" + Num(t.x_m) + " " + Num(t.y_m) + " " + Num(t.z_m) +
-         "\" rpy=\"0 0 " + Num(t.yaw_rad) + "\"/>\n" + "</joint>\n";
+         "\" rpy=\"" + RosAngle(t.roll_rad) + " " + RosAngle(0.0 - t.pitch_rad) + " " + Num(t.yaw_rad) +
+         "\"/>\n" + "</joint>\n";
 }
 
 void CheckFrames(const EmitFrames& frames) {
@@ -168,10 +173,12 @@ PlanarTransform BaseToLaser(const solvers::Mount& mount, const io::AntennaInBase
 std::string FormatEmit(EmitFormat format, const solvers::MountEstimate& estimate,
                        const std::optional<io::AntennaInBase>& antenna_in_base,
                        const EmitFrames& frames, const std::optional<double>& scanner_z_m,
-                       const pipeline::Decision* verdict) {
+                       const pipeline::Decision* verdict, const io::ScannerTilt& tilt) {
   CheckFrames(frames);
   const bool z_known = scanner_z_m.has_value();
-  const PlanarTransform antenna_t = AntennaToLaser(estimate.mount, frames, scanner_z_m.value_or(0.0));
+  PlanarTransform antenna_t = AntennaToLaser(estimate.mount, frames, scanner_z_m.value_or(0.0));
+  antenna_t.pitch_rad = tilt.pitch_rad;
+  antenna_t.roll_rad = tilt.roll_rad;
   std::optional<PlanarTransform> base_t;
   if (antenna_in_base) base_t = BaseToAntenna(*antenna_in_base, frames);
   std::string out;
@@ -197,7 +204,11 @@ std::string FormatEmit(EmitFormat format, const solvers::MountEstimate& estimate
       out += "  \"child_frame\": " + JsonString(frames.child) + ",\n";
       out += "  \"mount\": {\"x_m\": " + Num(antenna_t.x_m) + ", \"y_m\": " + Num(antenna_t.y_m) +
              ", \"z_m\": " + Num(antenna_t.z_m) + ", \"yaw_rad\": " + Num(antenna_t.yaw_rad) +
-             ", \"yaw_deg\": " + Num(antenna_t.yaw_rad * kRadToDeg) + "},\n";
+             ", \"yaw_deg\": " + Num(antenna_t.yaw_rad * kRadToDeg) +
+             (tilt.given ? ", \"pitch_rad\": " + Num(tilt.pitch_rad) + ", \"roll_rad\": " +
+                               Num(tilt.roll_rad)
+                         : std::string()) +
+             "},\n";
       out += std::string("  \"z_known\": ") + (z_known ? "true" : "false") + ",\n";
       if (!z_known) out += "  \"z_note\": " + JsonString(kHeightNote) + ",\n";
       if (sigma_known) {

@@ -47,6 +47,10 @@ std::string FrameNameProblem(const std::string& name);
 struct PlanarTransform {
   std::string parent, child;
   double x_m = 0.0, y_m = 0.0, z_m = 0.0, yaw_rad = 0.0;
+  // The child's tilt (session.yaml scanner.pitch_deg / roll_deg): pitch positive nose up, roll
+  // positive right side down; child axes = Rz(yaw) · Ry(−pitch) · Rx(roll) in the parent's, i.e.
+  // ROS roll-pitch-yaw (roll, −pitch, yaw).
+  double pitch_rad = 0.0, roll_rad = 0.0;
 };
 
 // antenna_T_laser from the mount; z = scanner_z_m (session.yaml scanner.z_m), 0 when unknown.
@@ -97,6 +101,7 @@ std::string FormatEmit(EmitFormat format, const solvers::MountEstimate& estimate
                        const std::optional<io::AntennaInBase>& antenna_in_base,
                        const EmitFrames& frames,
                        const std::optional<double>& scanner_z_m = std::nullopt,
-                       const pipeline::Decision* verdict = nullptr);
+                       const pipeline::Decision* verdict = nullptr,
+                       const io::ScannerTilt& tilt = io::ScannerTilt());
 
 }  // namespace wallcal::outputs

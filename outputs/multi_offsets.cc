@@ -266,6 +266,8 @@ std::string FormatSeveralEmit(EmitFormat format, const pipeline::SeveralScanners
     EmitFrames own = frames;
     own.child = run->spec.frame;
     joints.push_back(AntennaToLaser(run->joint->mount, own, run->spec.z_m.value_or(0.0)));
+    joints.back().pitch_rad = run->spec.tilt.pitch_rad;
+    joints.back().roll_rad = run->spec.tilt.roll_rad;
   }
   std::string out;
   switch (format) {

@@ -35,7 +35,8 @@ std::string VerdictYaml(const CalibrationResult& result) {
   return DecisionYaml(result.decided.decision);
 }
 
-std::string BudgetYaml(const analysis::ErrorBudget& b) {
+std::string BudgetYaml(const analysis::ErrorBudget& b,
+                       const std::vector<pipeline::SolveResult::SiteTerm>& site_terms) {
   // σ per source (the square root of the variance it explains), mm and degrees.
   std::string out = "{method: \"variance removed when one source is exact (linearised)\"";
   out += ", total: {x_mm: " + Mm(std::sqrt(b.total_variance[0])) +
@@ -47,7 +48,47 @@ std::string BudgetYaml(const analysis::ErrorBudget& b) {
            ": {x_mm: " + Mm(std::sqrt(v[0])) + ", y_mm: " + Mm(std::sqrt(v[1])) +
            ", yaw_deg: " + Deg(std::sqrt(v[2])) + "}";
   }
+  // The site's terms (in the mount's covariance beside the adjustment's, not in `total`).
+  for (const pipeline::SolveResult::SiteTerm& t : site_terms) {
+    const Eigen::Vector3d v = t.covariance.diagonal();
+    out += std::string(", ") + pipeline::SiteTermKey(t.kind) + ": {x_mm: " + Mm(std::sqrt(v[0])) +
+           ", y_mm: " + Mm(std::sqrt(v[1])) + ", yaw_deg: " + Deg(std::sqrt(v[2])) + "}";
+  }
   return out + "}";
+}
+
+// The site's 3-D geometry under quality: written when the level model was corrected or the
+// yard is graded with scanner.z_m not given (absent: a level site, as the level model has it).
+template <class Add>
+void AddSite(const CalibrationResult& result, const Add& add) {
+  const pipeline::SiteResult& site = result.site;
+  if (!site.corrected && !result.solve.unknown_height_bias) return;
+  std::string out = "{attitude_source: \"" +
+                    std::string(calib::AttitudeSourceName(site.attitude.source())) + "\"";
+  if (site.yard.fitted) {
+    out += ", yard_grade_pct: " + Format("%.2f", site.yard.GradePercent()) +
+           ", yard_grade_sigma_pct: " +
+           Format("%.2f", 100.0 * std::sqrt(std::max(0.0, site.yard.grade_covariance.trace()))) +
+           ", yard_rises_towards_deg: " + Format("%.1f", site.yard.RiseDirectionDeg(0.1)) +
+           ", yard_residual_rms_m: " + Format("%.3f", site.yard.residual_rms_m);
+  }
+  if (site.attitude_samples > 0) {
+    out += ", attitude_samples: " + std::to_string(site.attitude_samples) +
+           ", attitude_rate_hz: " + Format("%.1f", site.attitude_rate_hz);
+  }
+  out += ", scanner_z_m: " + (site.z_given ? Format("%.3f", site.placement.z_m) : std::string("null"));
+  out += ", scanner_pitch_deg: " + Format("%.2f", site.placement.pitch_rad * kRadToDeg) +
+         ", scanner_roll_deg: " + Format("%.2f", site.placement.roll_rad * kRadToDeg);
+  std::string leans;
+  for (const calib::WallGeometry& w : result.survey.walls) {
+    if (w.lean_rad == 0.0) continue;
+    leans += (leans.empty() ? "" : ", ") + std::string("{id: \"") + w.id +
+             "\", lean_deg: " + Format("%.3f", w.lean_rad * kRadToDeg) +
+             ", sigma_deg: " + Format("%.3f", w.sigma_lean_rad * kRadToDeg) +
+             ", used: " + (std::isfinite(w.reference_height_m) ? "true" : "false") + "}";
+  }
+  if (!leans.empty()) out += ", leaning_walls: [" + leans + "]";
+  add("site", out + "}");
 }
 
 std::string ChangeYaml(const pipeline::Change& c) {
@@ -119,6 +160,7 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const E
              ", sigma_angle_deg: " + Format("%.4f", w.sigma_angle_rad * kRadToDeg) + "}";
   }
   add("walls", walls + "]");
+  AddSite(result, add);
   if (e.independent_stations > 0.0) {
     add("independent_stations", Format("%.2f", e.independent_stations));
   }
@@ -210,7 +252,7 @@ io::OffsetsDocument MakeOffsetsDocument(const CalibrationResult& result, const E
   doc.warnings = pipeline::Messages(result.AllWarnings());
   doc.sections.emplace_back("verdict", VerdictYaml(result));
   if (result.finish.budget.done)
-    doc.sections.emplace_back("error_budget", BudgetYaml(result.finish.budget));
+    doc.sections.emplace_back("error_budget", BudgetYaml(result.finish.budget, result.solve.site_terms));
   if (result.decided.change)
     doc.sections.emplace_back("change_since_previous", ChangeYaml(*result.decided.change));
   doc.session = result.loaded.session.file;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/angles.h"
+#include "common/format.h"
 #include "io/version.h"
 
 namespace wallcal::outputs {
@@ -27,6 +28,59 @@ std::string ChangeText(const pipeline::Change& c) {
     return std::string(line) + "; the previous file holds it the other way round, inverted";
   }
   return line;
+}
+
+// The site's lines: where the attitude came from, the yard, the scanner's height and tilt, the
+// walls' leans, and the site's terms of the σ. Nothing on a level site (nothing corrected, no
+// lean fitted beyond upright).
+std::string SiteText(const CalibrationResult& result) {
+  const pipeline::SiteResult& site = result.site;
+  std::string out;
+  if (site.corrected || result.solve.unknown_height_bias) {
+    out += "  site       attitude: " +
+           std::string(calib::AttitudeSourceName(site.attitude.source()));
+    if (site.attitude_samples > 0) {
+      out += Format(" (%lld samples, %.1f Hz, roll %+.2f..%+.2f°, pitch %+.2f..%+.2f°)",
+                    static_cast<long long>(site.attitude_samples), site.attitude_rate_hz,
+                    site.roll_min_rad * kRadToDeg, site.roll_max_rad * kRadToDeg,
+                    site.pitch_min_rad * kRadToDeg, site.pitch_max_rad * kRadToDeg);
+    }
+    if (site.yard.fitted) {
+      out += Format("; yard %.2f ± %.2f %% rising towards %.0f° (GNSS heights, %.3f m RMS about "
+                    "the plane)",
+                    site.yard.GradePercent(),
+                    100.0 * std::sqrt(std::max(0.0, site.yard.grade_covariance.trace())),
+                    site.yard.RiseDirectionDeg(1.0), site.yard.residual_rms_m);
+    }
+    out += site.z_given ? Format("; scanner z %+.3f ± %.3f m", site.placement.z_m, site.z_sigma_m)
+                        : std::string("; scanner z not given (scanner.z_m)");
+    if (site.tilt_given) {
+      out += Format(", pitch %+.2f°, roll %+.2f° (± %.2f°)", site.placement.pitch_rad * kRadToDeg,
+                    site.placement.roll_rad * kRadToDeg, site.tilt_sigma_rad * kRadToDeg);
+    }
+    out += "\n";
+  }
+  for (const calib::WallGeometry& w : result.survey.walls) {
+    if (w.lean_rad == 0.0) continue;
+    out += Format("  wall lean  %s leans %.2f ± %.2f° from vertical%s\n",
+                  w.id.c_str(), std::abs(w.lean_rad) * kRadToDeg, w.sigma_lean_rad * kRadToDeg,
+                  std::isfinite(w.reference_height_m)
+                      ? ""
+                      : ": not used, the survey's heights are not tied to the GNSS's (control "
+                        "points with heights)");
+  }
+  if (!result.solve.site_terms.empty()) {
+    out += "  site σ    ";
+    bool first = true;
+    for (const pipeline::SolveResult::SiteTerm& t : result.solve.site_terms) {
+      out += Format("%s %s x %.1f mm, y %.1f mm, yaw %.3f°", first ? "" : ";",
+                    pipeline::SiteTermName(t.kind), 1e3 * std::sqrt(t.covariance(0, 0)),
+                    1e3 * std::sqrt(t.covariance(1, 1)), std::sqrt(t.covariance(2, 2)) * kRadToDeg);
+      first = false;
+    }
+    out += " (in the mount's σ)\n";
+  }
+  return out;
 }
 
 std::string FormatSummary(const CalibrationResult& result) {
@@ -135,6 +189,7 @@ std::string FormatSummary(const CalibrationResult& result) {
       }
       out << " (largest share of each variance)\n";
     }
+    out << SiteText(result);
     if (result.decided.change) {
       out << "  change     " << ChangeText(*result.decided.change) << "\n";
     }

@@ -9,7 +9,7 @@ namespace wallcal::pipeline {
 
 Warnings CalibrationResult::AllWarnings() const {
   Warnings all;
-  for (const Warnings* step : {&survey.warnings, &poses.warnings, &detection.warnings,
+  for (const Warnings* step : {&survey.warnings, &poses.warnings, &site.warnings, &detection.warnings,
                                &solve.warnings, &finish.warnings}) {
     all.insert(all.end(), step->begin(), step->end());
   }
@@ -40,6 +40,26 @@ const char* NoiseSourceName(NoiseSource source) {
       return "configured";
     case NoiseSource::kMeasuredAtStops:
       return "measured at the stops";
+  }
+  return "?";
+}
+
+const char* SiteTermName(SiteTermKind kind) {
+  switch (kind) {
+    case SiteTermKind::kVehicleAttitude: return "vehicle attitude";
+    case SiteTermKind::kLeverArmHeight: return "lever arm height";
+    case SiteTermKind::kScannerTilt: return "scanner tilt";
+    case SiteTermKind::kWallLean: return "wall lean";
+  }
+  return "?";
+}
+
+const char* SiteTermKey(SiteTermKind kind) {
+  switch (kind) {
+    case SiteTermKind::kVehicleAttitude: return "vehicle_attitude";
+    case SiteTermKind::kLeverArmHeight: return "lever_arm_height";
+    case SiteTermKind::kScannerTilt: return "scanner_tilt";
+    case SiteTermKind::kWallLean: return "wall_lean";
   }
   return "?";
 }

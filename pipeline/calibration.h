@@ -76,6 +76,7 @@ struct CalibrationResult {
   LoadResult loaded;
   SurveyResult survey;
   PoseResult poses;
+  SiteResult site;
   DetectionResult detection;
   SolveResult solve;
   FinishResult finish;

@@ -21,6 +21,7 @@ const char* WarningKindName(WarningKind kind) {
     case WarningKind::kFewIndependentGnssErrors:
       return "few independent GNSS errors";
     case WarningKind::kResiduals: return "residuals";
+    case WarningKind::kSite: return "site";
     case WarningKind::kNoSigma: return "no sigma";
     case WarningKind::kForcedPresetMismatch: return "forced: preset mismatch";
     case WarningKind::kForcedObservability: return "forced: observability";

@@ -24,6 +24,7 @@ enum class WarningKind {
   kDrivesNotUsed,             // the drives' timing was not determined: their scans left out
   kFewIndependentGnssErrors,  // the stations count as few independent GNSS errors
   kResiduals,                 // the residual analysis flagged a pattern
+  kSite,                      // the site's geometry: the attitude stream, the yard, the height
   kNoSigma,                   // the method gives no σ (barawid)
   kForcedPresetMismatch,      // --force: the preset does not fit the scans
   kForcedObservability,       // --force: an observability check refused the estimate

@@ -21,6 +21,7 @@ CalibrationResult CalibrationSession::Run() {
   Load();
   Survey();
   Poses();
+  Site();
   Detect();
   Solve();
   Finish();
@@ -54,6 +55,12 @@ const PoseResult& CalibrationSession::Poses(recording::PoseLogs logs) {
   // The passes already set up follow the new poses (the guide's refreshes).
   state_->pass.poses = result_.poses.interpolator.get();
   return result_.poses;
+}
+
+const SiteResult& CalibrationSession::Site() {
+  assert(result_.poses.interpolator != nullptr);
+  result_.site = SiteFromPoses(result_, *state_);
+  return result_.site;
 }
 
 const DetectionResult& CalibrationSession::Detect() {

@@ -41,6 +41,7 @@ class CalibrationSession {
   const LoadResult& Load();         // session.yaml, the options, the preset, the --compare file
   const SurveyResult& Survey();     // the survey tied to UTM, the walls
   const PoseResult& Poses();        // the GNSS and heading logs, read whole
+  const SiteResult& Site();         // the vehicle's attitude, the yard, the scanner's height
   const DetectionResult& Detect();  // both detection passes over the scan log
   const SolveResult& Solve();       // on the second pass's detections
   const FinishResult& Finish();     // residuals, repeatability, error budget, coverage

@@ -11,6 +11,7 @@
 
 #include "common/angles.h"
 #include "common/format.h"
+#include "pipeline/internal/steps.h"
 #include "pipeline/multi_scanner.h"
 
 namespace wallcal::pipeline {
@@ -27,6 +28,7 @@ Decision DecideOn(const solvers::MountEstimate& estimate, const CalibrationResul
   in.sigma_known = run.solve.sigma_known;
   in.change = &change;
   in.acceptance = &run.loaded.options.acceptance;
+  in.site_reviews = SiteReviews(run, estimate);
   for (const analysis::ResidualTrend& t : run.finish.residual_analysis.trends) {
     in.flagged_trends += t.flagged ? 1 : 0;
   }

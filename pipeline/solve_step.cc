@@ -138,6 +138,8 @@ SolveResult Solve(const CalibrateRequest& request, const ProgressFn& progress,
   }
   std::vector<calib::WallObservation>& obs = step.observations;
   obs = std::move(observations);
+  // Into the level model the adjustment works in (nothing on a level site).
+  ApplySiteCorrections(so_far.site, so_far.survey.walls, start, &obs);
   Say(progress, Stage::kSolving,
       std::string("solving (") + solvers::MethodName(request.method) + ") on " +
           std::to_string(obs.size()) + " observations");
@@ -206,6 +208,19 @@ SolveResult Solve(const CalibrateRequest& request, const ProgressFn& progress,
   step.heading_delay =
       ClassifyDelay(estimate.heading_delay_estimated, estimate.heading_delay_s,
                     estimate.heading_delay_sigma_s, heading_prior_s, determined(1));
+  if (request.method == solvers::Method::kCeres && !request.preview) {
+    calib::Mount corrected_at = start;
+    if (so_far.site.corrected && step.estimate.usable && step.estimate.solution_state) {
+      // The corrections again at the solution (they were made at the start, off by the first
+      // pass's error times the tilt), and the two Gauss–Newton steps of a clock round from it.
+      corrected_at = step.estimate.mount;
+      ApplySiteCorrections(so_far.site, walls, corrected_at, &obs);
+      solvers::MountEstimate again = solvers::ClockRoundStep(
+          obs, walls, solver, step.estimate, *step.estimate.solution_state, nullptr);
+      if (again.usable) step.estimate = std::move(again);
+    }
+    PropagateSiteTerms(so_far, corrected_at, &step);
+  }
   CheckEstimate(request, so_far, &step);
   if (request.preview) RestoreDetections(std::move(all), &step);
   // The drives left out first, then what the estimate says of itself, then the checks after it.

@@ -15,6 +15,7 @@
 #include "analysis/error_budget.h"
 #include "analysis/repeatability.h"
 #include "analysis/residual_analysis.h"
+#include "calib/attitude_model.h"
 #include "calib/detection_pass.h"
 #include "calib/gnss_epoch_time.h"
 #include "calib/observation.h"
@@ -75,6 +76,39 @@ struct PoseResult {
   Warnings warnings;
 };
 
+// Site: the 3-D geometry the level model leaves out (calib/site_geometry.h): where each scan's
+// vehicle attitude comes from, the yard fitted to the antenna's RTK heights, the scanner's
+// height and tilt, the walls' leans. On a level site with an untilted scanner and upright walls
+// nothing is corrected (`corrected` false) and the run is the level model's.
+struct SiteResult {
+  // The attitude stream when the logs hold one, else the yard when its grade is told from
+  // level (beyond kYardSignificance of its σ), else level.
+  calib::AttitudeModel attitude;
+  calib::YardPlane yard;  // from the GNSS heights at the stations (fitted or not)
+  // The scanner's height relative to the antenna (0 when not given) and its tilt.
+  calib::ScannerPlacement placement;
+  bool z_given = false;
+  double z_sigma_m = 0.0;
+  bool tilt_given = false;
+  double tilt_sigma_rad = 0.0;
+  // The antenna's ellipsoidal heights (stamp s, height m) in time order, for walls that lean.
+  std::vector<std::pair<double, double>> antenna_heights_m;
+  // The stream: its samples, rate (Hz) and range (rad), and its grade check against the yard.
+  int64_t attitude_samples = 0;
+  double attitude_rate_hz = 0.0;
+  double roll_min_rad = 0.0, roll_max_rad = 0.0, pitch_min_rad = 0.0, pitch_max_rad = 0.0;
+  // The stream's roll or pitch at the stations disagrees with the yard the GNSS heights show
+  // (a sign reversed, a sensor turned): which, and by how much (rad, RMS at the stations).
+  bool roll_disagrees = false, pitch_disagrees = false;
+  double roll_mismatch_rad = 0.0, pitch_mismatch_rad = 0.0;
+  // The scanner's height is given, there is no stream, and the stations do not spread over an
+  // area (all at one distance from the wall): the yard's grade cannot be measured, the site is
+  // taken as level.
+  bool yard_unmeasured = false;
+  bool corrected = false;  // the level corrections apply
+  Warnings warnings;
+};
+
 // Detection: the two passes of the wall detector over the scans (wide gates on a subsample for
 // a start, then every scan with tight gates around it) and their accounting. The detections
 // themselves go to the solve (SolveResult::observations).
@@ -113,6 +147,16 @@ struct StreamDelay {
   double prior_sigma_s = 0.0;  // the option's prior σ
 };
 
+// The site's inputs the level model leaves out, as terms of the mount's σ.
+enum class SiteTermKind { kVehicleAttitude, kLeverArmHeight, kScannerTilt, kWallLean };
+// "vehicle attitude", "lever arm height", "scanner tilt", "wall lean".
+const char* SiteTermName(SiteTermKind kind);
+// vehicle_attitude, lever_arm_height, scanner_tilt, wall_lean.
+const char* SiteTermKey(SiteTermKind kind);
+// The scanner's height relative to the antenna taken for the bias a graded yard could cause
+// when scanner.z_m is not given (m): a front scanner on a tractor 2.5 m below a cab-roof antenna.
+inline constexpr double kAssumedLeverArmM = -2.5;
+
 // Solve: the estimate by the requested method on the second pass's detections.
 struct SolveResult {
   // The observations the estimate rests on, at the poses the solve gave them (the clock rounds
@@ -142,6 +186,16 @@ struct SolveResult {
   // clock offset when driving towards a wall, offset + heading delay when turning in front of
   // it. 0 when no moving scan is used.
   double drives_timing_sigma_s = 0.0;
+  // The site's systematic terms (calib/site_geometry.h) the solve propagated into
+  // estimate.covariance: each input's σ through a re-solve at the input moved by it.
+  struct SiteTerm {
+    SiteTermKind kind = SiteTermKind::kVehicleAttitude;
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  };
+  std::vector<SiteTerm> site_terms;
+  // On a graded yard with scanner.z_m not given: how far a scanner kAssumedLeverArmM below the
+  // antenna would move the mount (x, y m; yaw rad); empty when z_m is given or the site level.
+  std::optional<Eigen::Vector3d> unknown_height_bias;
   Warnings warnings;
 };
 

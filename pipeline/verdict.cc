@@ -100,6 +100,7 @@ Decision Decide(const DecisionInputs& in) {
                     largest, a.max_change_sigmas));
     }
   }
+  for (const std::string& why : in.site_reviews) review(why);
   if (in.flagged_trends > 0) {
     review(std::to_string(in.flagged_trends) +
            " residual trend(s) flagged: a model error (range scale, timing, wall shape) may "

@@ -61,6 +61,9 @@ struct DecisionInputs {
   const std::optional<Change>* change = nullptr;
   const pipeline::AcceptanceOptions* acceptance = nullptr;
   int flagged_trends = 0;
+  // What the site's geometry leaves for a person to settle (pipeline::SiteReviews): each a
+  // reason for REVIEW.
+  std::vector<std::string> site_reviews;
 };
 Decision Decide(const DecisionInputs& in);
 

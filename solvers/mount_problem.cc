@@ -143,7 +143,9 @@ Eigen::Matrix2d ObservationCovariance(const calib::WallObservation& observation,
                                       ? 0.0
                                       : options.heading_sigma_rad * options.heading_sigma_rad;
 
-  covariance(0, 0) += position_variance_m2 + ell_m * ell_m * heading_variance;
+  // The vehicle attitude's noise (an attitude stream's; 0 on a level site).
+  covariance(0, 0) += position_variance_m2 + ell_m * ell_m * heading_variance +
+                      observation.attitude_var_rho_m2;
   covariance(0, 1) += ell_m * heading_variance;
   covariance(1, 0) += ell_m * heading_variance;
   covariance(1, 1) += heading_variance;

@@ -65,6 +65,29 @@ SurveyResult TieSurveyAndFitWalls(const io::SessionSpec& session,
 PoseResult PosesFromLogs(const CalibrationResult& so_far, recording::PoseLogs logs,
                          RunState* state);
 
+// The site's 3-D geometry from the session and the pose logs (pipeline/site_step.cc).
+SiteResult SiteFromPoses(const CalibrationResult& so_far, const RunState& state);
+
+// Moves each observation into the level model at `mount` (calib::LevelCorrection: its
+// rho_correction_m, theta_correction_rad replaced) and sets the variance the attitude's noise
+// adds; nothing when the site is not corrected (pipeline/site_solve.cc).
+void ApplySiteCorrections(const SiteResult& site, const std::vector<calib::WallGeometry>& walls,
+                          const calib::Mount& mount,
+                          std::vector<calib::WallObservation>* observations);
+
+// After the solve on a corrected site (or a graded one without scanner.z_m): the site's
+// systematic terms into step->site_terms and step->estimate.covariance, the bias an unknown
+// scanner height could cause into step->unknown_height_bias. `corrected_at`: the mount the
+// observations' corrections were made at.
+void PropagateSiteTerms(const CalibrationResult& so_far, const calib::Mount& corrected_at,
+                        SolveResult* step);
+
+// The reasons for REVIEW the site gives `estimate` (pipeline/site_step.cc): a graded yard whose
+// grade, with scanner.z_m not given, could move the mount by more than a third of its σ; an
+// attitude stream that disagrees with the yard.
+std::vector<std::string> SiteReviews(const CalibrationResult& run,
+                                     const solvers::MountEstimate& estimate);
+
 // Which scans taken while moving the passes use, for a session with `num_dwells` dwells:
 // use_moving (the passes detect them) and moving_by_default (DetectionResult).
 struct MovingScans {

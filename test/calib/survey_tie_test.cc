@@ -288,6 +288,42 @@ TEST(SurveyTieTest, FitWallsRecoversLineAndOrientation) {
   EXPECT_GT(wall.sigma_angle_rad, 0.0);
 }
 
+// A wall surveyed at two heights whose top leans 1° towards +normal: the lean comes out within
+// its σ, far beyond 4 σ from upright, and is used; an upright wall's stays 0.
+TEST(SurveyTieTest, FitWallsFindsTheLeanFromTheHeights) {
+  const Site site;
+  std::mt19937 rng(5);
+  const solvers::SolverOptions options;
+  for (const double lean_deg : {1.0, 0.0}) {
+    Scenario s = MakeScenario(site, kThreeControls, kWallA, kWallB, options.total_station_sigma_m,
+                              0.0, &rng);
+    const Eigen::Vector2d direction = (kWallB - kWallA).normalized();
+    const Eigen::Vector2d normal_survey =
+        Rot(kTrueRotationRad).transpose() * Eigen::Vector2d(-direction.y(), direction.x());
+    std::vector<io::SurveyPoint> upper;
+    for (io::SurveyPoint p : s.survey) {
+      if (p.code != "WALL1") continue;
+      p.id += "u";
+      p.z_m = 2.7;
+      const Eigen::Vector2d moved = 2.2 * std::tan(lean_deg * M_PI / 180.0) * normal_survey;
+      p.x_m += moved.x();
+      p.y_m += moved.y();
+      upper.push_back(p);
+    }
+    s.survey.insert(s.survey.end(), upper.begin(), upper.end());
+    const SurveyTie tie = TieSurvey(s.survey, "survey.csv", s.spec, site.frame, options.survey());
+    const WallGeometry wall = FitWalls(s.survey, "survey.csv", s.spec, tie, options.survey()).at(0);
+    ASSERT_TRUE(wall.lean_fitted) << lean_deg;
+    EXPECT_GT(wall.sigma_lean_rad, 0.0);
+    EXPECT_NEAR(wall.fitted_lean_rad * 180.0 / M_PI, lean_deg, 4.0 * wall.sigma_lean_rad * 180.0 / M_PI);
+    if (lean_deg != 0.0) {
+      EXPECT_EQ(wall.lean_rad, wall.fitted_lean_rad);
+    } else if (std::abs(wall.fitted_lean_rad) <= 4.0 * wall.sigma_lean_rad) {
+      EXPECT_EQ(wall.lean_rad, 0.0);
+    }
+  }
+}
+
 TEST(SurveyTieTest, FitWallsSigmasMatchMonteCarlo) {
   // The whole chain with noise on the wall points, the control points' survey coordinates and
   // their RTK positions; the reported σ must be within a factor 1.5 of the scatter.

@@ -21,6 +21,7 @@
 
 #include <httplib.h>
 
+#include "common/json_text.h"
 #include "test/support/json_value.h"
 #include "test/support/raw_http.h"
 
@@ -41,23 +42,8 @@ inline std::string BrowserMissing() {
   return "";
 }
 
-// A JSON string literal for a request body (quotes, backslashes and control characters escaped).
-inline std::string JsonQuote(const std::string& text) {
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof(buffer), "\\u%04x", static_cast<unsigned>(c));
-      out += buffer;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
+// A JSON string literal for a request body (common/json_text.h's escaping).
+inline std::string JsonQuote(const std::string& text) { return JsonString(text); }
 
 // Headless Chromium at a window size, one session, until destroyed (chromedriver killed).
 class Browser {
