@@ -112,6 +112,42 @@ std::string FormatHdtLine(double stamp_s, double heading_rad) {
   return Sentence(stamp_s, "HEHDT," + value + ",T");
 }
 
+namespace {
+
+// An angle field in degrees with 4 decimals and its sign ("%+.4f"), or nothing for NaN.
+std::string SignedDegrees(double angle_rad) {
+  return std::isfinite(angle_rad) ? Format("%+.4f", angle_rad * kRadToDeg) : std::string();
+}
+
+std::string HeadingDegrees(double heading_rad, const char* format) {
+  if (!std::isfinite(heading_rad)) return std::string();
+  double heading_deg = std::fmod(heading_rad * kRadToDeg, 360.0);
+  if (heading_deg < 0.0) heading_deg += 360.0;
+  return Format(format, heading_deg);
+}
+
+}  // namespace
+
+std::string FormatPashrLine(const AttitudeSample& sample, double heading_rad) {
+  auto sigma = [](double sigma_rad) {
+    return std::isfinite(sigma_rad) ? Format("%.4f", sigma_rad * kRadToDeg) : std::string();
+  };
+  const std::string body =
+      "PASHR," + UtcTimeField(sample.stamp_s) + "," + HeadingDegrees(heading_rad, "%.2f") + ",T," +
+      SignedDegrees(sample.roll_rad) + "," + SignedDegrees(sample.pitch_rad) + ",0.00," +
+      sigma(sample.roll_sigma_rad) + "," + sigma(sample.pitch_sigma_rad) + ",,1,0";
+  return Sentence(sample.stamp_s, body);
+}
+
+std::string FormatAvrLine(const AttitudeSample& sample, double heading_rad) {
+  const bool tilt = std::isfinite(sample.pitch_rad), roll = std::isfinite(sample.roll_rad);
+  const std::string body =
+      "PTNL,AVR," + UtcTimeField(sample.stamp_s) + "," + HeadingDegrees(heading_rad, "%+.4f") +
+      ",Yaw," + SignedDegrees(sample.pitch_rad) + (tilt ? ",Tilt," : ",,") +
+      SignedDegrees(sample.roll_rad) + (roll ? ",Roll," : ",,") + "1.000,3,1.5,12";
+  return Sentence(sample.stamp_s, body);
+}
+
 std::string FormatSurveyCsv(const std::vector<SurveyPoint>& points) {
   std::string out = "id,x,y,z,code\n";
   for (const SurveyPoint& point : points) {
