@@ -173,31 +173,46 @@ std::string FormatSessionYaml(const SessionSpec& spec) {
     out += "utm_zone: " + std::to_string(spec.utm_zone->zone) + (spec.utm_zone->north ? "N" : "S") +
            "\n";
   }
-  const auto scanner_keys = [&spec, &out](const std::string& indent, const std::string& model,
-                                          const std::string& log, const std::string& topic,
-                                          double time_offset_s,
-                                          const std::optional<MountGuess>& guess) {
-    out += indent + "model: " + YamlText(model) + "\n";
-    out += indent + "log: " + YamlText(RelativeTo(spec.dir, log)) + "\n";
-    if (!topic.empty()) out += indent + "topic: " + YamlText(topic) + "\n";
-    out += indent + "time_offset_s: " + ShortestNumber(time_offset_s) + "\n";
-    if (guess) {
+  const auto scanner_keys = [&spec, &out](const std::string& indent, const ScannerSpec& scanner) {
+    out += indent + "model: " + YamlText(scanner.model) + "\n";
+    out += indent + "log: " + YamlText(RelativeTo(spec.dir, scanner.log)) + "\n";
+    if (!scanner.topic.empty()) out += indent + "topic: " + YamlText(scanner.topic) + "\n";
+    out += indent + "time_offset_s: " + ShortestNumber(scanner.time_offset_s) + "\n";
+    if (const std::optional<MountGuess>& guess = scanner.mount_guess) {
       out += indent + "mount_guess: {x: " + ShortestNumber(guess->x_m) +
              ", y: " + ShortestNumber(guess->y_m) +
              ", yaw_deg: " + ShortestScaled(guess->yaw_rad, kRadToDeg) + "}\n";
     }
+    if (scanner.z_m) out += indent + "z_m: " + ShortestNumber(*scanner.z_m) + "\n";
+    if (scanner.z_sigma_m != kDefaultScannerZSigmaM) {
+      out += indent + "z_sigma_m: " + ShortestNumber(scanner.z_sigma_m) + "\n";
+    }
+    if (scanner.tilt.given) {
+      out += indent + "pitch_deg: " + ShortestScaled(scanner.tilt.pitch_rad, kRadToDeg) + "\n";
+      out += indent + "roll_deg: " + ShortestScaled(scanner.tilt.roll_rad, kRadToDeg) + "\n";
+    }
+    if (scanner.tilt.sigma_rad != kDefaultScannerTiltSigmaRad) {
+      out += indent + "tilt_sigma_deg: " + ShortestScaled(scanner.tilt.sigma_rad, kRadToDeg) + "\n";
+    }
   };
   if (spec.scanners.empty()) {
     out += "scanner:\n";
-    scanner_keys("  ", spec.scanner_model, spec.scanner_log, spec.scanner_topic,
-                 spec.scanner_time_offset_s, spec.mount_guess);
+    ScannerSpec one;
+    one.model = spec.scanner_model;
+    one.log = spec.scanner_log;
+    one.topic = spec.scanner_topic;
+    one.time_offset_s = spec.scanner_time_offset_s;
+    one.mount_guess = spec.mount_guess;
+    one.z_m = spec.scanner_z_m;
+    one.z_sigma_m = spec.scanner_z_sigma_m;
+    one.tilt = spec.scanner_tilt;
+    scanner_keys("  ", one);
   } else {
     out += "scanners:\n";
     for (const ScannerSpec& scanner : spec.scanners) {
       out += "  - id: " + YamlText(scanner.id) + "\n";
       if (scanner.frame != scanner.id) out += "    frame: " + YamlText(scanner.frame) + "\n";
-      scanner_keys("    ", scanner.model, scanner.log, scanner.topic, scanner.time_offset_s,
-                   scanner.mount_guess);
+      scanner_keys("    ", scanner);
     }
   }
   out += "gnss:\n";
@@ -213,6 +228,18 @@ std::string FormatSessionYaml(const SessionSpec& spec) {
   out += std::string("  reference: ") +
          (spec.heading_reference == HeadingReference::kGridNorth ? "grid_north" : "true_north") +
          "\n";
+  if (!spec.attitude_log.empty()) {
+    out += "attitude:\n";
+    out += "  log: " + YamlText(RelativeTo(spec.dir, spec.attitude_log)) + "\n";
+    if (!spec.attitude_topic.empty()) out += "  topic: " + YamlText(spec.attitude_topic) + "\n";
+    if (spec.attitude_stamp == StampSource::kReceive) out += "  stamp: receive\n";
+    if (spec.attitude_time_offset_s != 0.0) {
+      out += "  time_offset_s: " + ShortestNumber(spec.attitude_time_offset_s) + "\n";
+    }
+    if (spec.attitude_sigma_rad != kDefaultAttitudeSigmaRad) {
+      out += "  sigma_deg: " + ShortestScaled(spec.attitude_sigma_rad, kRadToDeg) + "\n";
+    }
+  }
   out += "survey:\n";
   out += "  points: " + YamlText(RelativeTo(spec.dir, spec.survey_points)) + "\n";
   if (!spec.control.empty()) out += "  control:\n";
