@@ -3,6 +3,7 @@
 
 #include <utility>
 
+#include "recording/attitude_stream.h"
 #include "recording/recording.h"
 
 namespace wallcal::guide {
@@ -27,12 +28,15 @@ recording::PoseLogs PoseLogFollower::Read() {
   // may turn out to be a recording.
   const bool gnss_recorded = recording::IsRecording(spec.gnss_log);
   const bool heading_recorded = recording::IsRecording(spec.heading_log);
+  const bool attitude_named = !spec.attitude_log.empty();
+  const bool attitude_recorded = attitude_named && recording::IsRecording(spec.attitude_log);
   recording::PoseLogs logs;
-  if (gnss_recorded || heading_recorded) {
-    logs = recording::ReadPoseLogs(spec, gnss_recorded, heading_recorded);
+  if (gnss_recorded || heading_recorded || attitude_recorded) {
+    logs = recording::ReadPoseLogs(spec, gnss_recorded, heading_recorded, attitude_recorded);
   }
   gnss_read_ = PoseLogRead{};
   heading_read_ = PoseLogRead{};
+  attitude_read_ = PoseLogRead{};
   if (gnss_recorded) {
     gnss_.reset();
   } else {
@@ -49,6 +53,22 @@ recording::PoseLogs PoseLogFollower::Read() {
     } else {
       logs.headings = ReadOn(spec.heading_log, &heading_, &heading_read_);
     }
+  }
+  if (attitude_recorded || !attitude_named) {
+    attitude_.reset();
+    return logs;
+  }
+  recording::RequireNoTopic(spec.attitude_topic, spec.attitude_log, "attitude.topic");
+  const double offset_s = spec.attitude_time_offset_s;
+  if (!heading_recorded && spec.attitude_log == spec.heading_log) {
+    logs.attitudes = recording::AttitudeStreamOf(logs.headings, offset_s);  // one log read once
+    attitude_read_ = heading_read_;
+  } else if (!gnss_recorded && spec.attitude_log == spec.gnss_log) {
+    logs.attitudes = recording::AttitudeStreamOf(logs.gnss, offset_s);
+    attitude_read_ = gnss_read_;
+  } else {
+    logs.attitudes = recording::AttitudeStreamOf(
+        ReadOn(spec.attitude_log, &attitude_, &attitude_read_), offset_s);
   }
   return logs;
 }

@@ -13,6 +13,7 @@
 #include "io/scanner_geometry.h"
 #include "io/text/carmen_reader.h"
 #include "io/text/nmea_reader.h"
+#include "recording/attitude_stream.h"
 #include "recording/recording_tail.h"
 
 namespace wallcal::recording {
@@ -57,6 +58,7 @@ struct TopicStream {
   std::string topic;
   io::StampSource stamp = io::StampSource::kHeader;
   RosType type = RosType::kOther;
+  double time_offset_s = 0.0;  // the attitude stream's
 };
 
 // The sentences of an nmea_msgs/Sentence topic as logger-stamped text lines.
@@ -83,98 +85,119 @@ void AppendSentence(const NmeaSentenceMsg& msg, double stamp_s, SentenceText* ou
   ++out->messages;
 }
 
-// Reads the GNSS stream (gnss != nullptr) and/or the heading stream of one recording, in one
-// pass over both topics.
-void ReadRecordedPoses(const std::string& path, const TopicStream* gnss, double max_sigma_m,
-                       const TopicStream* heading, PoseLogs* out) {
+// The streams of a session that one recording holds (null: not in it).
+struct RecordedStreams {
+  const TopicStream* gnss = nullptr;
+  const TopicStream* heading = nullptr;
+  const TopicStream* attitude = nullptr;
+};
+
+// Reads the streams `which` names from one recording, in one pass over their topics.
+void ReadRecordedPoses(const std::string& path, const RecordedStreams& which, double max_sigma_m,
+                       PoseLogs* out) {
   std::unique_ptr<Recording> recording = OpenRecording(path);
-  TopicStream g, h;
+  TopicStream g, h, a;
   std::set<std::string> topics;
-  if (gnss != nullptr) {
-    g = *gnss;
+  if (which.gnss != nullptr) {
+    g = *which.gnss;
     g.type = CheckTopic(*recording, g.topic, AcceptedGnssTypes(), "gnss.topic");
     topics.insert(g.topic);
   }
-  if (heading != nullptr) {
-    h = *heading;
+  if (which.heading != nullptr) {
+    h = *which.heading;
     h.type = CheckTopic(*recording, h.topic, AcceptedHeadingTypes(), "heading.topic");
     topics.insert(h.topic);
   }
-  SentenceText gnss_sentences, heading_sentences;
+  if (which.attitude != nullptr) {
+    a = *which.attitude;
+    a.type = CheckTopic(*recording, a.topic, AcceptedAttitudeTypes(), "attitude.topic");
+    topics.insert(a.topic);
+  }
+  SentenceText gnss_sentences, heading_sentences, attitude_sentences;
+  ImuAttitudeStream imu_attitudes;
   bool gnss_without_covariance = false;
   double last_fix_s = -INFINITY, last_heading_s = -INFINITY;
   NavSatFixMsg fix_msg;
   NmeaSentenceMsg sentence_msg;
   QuaternionMsg quaternion_msg;
+  const auto sentence_of = [&](const RecordedMessage& m, RosType type, const TopicStream& stream,
+                               SentenceText* text) {
+    Require(DecodeNmeaSentence(m.data, m.size, m.wire, &sentence_msg), *recording, m, type);
+    AppendSentence(sentence_msg, StampOf(sentence_msg.header, m, stream.stamp), text);
+  };
+  const auto gnss_message = [&](const RecordedMessage& m) {
+    if (g.type == RosType::kNmeaSentence) return sentence_of(m, g.type, g, &gnss_sentences);
+    Require(DecodeNavSatFix(m.data, m.size, m.wire, &fix_msg), *recording, m, g.type);
+    ++out->gnss.lines_read;
+    const double stamp_s = StampOf(fix_msg.header, m, g.stamp);
+    const io::GnssFix fix = FixFromNavSatFix(fix_msg, stamp_s, max_sigma_m, LineOf(m.index));
+    if (fix.quality == 0) {
+      out->gnss.skipped.Add("NavSatFix without a fix (status -1)", fix.line);
+      return;
+    }
+    if (fix_msg.position_covariance_type == 0) gnss_without_covariance = true;
+    ++out->gnss.fixes_by_quality[fix.quality];
+    if (!(stamp_s > last_fix_s)) {
+      out->gnss.skipped.Add("time not increasing", fix.line);
+      return;
+    }
+    last_fix_s = stamp_s;
+    out->gnss.fixes.push_back(fix);
+  };
+  const auto heading_message = [&](const RecordedMessage& m) {
+    if (h.type == RosType::kNmeaSentence) return sentence_of(m, h.type, h, &heading_sentences);
+    const DecodeResult r = h.type == RosType::kImu
+                               ? DecodeImu(m.data, m.size, m.wire, &quaternion_msg)
+                               : DecodeQuaternionStamped(m.data, m.size, m.wire, &quaternion_msg);
+    Require(r, *recording, m, h.type);
+    ++out->headings.lines_read;
+    const int line = LineOf(m.index);
+    if (h.type == RosType::kImu && quaternion_msg.orientation_covariance[0] == -1.0) {
+      out->headings.skipped.Add("Imu without orientation (covariance[0] = -1)", line);
+      return;
+    }
+    const double norm =
+        std::sqrt(quaternion_msg.x * quaternion_msg.x + quaternion_msg.y * quaternion_msg.y +
+                  quaternion_msg.z * quaternion_msg.z + quaternion_msg.w * quaternion_msg.w);
+    if (!std::isfinite(norm) || norm < 1e-6) {
+      out->headings.skipped.Add("quaternion not finite or zero", line);
+      return;
+    }
+    const double stamp_s = StampOf(quaternion_msg.header, m, h.stamp);
+    if (!(stamp_s > last_heading_s)) {
+      out->headings.skipped.Add("time not increasing", line);
+      return;
+    }
+    last_heading_s = stamp_s;
+    io::HeadingSample sample;
+    sample.stamp_s = stamp_s;
+    sample.heading_rad = HeadingFromEnuQuaternion(quaternion_msg.x, quaternion_msg.y,
+                                                  quaternion_msg.z, quaternion_msg.w);
+    sample.line = line;
+    out->headings.headings.push_back(sample);
+  };
+  const auto attitude_message = [&](const RecordedMessage& m) {
+    if (a.type == RosType::kNmeaSentence) return sentence_of(m, a.type, a, &attitude_sentences);
+    Require(DecodeImu(m.data, m.size, m.wire, &quaternion_msg), *recording, m, a.type);
+    imu_attitudes.Add(quaternion_msg, StampOf(quaternion_msg.header, m, a.stamp), LineOf(m.index));
+  };
+  // A topic may serve several streams (an Imu for heading and attitude): each reads it.
   recording->ForEach(topics, [&](const RecordedMessage& m) {
-    const bool for_gnss = gnss != nullptr && m.topic->name == g.topic;
-    const bool for_heading = heading != nullptr && m.topic->name == h.topic;
-    const RosType type = for_gnss ? g.type : h.type;
-    if (type == RosType::kNmeaSentence) {
-      Require(DecodeNmeaSentence(m.data, m.size, m.wire, &sentence_msg), *recording, m, type);
-      if (for_gnss)
-        AppendSentence(sentence_msg, StampOf(sentence_msg.header, m, g.stamp), &gnss_sentences);
-      if (for_heading) {
-        AppendSentence(sentence_msg, StampOf(sentence_msg.header, m, h.stamp), &heading_sentences);
-      }
-      return;
-    }
-    if (for_gnss && type == RosType::kNavSatFix) {
-      Require(DecodeNavSatFix(m.data, m.size, m.wire, &fix_msg), *recording, m, type);
-      ++out->gnss.lines_read;
-      const double stamp_s = StampOf(fix_msg.header, m, g.stamp);
-      const io::GnssFix fix = FixFromNavSatFix(fix_msg, stamp_s, max_sigma_m, LineOf(m.index));
-      if (fix.quality == 0) {
-        out->gnss.skipped.Add("NavSatFix without a fix (status -1)", fix.line);
-        return;
-      }
-      if (fix_msg.position_covariance_type == 0) gnss_without_covariance = true;
-      ++out->gnss.fixes_by_quality[fix.quality];
-      if (!(stamp_s > last_fix_s)) {
-        out->gnss.skipped.Add("time not increasing", fix.line);
-        return;
-      }
-      last_fix_s = stamp_s;
-      out->gnss.fixes.push_back(fix);
-      return;
-    }
-    if (for_heading) {
-      const DecodeResult r = type == RosType::kImu
-                                 ? DecodeImu(m.data, m.size, m.wire, &quaternion_msg)
-                                 : DecodeQuaternionStamped(m.data, m.size, m.wire, &quaternion_msg);
-      Require(r, *recording, m, type);
-      ++out->headings.lines_read;
-      const int line = LineOf(m.index);
-      if (type == RosType::kImu && quaternion_msg.orientation_covariance[0] == -1.0) {
-        out->headings.skipped.Add("Imu without orientation (covariance[0] = -1)", line);
-        return;
-      }
-      const double norm =
-          std::sqrt(quaternion_msg.x * quaternion_msg.x + quaternion_msg.y * quaternion_msg.y +
-                    quaternion_msg.z * quaternion_msg.z + quaternion_msg.w * quaternion_msg.w);
-      if (!std::isfinite(norm) || norm < 1e-6) {
-        out->headings.skipped.Add("quaternion not finite or zero", line);
-        return;
-      }
-      const double stamp_s = StampOf(quaternion_msg.header, m, h.stamp);
-      if (!(stamp_s > last_heading_s)) {
-        out->headings.skipped.Add("time not increasing", line);
-        return;
-      }
-      last_heading_s = stamp_s;
-      io::HeadingSample sample;
-      sample.stamp_s = stamp_s;
-      sample.heading_rad = HeadingFromEnuQuaternion(quaternion_msg.x, quaternion_msg.y,
-                                                    quaternion_msg.z, quaternion_msg.w);
-      sample.line = line;
-      out->headings.headings.push_back(sample);
-    }
+    if (which.gnss != nullptr && m.topic->name == g.topic) gnss_message(m);
+    if (which.heading != nullptr && m.topic->name == h.topic) heading_message(m);
+    if (which.attitude != nullptr && m.topic->name == a.topic) attitude_message(m);
   });
-  if (gnss != nullptr && g.type == RosType::kNmeaSentence) {
+  if (which.gnss != nullptr && g.type == RosType::kNmeaSentence) {
     out->gnss = ParseSentences(&gnss_sentences, path + " " + g.topic);
   }
-  if (heading != nullptr && h.type == RosType::kNmeaSentence) {
+  if (which.heading != nullptr && h.type == RosType::kNmeaSentence) {
     out->headings = ParseSentences(&heading_sentences, path + " " + h.topic);
+  }
+  if (which.attitude != nullptr) {
+    out->attitudes = AttitudeStreamOf(
+        a.type == RosType::kNmeaSentence ? ParseSentences(&attitude_sentences, path + " " + a.topic)
+                                         : imu_attitudes.Finish(path, a.topic),
+        a.time_offset_s);
   }
   if (gnss_without_covariance) {
     out->warnings.push_back(path + ": " + g.topic +
@@ -182,6 +205,26 @@ void ReadRecordedPoses(const std::string& path, const TopicStream* gnss, double 
                             "told apart from fixed ones (all fixes with status >= 0 are used)");
   }
   for (const std::string& w : recording->warnings()) out->warnings.push_back(w);
+}
+
+// A session's attitude stream that gave no sample: the attitude log or topic named, with the
+// skips that emptied it.
+void RequireAttitudeSamples(const io::SessionSpec& spec, const io::NmeaLog& attitudes,
+                            bool recorded) {
+  if (!attitudes.attitudes.empty()) return;
+  const std::string skips = attitudes.skipped.ListReasons(false, 6);
+  const std::string read = std::to_string(attitudes.lines_read) +
+                           (skips.empty() ? std::string() : "; skipped: " + skips);
+  throw io::InputError(io::Where(
+      spec.attitude_log, 0,
+      recorded
+          ? "attitude.topic " + spec.attitude_topic + ": no attitude sample (messages: " + read +
+                "); expected sensor_msgs/Imu messages with the vehicle's orientation (x forward, y "
+                "left, z up: roll and pitch within ±30°), or nmea_msgs/Sentence with $PASHR "
+                "or $PTNL,AVR"
+          : "attitude.log: no attitude sample (lines read: " + read +
+                "); expected $PASHR or $PTNL,AVR sentences with roll and pitch, e.g. "
+                "$PASHR,hhmmss.ss,heading,T,roll,pitch,...*hh"));
 }
 
 // Scans of a recording, decoded once and replayed for every pass.
@@ -354,10 +397,13 @@ double HeadingFromEnuQuaternion(double x, double y, double z, double w) {
   return WrapTwoPi(HeadingFromYaw(yaw));  // the grid heading of an ENU yaw
 }
 
-PoseLogs ReadPoseLogs(const io::SessionSpec& spec, bool read_gnss, bool read_heading) {
+PoseLogs ReadPoseLogs(const io::SessionSpec& spec, bool read_gnss, bool read_heading,
+                      bool read_attitude) {
   PoseLogs out;
+  read_attitude = read_attitude && !spec.attitude_log.empty();
   const bool gnss_recorded = read_gnss && IsRecording(spec.gnss_log);
   const bool heading_recorded = read_heading && IsRecording(spec.heading_log);
+  const bool attitude_recorded = read_attitude && IsRecording(spec.attitude_log);
   if (read_gnss && !gnss_recorded) {
     RequireNoTopic(spec.gnss_topic, spec.gnss_log, "gnss.topic");
     out.gnss = io::ReadNmea(spec.gnss_log);
@@ -368,17 +414,30 @@ PoseLogs ReadPoseLogs(const io::SessionSpec& spec, bool read_gnss, bool read_hea
                        ? out.gnss
                        : io::ReadNmea(spec.heading_log);
   }
-  const TopicStream gnss{spec.gnss_topic, spec.gnss_stamp, RosType::kOther};
-  const TopicStream heading{spec.heading_topic, spec.heading_stamp, RosType::kOther};
-  if (gnss_recorded && heading_recorded && spec.gnss_log == spec.heading_log) {
-    ReadRecordedPoses(spec.gnss_log, &gnss, spec.gnss_max_sigma_m, &heading, &out);
-  } else {
-    if (gnss_recorded)
-      ReadRecordedPoses(spec.gnss_log, &gnss, spec.gnss_max_sigma_m, nullptr, &out);
-    if (heading_recorded) {
-      ReadRecordedPoses(spec.heading_log, nullptr, spec.gnss_max_sigma_m, &heading, &out);
+  if (read_attitude && !attitude_recorded) {
+    RequireNoTopic(spec.attitude_topic, spec.attitude_log, "attitude.topic");
+    const double offset_s = spec.attitude_time_offset_s;
+    if (read_heading && !heading_recorded && spec.attitude_log == spec.heading_log) {
+      out.attitudes = AttitudeStreamOf(out.headings, offset_s);  // one log read once
+    } else if (read_gnss && !gnss_recorded && spec.attitude_log == spec.gnss_log) {
+      out.attitudes = AttitudeStreamOf(out.gnss, offset_s);
+    } else {
+      out.attitudes = AttitudeStreamOf(io::ReadNmea(spec.attitude_log), offset_s);
     }
   }
+  // The recorded streams, each recording read once for all the streams it holds.
+  const TopicStream gnss{spec.gnss_topic, spec.gnss_stamp, RosType::kOther, 0.0};
+  const TopicStream heading{spec.heading_topic, spec.heading_stamp, RosType::kOther, 0.0};
+  const TopicStream attitude{spec.attitude_topic, spec.attitude_stamp, RosType::kOther,
+                             spec.attitude_time_offset_s};
+  std::map<std::string, RecordedStreams> recordings;
+  if (gnss_recorded) recordings[spec.gnss_log].gnss = &gnss;
+  if (heading_recorded) recordings[spec.heading_log].heading = &heading;
+  if (attitude_recorded) recordings[spec.attitude_log].attitude = &attitude;
+  for (const auto& [path, which] : recordings) {
+    ReadRecordedPoses(path, which, spec.gnss_max_sigma_m, &out);
+  }
+  if (read_attitude) RequireAttitudeSamples(spec, out.attitudes, attitude_recorded);
   return out;
 }
 

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -14,13 +15,15 @@
 #include <utility>
 #include <vector>
 
+#include "common/angles.h"
 #include "guide/guide_session.h"
 #include "guide/pose_logs.h"
 #include "io/text/nmea_reader.h"
+#include "io/writers/writers.h"
 #include "sim/recording_session.h"
 #include "sim/simulation_config.h"
-#include "test/support/scratch_dir.h"
 #include "test/support/guide_expect.h"
+#include "test/support/scratch_dir.h"
 #include "test/support/scratch_files.h"
 
 namespace wallcal {
@@ -125,6 +128,50 @@ TEST(PoseLogFollowerTest, ReadsOneLogOnceForBoth) {
   EXPECT_EQ(logs.headings.headings.size(), 1u);
   EXPECT_EQ(logs.gnss.fixes.size(), io::ReadNmea(path.string()).fixes.size());
   EXPECT_EQ(logs.headings.fixes.size(), logs.gnss.fixes.size());
+}
+
+// The attitude sentences of the heading log come with its headings, from the same read on; an
+// attitude log of its own is read on by itself, and one still empty is no error.
+TEST(PoseLogFollowerTest, ReadsTheAttitudeStreamOnWithTheLogThatHoldsIt) {
+  const testing_support::ScratchDir scratch("wallcal_pose_logs_attitude_");
+  const auto pashr = [](double stamp_s, double roll_deg) {
+    char body[160];
+    std::snprintf(body, sizeof(body), "PASHR,000000.00,35.00,T,%+.4f,+0.5000,0.00,,,,1,0",
+                  roll_deg);
+    return std::to_string(stamp_s) + " $" + body + "*" + io::NmeaChecksum(body) + "\n";
+  };
+  const fs::path heading = scratch.path() / "heading.nmea";
+  const fs::path own = scratch.path() / "attitude.nmea";
+  const std::string first = "1747031522.050 $HEHDT,35.0024,T*2F\n" + pashr(1747031522.06, 1.0);
+  testing_support::WriteFile(heading.string(), first);
+  testing_support::WriteFile(own.string(), "");
+  io::SessionSpec session;
+  session.gnss_log = (scratch.path() / "gnss.nmea").string();
+  testing_support::WriteFile(session.gnss_log, "");
+  session.heading_log = session.attitude_log = heading.string();
+  session.attitude_time_offset_s = 0.5;
+  guide::PoseLogFollower follower(session);
+  recording::PoseLogs logs = follower.Read();
+  ASSERT_EQ(logs.attitudes.attitudes.size(), 1u);
+  EXPECT_DOUBLE_EQ(logs.attitudes.attitudes[0].stamp_s, 1747031522.56);
+
+  std::ofstream(heading, std::ios::binary | std::ios::app) << pashr(1747031522.16, 2.0);
+  logs = follower.Read();
+  EXPECT_EQ(follower.attitude_read().from_byte, static_cast<int64_t>(first.size()));
+  EXPECT_EQ(follower.attitude_read().from_byte, follower.heading_read().from_byte);
+  ASSERT_EQ(logs.attitudes.attitudes.size(), 2u);
+  EXPECT_NEAR(logs.attitudes.attitudes[1].roll_rad, 2.0 * kDegToRad, 1e-12);
+  EXPECT_EQ(logs.headings.headings.size(), 1u);
+
+  // A log of its own, empty at first, then grown.
+  session.attitude_log = own.string();
+  guide::PoseLogFollower own_follower(session);
+  EXPECT_TRUE(own_follower.Read().attitudes.attitudes.empty());
+  std::ofstream(own, std::ios::binary | std::ios::app) << pashr(1747031522.26, 3.0);
+  logs = own_follower.Read();
+  ASSERT_EQ(logs.attitudes.attitudes.size(), 1u);
+  EXPECT_EQ(own_follower.attitude_read().from_byte, 0);
+  EXPECT_GT(own_follower.attitude_read().bytes, 0);
 }
 
 }  // namespace
