@@ -12,8 +12,8 @@ namespace {
 using namespace io::option_checks;  // NOLINT: the checks every Validate() makes
 
 // The keys a scenario carries beside VisitSimulationConfig's, and their checks: the per-stream
-// delays, the car-like drives, more scanners and the scanner's true range model (NaN: the
-// preset's), which truth.yaml writes only when set (FormatTruthYaml).
+// delays, the car-like drives, more scanners, the attitude stream and the scanner's true range
+// model (NaN: the preset's), which truth.yaml writes only when set (FormatTruthYaml).
 template <class V>
 void VisitOptionalKeys(V& v, SimulationConfig& c) {
   v.Number("gnss_latency_s", c.gnss_latency_s, io::InRange(0.0, 10.0));
@@ -23,6 +23,10 @@ void VisitOptionalKeys(V& v, SimulationConfig& c) {
   v.Number("station_distance_far_m", c.station_distance_far_m, io::NonNegative());
   v.Number("drive_reverse_m", c.drive_reverse_m, io::InRange(0.0, 100.0));
   v.Scaled("weave_turn_deg", c.weave_turn_rad, kRadToDeg, io::InRange(0.0, 90.0));
+  v.Number("attitude_rate_hz", c.attitude_rate_hz, io::NonNegative());
+  v.Scaled("attitude_white_sigma_deg", c.attitude_white_sigma_rad, kRadToDeg, io::NonNegative());
+  v.Text("attitude_sentence", c.attitude_sentence);
+  v.Boolean("attitude_own_log", c.attitude_own_log);
   v.List("scanners", c.scanners, [](V& item, SimScanner& s) { VisitSimScanner(item, s); });
   std::string survey_mode = c.survey_mode == SurveyMode::kRover ? "rover" : "total_station";
   v.Text("survey_mode", survey_mode);
@@ -153,6 +157,14 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
   }
   if (config.weave_turn_rad != 0.0) {
     out += "  weave_turn_deg: " + io::ShortestScaled(config.weave_turn_rad, kRadToDeg) + "\n";
+  }
+  if (config.attitude_rate_hz > 0.0) {
+    out += "  attitude_rate_hz: " + io::ShortestNumber(config.attitude_rate_hz) + "\n";
+    out += "  attitude_white_sigma_deg: " +
+           io::ShortestScaled(config.attitude_white_sigma_rad, kRadToDeg) + "\n";
+    out += "  attitude_sentence: " + config.attitude_sentence + "\n";
+    out +=
+        std::string("  attitude_own_log: ") + (config.attitude_own_log ? "true" : "false") + "\n";
   }
   if (!config.scanners.empty()) {
     out += "  scanners:\n";

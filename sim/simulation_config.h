@@ -118,7 +118,8 @@ struct SimulationConfig {
   // Attitude stream (the vehicle's roll and pitch), sampled at attitude_rate_hz (0: none), each
   // axis off by attitude_white_sigma_rad. Text sessions: $PASHR sentences (attitude_sentence
   // "pashr") or $PTNL,AVR ("avr"), in the heading log or, with attitude_own_log, in a log of
-  // their own (attitude.nmea); recordings: a sensor_msgs/Imu topic.
+  // their own (attitude.nmea); recordings: a sensor_msgs/Imu topic. Optional keys: truth.yaml
+  // names them only with attitude_rate_hz > 0.
   double attitude_rate_hz = 0.0;
   double attitude_white_sigma_rad = 0.0017;  // 0.1 deg
   std::string attitude_sentence = "pashr";
@@ -254,10 +255,6 @@ void VisitSimulationConfig(V& v, SimulationConfig& c) {
   v.Scaled("heading_drift_deg_per_h", c.heading_drift_rad_per_s, kDegPerHourPerRadPerS,
            io::Finite());
   v.Scaled("heading_bias_deg", c.heading_bias_rad, kRadToDeg, io::Finite());
-  v.Number("attitude_rate_hz", c.attitude_rate_hz, io::NonNegative());
-  v.Scaled("attitude_white_sigma_deg", c.attitude_white_sigma_rad, kRadToDeg, io::NonNegative());
-  v.Text("attitude_sentence", c.attitude_sentence);
-  v.Boolean("attitude_own_log", c.attitude_own_log);
   v.Number("total_station_sigma_m", c.total_station_sigma_m, io::NonNegative());
   v.Number("control_sigma_m", c.control_sigma_m, io::NonNegative());
   v.Scaled("survey_rotation_deg", c.survey_rotation_rad, kRadToDeg, io::Finite());
