@@ -22,7 +22,8 @@ const CommandHelp& InspectHelp() {
   static const CommandHelp help{
       "inspect",
       "check a session, a log or a recording before leaving the site; dump decoded records",
-      {"PATH [--dump gnss|heading|scans|survey] [--topic NAME] [--scanner ID] [--config FILE]",
+      {"PATH [--dump gnss|heading|attitude|scans|survey] [--topic NAME] [--scanner ID] "
+       "[--config FILE]",
        "RECORDING --suggest-session"},
       "The pre-flight check of a wall session: run it before leaving the site.\n",
       {
@@ -31,11 +32,14 @@ const CommandHelp& InspectHelp() {
            "heading) or CARMEN (scans, plain or gzip), a robot recording (ROS 1 .bag,\n"
            "MCAP, rosbag2 .db3 or folder), or a survey file (CSV with a header, or\n"
            "Leica GSI); recognised by content"},
-          {"--dump", "", "KIND", ValueKind::kChoice, {"gnss", "heading", "scans", "survey"},
+          {"--dump", "", "KIND", ValueKind::kChoice,
+           {"gnss", "heading", "attitude", "scans", "survey"},
            "write the decoded records as CSV on stdout instead of the report:\n"
            "  gnss     time_s,lat_deg,lon_deg,height_m,quality,satellites,hdop,\n"
            "           sigma_lat_m,sigma_lon_m,line\n"
            "  heading  time_s,heading_deg,line\n"
+           "  attitude time_s,roll_deg,pitch_deg,roll_sigma_deg,pitch_sigma_deg,line\n"
+           "           (roll + right side down, pitch + nose up)\n"
            "  scans    time_s,beams,valid,min_range_m,max_range_m,line\n"
            "  survey   id,x_m,y_m,z_m,code (one row per observation; x east, y north)\n"
            "(on a session: that log or survey file of the session, a scanners:\n"
@@ -136,10 +140,13 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
         kind = wallcal::preflight::DumpKind::kGnss;
       } else if (dump == "heading") {
         kind = wallcal::preflight::DumpKind::kHeading;
+      } else if (dump == "attitude") {
+        kind = wallcal::preflight::DumpKind::kAttitude;
       } else if (dump == "scans") {
         kind = wallcal::preflight::DumpKind::kScans;
       } else {
-        err << "inspect: --dump: unknown kind '" << dump << "'; expected gnss, heading, scans or survey\n";
+        err << "inspect: --dump: unknown kind '" << dump
+            << "'; expected gnss, heading, attitude, scans or survey\n";
         return 2;
       }
       // Build the whole dump first: an error half-way leaves stdout without half a table.

@@ -98,8 +98,9 @@ int wallcal::apps::RunSimulate(int argc, char** argv) {
     const wallcal::sim::SimulateSummary s = wallcal::sim::WriteSimulatedSession(config, seed, output, format);
     std::cout << "simulate: wrote " << output << ": " << s.scans_written << " scans ("
               << s.scans_lost << " lost), " << s.fixes << " GNSS fixes, " << s.headings
-              << " headings, " << s.survey_points << " survey points, " << s.duration_s
-              << " s of driving";
+              << " headings, "
+              << (s.attitudes > 0 ? std::to_string(s.attitudes) + " attitude samples, " : "")
+              << s.survey_points << " survey points, " << s.duration_s << " s of driving";
     if (s.ground_returns > 0) std::cout << "; " << s.ground_returns << " beams saw the ground";
     std::cout << "\n";
     return 0;

@@ -3,6 +3,7 @@
 
 #include <utility>
 
+#include "recording/attitude_stream.h"
 #include "recording/recording.h"
 
 namespace wallcal::guide {
@@ -31,9 +32,12 @@ recording::PoseLogs PoseLogFollower::Read() {
   // may turn out to be a recording.
   const bool gnss_recorded = recording::IsRecording(spec.gnss_log);
   const bool heading_recorded = recording::IsRecording(spec.heading_log);
+  const bool attitude_named = !spec.attitude_log.empty();
+  const bool attitude_recorded = attitude_named && recording::IsRecording(spec.attitude_log);
   recording::PoseLogs logs;
   gnss_read_ = PoseLogRead{};
   heading_read_ = PoseLogRead{};
+  attitude_read_ = PoseLogRead{};
   if (!gnss_recorded && !heading_recorded) {
     recorded_.reset();
   } else {
@@ -45,6 +49,10 @@ recording::PoseLogs PoseLogFollower::Read() {
     logs = recorded_->ReadOn();
     if (gnss_recorded) gnss_read_ = ReadOf(recorded_->gnss_read());
     if (heading_recorded) heading_read_ = ReadOf(recorded_->heading_read());
+  }
+  if (attitude_recorded) {
+    // PoseTail reads no attitude topic: the recording's attitude stream is read whole.
+    logs.attitudes = recording::ReadPoseLogs(spec, false, false, true).attitudes;
   }
   if (gnss_recorded) {
     gnss_.reset();
@@ -62,6 +70,22 @@ recording::PoseLogs PoseLogFollower::Read() {
     } else {
       logs.headings = ReadOn(spec.heading_log, &heading_, &heading_read_);
     }
+  }
+  if (attitude_recorded || !attitude_named) {
+    attitude_.reset();
+    return logs;
+  }
+  recording::RequireNoTopic(spec.attitude_topic, spec.attitude_log, "attitude.topic");
+  const double offset_s = spec.attitude_time_offset_s;
+  if (!heading_recorded && spec.attitude_log == spec.heading_log) {
+    logs.attitudes = recording::AttitudeStreamOf(logs.headings, offset_s);  // one log read once
+    attitude_read_ = heading_read_;
+  } else if (!gnss_recorded && spec.attitude_log == spec.gnss_log) {
+    logs.attitudes = recording::AttitudeStreamOf(logs.gnss, offset_s);
+    attitude_read_ = gnss_read_;
+  } else {
+    logs.attitudes = recording::AttitudeStreamOf(
+        ReadOn(spec.attitude_log, &attitude_, &attitude_read_), offset_s);
   }
   return logs;
 }

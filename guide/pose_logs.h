@@ -1,14 +1,17 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// A session's GNSS and heading logs kept between the guide's refreshes, so that a refresh reads
-// only what they gained: an NMEA text log is read on from where the last read stopped
-// (io::NmeaFollower: the reader's state carried over, a last line still being written read
-// again next time), a recording's GNSS and heading topics (ROS 1 bag, MCAP, .db3, rosbag2
-// folder) from the end of the last whole record read (recording::PoseTail: the decoders' state
-// carried over; both topics in one pass when they share the recording). A gzip-compressed NMEA
-// log is read whole at each refresh. Either way Read() returns what recording::ReadPoseLogs
-// returns for the logs as they are now, for pipeline::PosesFromLogs, but for the container
-// readers' warnings about a recording still being written (recording::PoseTail).
+// A session's GNSS, heading and attitude logs kept between the guide's refreshes, so that a
+// refresh reads only what they gained: an NMEA text log is read on from where the last read
+// stopped (io::NmeaFollower: the reader's state carried over, a last line still being written
+// read again next time), once for all the streams it holds (the attitude sentences of the
+// heading log come with its headings); a recording's GNSS and heading topics (ROS 1 bag, MCAP,
+// .db3, rosbag2 folder) from the end of the last whole record read (recording::PoseTail: the
+// decoders' state carried over; both topics in one pass when they share the recording). A
+// recording's attitude topic and a gzip-compressed NMEA log are read whole at each refresh.
+// Either way Read() returns what recording::ReadPoseLogs returns for the logs as they are now,
+// for pipeline::PosesFromLogs, except for the container readers' warnings about a recording
+// still being written (recording::PoseTail) and that a text attitude log without a sample yet
+// is no error (it may be still empty).
 
 #include <cstdint>
 #include <memory>
@@ -39,16 +42,19 @@ class PoseLogFollower {
 
   const PoseLogRead& gnss_read() const { return gnss_read_; }
   const PoseLogRead& heading_read() const { return heading_read_; }
+  const PoseLogRead& attitude_read() const { return attitude_read_; }
 
  private:
   io::SessionSpec session_;
   std::optional<io::NmeaFollower> gnss_;     // a text GNSS log
   std::optional<io::NmeaFollower> heading_;  // a text heading log other than the GNSS log
-  // The recorded streams: which ones, and their tail.
+  std::optional<io::NmeaFollower> attitude_;  // a text attitude log of its own
+  // The recorded GNSS and heading streams: which ones, and their tail.
   bool gnss_recorded_ = false, heading_recorded_ = false;
   std::unique_ptr<recording::PoseTail> recorded_;
   PoseLogRead gnss_read_;
   PoseLogRead heading_read_;
+  PoseLogRead attitude_read_;
 };
 
 }  // namespace wallcal::guide

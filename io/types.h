@@ -73,11 +73,24 @@ struct HeadingSample {
 };
 
 // One sample of the vehicle's attitude from an attitude stream: an NMEA $PASHR or $PTNL,AVR
-// sentence, or a ROS sensor_msgs/Imu orientation. Vehicle frame x forward, y left, z up.
+// sentence, or a ROS sensor_msgs/Imu orientation. Vehicle frame x forward, y left, z up. Roll
+// and pitch are the Tait-Bryan angles of the heading-pitch-roll (z-y-x) sequence, as INSs and
+// $PASHR give them: pitch is the nose's angle above the horizontal, roll the turn about the
+// vehicle's own x axis after it. Each is within ±kMaxVehicleTiltRad: readers skip anything else
+// (counted, with its line).
+// The largest roll or pitch a vehicle stands or drives at on a calibration site (30°). Beyond
+// it a sample is no vehicle's attitude: a sensor whose frame is turned on the vehicle (an IMU
+// on its side reads a roll near 90°), or a corrupt value.
+inline constexpr double kMaxVehicleTiltRad = 30.0 * 3.14159265358979323846 / 180.0;
+// The skip reason of such a sample, in every attitude reader's counts.
+inline constexpr char kAttitudeOutOfRangeReason[] = "roll or pitch beyond 30 deg";
+
 struct AttitudeSample {
   double stamp_s = 0.0;   // logging clock (as a heading's)
-  double roll_rad = 0.0;  // about x: positive right side down
-  double pitch_rad = 0.0;  // about y: positive nose up
+  // About x: positive right side down. NaN when the sample does not measure it: a $PTNL,AVR
+  // gives the tilt of one antenna baseline, along the vehicle (pitch) or across it (roll).
+  double roll_rad = 0.0;
+  double pitch_rad = 0.0;  // about y: positive nose up; NaN as roll_rad
   // The stream's own 1σ of each (PASHR's σ fields, the Imu's orientation covariance); NaN when
   // it gives none (the session's attitude.sigma_deg stands in).
   double roll_sigma_rad = kNaN;
@@ -130,6 +143,9 @@ struct NmeaLog {
   std::vector<HeadingSample> headings;   // sorted by stamp_s as read
   std::vector<AttitudeSample> attitudes;  // $PASHR and $PTNL,AVR, sorted by stamp_s as read
   std::map<int, int64_t> fixes_by_quality;
+  // The attitude samples by what gave them: "$PASHR", "$PTNL,AVR" (or "sensor_msgs/Imu" for a
+  // recording's Imu topic), for reports.
+  std::map<std::string, int64_t> attitudes_by_source;
   SkipCounts skipped;
   int64_t lines_read = 0;
 };

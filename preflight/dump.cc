@@ -10,6 +10,7 @@
 #include "io/text/carmen_reader.h"
 #include "pipeline/config_dirs.h"
 #include "preflight/internal/inspect_internal.h"
+#include "recording/attitude_stream.h"
 #include "recording/recording.h"
 #include "recording/recording_streams.h"
 
@@ -35,9 +36,15 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out,
                                      "lists several scanners; expected --scanner ID with ID "
                                      "one of " + io::ScannerIds(*spec)));
     }
-    log_path = kind == DumpKind::kGnss      ? spec->gnss_log
-               : kind == DumpKind::kHeading ? spec->heading_log
-                                            : spec->scanner_log;
+    if (kind == DumpKind::kAttitude && spec->attitude_log.empty()) {
+      throw io::InputError(io::Where(spec->file, 0,
+                                     "names no attitude stream; expected an attitude: map "
+                                     "(docs/session-format.md) for --dump attitude"));
+    }
+    log_path = kind == DumpKind::kGnss       ? spec->gnss_log
+               : kind == DumpKind::kHeading  ? spec->heading_log
+               : kind == DumpKind::kAttitude ? spec->attitude_log
+                                             : spec->scanner_log;
     if (kind == DumpKind::kScans) preset = pipeline::LoadSessionPreset(spec->scanner_model, spec->dir);
   }
   if (recording::IsRecording(log_path)) {
@@ -48,7 +55,10 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out,
   const LogKind found = SniffLogKind(log_path);
   const LogKind wanted = kind == DumpKind::kScans ? LogKind::kCarmen : LogKind::kNmea;
   if (found != wanted) {
-    const char* what = kind == DumpKind::kGnss ? "gnss" : kind == DumpKind::kHeading ? "heading" : "scans";
+    const char* what = kind == DumpKind::kGnss       ? "gnss"
+                       : kind == DumpKind::kHeading  ? "heading"
+                       : kind == DumpKind::kAttitude ? "attitude"
+                                                     : "scans";
     throw io::InputError(io::Where(
         log_path, 0,
         std::string("is ") + (found == LogKind::kNmea ? "an NMEA log" : "a CARMEN scan log") +
@@ -59,6 +69,7 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out,
   if (spec) log_spec = *spec;
   if (!spec) {
     log_spec.scanner_log = log_spec.gnss_log = log_spec.heading_log = log_path;
+    log_spec.attitude_log = log_path;
   }
   WriteDumpCsv(log_spec, kind, preset ? &*preset : nullptr, out);
 }
@@ -66,7 +77,7 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out,
 void WriteDumpCsv(const io::SessionSpec& spec, DumpKind kind, const io::ScannerPreset* preset,
                   std::ostream& out) {
   if (kind == DumpKind::kGnss) {
-    const io::NmeaLog log = recording::ReadPoseLogs(spec, true, false).gnss;
+    const io::NmeaLog log = recording::ReadPoseLogs(spec, true, false, false).gnss;
     out << "time_s,lat_deg,lon_deg,height_m,quality,satellites,hdop,sigma_lat_m,sigma_lon_m,line\n";
     for (const io::GnssFix& f : log.fixes) {
       CsvNumber(out, "%.6f", f.stamp_s);
@@ -85,13 +96,25 @@ void WriteDumpCsv(const io::SessionSpec& spec, DumpKind kind, const io::ScannerP
       out << ',' << f.line << '\n';
     }
   } else if (kind == DumpKind::kHeading) {
-    const io::NmeaLog log = recording::ReadPoseLogs(spec, false, true).headings;
+    const io::NmeaLog log = recording::ReadPoseLogs(spec, false, true, false).headings;
     out << "time_s,heading_deg,line\n";
     for (const io::HeadingSample& h : log.headings) {
       CsvNumber(out, "%.6f", h.stamp_s);
       out << ',';
       CsvNumber(out, "%.9f", h.heading_rad * kRadToDeg);
       out << ',' << h.line << '\n';
+    }
+  } else if (kind == DumpKind::kAttitude) {
+    const io::NmeaLog log = recording::ReadAttitudeLog(spec);
+    out << "time_s,roll_deg,pitch_deg,roll_sigma_deg,pitch_sigma_deg,line\n";
+    for (const io::AttitudeSample& a : log.attitudes) {
+      CsvNumber(out, "%.6f", a.stamp_s);
+      for (const double angle_rad :
+           {a.roll_rad, a.pitch_rad, a.roll_sigma_rad, a.pitch_sigma_rad}) {
+        out << ',';
+        CsvNumber(out, "%.9f", angle_rad * kRadToDeg);
+      }
+      out << ',' << a.line << '\n';
     }
   } else {
     const double offset_s = spec.scanner_time_offset_s;

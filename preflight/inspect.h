@@ -75,15 +75,18 @@ std::string InspectLogFile(const std::string& path);
 // io::InputError as io::ReadSurvey does.
 std::string InspectSurveyFile(const std::string& path);
 
-enum class DumpKind { kGnss, kHeading, kScans };
+enum class DumpKind { kGnss, kHeading, kScans, kAttitude };
 
 // Writes the decoded records of one log as CSV with a header (columns: docs/inspect.md):
-//   gnss:    time_s,lat_deg,lon_deg,height_m,quality,satellites,hdop,sigma_lat_m,sigma_lon_m,line
-//   heading: time_s,heading_deg,line
-//   scans:   time_s,beams,valid,min_range_m,max_range_m,line
+//   gnss:     time_s,lat_deg,lon_deg,height_m,quality,satellites,hdop,sigma_lat_m,sigma_lon_m,line
+//   heading:  time_s,heading_deg,line
+//   scans:    time_s,beams,valid,min_range_m,max_range_m,line
+//   attitude: time_s,roll_deg,pitch_deg,roll_sigma_deg,pitch_sigma_deg,line
 // `path` is a session (the log of that kind is dumped; scan times include the session's
-// scanner.time_offset_s, `valid` follows its scanner preset) or one log file of the matching
-// kind. Unknown values (no GST, no valid reading) are empty cells. On a session with
+// scanner.time_offset_s, attitude times its attitude.time_offset_s, `valid` follows its
+// scanner preset; a session without attitude: has no attitude to dump) or one log file of the
+// matching kind. Unknown values (no GST, no valid reading, an axis or σ the attitude sentence
+// does not give) are empty cells. On a session with
 // `scanners:`, `scanner_id` names the scanner whose scans are dumped (needed for kScans; the
 // GNSS and heading logs are the session's). Throws io::InputError when the file is missing,
 // unreadable or of the other kind, or the scanner is not named or not in the session.
@@ -98,8 +101,10 @@ void Dump(const std::string& path, DumpKind kind, std::ostream& out,
 std::string InspectRecording(const std::string& path);
 
 // A ready-to-edit session.yaml naming the recording and the topics chosen by type (LaserScan;
-// NavSatFix before GGA sentences; QuaternionStamped, Imu, then HDT/THS sentences), with a
-// comment naming the others when several fit, and the scanner preset matching the scans.
+// NavSatFix before GGA sentences; QuaternionStamped, Imu, then HDT/THS sentences; an attitude:
+// block when an Imu topic carries an orientation), with a comment naming the others when
+// several fit, the scanner preset matching the scans, and for each scanner a commented z_m line
+// to fill in.
 std::string SuggestSession(const std::string& path);
 
 // --dump on a recording: the CSV of Dump from `topic` (empty: the one topic of a fitting type;

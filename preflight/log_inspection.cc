@@ -106,6 +106,7 @@ std::string InspectLogFile(const std::string& path) {
       out << "    headings   " << HistogramAxis() << "\n";
       out << "    (10° bins) " << Histogram(headings) << "\n";
     }
+    if (!log.attitudes.empty()) out << FormatAttitude(SummariseAttitude(path, "", log), false);
     out << "  skipped lines: " << DescribeSkips(log.skipped) << "\n";
   } else {
     const ScanLogSummary scans = ReadScanLog(path, 0.0, nullptr, 0.0, 0.0);

@@ -16,6 +16,7 @@
 #include "io/version.h"
 #include "pipeline/config_dirs.h"
 #include "preflight/internal/inspect_internal.h"
+#include "recording/attitude_stream.h"
 #include "recording/recording.h"
 #include "recording/recording_streams.h"
 
@@ -42,6 +43,9 @@ struct TopicSummary {
   int64_t fixes_sigma_ok = 0, fixes_no_covariance = 0;
   // headings (QuaternionStamped, Imu)
   std::vector<double> headings_rad;
+  // Imu: the attitude its orientation gives (messages without orientation are not in it)
+  io::NmeaLog attitudes;
+  int64_t imu_with_orientation = 0;
   // nmea_msgs/Sentence: sentence types ("GGA") -> count
   std::map<std::string, int64_t> sentences;
   int64_t undecodable = 0;
@@ -103,6 +107,18 @@ std::map<std::string, TopicSummary> Summarise(recording::Recording& recording) {
         } else if (quaternion.orientation_covariance[0] != -1.0) {
           t.headings_rad.push_back(recording::HeadingFromEnuQuaternion(quaternion.x, quaternion.y,
                                                                        quaternion.z, quaternion.w));
+        }
+        if (ok && t.type == recording::RosType::kImu) {
+          io::AttitudeSample sample;
+          const recording::ImuAttitude outcome = recording::AttitudeFromImu(quaternion, &sample);
+          t.imu_with_orientation += outcome != recording::ImuAttitude::kNoOrientation;
+          if (outcome == recording::ImuAttitude::kSample) {
+            sample.stamp_s = quaternion.header.stamp_s;
+            sample.line = t.lines.back();
+            t.attitudes.attitudes.push_back(sample);
+          } else {
+            t.attitudes.skipped.Add(recording::ImuAttitudeSkipReason(outcome), t.lines.back());
+          }
         }
         break;
       }
@@ -246,6 +262,18 @@ std::string FormatTopic(const TopicSummary& t, const std::string& path) {
     out << "    headings   " << HistogramAxis() << "\n";
     out << "    (10° bins) " << Histogram(t.headings_rad) << "\n";
   }
+  if (t.type == recording::RosType::kImu) {
+    // The attitude the orientation gives (the messages' time statistics are above).
+    const AttitudeSummary attitude = SummariseAttitude(path, t.info->name, t.attitudes);
+    if (attitude.stats.records > 0) {
+      out << "    attitude  " << attitude.stats.records << " of " << t.receive_s.size()
+          << " messages give roll and pitch\n";
+      out << FormatAttitudeValues(attitude);
+    }
+    if (!t.attitudes.skipped.by_reason.empty()) {
+      out << "    skipped   " << DescribeSkips(t.attitudes.skipped) << " (as attitude)\n";
+    }
+  }
   if (!t.sentences.empty()) {
     out << "    sentences";
     for (const auto& [type, count] : t.sentences) out << " " << type << ": " << count << ";";
@@ -254,11 +282,15 @@ std::string FormatTopic(const TopicSummary& t, const std::string& path) {
   return out.str();
 }
 
-// The recording does not say where a scanner sits: the line is a comment to fill in.
+// The recording does not say where a scanner sits: the lines are comments to fill in.
 std::string MountGuessLines(const std::string& indent) {
-  return indent + "# mount_guess: {x: 0.0, y: 0.0, yaw_deg: 0}  # CHECK: where it sits and points\n" +
+  return indent +
+         "# mount_guess: {x: 0.0, y: 0.0, yaw_deg: 0}  # CHECK: where it sits and points\n" +
          indent + "#   on the vehicle, to a tape measure's 0.1 m and 10 deg: a scanner turned\n" +
-         indent + "#   from straight ahead finds the wall in no scan without it\n";
+         indent + "#   from straight ahead finds the wall in no scan without it\n" + indent +
+         "# z_m: 0.0  # CHECK: the scanner's height relative to the antenna (m): tape from\n" +
+         indent + "#   the antenna's reference point to the scanner's optical centre, negative\n" +
+         indent + "#   when the scanner is below the antenna\n";
 }
 
 }  // namespace
@@ -339,6 +371,28 @@ std::string SuggestSession(const std::string& path) {
   out << "heading:\n  log: " << log << "\n"
       << topic_line(heading, "QuaternionStamped, Imu or HDT/THS sentence") << Why(heading, "heading");
   out << "  reference: true_north  # CHECK: an INS's ENU yaw is referenced to true north\n";
+  // The attitude stream: an Imu topic whose driver fills the orientation with the vehicle's
+  // (roll and pitch a vehicle stands at). One whose orientation is another frame's (an IMU
+  // turned on the vehicle) is named in a comment, not proposed.
+  std::vector<const TopicSummary*> attitude;
+  for (const TopicSummary* t : Candidates(topics, {recording::RosType::kImu}, "")) {
+    if (!t->attitudes.attitudes.empty()) {
+      attitude.push_back(t);
+    } else if (t->imu_with_orientation > 0) {
+      out << "# attitude: not " << t->info->name << ": its orientation is not the vehicle's (no "
+          << "message with roll and pitch within ±30°: an IMU turned on the vehicle?)\n";
+    }
+  }
+  if (!attitude.empty()) {
+    const TopicSummary& chosen = *attitude.front();
+    out << "attitude:  # the vehicle's roll and pitch (docs/session-format.md)\n  log: " << log
+        << "\n  topic: " << chosen.info->name << "  # " << chosen.info->type << ", "
+        << chosen.info->count << " messages, " << chosen.attitudes.attitudes.size()
+        << " with the vehicle's roll and pitch\n"
+        << Why(attitude, "attitude") << "  stamp: header  # or receive: the recorder's time\n"
+        << "  # sigma_deg: " << Fmt("%.1f", io::kDefaultAttitudeSigmaRad * kRadToDeg)
+        << "  # a sample's 1σ of roll and pitch where the Imu's covariance gives none\n";
+  }
   out << "survey:\n  points: survey.csv  # CHECK: the surveyor's file (CSV or Leica GSI)\n"
       << "  control:\n    - {id: C1, lat: 0.0, lon: 0.0, h: 0.0}  # CHECK: RTK-measured control points\n"
       << "    - {id: C2, lat: 0.0, lon: 0.0, h: 0.0}\n"
@@ -350,9 +404,10 @@ void DumpRecording(const std::string& path, DumpKind kind, const std::string& to
                    std::ostream& out) {
   std::unique_ptr<recording::Recording> recording = recording::OpenRecording(path);
   const std::vector<recording::RosType> accepted =
-      kind == DumpKind::kScans  ? recording::AcceptedScanTypes()
-      : kind == DumpKind::kGnss ? recording::AcceptedGnssTypes()
-                                : recording::AcceptedHeadingTypes();
+      kind == DumpKind::kScans      ? recording::AcceptedScanTypes()
+      : kind == DumpKind::kGnss     ? recording::AcceptedGnssTypes()
+      : kind == DumpKind::kAttitude ? recording::AcceptedAttitudeTypes()
+                                    : recording::AcceptedHeadingTypes();
   std::string chosen = topic;
   if (chosen.empty()) {
     std::vector<std::string> fit;
@@ -376,6 +431,8 @@ void DumpRecording(const std::string& path, DumpKind kind, const std::string& to
   io::SessionSpec spec;
   spec.scanner_log = spec.gnss_log = spec.heading_log = path;
   spec.scanner_topic = spec.gnss_topic = spec.heading_topic = chosen;
+  spec.attitude_log = path;
+  spec.attitude_topic = chosen;
   WriteDumpCsv(spec, kind, nullptr, out);
 }
 

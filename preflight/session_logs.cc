@@ -72,7 +72,8 @@ SessionLogs InspectSessionLogs(
                                  const std::string& label) {
     std::optional<io::NmeaLog> log;
     try {
-      recording::PoseLogs read = recording::ReadPoseLogs(spec, gnss_stream, !gnss_stream);
+      recording::PoseLogs read =
+          recording::ReadPoseLogs(spec, gnss_stream, !gnss_stream, /*attitude=*/false);
       log = std::move(gnss_stream ? read.gnss : read.headings);
       for (const std::string& w : read.warnings) warn(w);
     } catch (const io::InputError& e) {
@@ -158,6 +159,8 @@ SessionLogs InspectSessionLogs(
             " usable HDT/THS headings; expected a heading log");
     }
   }
+
+  InspectSessionAttitude(spec, logs, result, out);
 
   // --- Overlap ----------------------------------------------------------------------------
   Interval scan_span, fix_span, heading_span;

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// The GNSS and heading streams of a recording, decoded message by message (PoseDecoder): for a
-// whole read (ReadPoseLogs) and for a recording read on as it grows (PoseTail), with the same
-// state carried from one message to the next either way.
+// The GNSS, heading and attitude streams of a recording, decoded message by message
+// (PoseDecoder): for a whole read (ReadPoseLogs) and for a recording read on as it grows
+// (PoseTail, GNSS and heading only), with the same state carried from one message to the next
+// either way.
 
 #include <cmath>
 #include <cstdio>
@@ -32,7 +33,7 @@ std::string SentenceLine(const NmeaSentenceMsg& msg, double stamp_s) {
 }  // namespace
 
 PoseDecoder::PoseDecoder(std::string path, const TopicStream* gnss, const TopicStream* heading,
-                         double max_sigma_m)
+                         double max_sigma_m, const TopicStream* attitude)
     : path_(std::move(path)), max_sigma_m_(max_sigma_m) {
   if (gnss != nullptr) {
     gnss_.read = true;
@@ -42,19 +43,26 @@ PoseDecoder::PoseDecoder(std::string path, const TopicStream* gnss, const TopicS
     heading_.read = true;
     heading_.spec = *heading;
   }
+  if (attitude != nullptr) {
+    attitude_.read = true;
+    attitude_.spec = *attitude;
+  }
 }
 
 std::set<std::string> PoseDecoder::topics() const {
   std::set<std::string> names;
   if (gnss_.read) names.insert(gnss_.spec.topic);
   if (heading_.read) names.insert(heading_.spec.topic);
+  if (attitude_.read) names.insert(attitude_.spec.topic);
   return names;
 }
 
 void PoseDecoder::Check(Stream* stream, const Recording& recording, const char* key) {
   if (stream->spec.type != RosType::kOther) return;
   stream->spec.type = CheckTopic(recording, stream->spec.topic,
-                                 stream == &gnss_ ? AcceptedGnssTypes() : AcceptedHeadingTypes(),
+                                 stream == &gnss_       ? AcceptedGnssTypes()
+                                 : stream == &heading_ ? AcceptedHeadingTypes()
+                                                       : AcceptedAttitudeTypes(),
                                  key);
   if (stream->spec.type == RosType::kNmeaSentence) {
     stream->sentences.emplace(path_ + " " + stream->spec.topic);
@@ -64,27 +72,33 @@ void PoseDecoder::Check(Stream* stream, const Recording& recording, const char* 
 void PoseDecoder::CheckTopics(const Recording& recording) {
   if (gnss_.read) Check(&gnss_, recording, "gnss.topic");
   if (heading_.read) Check(&heading_, recording, "heading.topic");
+  if (attitude_.read) Check(&attitude_, recording, "attitude.topic");
 }
 
 void PoseDecoder::Take(const RecordedMessage& m, const Recording& recording) {
   const bool for_gnss = gnss_.read && m.topic->name == gnss_.spec.topic;
   const bool for_heading = heading_.read && m.topic->name == heading_.spec.topic;
+  const bool for_attitude = attitude_.read && m.topic->name == attitude_.spec.topic;
   if (for_gnss) Check(&gnss_, recording, "gnss.topic");
   if (for_heading) Check(&heading_, recording, "heading.topic");
-  const RosType type = for_gnss ? gnss_.spec.type : heading_.spec.type;
-  if (type == RosType::kNmeaSentence) {
-    // One topic may carry both streams' sentences (GGA and HDT): each stream reads them all.
-    Require(DecodeNmeaSentence(m.data, m.size, m.wire, &sentence_msg_), recording, m, type);
-    for (Stream* stream : {for_gnss ? &gnss_ : nullptr, for_heading ? &heading_ : nullptr}) {
-      if (stream == nullptr) continue;
-      stream->sentences->Add(
-          SentenceLine(sentence_msg_, StampOf(sentence_msg_.header, m, stream->spec.stamp)));
+  if (for_attitude) Check(&attitude_, recording, "attitude.topic");
+  // One topic may serve several streams (GGA and HDT sentences, an Imu for heading and
+  // attitude): each stream reads every message of it.
+  bool sentence_decoded = false;
+  for (Stream* stream : {for_gnss ? &gnss_ : nullptr, for_heading ? &heading_ : nullptr,
+                         for_attitude ? &attitude_ : nullptr}) {
+    if (stream == nullptr || stream->spec.type != RosType::kNmeaSentence) continue;
+    if (!sentence_decoded) {
+      Require(DecodeNmeaSentence(m.data, m.size, m.wire, &sentence_msg_), recording, m,
+              RosType::kNmeaSentence);
+      sentence_decoded = true;
     }
-  } else if (for_gnss) {
-    TakeFix(m, recording);
-  } else if (for_heading) {
-    TakeHeading(m, recording);
+    stream->sentences->Add(
+        SentenceLine(sentence_msg_, StampOf(sentence_msg_.header, m, stream->spec.stamp)));
   }
+  if (for_gnss && gnss_.spec.type != RosType::kNmeaSentence) TakeFix(m, recording);
+  if (for_heading && heading_.spec.type != RosType::kNmeaSentence) TakeHeading(m, recording);
+  if (for_attitude && attitude_.spec.type != RosType::kNmeaSentence) TakeAttitude(m, recording);
 }
 
 void PoseDecoder::TakeFix(const RecordedMessage& m, const Recording& recording) {
@@ -138,9 +152,21 @@ void PoseDecoder::TakeHeading(const RecordedMessage& m, const Recording& recordi
   log.headings.push_back(sample);
 }
 
+void PoseDecoder::TakeAttitude(const RecordedMessage& m, const Recording& recording) {
+  QuaternionMsg& q = quaternion_msg_;
+  Require(DecodeImu(m.data, m.size, m.wire, &q), recording, m, attitude_.spec.type);
+  attitude_.imu.Add(q, StampOf(q.header, m, attitude_.spec.stamp), LineOf(m.index));
+}
+
 void PoseDecoder::AddTo(PoseLogs* out) const {
   if (gnss_.read) out->gnss = gnss_.sentences ? gnss_.sentences->Log() : gnss_.log;
   if (heading_.read) out->headings = heading_.sentences ? heading_.sentences->Log() : heading_.log;
+  if (attitude_.read) {
+    out->attitudes = AttitudeStreamOf(attitude_.sentences
+                                          ? attitude_.sentences->Log()
+                                          : attitude_.imu.Finish(path_, attitude_.spec.topic),
+                                      attitude_.spec.time_offset_s);
+  }
   if (gnss_without_covariance_) {
     out->warnings.push_back(path_ + ": " + gnss_.spec.topic +
                             ": NavSatFix without position covariance: RTK float fixes cannot be "
@@ -164,8 +190,9 @@ struct PoseTail::Source {
 };
 
 PoseTail::PoseTail(const io::SessionSpec& spec, bool gnss, bool heading) {
-  const TopicStream gnss_stream{spec.gnss_topic, spec.gnss_stamp, RosType::kOther};
-  const TopicStream heading_stream{spec.heading_topic, spec.heading_stamp, RosType::kOther};
+  const TopicStream gnss_stream{spec.gnss_topic, spec.gnss_stamp, RosType::kOther, 0.0};
+  const TopicStream heading_stream{spec.heading_topic, spec.heading_stamp, RosType::kOther,
+                                   0.0};
   const auto add = [&](const std::string& path) {
     sources_.push_back(std::make_unique<Source>());
     Source& source = *sources_.back();

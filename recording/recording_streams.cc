@@ -10,6 +10,8 @@
 #include "common/angles.h"
 #include "io/scanner_geometry.h"
 #include "io/text/carmen_reader.h"
+#include "io/text/nmea_reader.h"
+#include "recording/attitude_stream.h"
 #include "recording/internal/stream_decoding.h"
 #include "recording/recording_tail.h"
 
@@ -55,17 +57,43 @@ std::string TypeList(const std::vector<RosType>& types) {
   return text;
 }
 
-// Reads the GNSS stream (gnss != nullptr) and/or the heading stream of one recording, in one
-// pass over both topics.
-void ReadRecordedPoses(const std::string& path, const TopicStream* gnss, double max_sigma_m,
-                       const TopicStream* heading, PoseLogs* out) {
+// The streams of a session that one recording holds (null: not in it).
+struct RecordedStreams {
+  const TopicStream* gnss = nullptr;
+  const TopicStream* heading = nullptr;
+  const TopicStream* attitude = nullptr;
+};
+
+// Reads the streams `which` names from one recording, in one pass over their topics.
+void ReadRecordedPoses(const std::string& path, const RecordedStreams& which, double max_sigma_m,
+                       PoseLogs* out) {
   std::unique_ptr<Recording> recording = OpenRecording(path);
-  PoseDecoder decoder(path, gnss, heading, max_sigma_m);
+  PoseDecoder decoder(path, which.gnss, which.heading, max_sigma_m, which.attitude);
   decoder.CheckTopics(*recording);
   recording->ForEach(decoder.topics(),
                      [&](const RecordedMessage& m) { decoder.Take(m, *recording); });
   decoder.AddTo(out);
   for (const std::string& w : recording->warnings()) out->warnings.push_back(w);
+}
+
+// A session's attitude stream that gave no sample: the attitude log or topic named, with the
+// skips that emptied it.
+void RequireAttitudeSamples(const io::SessionSpec& spec, const io::NmeaLog& attitudes,
+                            bool recorded) {
+  if (!attitudes.attitudes.empty()) return;
+  const std::string skips = attitudes.skipped.ListReasons(false, 6);
+  const std::string read = std::to_string(attitudes.lines_read) +
+                           (skips.empty() ? std::string() : "; skipped: " + skips);
+  throw io::InputError(io::Where(
+      spec.attitude_log, 0,
+      recorded
+          ? "attitude.topic " + spec.attitude_topic + ": no attitude sample (messages: " + read +
+                "); expected sensor_msgs/Imu messages with the vehicle's orientation (x forward, y "
+                "left, z up: roll and pitch within ±30°), or nmea_msgs/Sentence with $PASHR "
+                "or $PTNL,AVR"
+          : "attitude.log: no attitude sample (lines read: " + read +
+                "); expected $PASHR or $PTNL,AVR sentences with roll and pitch, e.g. "
+                "$PASHR,hhmmss.ss,heading,T,roll,pitch,...*hh"));
 }
 
 // Scans of a recording, decoded once and replayed for every pass.
@@ -223,10 +251,13 @@ double HeadingFromEnuQuaternion(double x, double y, double z, double w) {
   return WrapTwoPi(HeadingFromYaw(yaw));  // the grid heading of an ENU yaw
 }
 
-PoseLogs ReadPoseLogs(const io::SessionSpec& spec, bool read_gnss, bool read_heading) {
+PoseLogs ReadPoseLogs(const io::SessionSpec& spec, bool read_gnss, bool read_heading,
+                      bool read_attitude) {
   PoseLogs out;
+  read_attitude = read_attitude && !spec.attitude_log.empty();
   const bool gnss_recorded = read_gnss && IsRecording(spec.gnss_log);
   const bool heading_recorded = read_heading && IsRecording(spec.heading_log);
+  const bool attitude_recorded = read_attitude && IsRecording(spec.attitude_log);
   if (read_gnss && !gnss_recorded) {
     RequireNoTopic(spec.gnss_topic, spec.gnss_log, "gnss.topic");
     out.gnss = io::ReadNmea(spec.gnss_log);
@@ -237,17 +268,30 @@ PoseLogs ReadPoseLogs(const io::SessionSpec& spec, bool read_gnss, bool read_hea
                        ? out.gnss
                        : io::ReadNmea(spec.heading_log);
   }
-  const TopicStream gnss{spec.gnss_topic, spec.gnss_stamp, RosType::kOther};
-  const TopicStream heading{spec.heading_topic, spec.heading_stamp, RosType::kOther};
-  if (gnss_recorded && heading_recorded && spec.gnss_log == spec.heading_log) {
-    ReadRecordedPoses(spec.gnss_log, &gnss, spec.gnss_max_sigma_m, &heading, &out);
-  } else {
-    if (gnss_recorded)
-      ReadRecordedPoses(spec.gnss_log, &gnss, spec.gnss_max_sigma_m, nullptr, &out);
-    if (heading_recorded) {
-      ReadRecordedPoses(spec.heading_log, nullptr, spec.gnss_max_sigma_m, &heading, &out);
+  if (read_attitude && !attitude_recorded) {
+    RequireNoTopic(spec.attitude_topic, spec.attitude_log, "attitude.topic");
+    const double offset_s = spec.attitude_time_offset_s;
+    if (read_heading && !heading_recorded && spec.attitude_log == spec.heading_log) {
+      out.attitudes = AttitudeStreamOf(out.headings, offset_s);  // one log read once
+    } else if (read_gnss && !gnss_recorded && spec.attitude_log == spec.gnss_log) {
+      out.attitudes = AttitudeStreamOf(out.gnss, offset_s);
+    } else {
+      out.attitudes = AttitudeStreamOf(io::ReadNmea(spec.attitude_log), offset_s);
     }
   }
+  // The recorded streams, each recording read once for all the streams it holds.
+  const TopicStream gnss{spec.gnss_topic, spec.gnss_stamp, RosType::kOther, 0.0};
+  const TopicStream heading{spec.heading_topic, spec.heading_stamp, RosType::kOther, 0.0};
+  const TopicStream attitude{spec.attitude_topic, spec.attitude_stamp, RosType::kOther,
+                             spec.attitude_time_offset_s};
+  std::map<std::string, RecordedStreams> recordings;
+  if (gnss_recorded) recordings[spec.gnss_log].gnss = &gnss;
+  if (heading_recorded) recordings[spec.heading_log].heading = &heading;
+  if (attitude_recorded) recordings[spec.attitude_log].attitude = &attitude;
+  for (const auto& [path, which] : recordings) {
+    ReadRecordedPoses(path, which, spec.gnss_max_sigma_m, &out);
+  }
+  if (read_attitude) RequireAttitudeSamples(spec, out.attitudes, attitude_recorded);
   return out;
 }
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// A session's streams (scans, GNSS, heading) whatever holds them: the text logs of old (CARMEN,
-// NMEA), or topics of a robot recording (ROS 1 bag, MCAP, rosbag2), told apart by content
+// A session's streams (scans, GNSS, heading, attitude) whatever holds them: the text logs of old
+// (CARMEN, NMEA), or topics of a robot recording (ROS 1 bag, MCAP, rosbag2), told apart by content
 // (recording::IsRecording). Recorded messages become the plain records of io/types.h, so everything
 // downstream (time model, clock offset, detection) is the same for both.
 //
@@ -25,6 +25,7 @@
 //   east, counter-clockwise) -> heading clockwise from north = π/2 − yaw, in [0, 2π);
 //   heading.reference says which north. An Imu with orientation_covariance[0] = -1 (no
 //   orientation) is skipped.
+// - sensor_msgs/Imu (attitude.topic) -> io::AttitudeSample: recording/attitude_stream.h.
 // Stamps: header.stamp, or the receive time with `stamp: receive`.
 //
 // Errors (io::InputError, exit 2): a topic not in the recording (the topics present are listed), a
@@ -58,16 +59,25 @@ std::vector<RosType> AcceptedHeadingTypes();  // QuaternionStamped, Imu, nmea_ms
 RosType CheckTopic(const Recording& recording, const std::string& topic,
                    const std::vector<RosType>& accepted, const std::string& key);
 
-// The GNSS and heading streams of a session. From text logs: io::ReadNmea (once when both are
-// the same file). From a recording: both topics in one pass (one ForEach) when they share the
-// recording. `warnings`: what the recording reader worked around, NavSatFix without covariance.
+// The GNSS, heading and attitude streams of a session. From text logs: io::ReadNmea, each file
+// once (the attitude sentences of the heading or GNSS log come from that log's one read). From
+// a recording: its topics in one pass (one ForEach). `warnings`: what the recording reader
+// worked around, NavSatFix without covariance.
 struct PoseLogs {
   io::NmeaLog gnss;      // fixes (and fixes_by_quality)
   io::NmeaLog headings;  // headings
+  // The attitude stream (recording/attitude_stream.h): attitudes with attitude.time_offset_s
+  // added; skipped and lines_read are its log's (the whole heading log's when it is that log),
+  // or its topic's. Empty when the session names no attitude stream.
+  io::NmeaLog attitudes;
   std::vector<std::string> warnings;
 };
-// `gnss` / `heading` false: that stream is not read (left empty).
-PoseLogs ReadPoseLogs(const io::SessionSpec& spec, bool gnss = true, bool heading = true);
+// `gnss` / `heading` / `attitude` false: that stream is not read (left empty). Throws
+// io::InputError as the readers do, and when the session names an attitude stream that gives
+// no sample (a text log without a $PASHR or $PTNL,AVR sentence that could be read, a topic
+// without a usable message; its skips named).
+PoseLogs ReadPoseLogs(const io::SessionSpec& spec, bool gnss = true, bool heading = true,
+                      bool attitude = true);
 
 // For a log that is not a recording: throws io::InputError when its session key `key`
 // ("gnss.topic") names a topic all the same; nothing when `topic` is empty.

@@ -17,11 +17,13 @@
 #include "io/text/nmea_reader.h"
 #include "io/types.h"
 #include "io/writers/writers.h"
+#include "recording/attitude_stream.h"
 #include "recording/recording.h"
 #include "recording/ros/ros_messages.h"
 #include "recording/writers/mcap_writer.h"
 #include "recording/writers/rosbag1_writer.h"
 #include "recording/writers/rosbag2_sqlite_writer.h"
+#include "sim/simulated_session.h"
 
 namespace wallcal::sim {
 namespace {
@@ -123,6 +125,36 @@ std::unique_ptr<Sink> MakeSink(const std::string& dir, SessionFormat format, std
   return nullptr;
 }
 
+// An attitude sample as the next sensor_msgs/Imu of /imu/data into *msg (its header seq
+// counted on): the orientation from its roll and pitch and the ENU yaw of heading_rad (0 when
+// NaN), orientation_covariance diagonal (σ_roll², σ_pitch², 0), a σ not given written as 0 (the
+// Imu's "unknown"); no rates or accelerations ([0] = -1: not provided). False for a sample
+// without roll or pitch (an AVR gives one of them), which an Imu cannot carry.
+bool AttitudeImu(const io::AttitudeSample& sample, double heading_rad,
+                 recording::QuaternionMsg* msg) {
+  if (!std::isfinite(sample.roll_rad) || !std::isfinite(sample.pitch_rad)) return false;
+  const double yaw_rad = std::isfinite(heading_rad) ? YawFromHeading(heading_rad) : 0.0;
+  const recording::UnitQuaternion q =
+      recording::EnuQuaternionFromAttitude(sample.roll_rad, sample.pitch_rad, yaw_rad);
+  msg->header.stamp_s = sample.stamp_s;
+  ++msg->header.seq;
+  msg->x = q.x;
+  msg->y = q.y;
+  msg->z = q.z;
+  msg->w = q.w;
+  auto variance = [](double sigma_rad) {
+    return std::isfinite(sigma_rad) ? sigma_rad * sigma_rad : 0.0;
+  };
+  for (double& c : msg->orientation_covariance) c = 0.0;
+  msg->orientation_covariance[0] = variance(sample.roll_sigma_rad);
+  msg->orientation_covariance[4] = variance(sample.pitch_sigma_rad);
+  for (double& c : msg->angular_velocity_covariance) c = 0.0;
+  for (double& c : msg->linear_acceleration_covariance) c = 0.0;
+  msg->angular_velocity_covariance[0] = -1.0;
+  msg->linear_acceleration_covariance[0] = -1.0;
+  return true;
+}
+
 // σ written into a NavSatFix when the GGA had no GST: by quality, so that float and autonomous
 // fixes stay above gnss.max_sigma_m and fixed ones below it.
 double FallbackSigma(int quality) { return quality == 4 ? 0.02 : quality == 5 ? 0.3 : 3.0; }
@@ -147,6 +179,10 @@ void RewriteSessionYaml(const std::string& dir, const std::string& recording,
   session.gnss_max_sigma_m = io::kDefaultGnssMaxSigmaM;
   session.heading_log = recording_path;
   session.heading_topic = "/heading";
+  if (!session.attitude_log.empty()) {
+    session.attitude_log = recording_path;
+    session.attitude_topic = "/imu/data";
+  }
   io::WriteFileAtomically(session.file, io::FormatSessionYaml(session));
 }
 
@@ -194,25 +230,40 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
   }
   const int fix_id = sink->Add("/fix", recording::RosType::kNavSatFix);
   const int heading_id = sink->Add("/heading", recording::RosType::kQuaternionStamped);
+  // The attitude stream, when the session has one: its samples as sensor_msgs/Imu on
+  // /imu/data (AttitudeImu).
+  const std::vector<io::AttitudeSample> attitudes =
+      session.attitude_log.empty() ? std::vector<io::AttitudeSample>()
+                                   : recording::ReadAttitudeLog(session).attitudes;
+  const int attitude_id = attitudes.empty() ? -1 : sink->Add("/imu/data", recording::RosType::kImu);
   // The messages in time order, as a recorder writes them: a recording cut short (still being
   // written) then holds every stream up to its cut, not the scans alone.
   const io::NmeaLog gnss = io::ReadNmea(gnss_path);
   const io::NmeaLog headings = io::ReadNmea(heading_path);
-  size_t next_fix = 0, next_heading = 0;
+  size_t next_fix = 0, next_heading = 0, next_attitude = 0;
   recording::NavSatFixMsg fix_msg;
   fix_msg.header.frame_id = "gps";
   fix_msg.service = 1;
   fix_msg.position_covariance_type = 2;  // diagonal known
   recording::QuaternionMsg heading_msg;
   heading_msg.header.frame_id = "base_link";
-  // Writes the fixes and headings stamped before `until_s`.
+  recording::QuaternionMsg imu_msg;
+  imu_msg.header.frame_id = "imu_link";
+  imu_msg.from_imu = true;
+  // Writes the fixes, headings and attitude samples stamped before `until_s`.
   auto write_until = [&](double until_s) {
     while (true) {
       const bool fix_left = next_fix < gnss.fixes.size();
       const bool heading_left = next_heading < headings.headings.size();
+      const bool attitude_left = next_attitude < attitudes.size();
       const double fix_s = fix_left ? gnss.fixes[next_fix].stamp_s : until_s;
       const double heading_s = heading_left ? headings.headings[next_heading].stamp_s : until_s;
-      if (fix_left && fix_s < until_s && fix_s <= heading_s) {
+      const double attitude_s = attitude_left ? attitudes[next_attitude].stamp_s : until_s;
+      if (attitude_left && attitude_s < until_s && attitude_s < fix_s && attitude_s < heading_s) {
+        const io::AttitudeSample& sample = attitudes[next_attitude++];
+        if (!AttitudeImu(sample, HeadingAt(headings.headings, sample.stamp_s), &imu_msg)) continue;
+        sink->Write(attitude_id, sample.stamp_s, recording::EncodeImu(imu_msg, wire));
+      } else if (fix_left && fix_s < until_s && fix_s <= heading_s) {
         const io::GnssFix& fix = gnss.fixes[next_fix++];
         fix_msg.header.stamp_s = fix.stamp_s;
         ++fix_msg.header.seq;
@@ -281,7 +332,9 @@ void ConvertSessionToRecording(const std::string& dir, SessionFormat format) {
   RewriteSessionYaml(dir, name, scan_topics);
   std::error_code ignored;
   for (const ScanStream& stream : streams) fs::remove(stream.log, ignored);
-  for (const std::string& p : {gnss_path, heading_path}) fs::remove(p, ignored);
+  for (const std::string& p : {gnss_path, heading_path, session.attitude_log}) {
+    if (!p.empty()) fs::remove(p, ignored);
+  }
 }
 
 SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& config, uint64_t seed,

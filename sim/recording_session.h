@@ -27,6 +27,10 @@ const char* SessionFormatNames();
 //   /fix      sensor_msgs/NavSatFix (status GBAS fix; position_covariance diagonal from the
 //             simulated GST σ, type 2 "diagonal known"; height = the GGA height)
 //   /heading  geometry_msgs/QuaternionStamped (ENU yaw = π/2 − heading)
+//   /imu/data sensor_msgs/Imu, when the session has an attitude stream: the orientation from
+//             each sample's roll and pitch and the yaw of the heading log at its time
+//             (interpolated), orientation_covariance diagonal (σ_roll², σ_pitch², 0; 0 where
+//             the sample gives no σ); session.yaml's attitude: names it
 // Header stamps and receive times are the text logs' logger stamps.
 SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& config, uint64_t seed,
                                       const std::string& dir, SessionFormat format);

@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,10 +12,10 @@
 #include <vector>
 
 #include "common/angles.h"
-#include "io/config/session_reader.h"
-#include "io/writers/writers.h"
-#include "io/output_file.h"
 #include "io/config/config_writer.h"
+#include "io/config/session_reader.h"
+#include "io/output_file.h"
+#include "io/writers/writers.h"
 #include "pipeline/config_dirs.h"
 #include "sim/simulator.h"
 
@@ -22,8 +23,60 @@ namespace wallcal::sim {
 
 namespace fs = std::filesystem;
 
-SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config, uint64_t seed,
+namespace {
+
+// One logger-stamped line of an NMEA log being assembled.
+struct StampedLine {
+  double stamp_s;
+  std::string text;
+};
+
+// The lines in time order (stable: at equal stamps, in the order given), one a line.
+std::string InTimeOrder(std::vector<StampedLine> lines) {
+  std::stable_sort(lines.begin(), lines.end(), [](const StampedLine& a, const StampedLine& b) {
+    return a.stamp_s < b.stamp_s;
+  });
+  std::string text;
+  for (const StampedLine& line : lines) text += line.text + "\n";
+  return text;
+}
+
+// The attitude sentences of the simulated session, with the heading its heading samples give.
+std::vector<StampedLine> AttitudeLines(const SimulationConfig& config,
+                                       const SimulatedSession& sim) {
+  std::vector<StampedLine> lines;
+  for (const io::AttitudeSample& sample : sim.attitudes) {
+    const double heading_rad = HeadingAt(sim.headings, sample.stamp_s);
+    lines.push_back({sample.stamp_s, config.attitude_sentence == "avr"
+                                         ? io::FormatAvrLine(sample, heading_rad)
+                                         : io::FormatPashrLine(sample, heading_rad)});
+  }
+  return lines;
+}
+
+}  // namespace
+
+double HeadingAt(const std::vector<io::HeadingSample>& headings, double stamp_s) {
+  if (headings.empty()) return io::kNaN;
+  const auto after =
+      std::upper_bound(headings.begin(), headings.end(), stamp_s,
+                       [](double t, const io::HeadingSample& h) { return t < h.stamp_s; });
+  if (after == headings.begin()) return headings.front().heading_rad;
+  if (after == headings.end()) return headings.back().heading_rad;
+  const io::HeadingSample& a = *(after - 1);
+  const io::HeadingSample& b = *after;
+  const double span_s = b.stamp_s - a.stamp_s;
+  const double fraction = span_s > 0.0 ? (stamp_s - a.stamp_s) / span_s : 0.0;
+  return WrapTwoPi(a.heading_rad + fraction * WrapAngle(b.heading_rad - a.heading_rad));
+}
+
+SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& config, uint64_t seed,
                                       const std::string& dir) {
+  return WriteSimulatedSession(config, seed, dir, SimulatedSessionEdit());
+}
+
+SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config, uint64_t seed,
+                                      const std::string& dir, const SimulatedSessionEdit& edit) {
   const sim::SimulationConfig config = WithDefaultWalls(input_config);
   config.Validate();
   const io::ScannerPreset preset = pipeline::LoadSessionPreset(config.scanner_model, dir);
@@ -79,16 +132,26 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
     }
   }
   const std::string scans_path = runs.front().second;
+  if (edit) edit(sim);
 
   std::string gnss_text;
   for (const io::GnssFix& fix : sim.fixes) {
     gnss_text += io::FormatGgaLine(fix) + "\n";
     if (config.write_gst) gnss_text += io::FormatGstLine(fix) + "\n";
   }
-  std::string heading_text;
+  std::vector<StampedLine> heading_lines;
   for (const io::HeadingSample& h : sim.headings) {
-    heading_text += io::FormatHdtLine(h.stamp_s, h.heading_rad) + "\n";
+    heading_lines.push_back({h.stamp_s, io::FormatHdtLine(h.stamp_s, h.heading_rad)});
   }
+  const bool attitude = !sim.attitudes.empty();
+  const bool own_attitude_log = attitude && config.attitude_own_log;
+  std::string attitude_text;
+  if (own_attitude_log) {
+    attitude_text = InTimeOrder(AttitudeLines(config, sim));
+  } else if (attitude) {
+    for (StampedLine& line : AttitudeLines(config, sim)) heading_lines.push_back(std::move(line));
+  }
+  const std::string heading_text = InTimeOrder(std::move(heading_lines));
   io::SessionSpec spec;
   spec.dir = folder.string();
   spec.file = (folder / "session.yaml").string();
@@ -126,6 +189,9 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
   }
   spec.gnss_log = (folder / "gnss.nmea").string();
   spec.heading_log = (folder / "heading.nmea").string();
+  if (attitude) {
+    spec.attitude_log = own_attitude_log ? (folder / "attitude.nmea").string() : spec.heading_log;
+  }
   spec.survey_points = (folder / "survey.csv").string();
   spec.control = sim.control;
   const bool rover = config.survey_mode == sim::SurveyMode::kRover;
@@ -134,6 +200,7 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
   try {
     io::WriteFileAtomically(spec.gnss_log, gnss_text);
     io::WriteFileAtomically(spec.heading_log, heading_text);
+    if (own_attitude_log) io::WriteFileAtomically(spec.attitude_log, attitude_text);
     io::WriteFileAtomically(spec.survey_points, rover ? io::FormatRoverSurveyCsv(sim.survey)
                                                            : io::FormatSurveyCsv(sim.survey));
     io::WriteFileAtomically((folder / "truth.yaml").string(), sim::FormatTruthYaml(config, seed));
@@ -150,6 +217,7 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
   summary.ground_returns = ground_returns;
   summary.fixes = static_cast<int64_t>(sim.fixes.size());
   summary.headings = static_cast<int64_t>(sim.headings.size());
+  summary.attitudes = static_cast<int64_t>(sim.attitudes.size());
   summary.survey_points = static_cast<int64_t>(sim.survey.size());
   if (!sim.truth_poses.empty()) {
     summary.duration_s = sim.truth_poses.back().stamp_s - sim.truth_poses.front().stamp_s;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "io/config/session_reader.h"
 
+#include <cmath>
 #include <map>
 #include <utility>
 
@@ -10,6 +11,12 @@ namespace wallcal::io {
 namespace {
 
 using namespace yaml_detail;  // NOLINT: this file's own YAML helpers
+
+// scanner.z_m beyond this is no scanner's height relative to the antenna on a vehicle: a value
+// in millimetres, or the antenna's height above the ground.
+constexpr double kMaxScannerHeightM = 10.0;
+// scanner.pitch_deg / roll_deg beyond this are no mount of a scanner that looks for walls.
+constexpr double kMaxScannerTiltDeg = 45.0;
 
 // `topic:` (a recording's topic name) and `stamp: header|receive` of scanner, gnss, heading.
 void ReadTopicKeys(MapReader& map, std::string* topic, StampSource* stamp) {
@@ -87,10 +94,57 @@ ControlPoint ReadControlPoint(MapReader& survey, const YAML::Node& item, size_t 
   return point;
 }
 
+// A value > 0 of `key`, when given, into *out (scaled by 1 / file_per_unit).
+void PositiveKey(MapReader& map, const char* key, double file_per_unit, const char* expected,
+                 double* out) {
+  if (const YAML::Node value = map.Find(key); value.IsDefined()) {
+    const double number = map.ToNumber(value, key);
+    if (!(number > 0.0)) map.Bad(value, key, expected);
+    *out = number / file_per_unit;
+  }
+}
+
+// The scanner's height and tilt: z_m (checked for plausibility), z_sigma_m, pitch_deg,
+// roll_deg, tilt_sigma_deg.
+void ReadScannerHeightAndTilt(MapReader& scanner, ScannerSpec* out) {
+  if (const YAML::Node z = scanner.Find("z_m"); z.IsDefined()) {
+    out->z_m = scanner.ToNumber(z, "z_m");
+    // A height in millimetres or centimetres, or the antenna's height above the ground, is not
+    // the scanner's height relative to the antenna: no vehicle puts them 10 m apart.
+    if (std::abs(*out->z_m) > kMaxScannerHeightM) {
+      throw InputError(Where(scanner.file(), LineOf(z),
+                             scanner.Name("z_m") + ": " + z.Scalar() +
+                                 " m is not a plausible height of the scanner relative to the "
+                                 "antenna; expected metres, e.g. -2.5 for a scanner 2.5 m below "
+                                 "the antenna"));
+    }
+  }
+  PositiveKey(scanner, "z_sigma_m", 1.0, "the tape's 1σ in metres, > 0 (default 0.02)",
+              &out->z_sigma_m);
+  const auto tilt_key = [&scanner, out](const char* key, double* angle_rad) {
+    const YAML::Node value = scanner.Find(key);
+    if (!value.IsDefined()) return;
+    const double angle_deg = scanner.ToNumber(value, key);
+    if (std::abs(angle_deg) > kMaxScannerTiltDeg) {
+      throw InputError(Where(
+          scanner.file(), LineOf(value),
+          scanner.Name(key) + ": " + value.Scalar() +
+              " deg is not how a scanner is mounted; expected the scanner's tilt on the vehicle "
+              "in degrees within ±45 (pitch positive nose up, roll positive right side down)"));
+    }
+    *angle_rad = angle_deg / kRadToDeg;
+    out->tilt.given = true;
+  };
+  tilt_key("pitch_deg", &out->tilt.pitch_rad);
+  tilt_key("roll_deg", &out->tilt.roll_rad);
+  PositiveKey(scanner, "tilt_sigma_deg", kRadToDeg, "the tilt's 1σ in degrees, > 0 (default 0.2)",
+              &out->tilt.sigma_rad);
+}
 
 // The keys of `scanner:` (or of one `scanners:` item), read into *out.
 void ReadScannerKeys(MapReader& scanner, const std::string& dir, ScannerSpec* out) {
-  scanner.Allow({"model", "log", "time_offset_s", "mount_guess", "z_m", "topic", "stamp"});
+  scanner.Allow({"model", "log", "time_offset_s", "mount_guess", "z_m", "z_sigma_m", "pitch_deg",
+                 "roll_deg", "tilt_sigma_deg", "topic", "stamp"});
   scanner.Finish();
   out->model = scanner.ToText(
       scanner.Require("model", "a scanner preset name (configs/scanners/NAME.yaml)"), "model");
@@ -125,10 +179,31 @@ void ReadScannerKeys(MapReader& scanner, const std::string& dir, ScannerSpec* ou
     g.Finish();
     out->mount_guess = mount;
   }
-  if (const YAML::Node z = scanner.Find("z_m"); z.IsDefined()) {
-    out->z_m = scanner.ToNumber(z, "z_m");
-  }
+  ReadScannerHeightAndTilt(scanner, out);
   scanner.Finish();
+}
+
+// `attitude:`: the vehicle's roll and pitch stream. Its log is resolved as the others; whether
+// it is a recording (then topic is required) is decided by its reader, by content.
+void ReadAttitude(MapReader& top, const YAML::Node& node, SessionSpec& spec) {
+  MapReader attitude = top.Child("attitude", node);
+  attitude.Allow({"log", "topic", "stamp", "time_offset_s", "sigma_deg"});
+  attitude.Finish();
+  spec.attitude_log = ResolvePath(
+      spec.dir, attitude.ToText(attitude.Require("log",
+                                                 "the attitude log's path ($PASHR or $PTNL,AVR "
+                                                 "sentences, or a recording with topic:)"),
+                                "log"));
+  ReadTopicKeys(attitude, &spec.attitude_topic, &spec.attitude_stamp);
+  attitude.Number("time_offset_s", spec.attitude_time_offset_s);
+  if (std::abs(spec.attitude_time_offset_s) > 1e10) {
+    attitude.Bad(attitude.Find("time_offset_s"), "time_offset_s",
+                 "seconds within ±1e10 (added to every attitude sample's time)");
+  }
+  PositiveKey(attitude, "sigma_deg", kRadToDeg,
+              "one sample's 1σ of roll and of pitch in degrees, > 0 (default 0.1)",
+              &spec.attitude_sigma_rad);
+  attitude.Finish();
 }
 
 // `scanners:`, a list of scanner maps, each with an `id:` (named in every message about it)
@@ -205,9 +280,8 @@ SessionSpec ReadSession(const std::string& path) {
   if (!root.IsMap())
     throw InputError(Where(f, 0, "empty session; expected the keys of docs/session-format.md"));
 
-  top.Allow(
-      {"name", "utm_zone", "scanner", "scanners", "gnss", "heading", "survey", "walls",
-       "antenna_in_base"});
+  top.Allow({"name", "utm_zone", "scanner", "scanners", "gnss", "heading", "attitude", "survey",
+             "walls", "antenna_in_base"});
   top.Finish();
   top.Text("name", spec.name);
   if (spec.name.empty())
@@ -230,6 +304,8 @@ SessionSpec ReadSession(const std::string& path) {
     spec.scanner_stamp = one.stamp;
     spec.mount_guess = one.mount_guess;
     spec.scanner_z_m = one.z_m;
+    spec.scanner_z_sigma_m = one.z_sigma_m;
+    spec.scanner_tilt = one.tilt;
   }
   {
     const YAML::Node node = top.Require("gnss", "a map with log");
@@ -273,6 +349,7 @@ SessionSpec ReadSession(const std::string& path) {
     ReadTopicKeys(heading, &spec.heading_topic, &spec.heading_stamp);
     heading.Finish();
   }
+  if (const YAML::Node node = top.Find("attitude"); node.IsDefined()) ReadAttitude(top, node, spec);
   {
     const YAML::Node node = top.Require("survey", "a map with points (and control)");
     MapReader survey = top.Child("survey", node);
@@ -399,6 +476,8 @@ SessionSpec SessionForScanner(const SessionSpec& session, size_t index) {
   one.scanner_stamp = scanner.stamp;
   one.mount_guess = scanner.mount_guess;
   one.scanner_z_m = scanner.z_m;
+  one.scanner_z_sigma_m = scanner.z_sigma_m;
+  one.scanner_tilt = scanner.tilt;
   one.scanners.clear();
   return one;
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string_view>
@@ -31,6 +32,8 @@ namespace {
 using nmea::NmeaParser;
 using nmea::ParseLine;
 using nmea::ThrowLineTooLong;
+
+namespace fs = std::filesystem;
 
 std::string_view TrimLineEnd(const std::string& line) {
   std::string_view view(line);

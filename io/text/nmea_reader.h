@@ -5,7 +5,9 @@
 // Sentences: GGA (position; height_m = altitude + geoid separation, the separation taken as 0
 // when the field is empty), GST (σ latitude / longitude in metres, attached to the GGA fix with
 // the same UTC time field, before or after it), HDT and THS (heading, degrees clockwise from
-// north -> heading_rad in [0, 2π); THS only with status A), RMC and ZDA (date only). Any talker.
+// north -> heading_rad in [0, 2π); THS only with status A), $PASHR and $PTNL,AVR (the vehicle's
+// roll and pitch -> NmeaLog::attitudes; fields, signs and σ: io/text/internal/nmea_attitude.h;
+// a $PASHR's heading is not a heading sample), RMC and ZDA (date only). Any talker.
 //
 // Time: a line "<seconds> <sentence>" (logger-time prefix) is stamped with the prefix (its
 // arrival on the logger clock); a GGA so stamped also keeps its epoch's UTC in utc_epoch_s (on
@@ -13,18 +15,20 @@
 // sentence is stamped with its own UTC time of day on the date of the last RMC/ZDA before it
 // (the first date in the file for sentences before any date; across midnight the day is
 // advanced when the time of day drops by more than 12 h); HDT/THS take the stamp of the last
-// timed sentence before them. A plain capture without any RMC/ZDA date is stamped with the time
-// of day on 1970-01-01.
+// timed sentence before them, $PASHR and $PTNL,AVR their own time as a GGA does. A plain
+// capture without any RMC/ZDA date is stamped with the time of day on 1970-01-01. An attitude
+// sentence with a prefix is stamped with it, as a heading is (no epoch mapping).
 //
 // Skipped and counted in NmeaLog::skipped (never half-used): "not NMEA" (comments, blank lines,
 // binary bytes), "no checksum", "bad checksum", "empty field" (a required field missing or
 // empty, e.g. "$GPHDT,,T"), "bad field" (not a number, bad hemisphere letter, minutes >= 60),
 // "lat/lon out of range", "GGA without a fix" (quality 0, no position), "heading out of range",
 // "THS status X", "GGA fix with fewer than 4 satellites" and "GGA fix with HDOP 0" (quality
-// 4 or 5 contradicted by its own satellite count or HDOP), "no time yet", "time not increasing"
-// (a fix or heading not later than the
-// previous one of its kind; a GGA dropped so is still counted in fixes_by_quality),
-// "other sentence (GSV)" by type, "GST without its GGA".
+// 4 or 5 contradicted by its own satellite count or HDOP), "roll or pitch beyond 30 deg",
+// "AVR without a vector fix (quality 0)", "AVR vector not RTK fixed (quality 1, 2 or 4)", "no
+// time yet", "time not increasing" (a fix, heading or attitude not later than the previous one
+// of its kind; a GGA dropped so is still counted in fixes_by_quality), "other sentence (GSV)"
+// by type ("other sentence (PASHR,ATT)" for Ashtech's other $PASHR), "GST without its GGA".
 
 #include <cstdint>
 #include <istream>

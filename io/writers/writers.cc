@@ -112,6 +112,42 @@ std::string FormatHdtLine(double stamp_s, double heading_rad) {
   return Sentence(stamp_s, "HEHDT," + value + ",T");
 }
 
+namespace {
+
+// An angle field in degrees with 4 decimals and its sign ("%+.4f"), or nothing for NaN.
+std::string SignedDegrees(double angle_rad) {
+  return std::isfinite(angle_rad) ? Format("%+.4f", angle_rad * kRadToDeg) : std::string();
+}
+
+std::string HeadingDegrees(double heading_rad, const char* format) {
+  if (!std::isfinite(heading_rad)) return std::string();
+  double heading_deg = std::fmod(heading_rad * kRadToDeg, 360.0);
+  if (heading_deg < 0.0) heading_deg += 360.0;
+  return Format(format, heading_deg);
+}
+
+}  // namespace
+
+std::string FormatPashrLine(const AttitudeSample& sample, double heading_rad) {
+  auto sigma = [](double sigma_rad) {
+    return std::isfinite(sigma_rad) ? Format("%.4f", sigma_rad * kRadToDeg) : std::string();
+  };
+  const std::string body =
+      "PASHR," + UtcTimeField(sample.stamp_s) + "," + HeadingDegrees(heading_rad, "%.2f") + ",T," +
+      SignedDegrees(sample.roll_rad) + "," + SignedDegrees(sample.pitch_rad) + ",0.00," +
+      sigma(sample.roll_sigma_rad) + "," + sigma(sample.pitch_sigma_rad) + ",,1,0";
+  return Sentence(sample.stamp_s, body);
+}
+
+std::string FormatAvrLine(const AttitudeSample& sample, double heading_rad) {
+  const bool tilt = std::isfinite(sample.pitch_rad), roll = std::isfinite(sample.roll_rad);
+  const std::string body =
+      "PTNL,AVR," + UtcTimeField(sample.stamp_s) + "," + HeadingDegrees(heading_rad, "%+.4f") +
+      ",Yaw," + SignedDegrees(sample.pitch_rad) + (tilt ? ",Tilt," : ",,") +
+      SignedDegrees(sample.roll_rad) + (roll ? ",Roll," : ",,") + "1.000,3,1.5,12";
+  return Sentence(sample.stamp_s, body);
+}
+
 std::string FormatSurveyCsv(const std::vector<SurveyPoint>& points) {
   std::string out = "id,x,y,z,code\n";
   for (const SurveyPoint& point : points) {
@@ -137,40 +173,46 @@ std::string FormatSessionYaml(const SessionSpec& spec) {
     out += "utm_zone: " + std::to_string(spec.utm_zone->zone) + (spec.utm_zone->north ? "N" : "S") +
            "\n";
   }
-  const auto scanner_keys = [&spec, &out](const std::string& indent, const std::string& model,
-                                          const std::string& log, const std::string& topic,
-                                          double time_offset_s,
-                                          const std::optional<MountGuess>& guess,
-                                          const std::optional<double>& z_m,
-                                          const ScannerTilt& tilt) {
-    out += indent + "model: " + YamlText(model) + "\n";
-    out += indent + "log: " + YamlText(RelativeTo(spec.dir, log)) + "\n";
-    if (!topic.empty()) out += indent + "topic: " + YamlText(topic) + "\n";
-    out += indent + "time_offset_s: " + ShortestNumber(time_offset_s) + "\n";
-    if (guess) {
+  const auto scanner_keys = [&spec, &out](const std::string& indent, const ScannerSpec& scanner) {
+    out += indent + "model: " + YamlText(scanner.model) + "\n";
+    out += indent + "log: " + YamlText(RelativeTo(spec.dir, scanner.log)) + "\n";
+    if (!scanner.topic.empty()) out += indent + "topic: " + YamlText(scanner.topic) + "\n";
+    out += indent + "time_offset_s: " + ShortestNumber(scanner.time_offset_s) + "\n";
+    if (const std::optional<MountGuess>& guess = scanner.mount_guess) {
       out += indent + "mount_guess: {x: " + ShortestNumber(guess->x_m) +
              ", y: " + ShortestNumber(guess->y_m) +
              ", yaw_deg: " + ShortestScaled(guess->yaw_rad, kRadToDeg) + "}\n";
     }
-    // The scanner's height and tilt as measured by hand, when the session has them.
-    if (z_m) out += indent + "z_m: " + ShortestNumber(*z_m) + "\n";
-    if (tilt.given) {
-      out += indent + "pitch_deg: " + ShortestScaled(tilt.pitch_rad, kRadToDeg) + "\n";
-      out += indent + "roll_deg: " + ShortestScaled(tilt.roll_rad, kRadToDeg) + "\n";
+    if (scanner.z_m) out += indent + "z_m: " + ShortestNumber(*scanner.z_m) + "\n";
+    if (scanner.z_sigma_m != kDefaultScannerZSigmaM) {
+      out += indent + "z_sigma_m: " + ShortestNumber(scanner.z_sigma_m) + "\n";
+    }
+    if (scanner.tilt.given) {
+      out += indent + "pitch_deg: " + ShortestScaled(scanner.tilt.pitch_rad, kRadToDeg) + "\n";
+      out += indent + "roll_deg: " + ShortestScaled(scanner.tilt.roll_rad, kRadToDeg) + "\n";
+    }
+    if (scanner.tilt.sigma_rad != kDefaultScannerTiltSigmaRad) {
+      out += indent + "tilt_sigma_deg: " + ShortestScaled(scanner.tilt.sigma_rad, kRadToDeg) + "\n";
     }
   };
   if (spec.scanners.empty()) {
     out += "scanner:\n";
-    scanner_keys("  ", spec.scanner_model, spec.scanner_log, spec.scanner_topic,
-                 spec.scanner_time_offset_s, spec.mount_guess, spec.scanner_z_m,
-                 spec.scanner_tilt);
+    ScannerSpec one;
+    one.model = spec.scanner_model;
+    one.log = spec.scanner_log;
+    one.topic = spec.scanner_topic;
+    one.time_offset_s = spec.scanner_time_offset_s;
+    one.mount_guess = spec.mount_guess;
+    one.z_m = spec.scanner_z_m;
+    one.z_sigma_m = spec.scanner_z_sigma_m;
+    one.tilt = spec.scanner_tilt;
+    scanner_keys("  ", one);
   } else {
     out += "scanners:\n";
     for (const ScannerSpec& scanner : spec.scanners) {
       out += "  - id: " + YamlText(scanner.id) + "\n";
       if (scanner.frame != scanner.id) out += "    frame: " + YamlText(scanner.frame) + "\n";
-      scanner_keys("    ", scanner.model, scanner.log, scanner.topic, scanner.time_offset_s,
-                   scanner.mount_guess, scanner.z_m, scanner.tilt);
+      scanner_keys("    ", scanner);
     }
   }
   out += "gnss:\n";
@@ -186,6 +228,18 @@ std::string FormatSessionYaml(const SessionSpec& spec) {
   out += std::string("  reference: ") +
          (spec.heading_reference == HeadingReference::kGridNorth ? "grid_north" : "true_north") +
          "\n";
+  if (!spec.attitude_log.empty()) {
+    out += "attitude:\n";
+    out += "  log: " + YamlText(RelativeTo(spec.dir, spec.attitude_log)) + "\n";
+    if (!spec.attitude_topic.empty()) out += "  topic: " + YamlText(spec.attitude_topic) + "\n";
+    if (spec.attitude_stamp == StampSource::kReceive) out += "  stamp: receive\n";
+    if (spec.attitude_time_offset_s != 0.0) {
+      out += "  time_offset_s: " + ShortestNumber(spec.attitude_time_offset_s) + "\n";
+    }
+    if (spec.attitude_sigma_rad != kDefaultAttitudeSigmaRad) {
+      out += "  sigma_deg: " + ShortestScaled(spec.attitude_sigma_rad, kRadToDeg) + "\n";
+    }
+  }
   out += "survey:\n";
   out += "  points: " + YamlText(RelativeTo(spec.dir, spec.survey_points)) + "\n";
   if (!spec.control.empty()) out += "  control:\n";

@@ -28,6 +28,16 @@ std::string FormatGstLine(const GnssFix& fix);
 // "<stamp> $HEHDT,ddd.dddd,T*hh" (degrees clockwise from north, 4 decimals).
 std::string FormatHdtLine(double stamp_s, double heading_rad);
 
+// The attitude sentences (io/text/internal/nmea_attitude.h), logger-stamped with
+// sample.stamp_s, the UTC field from it as UNIX time. Angles in degrees with 4 decimals (σ too);
+// a NaN roll, pitch, σ or heading is an empty field. heading_rad: clockwise from north.
+// "<stamp> $PASHR,hhmmss.ss,hhh.hh,T,±r.rrrr,±p.pppp,0.00,σr,σp,,1,0*hh" (heave 0, no heading σ).
+std::string FormatPashrLine(const AttitudeSample& sample, double heading_rad);
+// "<stamp> $PTNL,AVR,hhmmss.ss,+yyy.yyyy,Yaw,±t.tttt,Tilt,±r.rrrr,Roll,1.000,3,1.5,12*hh": the
+// heading as yaw, the pitch as tilt and the roll as roll (a receiver gives one of the two; the
+// simulator gives both), quality 3 (RTK fixed), a 1 m baseline.
+std::string FormatAvrLine(const AttitudeSample& sample, double heading_rad);
+
 // CSV with the header "id,x,y,z,code", coordinates with 4 decimals.
 std::string FormatSurveyCsv(const std::vector<SurveyPoint>& points);
 

@@ -104,6 +104,31 @@ SessionLogs InspectSessionLogs(
     const std::function<std::optional<ScanLogSummary>()>& shared_scan_log,
     SessionInspection* result, std::ostream& out);
 
+// ---- The attitude stream (attitude_inspection.cc) -------------------------------------------
+// What the reports say about an attitude stream, computed once from it.
+struct AttitudeSummary {
+  StreamStats stats;   // stamps and lines of the samples
+  std::string source;  // "$PASHR 1200", "topic /imu/data: sensor_msgs/Imu 11865"
+  int64_t roll_samples = 0, pitch_samples = 0;  // samples that measure each (an AVR: one)
+  double roll_min_rad = io::kNaN, roll_max_rad = io::kNaN;
+  double pitch_min_rad = io::kNaN, pitch_max_rad = io::kNaN;
+  double roll_sigma_median_rad = io::kNaN, pitch_sigma_median_rad = io::kNaN;  // the stream's
+  int64_t without_sigma = 0;            // samples with no σ of their own
+  double default_sigma_rad = io::kNaN;  // attitude.sigma_deg, on a session
+  io::SkipCounts skipped;
+};
+// `topic`: the recording topic the log came from ("" for a text log).
+AttitudeSummary SummariseAttitude(const std::string& path, const std::string& topic,
+                                  const io::NmeaLog& log);
+// The stream's statistics, then FormatAttitudeValues, then (with_skips) its skipped lines.
+std::string FormatAttitude(const AttitudeSummary& summary, bool with_skips);
+// The lines on roll, pitch and σ (none without a sample).
+std::string FormatAttitudeValues(const AttitudeSummary& summary);
+// The attitude block of the session report (after the headings); an unreadable stream or one
+// without a sample blocks, as calibrate stops on it.
+void InspectSessionAttitude(const io::SessionSpec& spec, const SessionLogs& logs,
+                            SessionInspection* result, std::ostream& out);
+
 }  // namespace wallcal::preflight::internal
 
 namespace wallcal::preflight {

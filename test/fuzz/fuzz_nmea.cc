@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// libFuzzer target: the NMEA reader (GNSS and heading logs). Any input must either parse into
-// records that keep the reader's promises or throw io::InputError; anything else (a crash, a
+// libFuzzer target: the NMEA reader (GNSS, heading and attitude logs). Any input must either parse
+// into records that keep the reader's promises or throw io::InputError; anything else (a crash, a
 // sanitizer report, another exception) is a bug.
 
 #include <cmath>
@@ -37,6 +37,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       std::abort();
     }
     if (i > 0 && !(h.stamp_s > log.headings[i - 1].stamp_s)) std::abort();
+  }
+  // Attitudes: roll and pitch within ±io::kMaxVehicleTiltRad, or NaN for the axis an AVR does
+  // not give (at least one given); σ positive or NaN.
+  for (size_t i = 0; i < log.attitudes.size(); ++i) {
+    const wallcal::io::AttitudeSample& a = log.attitudes[i];
+    const auto angle_ok = [](double angle_rad) {
+      return std::isnan(angle_rad) || std::abs(angle_rad) <= wallcal::io::kMaxVehicleTiltRad;
+    };
+    const auto sigma_ok = [](double sigma_rad) { return std::isnan(sigma_rad) || sigma_rad > 0.0; };
+    if (!std::isfinite(a.stamp_s) || !angle_ok(a.roll_rad) || !angle_ok(a.pitch_rad) ||
+        (std::isnan(a.roll_rad) && std::isnan(a.pitch_rad)) || !sigma_ok(a.roll_sigma_rad) ||
+        !sigma_ok(a.pitch_sigma_rad) || a.line < 1 || a.line > log.lines_read) {
+      std::abort();
+    }
+    if (i > 0 && !(a.stamp_s > log.attitudes[i - 1].stamp_s)) std::abort();
   }
   return 0;
 }

@@ -1,14 +1,17 @@
 // SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: the ROS message decoders, every type on both wires. The first input byte
-// picks the type (its value modulo 5) and the wire (bit 3 set: CDR); the rest is the payload. A decode either
-// fails with an offset inside the payload, or succeeds; then re-encoding and decoding again
-// must succeed and give the same message (compared by its encoding with the stamp zeroed:
-// stamps pass through a double and may move by a rounding step).
+// picks the type (its value modulo 5) and the wire (bit 3 set: CDR); the rest is the payload. A
+// decode either fails with an offset inside the payload, or succeeds; then re-encoding and decoding
+// again must succeed and give the same message (compared by its encoding with the stamp zeroed:
+// stamps pass through a double and may move by a rounding step). An Imu's attitude keeps the
+// attitude stream's promises (recording/attitude_stream.h).
 
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <vector>
 
+#include "recording/attitude_stream.h"
 #include "recording/ros/ros_messages.h"
 
 namespace {
@@ -26,6 +29,21 @@ void Check(const uint8_t* data, size_t size, WireFormat wire, Decode decode, Enc
   if (!decode(bytes.data(), bytes.size(), wire, &second).ok()) std::abort();
   first.header.stamp_s = second.header.stamp_s = 0.0;
   if (encode(first, wire) != encode(second, wire)) std::abort();
+}
+
+// An Imu that decodes gives an attitude sample within ±io::kMaxVehicleTiltRad with σ positive
+// or NaN, or a typed reason to skip it.
+void CheckImuAttitude(const uint8_t* data, size_t size, WireFormat wire) {
+  QuaternionMsg msg;
+  if (!DecodeImu(data, size, wire, &msg).ok()) return;
+  wallcal::io::AttitudeSample sample;
+  if (AttitudeFromImu(msg, &sample) != ImuAttitude::kSample) return;
+  const double limit = wallcal::io::kMaxVehicleTiltRad;
+  const auto sigma_ok = [](double sigma) { return std::isnan(sigma) || sigma > 0.0; };
+  if (!(std::abs(sample.roll_rad) <= limit) || !(std::abs(sample.pitch_rad) <= limit) ||
+      !sigma_ok(sample.roll_sigma_rad) || !sigma_ok(sample.pitch_sigma_rad)) {
+    std::abort();
+  }
 }
 
 }  // namespace
@@ -46,7 +64,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     case 3:
       Check<QuaternionMsg>(copy.data(), n, wire, DecodeQuaternionStamped, EncodeQuaternionStamped);
       break;
-    default: Check<QuaternionMsg>(copy.data(), n, wire, DecodeImu, EncodeImu); break;
+    default:
+      Check<QuaternionMsg>(copy.data(), n, wire, DecodeImu, EncodeImu);
+      CheckImuAttitude(copy.data(), n, wire);
+      break;
   }
   return 0;
 }

@@ -9,7 +9,8 @@
 // recording::PoseTail): a ROS 1 bag, an MCAP file, a .db3 file and rosbag2 folders grown in
 // steps, and an MCAP file whose nmea_msgs/Sentence topic carries both streams (its first date
 // arriving late). After each step Read() gives what recording::ReadPoseLogs gives for the
-// recording as it stands, record for record.
+// recording as it stands, record for record. A recording's attitude topic is read whole at each
+// refresh; a text log's attitude sentences are read on with the log that holds them.
 
 #include <gtest/gtest.h>
 
@@ -24,6 +25,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/angles.h"
 #include "guide/guide_session.h"
 #include "guide/pose_logs.h"
 #include "io/config/session_reader.h"
@@ -302,6 +304,81 @@ TEST(PoseLogFollowerRecordingTest, ReadsNmeaSentenceTopicsOnAsAWholeReadOfEachSt
   spec.gnss_topic = spec.heading_topic = "/nmea";
   io::WriteFileAtomically(spec.file, io::FormatSessionYaml(spec));
   ExpectReadOnAsWhole(dir.string(), GrowByBytes(path), "nmea_msgs/Sentence");
+}
+
+// The attitude sentences of the heading log come with its headings, from the same read on; an
+// attitude log of its own is read on by itself, and one still empty is no error.
+TEST(PoseLogFollowerTest, ReadsTheAttitudeStreamOnWithTheLogThatHoldsIt) {
+  const testing_support::ScratchDir scratch("wallcal_pose_logs_attitude_");
+  const auto pashr = [](double stamp_s, double roll_deg) {
+    char body[160];
+    std::snprintf(body, sizeof(body), "PASHR,000000.00,35.00,T,%+.4f,+0.5000,0.00,,,,1,0",
+                  roll_deg);
+    return std::to_string(stamp_s) + " $" + body + "*" + io::NmeaChecksum(body) + "\n";
+  };
+  const fs::path heading = scratch.path() / "heading.nmea";
+  const fs::path own = scratch.path() / "attitude.nmea";
+  const std::string first = "1747031522.050 $HEHDT,35.0024,T*2F\n" + pashr(1747031522.06, 1.0);
+  testing_support::WriteFile(heading.string(), first);
+  testing_support::WriteFile(own.string(), "");
+  io::SessionSpec session;
+  session.gnss_log = (scratch.path() / "gnss.nmea").string();
+  testing_support::WriteFile(session.gnss_log, "");
+  session.heading_log = session.attitude_log = heading.string();
+  session.attitude_time_offset_s = 0.5;
+  guide::PoseLogFollower follower(session);
+  recording::PoseLogs logs = follower.Read();
+  ASSERT_EQ(logs.attitudes.attitudes.size(), 1u);
+  EXPECT_DOUBLE_EQ(logs.attitudes.attitudes[0].stamp_s, 1747031522.56);
+
+  std::ofstream(heading, std::ios::binary | std::ios::app) << pashr(1747031522.16, 2.0);
+  logs = follower.Read();
+  EXPECT_EQ(follower.attitude_read().from_byte, static_cast<int64_t>(first.size()));
+  EXPECT_EQ(follower.attitude_read().from_byte, follower.heading_read().from_byte);
+  ASSERT_EQ(logs.attitudes.attitudes.size(), 2u);
+  EXPECT_NEAR(logs.attitudes.attitudes[1].roll_rad, 2.0 * kDegToRad, 1e-12);
+  EXPECT_EQ(logs.headings.headings.size(), 1u);
+
+  // A log of its own, empty at first, then grown.
+  session.attitude_log = own.string();
+  guide::PoseLogFollower own_follower(session);
+  EXPECT_TRUE(own_follower.Read().attitudes.attitudes.empty());
+  std::ofstream(own, std::ios::binary | std::ios::app) << pashr(1747031522.26, 3.0);
+  logs = own_follower.Read();
+  ASSERT_EQ(logs.attitudes.attitudes.size(), 1u);
+  EXPECT_EQ(own_follower.attitude_read().from_byte, 0);
+  EXPECT_GT(own_follower.attitude_read().bytes, 0);
+}
+
+// A recording's attitude topic (sensor_msgs/Imu in an MCAP file) is read whole at each
+// refresh, beside the GNSS and heading topics read on: Read() gives the attitude stream a
+// whole read gives.
+TEST(PoseLogFollowerRecordingTest, ReadsARecordedAttitudeTopicAsAWholeRead) {
+  const testing_support::ScratchDir scratch("wallcal_pose_logs_recorded_attitude_");
+  const fs::path dir = scratch.path() / "session";
+  sim::WriteSimulatedSession(
+      sim::ReadSimulationConfig(std::string(WALLCAL_SOURCE_DIR) +
+                                "/configs/simulate/bench_lms291_yard2_attitude.yaml"),
+      5, dir.string(), sim::SessionFormat::kMcap);
+  const io::SessionSpec spec = io::ReadSession(dir.string());
+  ASSERT_FALSE(spec.attitude_topic.empty());
+  guide::PoseLogFollower follower(spec);
+  const recording::PoseLogs whole = recording::ReadPoseLogs(spec);
+  ASSERT_GT(whole.attitudes.attitudes.size(), 0u);
+  for (int refresh = 0; refresh < 2; ++refresh) {
+    const recording::PoseLogs logs = follower.Read();
+    testing_support::ExpectSameLog(logs.gnss, whole.gnss, "GNSS");
+    testing_support::ExpectSameLog(logs.headings, whole.headings, "heading");
+    ASSERT_EQ(logs.attitudes.attitudes.size(), whole.attitudes.attitudes.size());
+    for (size_t i = 0; i < whole.attitudes.attitudes.size(); ++i) {
+      const io::AttitudeSample& a = logs.attitudes.attitudes[i];
+      const io::AttitudeSample& b = whole.attitudes.attitudes[i];
+      EXPECT_TRUE(a.stamp_s == b.stamp_s && a.roll_rad == b.roll_rad &&
+                  a.pitch_rad == b.pitch_rad && a.line == b.line)
+          << "attitude " << i;
+    }
+    EXPECT_EQ(logs.attitudes.lines_read, whole.attitudes.lines_read);
+  }
 }
 
 }  // namespace

@@ -402,7 +402,7 @@ TEST(InspectTest, UsageErrorsHelpAndVersion) {
   EXPECT_EQ(RunInspectProgram("").status, 2);
   run = RunInspectProgram("x --dump positions");
   testing_support::ExpectExitSaying(run.status, 2, run.err, {
-      "expected gnss, heading, scans or survey"
+      "expected gnss, heading, attitude, scans or survey"
   });
   EXPECT_EQ(RunInspectProgram("x --bogus").status, 2);
 }

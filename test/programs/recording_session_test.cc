@@ -282,6 +282,11 @@ TEST(InspectRecordingTest, SuggestSessionOnTheRealBagsProposesScanAndFix) {
   EXPECT_NE(run.out.find("  topic: /fix  # sensor_msgs/NavSatFix, 989 messages"), std::string::npos)
       << run.out;
   EXPECT_NE(run.out.find("  topic: /imu/data  # sensor_msgs/Imu"), std::string::npos) << run.out;
+  // Its Imu is turned on the robot (a roll near 90°): no attitude stream proposed.
+  EXPECT_NE(run.out.find("# attitude: not /imu/data: its orientation is not the vehicle's"),
+            std::string::npos)
+      << run.out;
+  EXPECT_EQ(run.out.find("\nattitude:"), std::string::npos) << run.out;
   run = RunCommand(kInspect + " " + kRealRos1 + "/robot_localization-test1.bag");
   EXPECT_EQ(run.status, 0) << run.out;
   EXPECT_NE(run.out.find("/husky_velocity_controller/odom [nav_msgs/Odometry]"), std::string::npos)

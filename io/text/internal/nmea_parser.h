@@ -15,6 +15,7 @@
 
 #include "common/angles.h"
 #include "io/input_file.h"
+#include "io/text/internal/nmea_attitude.h"
 #include "io/text/internal/nmea_sentence.h"
 #include "io/types.h"
 
@@ -51,6 +52,8 @@ class NmeaParser {
       Heading(type == "THS", prefix_s, line);
     } else if (type == "RMC" || type == "ZDA") {
       DateAndTime(type, prefix_s);
+    } else if (type == "PASHR" || type == "PTNL") {
+      Attitude(type, prefix_s, line);
     } else {
       Skip("other sentence (" + std::string(type) + ")", line, SkipSeverity::kInformational);
     }
@@ -236,6 +239,53 @@ class NmeaParser {
       Skip("GST without its GGA", pending_gst_.front().line);
       pending_gst_.pop_front();
     }
+  }
+
+  // $PASHR and $PTNL,AVR: stamped as a heading is (the logger prefix when the line has one), or
+  // without a prefix by the sentence's own UTC time, dated as a GGA's. A $PASHR's heading is not
+  // a heading sample: the heading stream is the session's heading log.
+  void Attitude(std::string_view type, std::optional<double> prefix_s, int line) {
+    AttitudeSample sample;
+    std::optional<double> tod_s;
+    const AttitudeParse parsed = type == "PASHR" ? ParsePashr(fields_, &sample, &tod_s)
+                                                 : ParsePtnlAvr(fields_, &sample, &tod_s);
+    switch (parsed) {
+      case AttitudeParse::kSample:
+        break;
+      case AttitudeParse::kOtherSentence:
+        Skip("other sentence (" + std::string(type) + "," +
+                 std::string(fields_.size() > 1 ? fields_[1].substr(0, 8) : std::string_view()) + ")",
+             line, SkipSeverity::kInformational);
+        return;
+      case AttitudeParse::kEmptyField:
+        Skip("empty field", line);
+        return;
+      case AttitudeParse::kBadField:
+        Skip("bad field", line);
+        return;
+      case AttitudeParse::kOutOfRange:
+        Skip(kAttitudeOutOfRangeReason, line);
+        return;
+      case AttitudeParse::kNoFix:
+        Skip("AVR without a vector fix (quality 0)", line);
+        return;
+      case AttitudeParse::kNotRtkFixed:
+        Skip("AVR vector not RTK fixed (quality 1, 2 or 4)", line);
+        return;
+    }
+    if (!prefix_s && !tod_s) {
+      Skip("empty field", line);  // neither a logger stamp nor its own time
+      return;
+    }
+    const double stamp_s = tod_s ? Stamp(prefix_s, *tod_s) : *prefix_s;
+    if (!log_->attitudes.empty() && !(stamp_s > log_->attitudes.back().stamp_s)) {
+      Skip("time not increasing", line);
+      return;
+    }
+    sample.stamp_s = stamp_s;
+    sample.line = line;
+    log_->attitudes.push_back(sample);
+    ++log_->attitudes_by_source[type == "PASHR" ? "$PASHR" : "$PTNL,AVR"];
   }
 
   void Heading(bool ths, std::optional<double> prefix_s, int line) {
