@@ -46,6 +46,7 @@ PoseResult PosesFromLogs(const CalibrationResult& so_far, recording::PoseLogs lo
   io::NmeaLog& headings = state->headings;
   gnss = std::move(logs.gnss);
   headings = std::move(logs.headings);
+  state->attitudes = std::move(logs.attitudes);
   state->used_fixes.clear();
   state->track_local_m.clear();
   for (std::string& w : logs.warnings)

@@ -41,13 +41,11 @@ std::vector<calib::HeightSample> StationHeights(const RunState& state,
   return samples;
 }
 
-// The stream's samples: the heading log's (or the GNSS log's when it holds them), the
-// session's attitude offset added to their stamps.
-std::vector<io::AttitudeSample> StreamSamples(const RunState& state, double offset_s) {
-  std::vector<io::AttitudeSample> samples =
-      !state.headings.attitudes.empty() ? state.headings.attitudes : state.gnss.attitudes;
-  for (io::AttitudeSample& s : samples) s.stamp_s += offset_s;
-  return samples;
+// The stream's samples: the session's attitude stream (attitude:, its offset applied by the
+// reader), else the attitude sentences of the heading log or the GNSS log.
+std::vector<io::AttitudeSample> StreamSamples(const RunState& state) {
+  if (!state.attitudes.attitudes.empty()) return state.attitudes.attitudes;
+  return !state.headings.attitudes.empty() ? state.headings.attitudes : state.gnss.attitudes;
 }
 
 // Compares the stream's mean roll and pitch at each station with the attitude the yard gives
@@ -134,7 +132,7 @@ SiteResult SiteFromPoses(const CalibrationResult& so_far, const RunState& state)
                       yard.grade.norm() > kYardSignificance * grade_sigma;
 
   std::vector<io::AttitudeSample> samples =
-      StreamSamples(state, session.attitude_time_offset_s);
+      StreamSamples(state);
   site.attitude_samples = static_cast<int64_t>(samples.size());
   if (samples.size() >= 2) {
     const auto [first, last] = std::minmax_element(

@@ -27,6 +27,7 @@ struct RunState {
   std::optional<io::PreviousOffsets> previous;  // the --compare file, read before the work
   io::NmeaLog gnss;
   io::NmeaLog headings;  // the heading log (a copy of gnss when it is the same file)
+  io::NmeaLog attitudes;  // the session's attitude stream (attitude:), its offset applied
   std::vector<const io::GnssFix*> used_fixes;  // into gnss.fixes
   std::vector<Eigen::Vector2d> track_local_m;  // the fixes used, in the local frame
   calib::PassContext pass;                     // how the passes read scans (set by PreparePasses)
