@@ -136,17 +136,13 @@ struct WallObservation {
   double sigma_theta_rad = 0.0;  // from the line fit
   double cov_rho_theta = 0.0;    // covariance between the two (m·rad)
   int num_inliers = 0;
+  // The variance (m²) the vehicle attitude's noise adds to rho_m (pipeline's site step; 0 on a
+  // level site). A float beside num_inliers: it fills what would be padding.
+  float attitude_var_rho_m2 = 0.0f;
   double range_min_m = 0.0;   // range span of the inliers
   double range_max_m = 0.0;
   double residual_rms_m = 0.0;  // RMS of the inliers about the fitted line
   VehiclePose pose;             // the vehicle at the scan's time
-  // The level correction the solve took out of rho_m and theta_rad (calib/site_geometry.h: what
-  // the vehicle's attitude, the scanner's height and tilt and the wall's lean put into the
-  // line beyond the level model), and the variance (m²) the attitude's noise adds to rho_m.
-  // All 0 on a level site.
-  double rho_correction_m = 0.0;
-  double theta_correction_rad = 0.0;
-  double attitude_var_rho_m2 = 0.0;
 };
 
 // The key of the GNSS-error slice an observation belongs to (see VehiclePose::gnss_segment).

@@ -46,13 +46,38 @@ calib::WallGeometry UsableWall(const calib::WallGeometry& wall) {
 
 }  // namespace
 
-void ApplySiteCorrections(const SiteResult& site, const std::vector<calib::WallGeometry>& walls,
-                          const calib::Mount& mount,
-                          std::vector<calib::WallObservation>* observations) {
-  if (!site.corrected) return;
+// The level correction of `o` on `site` at `mount` (`usable`: the walls as UsableWall gives
+// them), with the attitude's variances of roll and pitch.
+Eigen::Vector2d CorrectionOf(const calib::WallObservation& o, const SiteResult& site,
+                             const std::vector<calib::WallGeometry>& usable,
+                             const calib::Mount& mount, calib::Attitude* attitude,
+                             calib::Heights* heights, double* var_roll, double* var_pitch) {
+  const calib::WallGeometry& wall = usable[o.wall_index];
+  heights->antenna_m = AntennaHeightAt(site.antenna_heights_m, o.pose.stamp_s);
+  heights->wall_reference_m = std::isfinite(wall.reference_height_m) ? wall.reference_height_m
+                                                                      : heights->antenna_m;
+  const double yaw = o.pose.stationary && o.pose.segment >= 0 && o.pose.dwell_yaw_samples > 0
+                         ? o.pose.dwell_yaw_rad
+                         : o.pose.yaw_rad;
+  *attitude = site.attitude.At(o, yaw, var_roll, var_pitch);
+  return calib::LevelCorrection(o, wall, mount, *attitude, site.placement, *heights);
+}
+
+std::vector<calib::WallGeometry> UsableWalls(const std::vector<calib::WallGeometry>& walls) {
   std::vector<calib::WallGeometry> usable;
   usable.reserve(walls.size());
   for (const calib::WallGeometry& wall : walls) usable.push_back(UsableWall(wall));
+  return usable;
+}
+
+void ApplySiteCorrections(const SiteResult& site, const std::vector<calib::WallGeometry>& walls,
+                          const calib::Mount& mount,
+                          std::vector<calib::WallObservation>* observations,
+                          const SiteCorrectionsMade* made) {
+  if (!site.corrected && (made == nullptr || !made->site->corrected)) return;
+  const std::vector<calib::WallGeometry> usable = UsableWalls(walls);
+  std::vector<calib::WallGeometry> made_usable;
+  if (made != nullptr) made_usable = UsableWalls(*made->walls);
   // How many observations share one attitude error: a station's scans of one wall share its
   // dwell's mean, a drive's scans between two samples share those samples.
   std::map<std::pair<int, int64_t>, int> sharing;
@@ -64,24 +89,25 @@ void ApplySiteCorrections(const SiteResult& site, const std::vector<calib::WallG
   };
   for (const calib::WallObservation& o : *observations) ++sharing[share_key(o)];
   for (calib::WallObservation& o : *observations) {
-    const calib::WallGeometry& wall = usable[o.wall_index];
+    calib::Attitude attitude;
     calib::Heights heights;
-    heights.antenna_m = AntennaHeightAt(site.antenna_heights_m, o.pose.stamp_s);
-    heights.wall_reference_m = std::isfinite(wall.reference_height_m) ? wall.reference_height_m
-                                                                       : heights.antenna_m;
-    const double yaw = o.pose.stationary && o.pose.segment >= 0 && o.pose.dwell_yaw_samples > 0
-                           ? o.pose.dwell_yaw_rad
-                           : o.pose.yaw_rad;
     double var_roll = 0.0, var_pitch = 0.0;
-    const calib::Attitude attitude = site.attitude.At(o, yaw, &var_roll, &var_pitch);
+    if (made != nullptr && made->site->corrected) {
+      // The correction made before, made again (it is a function of the observation, the site
+      // and the mount) and put back.
+      const Eigen::Vector2d before = CorrectionOf(o, *made->site, made_usable, made->mount,
+                                                  &attitude, &heights, &var_roll, &var_pitch);
+      o.rho_m += before.x();
+      o.theta_rad += before.y();
+    }
+    o.attitude_var_rho_m2 = 0.0f;
+    if (!site.corrected) continue;
     const Eigen::Vector2d correction =
-        calib::LevelCorrection(o, wall, mount, attitude, site.placement, heights);
-    o.rho_m += o.rho_correction_m - correction.x();
-    o.theta_rad += o.theta_correction_rad - correction.y();
-    o.rho_correction_m = correction.x();
-    o.theta_correction_rad = correction.y();
-    o.attitude_var_rho_m2 = 0.0;
+        CorrectionOf(o, site, usable, mount, &attitude, &heights, &var_roll, &var_pitch);
+    o.rho_m -= correction.x();
+    o.theta_rad -= correction.y();
     if (var_roll + var_pitch <= 0.0) continue;
+    const calib::WallGeometry& wall = usable[o.wall_index];
     calib::Attitude rolled = attitude, pitched = attitude;
     rolled.roll_rad += kAttitudeStepRad;
     pitched.pitch_rad += kAttitudeStepRad;
@@ -93,8 +119,8 @@ void ApplySiteCorrections(const SiteResult& site, const std::vector<calib::WallG
          correction.x()) / kAttitudeStepRad;
     // Counted as white at the variance times the observations sharing it, their mean gets the
     // shared error's variance (as the GNSS white noise of the scans between two fixes).
-    o.attitude_var_rho_m2 = (d_roll * d_roll * var_roll + d_pitch * d_pitch * var_pitch) *
-                            sharing[share_key(o)];
+    o.attitude_var_rho_m2 = static_cast<float>(
+        (d_roll * d_roll * var_roll + d_pitch * d_pitch * var_pitch) * sharing[share_key(o)]);
   }
 }
 
@@ -112,7 +138,8 @@ void PropagateSiteTerms(const CalibrationResult& so_far, const calib::Mount& cor
   const auto shift = [&](const SiteResult& moved,
                          const std::vector<calib::WallGeometry>& moved_walls) -> Eigen::Vector3d {
     std::vector<calib::WallObservation> obs = step->observations;
-    ApplySiteCorrections(moved, moved_walls, corrected_at, &obs);
+    const SiteCorrectionsMade made{&site, &walls, corrected_at};
+    ApplySiteCorrections(moved, moved_walls, corrected_at, &obs, &made);
     const solvers::MountEstimate re =
         solvers::ClockRoundStep(obs, walls, solver, e, *e.solution_state, nullptr);
     if (!re.usable) return Eigen::Vector3d::Zero();

@@ -213,8 +213,9 @@ SolveResult Solve(const CalibrateRequest& request, const ProgressFn& progress,
     if (so_far.site.corrected && step.estimate.usable && step.estimate.solution_state) {
       // The corrections again at the solution (they were made at the start, off by the first
       // pass's error times the tilt), and the two Gauss–Newton steps of a clock round from it.
+      const SiteCorrectionsMade made{&so_far.site, &walls, start};
       corrected_at = step.estimate.mount;
-      ApplySiteCorrections(so_far.site, walls, corrected_at, &obs);
+      ApplySiteCorrections(so_far.site, walls, corrected_at, &obs, &made);
       solvers::MountEstimate again = solvers::ClockRoundStep(
           obs, walls, solver, step.estimate, *step.estimate.solution_state, nullptr);
       if (again.usable) step.estimate = std::move(again);

@@ -69,12 +69,20 @@ PoseResult PosesFromLogs(const CalibrationResult& so_far, recording::PoseLogs lo
 // The site's 3-D geometry from the session and the pose logs (pipeline/site_step.cc).
 SiteResult SiteFromPoses(const CalibrationResult& so_far, const RunState& state);
 
-// Moves each observation into the level model at `mount` (calib::LevelCorrection: its
-// rho_correction_m, theta_correction_rad replaced) and sets the variance the attitude's noise
-// adds; nothing when the site is not corrected (pipeline/site_solve.cc).
+// The corrections already in the observations: made on `site` with `walls` at `mount`.
+struct SiteCorrectionsMade {
+  const SiteResult* site = nullptr;
+  const std::vector<calib::WallGeometry>* walls = nullptr;
+  calib::Mount mount;
+};
+// Moves each observation into the level model at `mount` (calib::LevelCorrection subtracted
+// from its rho_m and theta_rad; `made`, when given, the corrections made before put back
+// first) and sets the variance the attitude's noise adds; nothing on a site not corrected
+// (pipeline/site_solve.cc).
 void ApplySiteCorrections(const SiteResult& site, const std::vector<calib::WallGeometry>& walls,
                           const calib::Mount& mount,
-                          std::vector<calib::WallObservation>* observations);
+                          std::vector<calib::WallObservation>* observations,
+                          const SiteCorrectionsMade* made = nullptr);
 
 // After the solve on a corrected site (or a graded one without scanner.z_m): the site's
 // systematic terms into step->site_terms and step->estimate.covariance, the bias an unknown
