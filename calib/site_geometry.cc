@@ -15,15 +15,13 @@ Eigen::Matrix3d RotZ(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::Un
 Eigen::Matrix3d RotY(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()).matrix(); }
 Eigen::Matrix3d RotX(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()).matrix(); }
 
-// The yaw the solver uses for the observation: its dwell's mean heading at a station (where
-// the solver holds one heading per station), else its own.
+}  // namespace
+
 double SolverYaw(const WallObservation& observation) {
   const VehiclePose& pose = observation.pose;
   return pose.stationary && pose.segment >= 0 && pose.dwell_yaw_samples > 0 ? pose.dwell_yaw_rad
                                                                             : pose.yaw_rad;
 }
-
-}  // namespace
 
 Eigen::Matrix3d VehicleRotation(double yaw_rad, const Attitude& attitude) {
   return RotZ(yaw_rad) * RotY(-attitude.pitch_rad) * RotX(attitude.roll_rad);

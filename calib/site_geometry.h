@@ -34,6 +34,10 @@ struct ScannerPlacement {
   double roll_rad = 0.0;
 };
 
+// The yaw the solver uses for an observation: its dwell's mean heading at a station (one
+// heading per station), else its own.
+double SolverYaw(const WallObservation& observation);
+
 // R_v = Rz(yaw) · Ry(−pitch) · Rx(roll).
 Eigen::Matrix3d VehicleRotation(double yaw_rad, const Attitude& attitude);
 

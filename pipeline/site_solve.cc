@@ -56,10 +56,7 @@ Eigen::Vector2d CorrectionOf(const calib::WallObservation& o, const SiteResult& 
   heights->antenna_m = AntennaHeightAt(site.antenna_heights_m, o.pose.stamp_s);
   heights->wall_reference_m = std::isfinite(wall.reference_height_m) ? wall.reference_height_m
                                                                       : heights->antenna_m;
-  const double yaw = o.pose.stationary && o.pose.segment >= 0 && o.pose.dwell_yaw_samples > 0
-                         ? o.pose.dwell_yaw_rad
-                         : o.pose.yaw_rad;
-  *attitude = site.attitude.At(o, yaw, var_roll, var_pitch);
+  *attitude = site.attitude.At(o, calib::SolverYaw(o), var_roll, var_pitch);
   return calib::LevelCorrection(o, wall, mount, *attitude, site.placement, *heights);
 }
 
