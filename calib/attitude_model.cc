@@ -16,6 +16,12 @@ namespace {
 // the wall and towards it.
 constexpr double kMinYardSpreadM = 0.5;
 constexpr int kMinYardSamples = 3;
+// The yard filter's flat priors: on the plane's height at the centre (m) and on its grade.
+constexpr double kFlatHeightM = 100.0;
+constexpr double kFlatGrade = 1.0;
+// The smallest white noise of a height the filter takes (m): RTK heights are logged to 1 mm
+// and better, and a height log without noise would leave the filter nothing to weigh.
+constexpr double kMinHeightWhiteSigmaM = 0.001;
 
 double SigmaOr(double sigma_rad, double fallback_rad) {
   return std::isfinite(sigma_rad) && sigma_rad > 0.0 ? sigma_rad : fallback_rad;
@@ -27,56 +33,89 @@ double YardPlane::RiseDirectionRad() const {
   return WrapTwoPi(std::atan2(grade.x(), grade.y()));
 }
 
+double YardPlane::GradeSigma() const {
+  return std::sqrt(std::max(0.0, grade_covariance.trace()));
+}
+
+bool YardPlane::ToldFromLevel() const {
+  return fitted && grade.norm() >= kMinToldGrade && grade.norm() > kGradeSignificance * GradeSigma();
+}
+
 double YardPlane::RiseDirectionDeg(double resolution_deg) const {
   const double deg =
       std::round(RiseDirectionRad() * 180.0 / kPi / resolution_deg) * resolution_deg;
   return deg >= 360.0 ? deg - 360.0 : deg;
 }
 
-YardPlane FitYard(const std::vector<HeightSample>& samples, double min_spacing_s,
-                  double correlation_s) {
-  std::vector<const HeightSample*> kept;
-  for (const HeightSample& s : samples) {
-    if (kept.empty() || s.stamp_s - kept.back()->stamp_s >= min_spacing_s) kept.push_back(&s);
-  }
+YardPlane FitYard(const std::vector<HeightSample>& samples, const HeightNoise& noise) {
   YardPlane yard;
-  const int n = static_cast<int>(kept.size());
+  const int n = static_cast<int>(samples.size());
   if (n < kMinYardSamples) return yard;
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   double mean_h = 0.0;
-  for (const HeightSample* s : kept) {
-    centre += s->p_local_m / n;
-    mean_h += s->height_m / n;
+  for (const HeightSample& s : samples) {
+    centre += s.p_local_m / n;
+    mean_h += s.height_m / n;
   }
   Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-  Eigen::Vector2d cross = Eigen::Vector2d::Zero();
   double extent_m = 0.0;
-  for (const HeightSample* s : kept) {
-    const Eigen::Vector2d d = s->p_local_m - centre;
+  for (const HeightSample& s : samples) {
+    const Eigen::Vector2d d = s.p_local_m - centre;
     scatter += d * d.transpose();
-    cross += d * (s->height_m - mean_h);
     extent_m = std::max(extent_m, d.norm());
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(scatter / n);
   if (!(eigen.eigenvalues().minCoeff() >= kMinYardSpreadM * kMinYardSpreadM)) return yard;
+
+  // Kalman filter over (h0, grade x, grade y, bias): the plane's three numbers are constants
+  // (flat priors), the bias a Gauss–Markov process; at the last sample the constants' estimate
+  // and covariance are the generalised least-squares fit to every sample.
+  const double var_bias_m2 = noise.bias_sigma_m * noise.bias_sigma_m;
+  const double white_m = std::max(noise.white_sigma_m, kMinHeightWhiteSigmaM);
+  const double var_white_m2 = white_m * white_m;
+  Eigen::Vector4d state = Eigen::Vector4d::Zero();
+  Eigen::Matrix4d p = Eigen::Vector4d(kFlatHeightM * kFlatHeightM, kFlatGrade * kFlatGrade,
+                                      kFlatGrade * kFlatGrade, var_bias_m2)
+                          .asDiagonal();
+  double chi2 = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const HeightSample& s = samples[static_cast<size_t>(k)];
+    if (k > 0) {
+      const double dt_s = std::max(0.0, s.stamp_s - samples[static_cast<size_t>(k - 1)].stamp_s);
+      const double phi = noise.bias_tau_s > 0.0 ? std::exp(-dt_s / noise.bias_tau_s) : 0.0;
+      state(3) *= phi;
+      p.row(3) *= phi;
+      p.col(3) *= phi;
+      p(3, 3) += var_bias_m2 * (1.0 - phi * phi);
+    }
+    const Eigen::Vector2d d = s.p_local_m - centre;
+    const Eigen::Vector4d h(1.0, d.x(), d.y(), 1.0);
+    const double innovation = s.height_m - mean_h - h.dot(state);
+    const double variance = h.dot(p * h) + var_white_m2;
+    const Eigen::Vector4d gain = p * h / variance;
+    state += gain * innovation;
+    // Joseph form: stays symmetric and positive with the flat priors.
+    const Eigen::Matrix4d keep = Eigen::Matrix4d::Identity() - gain * h.transpose();
+    p = keep * p * keep.transpose() + var_white_m2 * gain * gain.transpose();
+    chi2 += innovation * innovation / variance;
+  }
   yard.fitted = true;
   yard.centre_local_m = centre;
-  yard.height_m = mean_h;
-  yard.grade = scatter.ldlt().solve(cross);
+  yard.height_m = mean_h + state(0);
+  yard.grade = state.segment<2>(1);
   yard.samples = n;
   yard.extent_m = extent_m;
   double sum_sq_m2 = 0.0;
-  for (const HeightSample* s : kept) {
-    const double r = s->height_m - mean_h - yard.grade.dot(s->p_local_m - centre);
+  for (const HeightSample& s : samples) {
+    const double r = s.height_m - yard.height_m - yard.grade.dot(s.p_local_m - centre);
     sum_sq_m2 += r * r;
   }
   yard.residual_rms_m = std::sqrt(sum_sq_m2 / n);
-  const double residual_var_m2 = n > 3 ? sum_sq_m2 / (n - 3) : sum_sq_m2;
-  // The RTK error's vertical part is correlated over correlation_s: the samples count as
-  // independent about once per correlation time.
-  const double span_s = kept.back()->stamp_s - kept.front()->stamp_s;
-  const double independent = std::max(3.0, std::min<double>(n, span_s / correlation_s + 1.0));
-  yard.grade_covariance = residual_var_m2 * scatter.inverse() * (n / independent);
+  // The noise's level from the data: the innovations' χ² over its degrees of freedom (the
+  // three constants take three). Only the shape (τ, bias against white) is assumed.
+  const double variance_factor = n > 3 ? chi2 / (n - 3) : 1.0;
+  yard.noise_factor = std::sqrt(variance_factor);
+  yard.grade_covariance = variance_factor * p.block<2, 2>(1, 1);
   return yard;
 }
 

@@ -31,23 +31,47 @@ struct YardPlane {
   Eigen::Vector2d centre_local_m = Eigen::Vector2d::Zero();
   double height_m = 0.0;  // at the centre
   Eigen::Vector2d grade = Eigen::Vector2d::Zero();  // rise per metre along local x, y
-  // The grade's covariance: the fit's, from its residuals with the samples counted as
-  // independent only once per `correlation_s` (the RTK error's vertical part wanders slowly).
+  // The grade's covariance: the generalised least-squares fit's (FitYard), its level from the
+  // data (noise_factor).
   Eigen::Matrix2d grade_covariance = Eigen::Matrix2d::Zero();
+  // The heights' noise found against the one assumed (HeightNoise): the square root of the
+  // fit's χ² over its degrees of freedom. RTK heights are usually about twice as noisy as the
+  // horizontal positions the assumption is taken from.
+  double noise_factor = 1.0;
   double residual_rms_m = 0.0;  // the heights about the plane
   int samples = 0;
   double extent_m = 0.0;  // the samples' spread: the largest distance from the centre
   double GradePercent() const { return 100.0 * grade.norm(); }
+  // The grade's σ as a magnitude (√ of its covariance's trace).
+  double GradeSigma() const;
+  // Fitted, and its grade beyond kMinToldGrade and kGradeSignificance σ: not level.
+  bool ToldFromLevel() const;
   // The direction the ground rises towards, clockwise from grid north (rad, [0, 2π)).
   double RiseDirectionRad() const;
   // The same in degrees rounded to `resolution_deg`, in [0, 360) after the rounding.
   double RiseDirectionDeg(double resolution_deg) const;
 };
 
-// Fits the plane by least squares to samples at most one per `min_spacing_s`; needs 3 samples
-// spread over at least 2 m in two directions, else fitted is false.
-YardPlane FitYard(const std::vector<HeightSample>& samples, double min_spacing_s,
-                  double correlation_s);
+// A grade counts as told from level beyond this many of its σ and this grade (0.2 %: below it
+// a 3 m lever arm moves the scanner 6 mm).
+inline constexpr double kGradeSignificance = 3.0;
+inline constexpr double kMinToldGrade = 0.002;
+
+// The antennas' height noise in shape: a Gauss–Markov bias (σ, correlation time τ) plus white
+// noise on each height, in the proportions of the horizontal RTK error (solver options, the
+// white noise in use). Its level is taken from the fit.
+struct HeightNoise {
+  double bias_sigma_m = 0.0;
+  double bias_tau_s = 0.0;
+  double white_sigma_m = 0.0;
+};
+
+// Fits the plane to every sample (in time order; standing and driving alike: the antenna stays
+// at one height above the ground) by generalised least squares under `noise`, whose time
+// correlation lets the heights logged a few seconds apart while driving tell the grade despite
+// the slowly wandering RTK error. Needs 3 samples spread over at least 0.5 m (1σ) in two
+// directions, else fitted is false.
+YardPlane FitYard(const std::vector<HeightSample>& samples, const HeightNoise& noise);
 
 enum class AttitudeSource { kLevel, kStream, kYard };
 const char* AttitudeSourceName(AttitudeSource source);  // "level", "attitude stream", "yard plane"

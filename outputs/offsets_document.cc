@@ -68,7 +68,7 @@ void AddSite(const CalibrationResult& result, const Add& add) {
   if (site.yard.fitted) {
     out += ", yard_grade_pct: " + Format("%.2f", site.yard.GradePercent()) +
            ", yard_grade_sigma_pct: " +
-           Format("%.2f", 100.0 * std::sqrt(std::max(0.0, site.yard.grade_covariance.trace()))) +
+           Format("%.2f", 100.0 * site.yard.GradeSigma()) +
            ", yard_rises_towards_deg: " + Format("%.1f", site.yard.RiseDirectionDeg(0.1)) +
            ", yard_residual_rms_m: " + Format("%.3f", site.yard.residual_rms_m);
   }

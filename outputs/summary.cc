@@ -49,7 +49,7 @@ std::string SiteText(const CalibrationResult& result) {
       out += Format("; yard %.2f ± %.2f %% rising towards %.0f° (GNSS heights, %.3f m RMS about "
                     "the plane)",
                     site.yard.GradePercent(),
-                    100.0 * std::sqrt(std::max(0.0, site.yard.grade_covariance.trace())),
+                    100.0 * site.yard.GradeSigma(),
                     site.yard.RiseDirectionDeg(1.0), site.yard.residual_rms_m);
     }
     out += site.z_given ? Format("; scanner z %+.3f ± %.3f m", site.placement.z_m, site.z_sigma_m)

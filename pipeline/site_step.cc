@@ -15,27 +15,18 @@
 namespace wallcal::pipeline {
 namespace {
 
-// The yard's grade counts as told from level beyond this many of its σ (and kMinGrade).
-constexpr double kYardSignificance = 3.0;
-constexpr double kMinGrade = 0.002;  // 0.2 %: below it a 3 m lever arm moves the scanner 6 mm
-// The yard fit: one antenna height per second at the stations.
-constexpr double kYardSampleSpacingS = 1.0;
 // Beyond this |roll| or |pitch| no vehicle stands still on a yard it is calibrated on.
 constexpr double kMaxStandingTiltRad = 15.0 * kPi / 180.0;
 // The stream's roll or pitch at the stations named as disagreeing with the yard when it
 // correlates negatively with the yard's, or misses it by more than this many of the grade's σ.
 constexpr double kDisagreementSigmas = 4.0;
 
-// The antenna heights at the stations, for the yard fit.
-std::vector<calib::HeightSample> StationHeights(const RunState& state,
-                                                const std::vector<calib::Dwell>& dwells) {
+// The antenna's height at every fix used, standing and driving, for the yard fit.
+std::vector<calib::HeightSample> AntennaHeights(const RunState& state) {
   std::vector<calib::HeightSample> samples;
-  size_t d = 0;
-  for (size_t i = 0; i < state.used_fixes.size() && d < dwells.size(); ++i) {
+  samples.reserve(state.used_fixes.size());
+  for (size_t i = 0; i < state.used_fixes.size(); ++i) {
     const io::GnssFix& fix = *state.used_fixes[i];
-    while (d < dwells.size() && fix.stamp_s > dwells[d].end_s) ++d;
-    if (d == dwells.size()) break;
-    if (fix.stamp_s < dwells[d].start_s) continue;
     samples.push_back({state.track_local_m[i], fix.height_m, fix.stamp_s});
   }
   return samples;
@@ -53,7 +44,7 @@ std::vector<io::AttitudeSample> StreamSamples(const RunState& state) {
 void CheckStreamAgainstYard(const std::vector<calib::Dwell>& dwells,
                             const std::vector<io::AttitudeSample>& samples, SiteResult* site) {
   const calib::YardPlane& yard = site->yard;
-  if (!yard.fitted || yard.grade.norm() < kMinGrade) return;
+  if (!yard.fitted || yard.grade.norm() < calib::kMinToldGrade) return;
   double sum_rr = 0.0, sum_pp = 0.0, yard_rr = 0.0, yard_pp = 0.0, miss_r = 0.0, miss_p = 0.0;
   int n = 0;
   for (const calib::Dwell& dwell : dwells) {
@@ -81,7 +72,7 @@ void CheckStreamAgainstYard(const std::vector<calib::Dwell>& dwells,
   site->roll_mismatch_rad = std::sqrt(miss_r / n);
   site->pitch_mismatch_rad = std::sqrt(miss_p / n);
   // The grade's σ as an angle: what the yard's attitude at a station may be off by.
-  const double grade_sigma = std::sqrt(std::max(0.0, yard.grade_covariance.trace()));
+  const double grade_sigma = yard.GradeSigma();
   const double allowed = kDisagreementSigmas * grade_sigma + 0.2 * yard.grade.norm();
   const auto disagrees = [&](double cross, double own, double mismatch) {
     // The yard varies this axis at the stations (more than its σ): the stream must follow it.
@@ -124,12 +115,13 @@ SiteResult SiteFromPoses(const CalibrationResult& so_far, const RunState& state)
   for (const io::GnssFix* fix : state.used_fixes) {
     site.antenna_heights_m.emplace_back(fix->stamp_s, fix->height_m);
   }
-  site.yard = calib::FitYard(StationHeights(state, dwells), kYardSampleSpacingS,
-                             std::max(solver.gnss_bias_tau_s, kYardSampleSpacingS));
+  calib::HeightNoise noise;
+  noise.bias_sigma_m = solver.gnss_bias_sigma_m;
+  noise.bias_tau_s = solver.gnss_bias_tau_s;
+  noise.white_sigma_m = so_far.poses.white_noise.gnss_white_sigma_m;
+  site.yard = calib::FitYard(AntennaHeights(state), noise);
   const calib::YardPlane& yard = site.yard;
-  const double grade_sigma = std::sqrt(std::max(0.0, yard.grade_covariance.trace()));
-  const bool graded = yard.fitted && yard.grade.norm() >= kMinGrade &&
-                      yard.grade.norm() > kYardSignificance * grade_sigma;
+  const bool graded = yard.ToldFromLevel();
 
   std::vector<io::AttitudeSample> samples =
       StreamSamples(state);

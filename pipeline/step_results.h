@@ -82,9 +82,9 @@ struct PoseResult {
 // nothing is corrected (`corrected` false) and the run is the level model's.
 struct SiteResult {
   // The attitude stream when the logs hold one, else the yard when its grade is told from
-  // level (beyond kYardSignificance of its σ), else level.
+  // level (calib::YardPlane::ToldFromLevel), else level.
   calib::AttitudeModel attitude;
-  calib::YardPlane yard;  // from the GNSS heights at the stations (fitted or not)
+  calib::YardPlane yard;  // from the GNSS heights at every fix used (fitted or not)
   // The scanner's height relative to the antenna (0 when not given) and its tilt.
   calib::ScannerPlacement placement;
   bool z_given = false;

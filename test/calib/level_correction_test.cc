@@ -132,7 +132,9 @@ TEST(AttitudeModelTest, YardPlaneFromAntennaHeights) {
     const Eigen::Vector2d p(-6.0 + 12.0 * (i % 20) / 19.0, 2.0 + 6.0 * (i / 20) / 19.0);
     samples.push_back({p, 80.0 + grade.dot(p) + noise(rng), 0.5 * i});
   }
-  const YardPlane yard = FitYard(samples, 0.0, 0.5);
+  HeightNoise white;
+  white.white_sigma_m = 0.01;  // white only: the fit is ordinary least squares
+  const YardPlane yard = FitYard(samples, white);
   ASSERT_TRUE(yard.fitted);
   const Eigen::Vector2d sigma = yard.grade_covariance.diagonal().cwiseSqrt();
   EXPECT_NEAR(yard.grade.x(), 0.01, 4.0 * sigma.x());
@@ -144,7 +146,58 @@ TEST(AttitudeModelTest, YardPlaneFromAntennaHeights) {
   // Samples along one line do not make a plane.
   std::vector<HeightSample> line;
   for (int i = 0; i < 50; ++i) line.push_back({Eigen::Vector2d(0.2 * i, 0.0), 80.0, 1.0 * i});
-  EXPECT_FALSE(FitYard(line, 0.0, 1.0).fitted);
+  EXPECT_FALSE(FitYard(line, white).fitted);
+}
+
+// A session's antenna heights: ten stations of 4 s at 6 and 10 m from a wall to the north,
+// 4 s drives between them, 10 fixes a second; the RTK height wanders (Gauss–Markov, 3 cm,
+// τ 60 s) with 6 mm of white noise on top: twice the horizontal noise the fit is told of, as
+// RTK heights are. Over many sessions the grade's error over its σ is a unit normal.
+std::vector<HeightSample> SessionHeights(const Eigen::Vector2d& grade, std::mt19937* rng) {
+  std::normal_distribution<double> unit(0.0, 1.0);
+  constexpr double kRateHz = 10.0, kTauS = 60.0, kBiasM = 0.03, kWhiteM = 0.006;
+  std::vector<Eigen::Vector2d> stations;
+  for (int i = 0; i < 10; ++i) stations.emplace_back(-3.0 + 6.0 * i / 9.0, i % 2 ? 6.0 : 10.0);
+  std::vector<HeightSample> samples;
+  double bias_m = kBiasM * unit(*rng);
+  const double phi = std::exp(-1.0 / (kRateHz * kTauS));
+  double t_s = 0.0;
+  const auto add = [&](const Eigen::Vector2d& p) {
+    bias_m = phi * bias_m + kBiasM * std::sqrt(1.0 - phi * phi) * unit(*rng);
+    samples.push_back({p, 50.0 + grade.dot(p) + bias_m + kWhiteM * unit(*rng), t_s});
+    t_s += 1.0 / kRateHz;
+  };
+  for (size_t i = 0; i < stations.size(); ++i) {
+    for (int k = 0; k < 40; ++k) add(stations[i]);
+    if (i + 1 == stations.size()) break;
+    for (int k = 0; k < 40; ++k) add(stations[i] + (k / 40.0) * (stations[i + 1] - stations[i]));
+  }
+  return samples;
+}
+
+TEST(AttitudeModelTest, YardGradeSigmaIsHonestUnderAWanderingRtkHeight) {
+  std::mt19937 rng(11);
+  const Eigen::Vector2d grade(0.005, 0.02);
+  HeightNoise assumed;  // the horizontal RTK error's shape: the level is the fit's to find
+  assumed.bias_sigma_m = 0.015;
+  assumed.bias_tau_s = 60.0;
+  assumed.white_sigma_m = 0.003;
+  constexpr int kSessions = 300;
+  Eigen::Vector2d sum_sq = Eigen::Vector2d::Zero();
+  double factor_sum = 0.0;
+  for (int k = 0; k < kSessions; ++k) {
+    const YardPlane yard = FitYard(SessionHeights(grade, &rng), assumed);
+    ASSERT_TRUE(yard.fitted);
+    const Eigen::Vector2d error = yard.grade - grade;
+    sum_sq += error.cwiseProduct(error).cwiseQuotient(yard.grade_covariance.diagonal());
+    factor_sum += yard.noise_factor;
+  }
+  // RMS(error/σ) over 300 sessions: 1 within about 4 of its standard errors (1/√600 ≈ 4 %);
+  // the white noise (twice the assumed) sets the innovations' level.
+  const Eigen::Vector2d rms = (sum_sq / kSessions).cwiseSqrt();
+  EXPECT_GT(rms.minCoeff(), 0.85) << rms.transpose() << " factor " << factor_sum / kSessions;
+  EXPECT_LT(rms.maxCoeff(), 1.18);
+  EXPECT_NEAR(factor_sum / kSessions, 2.0, 0.15);
 }
 
 TEST(AttitudeModelTest, StreamGivesTheDwellMeanAtAStationAndInterpolatesWhileDriving) {
