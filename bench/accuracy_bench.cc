@@ -57,6 +57,7 @@
 #include "sim/simulator.h"
 #include "bench/accuracy_bench_args.h"
 #include "bench/crb.h"
+#include "bench/crb_site.h"
 #include "sim/simulator.h"
 #include "io/config/session_reader.h"
 #include "solvers/mount_solver.h"
@@ -194,6 +195,17 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
                   "after the GNSS epochs %.2f ms, their sum %.2f ms\n",
                   scenario.name.c_str(), 1000.0 * all_crb.delay_bound_dt_s,
                   1000.0 * all_crb.delay_bound_dh_s, 1000.0 * all_crb.delay_bound_sum_s);
+    }
+    if (config.IsThreeDSite()) {  // the site's share: the bound without it, the grade's σ
+      const CrbResult level =
+          ComputeCrb(config, preset, all_obs, kAllSources & ~kSite, all_delays, args.max_all_obs);
+      const Eigen::Matrix2d grade = YardGradeCovariance(config);
+      std::printf("%s: without the site's terms x %.2f mm, y %.2f mm, yaw %.4f deg; the yard's "
+                  "grade from the antenna heights: sigma %.3f %% east, %.3f %% north%s\n",
+                  scenario.name.c_str(), 1000.0 * std::sqrt(level.crb(0, 0)),
+                  1000.0 * std::sqrt(level.crb(1, 1)), kRadToDeg * std::sqrt(level.crb(2, 2)),
+                  100.0 * std::sqrt(grade(0, 0)), 100.0 * std::sqrt(grade(1, 1)),
+                  config.attitude_rate_hz > 0.0 ? " (not used: an attitude stream)" : "");
     }
     return;
   }

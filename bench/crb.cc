@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bench/crb_interp.h"
+#include "bench/crb_site.h"
 #include "sim/simulator.h"
 
 namespace wallcal::bench {
@@ -163,33 +165,6 @@ Eigen::MatrixXd WallLineCovariance(const SurveyModel& model, const sim::Simulati
     jacobian.col(j) = diff / (2.0 * kStepM);
   }
   return jacobian * sigma.array().square().matrix().asDiagonal() * jacobian.transpose();
-}
-
-// Linear interpolation weights of a sampled stream (samples at j / rate_hz, j >= 0) at t.
-struct Interp {
-  int64_t j0 = 0;
-  double w0 = 1.0, w1 = 0.0;  // weights of samples j0 and j0 + 1
-};
-Interp Weights(double t_s, double rate_hz) {
-  Interp w;
-  const double x = std::max(0.0, t_s * rate_hz);
-  w.j0 = static_cast<int64_t>(std::floor(x + 1e-9));
-  const double f = std::clamp(x - w.j0, 0.0, 1.0);
-  w.w0 = 1.0 - f;
-  w.w1 = f;
-  return w;
-}
-// Σ_j w_kj w_lj for two interpolations of the same white stream.
-double Overlap(const Interp& a, const Interp& b) {
-  double s = 0.0;
-  const int64_t a_idx[2] = {a.j0, a.j0 + 1}, b_idx[2] = {b.j0, b.j0 + 1};
-  const double a_w[2] = {a.w0, a.w1}, b_w[2] = {b.w0, b.w1};
-  for (int i = 0; i < 2; ++i) {
-    for (int j = 0; j < 2; ++j) {
-      if (a_idx[i] == b_idx[j]) s += a_w[i] * b_w[j];
-    }
-  }
-  return s;
 }
 
 // Everything per observation that C and J need.
@@ -391,6 +366,14 @@ CrbResult ComputeJointCrb(const std::vector<sim::SimulationConfig>& scanner_conf
       C.block<2, 2>(2 * a, 2 * b) = block;
       C.block<2, 2>(2 * b, 2 * a) = block.transpose();
     }
+  }
+  if (sources & kSite) {
+    std::vector<SiteRowInput> site_rows;
+    for (const Row& r : rows) {
+      site_rows.push_back({r.t_s, r.scanner, config_wall_of[r.wall], lines[2 * r.wall],
+                           lines[2 * r.wall + 1], r.sign});
+    }
+    C += SiteLineCovariance(scanner_configs, site_rows);
   }
   // Unknowns: the mounts, then each delay with a prior (its information on the diagonal of
   // P): one scanner offset per scanner, the GNSS and heading delays shared.

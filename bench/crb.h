@@ -2,7 +2,7 @@
 #pragma once
 // The Cramér–Rao bound of the scanner mount (x, y, yaw) for a simulated session, from the
 // simulator's own noise model (calib/simulator.h, configs/simulate/bench_*.yaml). Used by
-// bench/accuracy_bench; the derivation is in docs/results.md.
+// bench/accuracy_bench; the derivation is in docs/method.md ("The benchmarks' Cramér–Rao bound").
 //
 // Observations are per-scan wall lines (rho, theta) in the scanner frame. Everything else that
 // is random in the simulation is marginalised into their covariance C, propagated linearly at
@@ -16,6 +16,8 @@
 //     (its sign is random: covariance r² t_k t_l);
 //   - the wall lines: total-station noise on every surveyed point and on the control points,
 //     RTK noise on the control points, through the two-point tie and the wall fit.
+//   - on a 3-D site, the yard's grade or the attitude stream's noise and the walls' leans
+//     (bench/crb_site.h);
 //   - optionally, per-fix stamp jitter of the GNSS and heading streams (white, s): the pose is
 //     off by velocity × jitter (position) and yaw rate × jitter (heading), interpolated.
 // CRB = (Jᵀ C⁻¹ J + P)⁻¹ with J the Jacobian of the observations with respect to the mount and
@@ -45,7 +47,8 @@ enum CrbSource : unsigned {
   kHeadingWhite = 8u,
   kHeadingDrift = 16u,
   kSurvey = 32u,
-  kAllSources = 63u,
+  kSite = 64u,  // a 3-D site's yard grade, attitude stream and wall lean (bench/crb_site.h)
+  kAllSources = 127u,
 };
 
 // One wall observation to bound: the scan's true time (s since the start of the run) and the
