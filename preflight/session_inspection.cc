@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "calib/attitude_model.h"
 #include "calib/geodesy.h"
 #include "calib/pose_samples.h"
 #include "calib/rover_survey.h"
@@ -29,6 +30,35 @@ namespace wallcal::preflight {
 using namespace internal;  // the helpers shared by the inspect files
 
 namespace {
+
+// The yard the antenna's RTK heights show, as calibrate fits it (calib::FitYard, the noise's
+// shape from the solver options): its grade, where it rises towards, and what to do about it.
+std::string YardLine(const io::SessionSpec& spec, const solvers::SolverOptions& solver,
+                     const std::vector<calib::PositionSample>& positions,
+                     const std::vector<const io::GnssFix*>& used) {
+  std::vector<calib::HeightSample> heights;
+  for (size_t i = 0; i < positions.size() && i < used.size(); ++i) {
+    heights.push_back({positions[i].p_local_m, used[i]->height_m, positions[i].stamp_s});
+  }
+  calib::HeightNoise noise;
+  noise.bias_sigma_m = solver.gnss_bias_sigma_m;
+  noise.bias_tau_s = solver.gnss_bias_tau_s;
+  noise.white_sigma_m = solver.gnss_white_sigma_m;
+  const calib::YardPlane yard = calib::FitYard(heights, noise);
+  if (!yard.fitted) {
+    return "not measured: the antenna's positions do not spread over an area (stand at two "
+           "distances from the wall, or log an attitude stream)";
+  }
+  std::string line = Fmt("%.1f", yard.GradePercent()) + " ± " +
+                     Fmt("%.1f", 100.0 * yard.GradeSigma()) +
+                     " % rising towards " + Fmt("%.0f", yard.RiseDirectionDeg(1.0)) + "° (" +
+                     std::to_string(yard.samples) + " antenna heights, " +
+                     Fmt("%.3f", yard.residual_rms_m) + " m RMS about the plane)";
+  if (!yard.ToldFromLevel()) return line + "; level within its σ";
+  if (spec.scanner_z_m) return line + "; not level: scanner.z_m is given";
+  return line + "; not level: give scanner.z_m (the scanner's height relative to the antenna; "
+                "--suggest-session writes its line)";
+}
 
 // One scanner's inspection: the session itself (scanner_index -1) or its scanners[index].
 SessionInspection InspectOneScanner(const std::string& session_path,
@@ -169,6 +199,7 @@ SessionInspection InspectOneScanner(const std::string& session_path,
 
   // --- Stations from GNSS + heading (as calibrate finds them) -------------------------------
   std::vector<calib::Dwell> dwells;
+  std::string yard_line;
   std::vector<double> logged_grid_headings_rad;
   bool have_poses = false;
   if (gnss && heading_log && accepted_fixes >= 2 && heading_log->headings.size() >= 2) {
@@ -185,6 +216,7 @@ SessionInspection InspectOneScanner(const std::string& session_path,
       frame = calib::MakeLocalFrame(first->lat_deg, first->lon_deg, spec.utm_zone);
     }
     positions = calib::PositionSamples(*gnss, spec.min_fix_quality, *frame, &used);
+    yard_line = YardLine(spec, options.solver, positions, used);
     const std::vector<calib::YawSample> yaws =
         calib::YawSamples(*heading_log, spec.heading_reference, *frame, used);
     for (const calib::YawSample& sample : yaws) {
@@ -241,6 +273,7 @@ SessionInspection InspectOneScanner(const std::string& session_path,
     out << "  scanner   " << calibration->loaded.preset.name
         << "'s range model; from the data: " << calibration->detection.scanner_from_data << "\n";
   }
+  if (!yard_line.empty()) out << "  yard      " << yard_line << "\n";
   out << "\nstations (stops of at least " << Fmt("%.1f", options.alignment.min_dwell_s)
       << " s): " << dwells.size() << "\n";
   std::vector<double> seen_headings_rad;
