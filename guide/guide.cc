@@ -239,6 +239,9 @@ GuideReport ReportOn(const pipeline::CalibrationResult& result, int max_next) {
   const solvers::MountEstimate& estimate = result.solve.estimate;
   const solvers::WarmStart* warm = estimate.solution_state.get();
   Evidence evidence;
+  for (const pipeline::SolveResult::SiteTerm& term : result.solve.site_terms) {
+    model.site_covariance += term.covariance;
+  }
   if (estimate.usable && warm != nullptr) {
     model.mount = estimate.mount;
     model.wall_deltas = warm->wall_deltas;

@@ -28,12 +28,13 @@ std::vector<double> CandidateAngles() {
   return angles;
 }
 
-Prediction FromInformation(const Eigen::Matrix3d& information) {
+// The covariance of the data's information, with the site's systematic share on top.
+Prediction FromInformation(const Eigen::Matrix3d& information, const StopModel& model) {
   Prediction prediction;
   Eigen::MatrixXd covariance;
   if (!solvers::CovarianceOfKept(information, &covariance)) return prediction;
   prediction.known = true;
-  prediction.covariance = covariance;
+  prediction.covariance = covariance + model.site_covariance;
   return prediction;
 }
 
@@ -88,7 +89,8 @@ Prediction PredictWith(const StopModel& model, const Evidence& evidence,
         *prepared.problem, extra, model.walls, model.solver, model.mount, extra_weights, &outcome);
     if (extension) {
       if (evidence.warm != nullptr) solvers::ApplyWarmStart(*evidence.warm, extension.get());
-      return FromInformation(solvers::ExtendedMountInformation(prepared.shared, *extension));
+      return FromInformation(solvers::ExtendedMountInformation(prepared.shared, *extension),
+                             model);
     }
     if (outcome == solvers::ExtensionOutcome::kNoNoiseModel) return Prediction{};
   }
@@ -110,7 +112,7 @@ Prediction PredictMount(const StopModel& model, const Evidence& evidence,
       BuildProblem(model, evidence, extra, extra_weights);
   if (!problem) return Prediction{};
   return FromInformation(
-      solvers::MountInformation(*problem, std::max(1, model.solver.num_threads)));
+      solvers::MountInformation(*problem, std::max(1, model.solver.num_threads)), model);
 }
 
 double WorstSigmaRatio(const Prediction& prediction,
@@ -188,7 +190,7 @@ std::vector<Advice> NextStops(const StopModel& model, const Evidence& evidence, 
   std::vector<double> chosen_weights;
   const PreparedEvidence prepared = Prepare(model, evidence);
   Prediction current = prepared.ready()
-                           ? FromInformation(solvers::MountInformation(prepared.shared))
+                           ? FromInformation(solvers::MountInformation(prepared.shared), model)
                            : PredictMount(model, evidence);
   std::vector<double> angles = evidence.station_angles_rad;
   StopSpec last = evidence.last_station;

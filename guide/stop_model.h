@@ -63,6 +63,10 @@ struct StopModel {
   double slice_s = 0.25;       // alignment.segment_max_s
   double dwell_guard_s = 0.2;  // alignment.dwell_guard_s: cut from both ends of a dwell
   int next_station_id = 0;
+  // What the site adds to every prediction (x, y, yaw: m², m·rad, rad²): the mount's site terms
+  // at the current solution (the scanner's height and tilt, the yard's grade, the walls' leans;
+  // pipeline's SolveResult::site_terms), systematic: more stops do not reduce them.
+  Eigen::Matrix3d site_covariance = Eigen::Matrix3d::Zero();
 };
 
 // The line fit a scanner at (rho_m, theta_rad) from the wall would make: the beams of the preset

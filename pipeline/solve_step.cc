@@ -208,9 +208,12 @@ SolveResult Solve(const CalibrateRequest& request, const ProgressFn& progress,
   step.heading_delay =
       ClassifyDelay(estimate.heading_delay_estimated, estimate.heading_delay_s,
                     estimate.heading_delay_sigma_s, heading_prior_s, determined(1));
-  if (request.method == solvers::Method::kCeres && !request.preview) {
+  if (request.method == solvers::Method::kCeres) {
+    // A preview keeps the corrections made at the start (its thinned, weighted set is not
+    // stepped again) but carries the site's terms: the guide predicts with them.
     calib::Mount corrected_at = start;
-    if (so_far.site.corrected && step.estimate.usable && step.estimate.solution_state) {
+    if (!request.preview && so_far.site.corrected && step.estimate.usable &&
+        step.estimate.solution_state) {
       // The corrections again at the solution (they were made at the start, off by the first
       // pass's error times the tilt), and the two Gauss–Newton steps of a clock round from it.
       const SiteCorrectionsMade made{&so_far.site, &walls, start};
