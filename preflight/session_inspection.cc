@@ -46,8 +46,8 @@ std::string YardLine(const io::SessionSpec& spec, const solvers::SolverOptions& 
   noise.white_sigma_m = solver.gnss_white_sigma_m;
   const calib::YardPlane yard = calib::FitYard(heights, noise);
   if (!yard.fitted) {
-    return "not measured: the antenna's positions do not spread over an area (stand at two "
-           "distances from the wall, or log an attitude stream)";
+    return "not measured: the antenna's positions lie along one line (where the yard is not "
+           "level, stand at two distances from the wall or log an attitude stream)";
   }
   std::string line = Fmt("%.1f", yard.GradePercent()) + " ± " +
                      Fmt("%.1f", 100.0 * yard.GradeSigma()) +

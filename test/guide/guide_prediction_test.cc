@@ -18,7 +18,11 @@
 
 #include "analysis/repeatability.h"
 #include "guide/guide.h"
+#include "io/config/session_reader.h"
+#include "io/output_file.h"
+#include "io/writers/writers.h"
 #include "pipeline/calibration.h"
+#include "sim/simulated_session.h"
 #include "sim/simulation_config.h"
 #include "test/support/guide_check.h"
 #include "test/support/scratch_dir.h"
@@ -79,6 +83,41 @@ TEST(GuidePredictionTest, SampleSigmaIsCalibratesWithTheMeasuredWhiteNoise) {
   for (int axis = 0; axis < 3; ++axis) {
     const double reported = std::sqrt(result.solve.estimate.covariance(axis, axis));
     EXPECT_NEAR(predicted[axis] / reported, 1.0, 0.01) << "axis " << axis;
+  }
+}
+
+// A graded yard (5 %) whose scanner height is known to ±0.6 m only: the lever arm's term moves
+// the mount by centimetres (its σ alone beyond 20 mm in x, asserted), so a guide that left the
+// site's terms out would predict σx at about 0.6 of calibrate's. Tolerance 0.8–1.25 as above.
+TEST(GuidePredictionTest, SigmaIfCalibratedNowCarriesTheSitesTerms) {
+  const sim::SimulationConfig config = sim::ReadSimulationConfig(
+      std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_yard5.yaml");
+  const testing_support::ScratchDir scratch("wallcal_guide_site_");
+  const std::string dir = (scratch.path() / "yard").string();
+  sim::WriteSimulatedSession(config, 4, dir);
+  io::SessionSpec spec = io::ReadSession(dir);
+  spec.scanner_z_sigma_m = 0.6;
+  io::WriteFileAtomically(spec.file, io::FormatSessionYaml(spec));
+  pipeline::CalibrateRequest request;
+  request.session_path = dir;
+  request.force = true;
+  const pipeline::CalibrationResult result = pipeline::RunCalibration(request);
+  ASSERT_TRUE(result.solve.estimate.usable);
+  double lever_arm_x_m2 = 0.0;
+  for (const pipeline::SolveResult::SiteTerm& term : result.solve.site_terms) {
+    if (term.kind == pipeline::SiteTermKind::kLeverArmHeight) lever_arm_x_m2 = term.covariance(0, 0);
+  }
+  ASSERT_GT(std::sqrt(lever_arm_x_m2), 0.020);
+  guide::GuideOptions guide_request;
+  guide_request.session_path = dir;
+  const guide::GuideReport report = guide::AssessSession(guide_request);
+  ASSERT_TRUE(report.predicted.known);
+  const double predicted[3] = {report.predicted.sigma_x_m(), report.predicted.sigma_y_m(),
+                               report.predicted.sigma_yaw_rad()};
+  for (int axis = 0; axis < 3; ++axis) {
+    const double ratio = predicted[axis] / std::sqrt(result.solve.estimate.covariance(axis, axis));
+    EXPECT_GE(ratio, 0.8) << "axis " << axis;
+    EXPECT_LE(ratio, 1.25) << "axis " << axis;
   }
 }
 

@@ -2,7 +2,7 @@
 // inspect and the attitude stream: the session report's attitude block (its source, rate, range
 // of roll and pitch, σ, overlap with the scans), a stream that gives no sample as a blocker,
 // --dump attitude's CSV, the one-log and the recording reports, and --suggest-session's
-// attitude: block and z_m lines.
+// attitude: block and z_m lines; the yard the GNSS heights show.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -134,6 +134,32 @@ TEST(InspectAttitudeTest, ARecordingsImuTopicIsReportedAndSuggested) {
   std::ostringstream csv;
   DumpRecording(mcap, DumpKind::kAttitude, "/imu/data", csv);
   ExpectContains(csv.str(), {"time_s,roll_deg,pitch_deg", ",-1.000000000,2.000000000,"});
+}
+
+// The session report's yard line from a session on the 2 % yard (stations at 6 to 10 m from
+// the wall): the grade within a few of its σ (0.3 % on this set-up), rising towards the wall
+// (north), and what to do about scanner.z_m; the level sample's yard is level.
+std::string YardLineOf(const std::string& report) {
+  const size_t at = report.find("  yard      ");
+  if (at == std::string::npos) return "";
+  return report.substr(at, report.find('\n', at) - at);
+}
+
+TEST(InspectAttitudeTest, TheSessionReportGivesTheYardsGrade) {
+  sim::SimulationConfig config = sim::ReadSimulationConfig(
+      std::string(WALLCAL_SOURCE_DIR) + "/configs/simulate/bench_lms291_yard2.yaml");
+  config.write_z_m = false;
+  const fs::path dir = FreshScratchDir("yard");
+  sim::WriteSimulatedSession(config, 3, dir.string());
+  const std::string line = YardLineOf(InspectSession(dir.string()).report);
+  ASSERT_FALSE(line.empty());
+  const double grade_pct = std::stod(line.substr(std::string("  yard      ").size()));
+  EXPECT_NEAR(grade_pct, 2.0, 1.0) << line;
+  ExpectContains(line, {" % rising towards ", "antenna heights", "not level: give scanner.z_m"});
+  const std::string level = YardLineOf(InspectSession(SessionWithAttitude().string()).report);
+  EXPECT_TRUE(level.find("level within its σ") != std::string::npos ||
+              level.find("not measured") != std::string::npos)
+      << level;
 }
 
 }  // namespace
