@@ -9,5 +9,7 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh "$@"
 launcher=()
 if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
-cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWALLCAL_WERROR="${WALLCAL_WERROR:-ON}" \
-  "${launcher[@]}"
+# -g1: line tables for backtraces and sanitizer reports, not the full debug information (a
+# quarter less compile time, smaller objects and links); a Debug build has it all.
+cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
+  -DWALLCAL_WERROR="${WALLCAL_WERROR:-ON}" "${launcher[@]}"

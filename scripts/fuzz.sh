@@ -17,8 +17,8 @@ build=${FUZZ_BUILD_DIR:-build-fuzz}
 
 bash scripts/install-deps.sh fuzz
 
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-  -DWALLCAL_FUZZ=ON -DWALLCAL_WERROR=ON >/dev/null
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
+  -DCMAKE_CXX_COMPILER=clang++ -DWALLCAL_FUZZ=ON -DWALLCAL_WERROR=ON >/dev/null
 cmake --build "$build" --target fuzz_targets -j"$jobs"
 
 targets=("$@")

@@ -21,4 +21,5 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -g1" \
   -DWALLCAL_BENCH=OFF -DWALLCAL_SANITIZE=ON -DWALLCAL_WERROR=OFF >/dev/null
 cmake --build "$build" -j"$jobs"
-ctest --test-dir "$build" --output-on-failure -j"$jobs" "$@"
+# Twice as many tests as build jobs, as scripts/test.sh: several tests mostly wait.
+ctest --test-dir "$build" --output-on-failure -j"$(( jobs * 2 ))" "$@"

@@ -7,4 +7,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/configure.sh browser
 cmake --build build -j"${JOBS:-2}"
-ctest --test-dir build --output-on-failure -j"${JOBS:-2}"
+# Twice as many tests as cores: the guide's follow and page tests mostly wait (on a log being
+# appended, on the browser), leaving the cores to the others.
+ctest --test-dir build --output-on-failure -j"$(( ${JOBS:-2} * 2 ))"
