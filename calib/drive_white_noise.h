@@ -14,7 +14,7 @@
 //   polynomial of degree kDriveFitDegree in time is fitted to each axis of each window.
 //   Why a cubic over 11 samples (1 s of 10 Hz fixes, 0.5 s of 20 Hz headings): a quadratic
 //   leaves a drive's jerk in the residuals (on the simulator's benchmark drives at 0.6–0.8 m/s,
-//   1.7 mm RMS beside a 3 mm white noise: σ 17 % high), a cubic leaves its fourth derivative
+//   1.7–2.0 mm RMS beside a 3 mm white noise: σ 17–21 % high), a cubic leaves its fourth derivative
 //   (below 0.1 mm), and of a step of the acceleration Δa (a stop starting) on average
 //   0.2·Δa·Δt² RMS against a quadratic's 0.6. The RTK error's slow wander (a Gauss–Markov
 //   process, 15 mm over 60 s: 0.9 mm per 0.1 s step) adds 0.48 of one step's variance per
