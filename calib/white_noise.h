@@ -3,7 +3,8 @@
 // The pose streams' white noise, measured where the vehicle stands still. A standing scan
 // hardly depends on it (a dwell averages many samples), but a moving scan carries one
 // interpolated pose, so a configured σ above the sensors' own inflates the σ of a session with
-// drives in it (docs/method.md, "Noise measured at the stops").
+// drives in it (docs/method.md, "Noise measured at the stops and on the drives"). Where the
+// stops are too short, calib/drive_white_noise.h measures it on the drives.
 
 #include <vector>
 

@@ -83,6 +83,69 @@ std::string SiteText(const CalibrationResult& result) {
   return out;
 }
 
+namespace {
+
+// The noise line: the GNSS and heading white noise the solve took and where each came from
+// (pipeline::WhiteNoiseInUse), with the degrees of freedom behind a measured one. Nothing when
+// neither the stops nor the drives measured a figure (both are then the configured ones).
+std::string NoiseText(const CalibrationResult& result) {
+  const pipeline::PoseResult& poses = result.poses;
+  const calib::MeasuredWhiteNoise& stops = poses.measured_noise;
+  const calib::DriveWhiteNoise& drives = poses.drive_noise;
+  if (stops.gnss_white_sigma_m <= 0.0 && stops.heading_sigma_rad <= 0.0 &&
+      drives.gnss_white_sigma_m <= 0.0 && drives.heading_sigma_rad <= 0.0) {
+    return "";
+  }
+  const solvers::SolverOptions& configured = result.loaded.options.solver;
+  // "measured on the drives (1540 dof; 4 of 224 windows beyond 3× the median's scatter left
+  // out)"
+  const auto source = [&](pipeline::NoiseSource from, int stops_dof, int drives_dof, int used,
+                          int dropped, const std::string& stops_text,
+                          const std::string& drives_text) {
+    std::string text = pipeline::NoiseSourceName(from);
+    switch (from) {
+      case pipeline::NoiseSource::kMeasuredAtStops:
+        return text + Format(" (%d dof)", stops_dof);
+      case pipeline::NoiseSource::kMeasuredOnDrives:
+        return text + Format(" (%d dof; %d of %d windows beyond %g× the median's scatter "
+                             "left out)",
+                             drives_dof, dropped, used + dropped, calib::kDriveWindowRejectRatio);
+      case pipeline::NoiseSource::kConfigured:
+        if (!configured.use_measured_white_noise) {
+          return text + " (use_measured_white_noise: false; at the stops " + stops_text +
+                 ", on the drives " + drives_text + ")";
+        }
+        return text + " (too few samples at the stops and on the drives)";
+    }
+    return text;
+  };
+  const auto metres = [](double sigma_m) {
+    return sigma_m > 0.0 ? Format("%.4f m", sigma_m) : std::string("none");
+  };
+  const auto degrees = [](double sigma_rad) {
+    return sigma_rad > 0.0 ? Format("%.4f deg", sigma_rad * kRadToDeg) : std::string("none");
+  };
+  const pipeline::WhiteNoiseInUse& in_use = poses.white_noise;
+  std::string out = "  noise      white noise GNSS " + metres(in_use.gnss_white_sigma_m) + " " +
+                    source(in_use.gnss_source, stops.gnss_degrees_of_freedom,
+                           drives.gnss_degrees_of_freedom, drives.gnss_windows_used,
+                           drives.gnss_windows_dropped, metres(stops.gnss_white_sigma_m),
+                           metres(drives.gnss_white_sigma_m)) +
+                    ", heading " + degrees(in_use.heading_sigma_rad) + " " +
+                    source(in_use.heading_source, stops.heading_degrees_of_freedom,
+                           drives.heading_degrees_of_freedom, drives.heading_windows_used,
+                           drives.heading_windows_dropped, degrees(stops.heading_sigma_rad),
+                           degrees(drives.heading_sigma_rad));
+  if (configured.use_measured_white_noise) {
+    out += Format("; configured (the fallbacks): solver.gnss_white_sigma_m %.4f m, "
+                  "heading_sigma_deg %.4f deg",
+                  configured.gnss_white_sigma_m, configured.heading_sigma_rad * kRadToDeg);
+  }
+  return out + "\n";
+}
+
+}  // namespace
+
 std::string FormatSummary(const CalibrationResult& result) {
   const solvers::MountEstimate& e = result.solve.estimate;
   std::ostringstream out;
@@ -120,18 +183,7 @@ std::string FormatSummary(const CalibrationResult& result) {
                   static_cast<long long>(g.fixes));
     out << line;
   }
-  if (const calib::MeasuredWhiteNoise& m = result.poses.measured_noise;
-      m.gnss_white_sigma_m > 0.0 || m.heading_sigma_rad > 0.0) {
-    const bool used = result.loaded.options.solver.use_measured_white_noise;
-    std::snprintf(line, sizeof(line),
-                  "  noise      white noise at the stops: GNSS %.4f m, heading %.4f deg (0: too "
-                  "few samples); %s solver.gnss_white_sigma_m %.4f m, heading_sigma_deg %.4f deg\n",
-                  m.gnss_white_sigma_m, m.heading_sigma_rad * kRadToDeg,
-                  used ? "used instead of" : "not used (use_measured_white_noise: false), kept",
-                  result.loaded.options.solver.gnss_white_sigma_m,
-                  result.loaded.options.solver.heading_sigma_rad * kRadToDeg);
-    out << line;
-  }
+  out << NoiseText(result);
   const bool rover = !result.survey.walls.empty() && result.survey.walls.front().from_rover;
   char tie[96];
   if (rover) {

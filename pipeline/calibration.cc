@@ -40,6 +40,8 @@ const char* NoiseSourceName(NoiseSource source) {
       return "configured";
     case NoiseSource::kMeasuredAtStops:
       return "measured at the stops";
+    case NoiseSource::kMeasuredOnDrives:
+      return "measured on the drives";
   }
   return "?";
 }

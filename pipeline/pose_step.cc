@@ -12,29 +12,32 @@
 #include "pipeline/internal/steps.h"
 
 namespace wallcal::pipeline {
-namespace {
 
-// With solver.use_measured_white_noise, each figure the dwells' measure where there is one,
-// else the configured one: calibrate and the guide take the same, so the guide's σ is
-// calibrate's on the same data.
+// The stops first: the scatter of a standing vehicle's samples needs no model of its motion.
+// Calibrate and the guide take the same, so the guide's σ is calibrate's on the same data.
 WhiteNoiseInUse ChooseWhiteNoise(const solvers::SolverOptions& configured,
-                                 const calib::MeasuredWhiteNoise& measured) {
+                                 const calib::MeasuredWhiteNoise& at_stops,
+                                 const calib::DriveWhiteNoise& on_drives) {
   WhiteNoiseInUse noise;
   noise.gnss_white_sigma_m = configured.gnss_white_sigma_m;
   noise.heading_sigma_rad = configured.heading_sigma_rad;
   if (!configured.use_measured_white_noise) return noise;
-  if (measured.gnss_white_sigma_m > 0.0) {
-    noise.gnss_white_sigma_m = measured.gnss_white_sigma_m;
+  if (at_stops.gnss_white_sigma_m > 0.0) {
+    noise.gnss_white_sigma_m = at_stops.gnss_white_sigma_m;
     noise.gnss_source = NoiseSource::kMeasuredAtStops;
+  } else if (on_drives.gnss_white_sigma_m > 0.0) {
+    noise.gnss_white_sigma_m = on_drives.gnss_white_sigma_m;
+    noise.gnss_source = NoiseSource::kMeasuredOnDrives;
   }
-  if (measured.heading_sigma_rad > 0.0) {
-    noise.heading_sigma_rad = measured.heading_sigma_rad;
+  if (at_stops.heading_sigma_rad > 0.0) {
+    noise.heading_sigma_rad = at_stops.heading_sigma_rad;
     noise.heading_source = NoiseSource::kMeasuredAtStops;
+  } else if (on_drives.heading_sigma_rad > 0.0) {
+    noise.heading_sigma_rad = on_drives.heading_sigma_rad;
+    noise.heading_source = NoiseSource::kMeasuredOnDrives;
   }
   return noise;
 }
-
-}  // namespace
 
 PoseResult PosesFromLogs(const CalibrationResult& so_far, recording::PoseLogs logs,
                          RunState* state) {
@@ -122,10 +125,11 @@ PoseResult PosesFromLogs(const CalibrationResult& so_far, recording::PoseLogs lo
   }
   auto poses = std::make_shared<calib::PoseInterpolator>(positions, yaws, options.alignment);
   // A moving scan carries one interpolated pose, so its σ is the sensors' white noise in full:
-  // measured at the stops where they hold enough samples, it stands in for the configured
-  // fallbacks (which inflate the σ of sessions with drives when above the receiver's).
+  // measured at the stops or on the drives where they hold enough samples, it stands in for the
+  // configured fallbacks (which inflate the σ of sessions with drives when above the receiver's).
   step.measured_noise = calib::MeasureWhiteNoise(positions, yaws, poses->dwells());
-  step.white_noise = ChooseWhiteNoise(options.solver, step.measured_noise);
+  step.drive_noise = calib::MeasureDriveWhiteNoise(positions, yaws, poses->dwells());
+  step.white_noise = ChooseWhiteNoise(options.solver, step.measured_noise, step.drive_noise);
   if (options.solver.gnss_bias_tau_s > 0.0 &&
       options.alignment.segment_max_s > options.solver.gnss_bias_tau_s / 60.0) {
     // The solver holds the RTK error constant within a slice; over a long slice it wanders and

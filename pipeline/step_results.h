@@ -17,6 +17,7 @@
 #include "analysis/residual_analysis.h"
 #include "calib/attitude_model.h"
 #include "calib/detection_pass.h"
+#include "calib/drive_white_noise.h"
 #include "calib/gnss_epoch_time.h"
 #include "calib/observation.h"
 #include "calib/survey_tie.h"
@@ -49,14 +50,21 @@ struct SurveyResult {
 };
 
 // The GNSS and heading white noise the solve takes (m per axis, rad) and where each came from.
-enum class NoiseSource { kConfigured, kMeasuredAtStops };
-const char* NoiseSourceName(NoiseSource source);  // "configured", "measured at the stops"
+enum class NoiseSource { kConfigured, kMeasuredAtStops, kMeasuredOnDrives };
+// "configured", "measured at the stops", "measured on the drives"
+const char* NoiseSourceName(NoiseSource source);
 struct WhiteNoiseInUse {
   double gnss_white_sigma_m = 0.0;
   NoiseSource gnss_source = NoiseSource::kConfigured;
   double heading_sigma_rad = 0.0;
   NoiseSource heading_source = NoiseSource::kConfigured;
 };
+// With configured.use_measured_white_noise, each figure the stops' measure where they hold
+// enough samples, else the drives' where they do, else the configured one; without it, the
+// configured ones.
+WhiteNoiseInUse ChooseWhiteNoise(const solvers::SolverOptions& configured,
+                                 const calib::MeasuredWhiteNoise& at_stops,
+                                 const calib::DriveWhiteNoise& on_drives);
 
 // Poses: the GNSS fixes and headings as a pose interpolator, its dwells and the white noise.
 struct PoseResult {
@@ -70,8 +78,9 @@ struct PoseResult {
   int64_t headings_used = 0;
   int num_dwells = 0;
   calib::MeasuredWhiteNoise measured_noise;  // at the dwells (calib/white_noise.h)
-  // With solver.use_measured_white_noise, each figure the dwells' measure where there is one;
-  // else the configured one (LoadResult::options.solver).
+  calib::DriveWhiteNoise drive_noise;        // on the drives (calib/drive_white_noise.h)
+  // With solver.use_measured_white_noise, each figure the dwells' measure where there is one,
+  // else the drives' where there is one, else the configured one (LoadResult::options.solver).
   WhiteNoiseInUse white_noise;
   Warnings warnings;
 };

@@ -17,8 +17,8 @@ struct SolverOptions {
   bool use_gst_sigma = true;              // take the bias σ from GST when the log has it
   double heading_sigma_rad = 0.0017453293;     // heading white noise, 0.1 deg
   // Take the GNSS and heading white noise from the stops' own scatter when they hold enough
-  // samples (calib/white_noise.h; calibrate reports both): gnss_white_sigma_m and
-  // heading_sigma_rad are then the fallbacks.
+  // samples (calib/white_noise.h), else from the drives' (calib/drive_white_noise.h; calibrate
+  // reports where each came from): gnss_white_sigma_m and heading_sigma_rad are the fallbacks.
   bool use_measured_white_noise = true;
   double control_sigma_m = 0.015;         // RTK error of each control point
   double total_station_sigma_m = 0.003;   // total station point error (Barawid 2007: ±3 mm fine)
