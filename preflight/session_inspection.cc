@@ -45,6 +45,7 @@ std::string YardLine(const io::SessionSpec& spec, const solvers::SolverOptions& 
   noise.bias_tau_s = solver.gnss_bias_tau_s;
   noise.white_sigma_m = solver.gnss_white_sigma_m;
   const calib::YardPlane yard = calib::FitYard(heights, noise);
+  if (heights.size() < 3) return "not measured: fewer than 3 fixes";
   if (!yard.fitted) {
     return "not measured: the antenna's positions lie along one line (where the yard is not "
            "level, stand at two distances from the wall or log an attitude stream)";
