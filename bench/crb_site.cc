@@ -16,20 +16,11 @@
 namespace wallcal::bench {
 namespace {
 
-// The heights above its foot at which the crew measured a wall (as sim::Simulate does).
-std::vector<double> SurveyHeightsM(const sim::SimWall& wall, sim::SurveyMode mode) {
-  if (!wall.survey_heights_m.empty()) return wall.survey_heights_m;
-  if (mode == sim::SurveyMode::kRover) return {0.0};
-  return {0.5, wall.height_m - 0.5};
-}
-
 // The variance (rad²) of a wall's fitted lean: the slope of its points' offsets along the
 // normal (total station σ each) against their heights.
 double LeanVariance(const sim::SimulationConfig& config, const sim::SimWall& wall) {
-  const std::vector<double> heights = SurveyHeightsM(wall, config.survey_mode);
-  const double length_m = std::hypot(wall.x1_m - wall.x0_m, wall.y1_m - wall.y0_m);
-  const double spacing_m = wall.survey_spacing_m > 0.0 ? wall.survey_spacing_m : 1.0;
-  const int stations = static_cast<int>(std::floor(length_m / spacing_m + 1e-9)) + 1;
+  const std::vector<double> heights = sim::SurveyHeightsM(wall, config.survey_mode);
+  const double stations = static_cast<double>(sim::SurveyStationsAlong(wall).size());
   double mean_m = 0.0;
   for (double h : heights) mean_m += h / static_cast<double>(heights.size());
   double spread_m2 = 0.0;
@@ -44,7 +35,7 @@ double LeanVariance(const sim::SimulationConfig& config, const sim::SimWall& wal
 // height its surveyed line stands for.
 double WallReferenceUpM(const sim::SimulationConfig& config, const sim::Site& site,
                         const sim::SimWall& wall) {
-  const std::vector<double> heights = SurveyHeightsM(wall, config.survey_mode);
+  const std::vector<double> heights = sim::SurveyHeightsM(wall, config.survey_mode);
   double mean_m = 0.0;
   for (double h : heights) mean_m += h / static_cast<double>(heights.size());
   const Eigen::Vector2d centre(0.5 * (wall.x0_m + wall.x1_m), 0.5 * (wall.y0_m + wall.y1_m));

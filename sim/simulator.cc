@@ -207,8 +207,8 @@ struct SurveyFrame {
   }
 };
 
-// Where the crew surveys a wall (m, ENU): every survey_spacing_m (1 m when unset) from its first
-// end, the first end alone for a wall of zero length.
+}  // namespace
+
 std::vector<Eigen::Vector2d> SurveyStationsAlong(const SimWall& w) {
   const Eigen::Vector2d w0(w.x0_m, w.y0_m), w1(w.x1_m, w.y1_m);
   const double length_m = (w1 - w0).norm();
@@ -220,15 +220,11 @@ std::vector<Eigen::Vector2d> SurveyStationsAlong(const SimWall& w) {
   return stations;
 }
 
-// The heights above a wall's foot at which the crew measures its face: the wall's own, or by
-// default 0.5 m and height − 0.5 m (total station), the foot (rover).
 std::vector<double> SurveyHeightsM(const SimWall& w, SurveyMode mode) {
   if (!w.survey_heights_m.empty()) return w.survey_heights_m;
   if (mode == SurveyMode::kRover) return {0.0};
   return {0.5, w.height_m - 0.5};
 }
-
-}  // namespace
 
 io::ScannerPreset TrueScannerPreset(const sim::SimulationConfig& config,
                                     const io::ScannerPreset& preset) {

@@ -137,6 +137,14 @@ struct SimBeamHit {
   bool footprint_edge = false;
 };
 
+// Where the crew surveys a wall (m, ENU): every survey_spacing_m (1 m when unset) from its first
+// end, the first end alone for a wall of zero length.
+std::vector<Eigen::Vector2d> SurveyStationsAlong(const SimWall& wall);
+// The heights above a wall's foot at which the crew measures its face at each station: the
+// wall's own survey_heights_m, or by default 0.5 m and height − 0.5 m (total station), the foot
+// (rover).
+std::vector<double> SurveyHeightsM(const SimWall& wall, SurveyMode mode);
+
 // The scanner the simulation measures with: `preset` with the scenario's scanner_truth
 // overrides (SimulationConfig's characterisation block) applied.
 io::ScannerPreset TrueScannerPreset(const sim::SimulationConfig& config,
