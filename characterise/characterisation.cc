@@ -218,6 +218,11 @@ Characterisation Characterise(const CharacteriseRequest& request) {
                          calibration.loaded.session.file + ") at " + NowUtcIso8601();
   result.preset.range_scale_k = model.k.value;
   result.preset.range_offset_b_m = model.b_m.value;
+  // This unit's model is now known to the fit's σ, not to the family's spread.
+  if (model.k.known() && model.b_m.known()) {
+    result.preset.range_scale_sigma = model.k.sigma / model.k.value;
+    result.preset.range_offset_sigma_m = model.b_m.sigma;
+  }
   result.preset.sim_scale_n = model.n.value;
   result.preset.sim_offset_c_m = model.c_m.value;
   result.preset.range_sigma_m = model.sigma_m.value;

@@ -353,6 +353,13 @@ struct ScannerPreset {
   // Range correction applied by the tool: corrected = k * raw + b (Ye & Borenstein 2002; Okubo, Ye & Borenstein 2009).
   double range_scale_k = 1.0;
   double range_offset_b_m = 0.0;
+  // How far the unit a session uses may be off that correction (1σ): its range scale
+  // (dimensionless, a relative error of every range) and its range offset (m). A family preset
+  // states the family's spread, a preset `characterise` measured on one unit its fit's σ;
+  // 0: the unit's model taken as exact. Only the joint adjustment of several scanners carries
+  // them (pipeline/multi_scanner.h).
+  double range_scale_sigma = 0.0;
+  double range_offset_sigma_m = 0.0;
   // Simulation model z = Int(n * true + c + xi), xi ~ N(0, sigma) (Ye & Borenstein 2002; Okubo, Ye & Borenstein 2009).
   double sim_scale_n = 1.0;
   double sim_offset_c_m = 0.0;

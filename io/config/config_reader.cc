@@ -39,6 +39,12 @@ ScannerPreset ReadScannerPreset(const std::string& file) {
     correction.Number("b_m", preset.range_offset_b_m);
     correction.Finish();
   }
+  if (const YAML::Node node = top.Find("range_model_sigma"); node.IsDefined()) {
+    MapReader sigma = top.Child("range_model_sigma", node);
+    sigma.Number("k", preset.range_scale_sigma);
+    sigma.Number("b_m", preset.range_offset_sigma_m);
+    sigma.Finish();
+  }
   if (const YAML::Node node = top.Find("simulation"); node.IsDefined()) {
     MapReader sim = top.Child("simulation", node);
     sim.Number("n", preset.sim_scale_n);
@@ -59,6 +65,12 @@ ScannerPreset ReadScannerPreset(const std::string& file) {
   if (!(preset.range_resolution_m > 0.0)) fail("range_resolution_m must be > 0");
   if (!(preset.range_scale_k > 0.0)) fail("range_correction.k must be > 0");
   if (!(preset.sim_scale_n > 0.0)) fail("simulation.n must be > 0");
+  if (!(preset.range_scale_sigma >= 0.0 && preset.range_scale_sigma < 0.1)) {
+    fail("range_model_sigma.k must be in [0, 0.1) (a relative scale error)");
+  }
+  if (!(preset.range_offset_sigma_m >= 0.0 && preset.range_offset_sigma_m < 1.0)) {
+    fail("range_model_sigma.b_m must be in [0, 1) m");
+  }
   if (preset.range_sigma_m < 0.0) fail("simulation.sigma_m must be >= 0");
   if (!(preset.max_incidence_rad > 0.0 && preset.max_incidence_rad * kRadToDeg <= 90.0)) {
     fail("max_incidence_deg must be in (0, 90]");

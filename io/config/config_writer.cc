@@ -104,6 +104,8 @@ std::string FormatScannerPreset(const ScannerPreset& preset,
   number("range_resolution_m", preset.range_resolution_m);
   out += "range_correction: {k: " + ShortestNumber(preset.range_scale_k) +
          ", b_m: " + ShortestNumber(preset.range_offset_b_m) + "}\n";
+  out += "range_model_sigma: {k: " + ShortestNumber(preset.range_scale_sigma) +
+         ", b_m: " + ShortestNumber(preset.range_offset_sigma_m) + "}\n";
   out += "simulation: {n: " + ShortestNumber(preset.sim_scale_n) +
          ", c_m: " + ShortestNumber(preset.sim_offset_c_m) +
          ", sigma_m: " + ShortestNumber(preset.range_sigma_m) + "}\n";
