@@ -176,6 +176,8 @@ struct Row {
   double sign = 1.0;                             // n = sign · (cos α_w, sin α_w)
   Eigen::Vector2d scanner_enu_m = Eigen::Vector2d::Zero();
   Eigen::Matrix2d fit_cov = Eigen::Matrix2d::Zero();
+  // d(rho, theta) per unit of the scanner's range offset (m) and of its relative scale error.
+  Eigen::Matrix2d unit_gain = Eigen::Matrix2d::Zero();
   // x, y, yaw, then the pose's time shifts: the position part (antenna velocity) and the
   // heading part (yaw rate, through the lever arm too) of d(rho, theta)/d(time). A scanner
   // clock offset moves both, a GNSS delay the first, a heading delay the second.
@@ -286,6 +288,7 @@ CrbResult ComputeJointCrb(const std::vector<sim::SimulationConfig>& scanner_conf
     // Line fit information from the beams on this wall.
     const auto hits = sim::TrueBeamHits(own, preset, poses[i]);
     Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d offset_pull = Eigen::Vector2d::Zero();  // Σ w g cos: an offset's pull
     int beams = 0;
     const Eigen::Vector2d n_s(std::cos(theta), std::sin(theta));
     const Eigen::Vector2d along_s(-std::sin(theta), std::cos(theta));
@@ -298,10 +301,15 @@ CrbResult ComputeJointCrb(const std::vector<sim::SimulationConfig>& scanner_conf
       const double cos_inc = n_s.dot(u);
       const Eigen::Vector2d g(-1.0, along_s.dot(h.range_m * u));
       info += g * g.transpose() / (range_var_m2 * cos_inc * cos_inc);
+      // A range offset δb moves the point δb·cos_inc off the line along its normal.
+      offset_pull += g / (range_var_m2 * cos_inc);
       ++beams;
     }
     if (beams < 2) continue;
     row.fit_cov = info.inverse();
+    const double rho_m = row.sign * (offset - n_wall.dot(row.scanner_enu_m));
+    row.unit_gain.col(0) = -row.fit_cov * offset_pull;
+    row.unit_gain.col(1) = Eigen::Vector2d(rho_m, 0.0);
 
     // Mount Jacobian: rho = d − n·(a + R m), theta = angle(n) − ψ − yaw.
     row.J.block<1, 2>(0, 0) = -row.n.transpose() * R;
@@ -367,6 +375,20 @@ CrbResult ComputeJointCrb(const std::vector<sim::SimulationConfig>& scanner_conf
       C.block<2, 2>(2 * b, 2 * a) = block.transpose();
     }
   }
+  // Each unit's range model: one offset and one scale per scanner, shared by all its lines.
+  Eigen::MatrixXd units_cov;
+  if (sources & kUnitRange) {
+    const Eigen::Vector2d variance(std::pow(preset.range_offset_sigma_m, 2),
+                                   std::pow(preset.range_scale_sigma, 2));
+    units_cov = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+    for (int a = 0; a < n; ++a) {
+      for (int b = 0; b < n; ++b) {
+        if (rows[a].scanner != rows[b].scanner) continue;
+        units_cov.block<2, 2>(2 * a, 2 * b) =
+            rows[a].unit_gain * variance.asDiagonal() * rows[b].unit_gain.transpose();
+      }
+    }
+  }
   if (sources & kSite) {
     std::vector<SiteRowInput> site_rows;
     for (const Row& r : rows) {
@@ -404,6 +426,32 @@ CrbResult ComputeJointCrb(const std::vector<sim::SimulationConfig>& scanner_conf
           : delay_kind[d] == 1 ? Eigen::Vector2d(-r.J_position_time)
                                : Eigen::Vector2d(-r.J_heading_time);
     }
+  }
+  // The units' terms as an estimator that ignores them meets them: the bound without them plus
+  // the linear response S = F⁻¹ Jᵀ C⁻¹ A to each unit's offset and scale (A: the gains).
+  if (units_cov.size() > 0) {
+    const Eigen::LLT<Eigen::MatrixXd> llt0(C);
+    if (llt0.info() == Eigen::Success) {
+      Eigen::MatrixXd fisher0 = J.transpose() * llt0.solve(J);
+      for (size_t d = 0; d < prior_information.size(); ++d) {
+        fisher0(m + d, m + d) += prior_information[d];
+      }
+      const Eigen::FullPivLU<Eigen::MatrixXd> lu0(fisher0);
+      if (lu0.isInvertible()) {
+        const Eigen::MatrixXd bound0 = lu0.inverse();
+        Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * n, 2 * scanners);
+        for (int a = 0; a < n; ++a) A.block<2, 2>(2 * a, 2 * rows[a].scanner) = rows[a].unit_gain;
+        const Eigen::MatrixXd S = bound0 * (J.transpose() * llt0.solve(A));
+        Eigen::VectorXd variance(2 * scanners);
+        for (int unit = 0; unit < scanners; ++unit) {
+          variance[2 * unit] = std::pow(preset.range_offset_sigma_m, 2);
+          variance[2 * unit + 1] = std::pow(preset.range_scale_sigma, 2);
+        }
+        result.joint_consider =
+            (bound0 + S * variance.asDiagonal() * S.transpose()).topLeftCorner(m, m);
+      }
+    }
+    C += units_cov;
   }
   const Eigen::LLT<Eigen::MatrixXd> llt(C);
   if (llt.info() != Eigen::Success) {

@@ -49,6 +49,10 @@ enum CrbSource : unsigned {
   kSurvey = 32u,
   kSite = 64u,  // a 3-D site's yard grade, attitude stream and wall lean (bench/crb_site.h)
   kAllSources = 127u,
+  // Not among kAllSources: each unit's range model off the preset's by an offset and a scale
+  // drawn from the preset's range_model_sigma (sim draw_unit_range_models), one draw per
+  // scanner shared by all its lines. A bench adds it when the simulation draws them.
+  kUnitRange = 128u,
 };
 
 // One wall observation to bound: the scan's true time (s since the start of the run) and the
@@ -71,6 +75,11 @@ struct CrbResult {
   // ComputeJointCrb: the bound of every scanner's mount, [x_0, y_0, yaw_0, x_1, ...] (crb is
   // its top-left block).
   Eigen::MatrixXd joint_crb;
+  // With kUnitRange: what an estimator that takes each unit's model as exact but carries its σ
+  // in the covariance reaches (calibrate's joint adjustment, solvers/joint_mounts.h): the bound
+  // without the units' terms plus the mounts' linear response to them. joint_crb estimates
+  // them instead, as far as the data tell them apart.
+  Eigen::MatrixXd joint_consider;
   int observations_used = 0;    // after subsampling and dropping lines with < 2 wall beams
   int observations_given = 0;
   bool subsampled = false;

@@ -46,6 +46,7 @@ namespace wallcal::bench {
 namespace {
 
 namespace fs = std::filesystem;
+constexpr bool kDrawUnitsPending = false;
 
 struct Scenario {
   std::string name, label, sim_file, options_file;
@@ -122,16 +123,19 @@ const char* kAxisName[3] = {"x", "y", "yaw"};
 const char* Unit(int axis) { return axis < 2 ? "mm" : "deg"; }
 
 struct AxisStats {
-  double error2 = 0.0, sigma = 0.0, z2 = 0.0, own_error2 = 0.0;
+  double error2 = 0.0, sigma = 0.0, z2 = 0.0, own_error2 = 0.0, data_sigma = 0.0;
   int n = 0;
-  void Add(double error, double sigma_value) {
+  // sigma_value: the reported σ; data_sigma_value: the same without the units' range models.
+  void Add(double error, double sigma_value, double data_sigma_value = 0.0) {
     error2 += error * error;
     sigma += sigma_value;
+    data_sigma += data_sigma_value;
     z2 += sigma_value > 0.0 ? error * error / (sigma_value * sigma_value) : 0.0;
     ++n;
   }
   double Rms() const { return n ? std::sqrt(error2 / n) : 0.0; }
   double MeanSigma() const { return n ? sigma / n : 0.0; }
+  double MeanDataSigma() const { return n ? data_sigma / n : 0.0; }
   double RmsZ() const { return n ? std::sqrt(z2 / n) : 0.0; }
   double OwnRms() const { return n ? std::sqrt(own_error2 / n) : 0.0; }
 };
@@ -189,7 +193,9 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
   delays.scanner_offset_prior_sigma_s = kFlatDelayPriorS;
   delays.gnss_delay_prior_sigma_s = 0.05;
   delays.heading_delay_prior_sigma_s = 0.05;
-  const CrbResult crb = ComputeJointCrb(own, preset, all_obs, kAllSources, delays, args.max_all_obs);
+  // Each unit's own range model, when the simulation draws one per scanner.
+  const unsigned sources = kAllSources | (kDrawUnitsPending ? kUnitRange : 0u);
+  const CrbResult crb = ComputeJointCrb(own, preset, all_obs, sources, delays, args.max_all_obs);
   if (!crb.ok) {
     std::fprintf(stderr, "%s: joint CRB: %s\n", scenario.name.c_str(), crb.message.c_str());
     return;
@@ -197,6 +203,14 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
   // The relative transform's bound: its Jacobian at the truth through the joint bound.
   const solvers::RelativeMount relative_truth = solvers::RelativeMountOf(
       truth[0], truth[1], Eigen::Matrix<double, 6, 6>(crb.joint_crb.topLeftCorner(6, 6)));
+  // The same through the bound an estimator that carries the units' terms in its covariance
+  // reaches (CrbResult::joint_consider); the plain bound without them.
+  const bool has_consider = crb.joint_consider.rows() >= 6;
+  const Eigen::MatrixXd& consider = has_consider ? crb.joint_consider : crb.joint_crb;
+  const Eigen::Matrix3d relative_consider =
+      solvers::RelativeMountOf(truth[0], truth[1],
+                               Eigen::Matrix<double, 6, 6>(consider.topLeftCorner(6, 6)))
+          .covariance;
 
   std::vector<AxisStats> mount_stats(3 * scanners);
   AxisStats relative_stats[3];
@@ -232,7 +246,7 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
     seconds += result.seconds;
     if (args.oracle) {
       const CrbResult at_truth =
-          ComputeJointCrb(own, preset, ObservationsAtTruth(result, own, truth), kAllSources,
+          ComputeJointCrb(own, preset, ObservationsAtTruth(result, own, truth), sources,
                           delays, args.max_all_obs);
       if (at_truth.has_oracle) {
         for (int axis = 0; axis < 3; ++axis) oracle_stats[axis].Add(at_truth.oracle_error[axis], 1.0);
@@ -243,7 +257,9 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
       for (int axis = 0; axis < 3; ++axis) {
         const double error = axis == 2 ? WrapAngle(Axis(joint.mount, axis) - Axis(truth[k], axis))
                                        : Axis(joint.mount, axis) - Axis(truth[k], axis);
-        mount_stats[3 * k + axis].Add(error, std::sqrt(joint.covariance(axis, axis)));
+        mount_stats[3 * k + axis].Add(
+            error, std::sqrt(joint.covariance(axis, axis)),
+            std::sqrt(joint.covariance(axis, axis) - joint.range_model_covariance(axis, axis)));
         const double own_error =
             Axis(result.scanners[k].own.solve.estimate.mount, axis) - Axis(truth[k], axis);
         mount_stats[3 * k + axis].own_error2 += own_error * own_error;
@@ -257,7 +273,9 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
       const double error = Axis(rel.from_T_to, axis) - Axis(relative_truth.from_T_to, axis);
       const double own_error =
           Axis(differenced.from_T_to, axis) - Axis(relative_truth.from_T_to, axis);
-      relative_stats[axis].Add(error, std::sqrt(rel.covariance(axis, axis)));
+      relative_stats[axis].Add(error, std::sqrt(rel.covariance(axis, axis)),
+                               std::sqrt(rel.covariance(axis, axis) -
+                                         result.relative.front().range_model_covariance(axis, axis)));
       relative_stats[axis].own_error2 += own_error * own_error;
     }
     if (csv != nullptr) {
@@ -282,16 +300,18 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
   std::printf("\n### %s (%s), %d runs (%d failed), joint CRB on %d of %d wall lines\n\n",
               scenario.name.c_str(), scenario.label.c_str(), runs, failures,
               crb.observations_used, crb.observations_given);
-  std::printf("| what | axis | RMS error | mean σ | RMS(error/σ) | CRB | RMS/CRB | own-run RMS |\n");
-  std::printf("|---|---|---|---|---|---|---|---|\n");
+  std::printf("| what | axis | RMS error | mean σ | mean σ without unit terms | RMS(error/σ) | CRB | "
+              "RMS/CRB | bound, units carried | own-run RMS |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (size_t k = 0; k < scanners; ++k) {
     for (int axis = 0; axis < 3; ++axis) {
       const AxisStats& s = mount_stats[3 * k + axis];
       const double bound = std::sqrt(crb.joint_crb(3 * k + axis, 3 * k + axis));
-      std::printf("| %s | %s | %.3f %s | %.3f | %.2f | %.3f | %.2f | %.3f |\n",
+      const double carried = std::sqrt(consider(3 * k + axis, 3 * k + axis));
+      std::printf("| %s | %s | %.3f %s | %.3f | %.3f | %.2f | %.3f | %.2f | %.3f | %.3f |\n",
                   config.scanners[k].id.c_str(), kAxisName[axis], Show(axis, s.Rms()), Unit(axis),
-                  Show(axis, s.MeanSigma()), s.RmsZ(), Show(axis, bound), s.Rms() / bound,
-                  Show(axis, s.OwnRms()));
+                  Show(axis, s.MeanSigma()), Show(axis, s.MeanDataSigma()), s.RmsZ(),
+                  Show(axis, bound), s.Rms() / bound, Show(axis, carried), Show(axis, s.OwnRms()));
     }
   }
   // The relative yaw in millidegrees (its errors are a few of them).
@@ -301,10 +321,13 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
   for (int axis = 0; axis < 3; ++axis) {
     const AxisStats& s = relative_stats[axis];
     const double bound = std::sqrt(relative_truth.covariance(axis, axis));
-    std::printf("| relative | %s | %.3f %s | %.3f | %.2f | %.3f | %.2f | %.3f (differenced) |\n",
+    const double carried = std::sqrt(relative_consider(axis, axis));
+    std::printf("| relative | %s | %.3f %s | %.3f | %.3f | %.2f | %.3f | %.2f | %.3f | %.3f "
+                "(differenced) |\n",
                 kAxisName[axis], show_relative(axis, s.Rms()), axis < 2 ? "mm" : "mdeg",
-                show_relative(axis, s.MeanSigma()), s.RmsZ(), show_relative(axis, bound),
-                s.Rms() / bound, show_relative(axis, s.OwnRms()));
+                show_relative(axis, s.MeanSigma()), show_relative(axis, s.MeanDataSigma()),
+                s.RmsZ(), show_relative(axis, bound), s.Rms() / bound,
+                show_relative(axis, carried), show_relative(axis, s.OwnRms()));
   }
   if (oracle_stats[0].n > 0) {
     std::printf("\n%s oracle (GLS with the true covariance, %d runs): RMS x %.3f mm, y %.3f mm, "

@@ -163,6 +163,8 @@ void DetectInScan(const PassContext& context, const PassRequest& request, Pendin
     observation.cov_rho_theta = detection.cov_rho_theta;
     observation.num_inliers = detection.num_inliers;
     observation.range_min_m = detection.range_min_m;
+    observation.drho_drange_offset = static_cast<float>(detection.range_offset_gain.x());
+    observation.dtheta_drange_offset_per_m = static_cast<float>(detection.range_offset_gain.y());
     observation.range_max_m = detection.range_max_m;
     observation.residual_rms_m = detection.residual_rms_m;
     pending->observations.push_back(observation);

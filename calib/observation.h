@@ -139,6 +139,11 @@ struct WallObservation {
   // The variance (m²) the vehicle attitude's noise adds to rho_m (pipeline's site step; 0 on a
   // level site). A float beside num_inliers: it fills what would be padding.
   float attitude_var_rho_m2 = 0.0f;
+  // The line fit's response to an offset on every range of the scan, per metre of offset
+  // (WallDetection::range_offset_gain): rho (m/m) and theta (rad/m). A relative scale error δk
+  // moves rho by rho_m·δk and theta not at all.
+  float drho_drange_offset = 0.0f;
+  float dtheta_drange_offset_per_m = 0.0f;
   double range_min_m = 0.0;   // range span of the inliers
   double range_max_m = 0.0;
   double residual_rms_m = 0.0;  // RMS of the inliers about the fitted line

@@ -43,6 +43,9 @@ struct WallDetection {
   double rho_m = 0, theta_rad = 0;  // rho > 0, theta in (−π, π]
   // From the least-squares fit (range noise only): m, rad, m·rad.
   double sigma_rho_m = 0, sigma_theta_rad = 0, cov_rho_theta = 0;
+  // How the fitted (rho, theta) move per metre of an offset on every range: (m/m, rad/m). A
+  // relative scale error δk moves them by (rho·δk, 0).
+  Eigen::Vector2d range_offset_gain = Eigen::Vector2d::Zero();
   int num_inliers = 0;
   double range_min_m = 0, range_max_m = 0;  // range span of the inliers
   double residual_rms_m = 0;                // RMS of the inliers' range residuals (m)

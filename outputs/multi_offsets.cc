@@ -46,6 +46,22 @@ std::string MountKeys(const std::string& indent, const solvers::Mount& mount,
   return out;
 }
 
+// What the σ above is made of: the data's part (the vehicle's errors, the line fits, the
+// survey) and the units' range models' (each scanner's range offset and scale, taken as exact
+// by the adjustment and carried in its covariance). The two σ add in quadrature.
+std::string BudgetKeys(const std::string& indent, const Eigen::Matrix3d& covariance,
+                       const Eigen::Matrix3d& units) {
+  const Eigen::Matrix3d data = covariance - units;
+  const auto line = [](const Eigen::Matrix3d& c) {
+    return "{x: " + YamlNumber("%.6f", Sigma(c, 0)) + ", y: " + YamlNumber("%.6f", Sigma(c, 1)) +
+           ", yaw_deg: " + YamlNumber("%.4f", Sigma(c, 2) * kRadToDeg) + "}";
+  };
+  return indent + "sigma_budget:  # m, m, deg; the two add in quadrature to stddev\n" + indent +
+         "  data: " + line(data) + "  # vehicle, line fits, survey\n" + indent +
+         "  unit_range_models: " + line(units) +
+         "  # each unit's range offset and scale (range_model_sigma of its preset)\n";
+}
+
 const char* kHeightNote =
     "z = 0: the scanner's height relative to the GNSS antenna is not known (give it as z_m of "
     "the scanner in session.yaml); the 2-D calibration does not measure it";
@@ -69,6 +85,7 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
     out += "    parent_frame: " + YamlText(frames.parent) + "\n";
     out += "    child_frame: " + YamlText(run.spec.frame) + "\n";
     out += MountKeys("    ", joint.mount, joint.covariance);
+    out += BudgetKeys("    ", joint.covariance, joint.range_model_covariance);
     out += "    time_offset_s: " + YamlNumber("%.4f", joint.time_offset_s) + "\n";
     // Its σ and status as the one-scanner offsets.yaml has them: its own run's (the joint
     // covariance holds the mounts only).
@@ -103,6 +120,7 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
       out += "  - from: " + YamlText(relative.from_id) + "\n";
       out += "    to: " + YamlText(relative.to_id) + "\n";
       out += MountKeys("    ", relative.mount.from_T_to, relative.mount.covariance);
+      out += BudgetKeys("    ", relative.mount.covariance, relative.range_model_covariance);
       out += "    verdict: " + DecisionYaml(relative.decision) + "\n";
       if (relative.change) {
         out += "    change_since_previous: " + ChangeYaml(*relative.change) + "\n";
@@ -231,6 +249,13 @@ std::string FormatSeveralSummary(const pipeline::SeveralScannersResult& several)
            Format("x %.4f ± %.4f m, y %.4f ± %.4f m, yaw %.3f ± %.3f deg", m.x_m, Sigma(c, 0),
                   m.y_m, Sigma(c, 1), m.yaw_rad * kRadToDeg, Sigma(c, 2) * kRadToDeg) +
            "\n";
+    const Eigen::Matrix3d& u = relative.range_model_covariance;
+    if (u.trace() > 0.0) {
+      out += Format("    of which the units' range offsets and scales: ± %.4f m, ± %.4f m, ± %.3f "
+                    "deg (the data alone: ± %.4f m, ± %.4f m, ± %.3f deg)\n",
+                    Sigma(u, 0), Sigma(u, 1), Sigma(u, 2) * kRadToDeg, Sigma(c - u, 0),
+                    Sigma(c - u, 1), Sigma(c - u, 2) * kRadToDeg);
+    }
     reasons(relative.decision);
     if (relative.change) out += "    change " + ChangeText(*relative.change) + "\n";
   }

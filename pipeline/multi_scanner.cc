@@ -132,6 +132,8 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
     part.observations = &run.own.solve.observations;
     part.initial = run.own.solve.estimate.mount;
     part.warm = run.own.solve.estimate.solution_state;
+    part.range_scale_sigma = run.own.loaded.preset.range_scale_sigma;
+    part.range_offset_sigma_m = run.own.loaded.preset.range_offset_sigma_m;
     AtOwnScanTime(run.own, &part, &at_scan_time[s]);
     InJointSlices(run.own, &part, &at_scan_time[s]);
     parts.push_back(part);
@@ -165,6 +167,7 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
     joint.index = static_cast<int>(k);
     joint.mount = several.joint.mounts[k];
     joint.covariance = several.joint.covariance.block<3, 3>(3 * k, 3 * k);
+    joint.range_model_covariance = several.joint.range_model_covariance.block<3, 3>(3 * k, 3 * k);
     joint.time_offset_s = several.joint.time_offset_s[k];
     // Its page shows the joint numbers: its panels and site map are drawn with them too.
     joint.report = ReportAround(run.own, joint.mount, "joint estimate of all scanners");
@@ -175,16 +178,24 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
       const ScannerRun& from = several.scanners[a];
       const ScannerRun& to = several.scanners[b];
       if (!from.joint || !to.joint) continue;
-      Eigen::Matrix<double, 6, 6> pair;
       const int i = 3 * from.joint->index, j = 3 * to.joint->index;
-      pair.block<3, 3>(0, 0) = several.joint.covariance.block<3, 3>(i, i);
-      pair.block<3, 3>(0, 3) = several.joint.covariance.block<3, 3>(i, j);
-      pair.block<3, 3>(3, 0) = several.joint.covariance.block<3, 3>(j, i);
-      pair.block<3, 3>(3, 3) = several.joint.covariance.block<3, 3>(j, j);
+      const auto pair_of = [i, j](const Eigen::MatrixXd& covariance) {
+        Eigen::Matrix<double, 6, 6> pair;
+        pair.block<3, 3>(0, 0) = covariance.block<3, 3>(i, i);
+        pair.block<3, 3>(0, 3) = covariance.block<3, 3>(i, j);
+        pair.block<3, 3>(3, 0) = covariance.block<3, 3>(j, i);
+        pair.block<3, 3>(3, 3) = covariance.block<3, 3>(j, j);
+        return pair;
+      };
       RelativeMountResult relative;
       relative.from_id = from.spec.id;
       relative.to_id = to.spec.id;
-      relative.mount = solvers::RelativeMountOf(from.joint->mount, to.joint->mount, pair);
+      relative.mount = solvers::RelativeMountOf(from.joint->mount, to.joint->mount,
+                                                pair_of(several.joint.covariance));
+      relative.range_model_covariance =
+          solvers::RelativeMountOf(from.joint->mount, to.joint->mount,
+                                   pair_of(several.joint.range_model_covariance))
+              .covariance;
       several.relative.push_back(relative);
     }
   }
@@ -205,7 +216,8 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
   }
   const AcceptanceOptions& acceptance = first.loaded.options.acceptance;
   for (RelativeMountResult& relative : several.relative) {
-    relative.decision = DecideRelative(relative.mount, relative.change, acceptance);
+    relative.decision =
+        DecideRelative(relative.mount, relative.change, acceptance, relative.range_model_covariance);
   }
   several.decision = DecideSeveral(several);
   several.outcome = refused.empty() ? SeveralOutcome::kAll : SeveralOutcome::kPartial;

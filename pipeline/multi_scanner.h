@@ -34,6 +34,8 @@ struct JointScannerResult {
   int index = -1;  // its place in the joint adjustment
   calib::Mount mount;
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // x, y, yaw (m, m, rad)
+  // The units' range models' share of it (solvers::JointMountEstimate::range_model_covariance).
+  Eigen::Matrix3d range_model_covariance = Eigen::Matrix3d::Zero();
   // The clock offset (s): what its own run's poses carry plus what the joint time block adds.
   double time_offset_s = 0.0;
   std::optional<Change> change;  // since the --compare file's entry of this scanner
@@ -55,7 +57,9 @@ struct ScannerRun {
 
 struct RelativeMountResult {
   std::string from_id, to_id;  // from: the scanner listed earlier in session.yaml
-  solvers::RelativeMount mount;
+  solvers::RelativeMount mount;  // its covariance includes the units' range models
+  // Their share of mount.covariance: what the two units' range offsets and scales add.
+  Eigen::Matrix3d range_model_covariance = Eigen::Matrix3d::Zero();
   std::optional<Change> change;  // since the --compare file's (from, to) entry, when it has one
   Decision decision;             // against acceptance.relative_* (pipeline::DecideRelative)
 };

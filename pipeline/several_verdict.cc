@@ -50,7 +50,8 @@ Decision DecideJointScanner(const CalibrationResult& own, const JointScannerResu
 }
 
 Decision DecideRelative(const solvers::RelativeMount& relative, const std::optional<Change>& change,
-                        const AcceptanceOptions& a) {
+                        const AcceptanceOptions& a,
+                        const Eigen::Matrix3d& unit_share) {
   Decision d;
   d.verdict = Verdict::kAccept;
   auto flag = [&d](Verdict verdict, const std::string& why) {
@@ -59,14 +60,27 @@ Decision DecideRelative(const solvers::RelativeMount& relative, const std::optio
   };
   const Eigen::Matrix3d& c = relative.covariance;
   const double sx = std::sqrt(c(0, 0)), sy = std::sqrt(c(1, 1)), syaw = std::sqrt(c(2, 2));
+  // The data's σ alone: when it is within a limit that the total is not, the units' range
+  // models put it there, and more driving does not help.
+  const Eigen::Matrix3d data = c - unit_share;
+  const auto data_sigma = [&data](int i) { return std::sqrt(std::max(0.0, data(i, i))); };
+  const std::string units_advice =
+      "; the units' range offsets and scales make most of it (their presets' range_model_sigma): "
+      "characterise each unit (wallcal characterise) and give its measured preset as the "
+      "scanner's model";
   if (!(std::max(sx, sy) <= a.relative_max_sigma_xy_m)) {
+    const bool units = std::max(data_sigma(0), data_sigma(1)) <= a.relative_max_sigma_xy_m;
     flag(Verdict::kReject, Format("σ x %.2f mm, y %.2f mm: beyond "
                                   "acceptance.relative_max_sigma_xy_m %.2f mm",
-                                  sx * 1e3, sy * 1e3, a.relative_max_sigma_xy_m * 1e3));
+                                  sx * 1e3, sy * 1e3, a.relative_max_sigma_xy_m * 1e3) +
+                               (units ? units_advice : ""));
   }
   if (!(syaw <= a.relative_max_sigma_yaw_rad)) {
-    flag(Verdict::kReject, Format("σ yaw %.4f°: beyond acceptance.relative_max_sigma_yaw_deg %.4f°",
-                                  syaw * kRadToDeg, a.relative_max_sigma_yaw_rad * kRadToDeg));
+    const bool units = data_sigma(2) <= a.relative_max_sigma_yaw_rad;
+    flag(Verdict::kReject,
+         Format("σ yaw %.4f°: beyond acceptance.relative_max_sigma_yaw_deg %.4f°",
+                syaw * kRadToDeg, a.relative_max_sigma_yaw_rad * kRadToDeg) +
+             (units ? units_advice : ""));
   }
   if (change) {
     const Change& ch = *change;

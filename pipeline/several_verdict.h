@@ -45,9 +45,12 @@ Decision DecideCalibration(const CalibrationResult& result, const std::optional<
 Decision DecideJointScanner(const CalibrationResult& own, const JointScannerResult& joint);
 
 // The verdict of a relative transform against acceptance.relative_* (σ beyond them: REJECT;
-// a change beyond them or beyond max_change_sigmas combined σ: REVIEW).
+// a change beyond them or beyond max_change_sigmas combined σ: REVIEW). unit_share: the units'
+// range models' share of relative.covariance; when it is what puts σ beyond the limits, the
+// reason says so and what brings it down (each unit characterised).
 Decision DecideRelative(const solvers::RelativeMount& relative, const std::optional<Change>& change,
-                        const AcceptanceOptions& acceptance);
+                        const AcceptanceOptions& acceptance,
+                        const Eigen::Matrix3d& unit_share = Eigen::Matrix3d::Zero());
 
 // The run's verdict: the worst of the calibrated scanners' and the relative transforms', with
 // one reason per one that is not ACCEPT ("front_left: REVIEW"); a run that left a scanner out

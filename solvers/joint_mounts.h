@@ -7,6 +7,13 @@
 // delay]. The joint covariance of all mounts comes from the one information path
 // (solvers/information.h): the shared errors show in it as the correlation between the mounts,
 // and cancel in the relative transform between two scanners (RelativeMount).
+//
+// What the scanners do not share is each unit's range model: an offset δb on every range of a
+// unit and a relative scale error δk (io::ScannerPreset range_model_sigma), which the
+// adjustment takes as known. They are carried in the covariance, not estimated: the mounts'
+// first-order response to each (the problem re-linearised with that unit's line fits moved by
+// calib::WallObservation's range-offset gains, or by rho·δk) times its σ, added to the data's
+// covariance. The estimate does not change; its σ covers what a unit's model may be off.
 
 #include <memory>
 #include <string>
@@ -27,6 +34,10 @@ struct ScannerObservations {
   const std::vector<calib::WallObservation>* observations = nullptr;  // not owned, not empty
   Mount initial;                                 // its own estimate
   std::shared_ptr<const WarmStart> warm;         // its own solution state (may be null)
+  // How far this unit's range model may be off the one its ranges were corrected with (1σ):
+  // relative scale and offset (m). 0: taken as exact.
+  double range_scale_sigma = 0.0;
+  double range_offset_sigma_m = 0.0;
 };
 
 struct JointMountEstimate {
@@ -34,8 +45,11 @@ struct JointMountEstimate {
   std::string message;  // why not usable
   std::vector<Mount> mounts;  // one per scanner, in input order
   // The joint covariance of [x_0, y_0, yaw_0, x_1, y_1, yaw_1, ...] (m, rad), every nuisance
-  // parameter (time blocks included) marginalised.
+  // parameter (time blocks included) marginalised, the units' range models included.
   Eigen::MatrixXd covariance;
+  // The units' range models' share of `covariance` (same order; zero when every σ is 0): the
+  // data's alone is covariance − range_model_covariance.
+  Eigen::MatrixXd range_model_covariance;
   // Per scanner: the clock offset (s, total: what its poses carry plus what the joint time
   // block adds) and whether the joint problem estimated it.
   std::vector<double> time_offset_s;

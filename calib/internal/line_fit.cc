@@ -61,6 +61,7 @@ bool RowAt(const Eigen::Vector2d& p, const Eigen::Vector2d& n, const Eigen::Vect
 struct BeamNormalEquations {
   Eigen::Matrix2d information = Eigen::Matrix2d::Zero();
   Eigen::Vector2d gradient = Eigen::Vector2d::Zero();
+  Eigen::Vector2d sum_a = Eigen::Vector2d::Zero();  // Σ a: a range offset's share of the gradient
   double sum_e2_m2 = 0.0;
 };
 bool NormalEquationsAt(const ScanPoints& points, const std::vector<int>& idx, double theta_rad,
@@ -73,6 +74,7 @@ bool NormalEquationsAt(const ScanPoints& points, const std::vector<int>& idx, do
     if (!RowAt(points.p_scanner_m[i], n, d, rho_m, &row)) return false;
     eq->information.noalias() += row.a * row.a.transpose();
     eq->gradient += row.a * row.e_m;
+    eq->sum_a += row.a;
     eq->sum_e2_m2 += row.e_m * row.e_m;
   }
   return true;
@@ -151,6 +153,7 @@ bool RefineAlongBeams(const ScanPoints& points, const std::vector<int>& idx, Lin
   fit->rho_m = rho;
   fit->has_beam_model = true;
   fit->beam_information = eq.information;
+  fit->beam_sum_a = eq.sum_a;
   fit->beam_sum_e2_m2 = eq.sum_e2_m2;
   return true;
 }
@@ -164,6 +167,9 @@ bool RefineAlongBeams(const ScanPoints& points, const std::vector<int>& idx, Lin
 // σ = max(preset σ, RMS of the range residuals over N − 2): the RMS covers walls rougher than
 // the preset's noise; the preset keeps a lucky scan from claiming more than the sensor can do.
 // residual_rms_m: the RMS of the same range residuals over N (what the σ rule compares).
+// range_offset_gain: the fit's response to an offset δb on every range, (Σ a aᵀ)⁻¹ Σ a (the
+// Gauss–Newton step for residuals all moved by δb, per metre of δb). A scale error δk moves
+// every range by δk·r_i, and since aᵢᵀ(ρ, 0) = ρ/cᵢ = r_i its response is (ρ, 0)·δk exactly.
 void FillDetection(const ScanPoints& points, const LineFit& fit, std::vector<int> set,
                    double range_sigma_m, int votes, WallDetection* det) {
   const int n = static_cast<int>(set.size());
@@ -172,6 +178,7 @@ void FillDetection(const ScanPoints& points, const LineFit& fit, std::vector<int
   if (fit.has_beam_model) {
     eq.information = fit.beam_information;
     eq.sum_e2_m2 = fit.beam_sum_e2_m2;
+    eq.sum_a = fit.beam_sum_a;
   } else if (!NormalEquationsAt(points, set, theta, fit.rho_m, &eq)) {
     // Only a degenerate set gets here (the refinement refused it): the perpendicular model,
     // every c_i taken as 1.
@@ -182,6 +189,7 @@ void FillDetection(const ScanPoints& points, const LineFit& fit, std::vector<int
       const double e = fit.normal.dot(points.p_scanner_m[i]) - fit.rho_m;
       eq.information.noalias() += a * a.transpose();
       eq.sum_e2_m2 += e * e;
+      eq.sum_a += a;
     }
   }
   double r_min = std::numeric_limits<double>::infinity(), r_max = 0.0;
@@ -200,6 +208,7 @@ void FillDetection(const ScanPoints& points, const LineFit& fit, std::vector<int
   det->sigma_rho_m = std::sqrt(covariance(0, 0));
   det->sigma_theta_rad = std::sqrt(covariance(1, 1));
   det->cov_rho_theta = covariance(0, 1);
+  det->range_offset_gain = eq.information.inverse() * eq.sum_a;
   det->num_inliers = n;
   det->range_min_m = r_min;
   det->range_max_m = r_max;

@@ -25,6 +25,7 @@ struct LineFit {
   // takes them instead of another pass over the points).
   bool has_beam_model = false;
   Eigen::Matrix2d beam_information = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d beam_sum_a = Eigen::Vector2d::Zero();  // Σ a_i (unit σ)
   double beam_sum_e2_m2 = 0.0;
 };
 

@@ -473,3 +473,54 @@ TEST(WallDetectorTest, HandlesUrgGeometry) {
 
 }  // namespace
 }  // namespace wallcal::calib
+
+namespace wallcal::calib {
+namespace {
+
+// The detection's range-offset gain predicts how its line moves when every range of the scan is
+// off by an offset (the same draws of noise, a resolution too fine to round differently), and
+// a scale error moves rho by rho·δk and theta not at all. The wall lies to one side of the foot
+// of the perpendicular, so an offset also turns the line (the far points move less along the
+// normal than the near ones).
+TEST(WallDetectorTest, RangeOffsetGainPredictsTheLinesMove) {
+  io::ScannerPreset sick = testing_support::ShippedPreset("sick_lms291");
+  sick.range_resolution_m = 1e-7;
+  sick.range_sigma_m = 0.002;
+  const calib::DetectorOptions opt;
+  const double theta = -0.2, rho = 5.0;
+  const Scene scene = OneWall(theta, rho, 1.0, 9.0);
+  const auto true_r = TrueRanges(scene, sick);
+  const auto detect = [&](const io::ScannerPreset& logged) {
+    std::mt19937 rng(7);
+    return DetectWall(Points(Log(true_r, logged, &rng), sick, opt), TightGate(theta, rho), opt,
+                      sick.range_sigma_m);
+  };
+  const WallDetection base = detect(sick);
+  ASSERT_TRUE(base.found) << base.reason;
+  // The points move by δb·cos of their incidence (0.98 to 0.49 along the wall), and the line
+  // turns with them: rho at the foot of the perpendicular, off the wall, moves by about δb.
+  EXPECT_GT(base.range_offset_gain.x(), 0.5);
+  EXPECT_LT(base.range_offset_gain.x(), 1.5);
+  EXPECT_GT(std::abs(base.range_offset_gain.y()), 1e-3);  // rad per metre of offset
+
+  constexpr double kOffsetM = 0.02;
+  io::ScannerPreset offset = sick;
+  offset.sim_offset_c_m += kOffsetM / sick.range_scale_k;
+  const WallDetection moved = detect(offset);
+  ASSERT_TRUE(moved.found) << moved.reason;
+  ASSERT_EQ(moved.inliers, base.inliers);
+  // Linear in the offset to second order: 20 mm against ranges of 5–10 m.
+  EXPECT_NEAR(moved.rho_m - base.rho_m, kOffsetM * base.range_offset_gain.x(), 2e-5);
+  EXPECT_NEAR(moved.theta_rad - base.theta_rad, kOffsetM * base.range_offset_gain.y(), 2e-6);
+
+  constexpr double kScale = 1e-3;
+  io::ScannerPreset scaled = sick;
+  scaled.sim_scale_n *= 1.0 + kScale;
+  const WallDetection stretched = detect(scaled);
+  ASSERT_TRUE(stretched.found) << stretched.reason;
+  EXPECT_NEAR(stretched.rho_m - base.rho_m, kScale * base.rho_m, 2e-5);
+  EXPECT_NEAR(stretched.theta_rad - base.theta_rad, 0.0, 2e-6);
+}
+
+}  // namespace
+}  // namespace wallcal::calib

@@ -25,6 +25,7 @@
 
 #include "calib/detection_pass.h"
 #include "common/angles.h"
+#include "io/config/config_writer.h"
 #include "io/config/session_reader.h"
 #include "pipeline/multi_scanner.h"
 #include "preflight/inspect.h"
@@ -32,6 +33,7 @@
 #include "test/support/json_value.h"
 #include "test/support/program_runner.h"
 #include "test/support/scratch_dir.h"
+#include "test/support/shipped_presets.h"
 
 namespace wallcal {
 namespace {
@@ -103,6 +105,27 @@ fs::path SessionAs(const std::string& format, const std::string& name = "") {
   return Simulate(format, name.empty() ? format : name);
 }
 
+// The session's units characterised: each scanner names a preset of its own in the session's
+// scanners/ folder, the family's with the σ a characterised unit has (0.5 mm, 2e-5), so that the
+// relative transform's σ is the data's and a test can judge its changes.
+void CharacteriseUnits(const fs::path& dir) {
+  io::ScannerPreset preset = testing_support::ShippedPreset("sick_lms291");
+  preset.range_offset_sigma_m = 0.0005;
+  preset.range_scale_sigma = 2e-5;
+  fs::create_directories(dir / "scanners");
+  std::string session = ReadText(dir / "session.yaml");
+  for (const std::string id : {"front_left", "front_right"}) {
+    preset.name = "lms291_" + id;
+    std::ofstream(dir / "scanners" / (preset.name + ".yaml")) << io::FormatScannerPreset(preset, {});
+    const size_t entry = session.find("  - id: " + id + "\n");
+    const size_t model = session.find("model: sick_lms291", entry);
+    ASSERT_NE(entry, std::string::npos) << session;
+    ASSERT_NE(model, std::string::npos) << session;
+    session.replace(model, std::string("model: sick_lms291").size(), "model: " + preset.name);
+  }
+  std::ofstream(dir / "session.yaml", std::ios::trunc) << session;
+}
+
 pipeline::SeveralScannersResult Calibrate(const fs::path& dir, bool allow_partial = false,
                                           bool collect_report_data = false) {
   pipeline::CalibrateRequest request;
@@ -153,7 +176,9 @@ TEST(MultiScannerTest, JointMountIsNoSurerThanEachScannersOwnRun) {
   for (const auto& run : result.scanners) {
     for (int axis = 0; axis < 2; ++axis) {
       ASSERT_TRUE(run.joint) << run.spec.id;
-      const double joint = std::sqrt(run.joint->covariance(axis, axis));
+      // The data's σ (its own run takes its unit's range model as exact too).
+      const double joint = std::sqrt(run.joint->covariance(axis, axis) -
+                                     run.joint->range_model_covariance(axis, axis));
       const double own = std::sqrt(run.own.solve.estimate.covariance(axis, axis));
       EXPECT_GT(joint, 0.97 * own) << run.spec.id << (axis == 0 ? " x" : " y");
     }
@@ -333,7 +358,9 @@ TEST(MultiScannerTest, GuideAndCharacteriseTakeOneScannerOfTheSessionByName) {
     ASSERT_TRUE(testing_support::JsonParser(guided.out).Parse(&j)) << guided.out;
     ASSERT_TRUE(run.joint) << run.spec.id;
     const double own_x_m = std::sqrt(run.own.solve.estimate.covariance(0, 0));
-    const double joint_x_m = std::sqrt(run.joint->covariance(0, 0));
+    // The guide speaks of the data: the units' range models are the joint adjustment's alone.
+    const double joint_x_m =
+        std::sqrt(run.joint->covariance(0, 0) - run.joint->range_model_covariance(0, 0));
     const double guided_x_m = j["predicted_sigma"]["x_m"].number;
     EXPECT_NEAR(guided_x_m / own_x_m, 1.0, 0.01) << run.spec.id;
     EXPECT_NEAR(guided_x_m / joint_x_m, 1.0, 0.03) << run.spec.id;
@@ -528,6 +555,7 @@ TEST(MultiScannerTest, EmittedJsonCarriesTheVerdictsOfOffsetsYaml) {
 
 TEST(MultiScannerTest, CompareTakesEachScannerByIdAndNamesThoseInOneFileOnly) {
   const fs::path dir = SessionAs("text", "compare");
+  CharacteriseUnits(dir);
   const testing_support::ProgramRun first = RunCalibrate(dir, {"--quiet"});
   ASSERT_EQ(first.exit_code, 0) << first.err;
   // The previous calibration: front_left 30 mm further forward (beyond the default
@@ -585,6 +613,7 @@ TEST(MultiScannerTest, CompareTakesEachScannerByIdAndNamesThoseInOneFileOnly) {
 
 TEST(MultiScannerTest, CompareInvertsARelativeTransformHeldTheOtherWayRound) {
   const fs::path dir = SessionAs("text", "compare_swapped");
+  CharacteriseUnits(dir);
   const testing_support::ProgramRun first =
       RunCalibrate(dir, {"--quiet", "--output", (dir / "before.yaml").string()});
   ASSERT_EQ(first.exit_code, 0) << first.err;
@@ -724,6 +753,44 @@ TEST(MultiScannerTest, ScannerThatNeverSeesTheWallFailsTheRunUnlessPartialIsAllo
   const pipeline::SeveralScannersResult result = Calibrate(dir, true);
   EXPECT_EQ(result.outcome, pipeline::SeveralOutcome::kPartial);
   EXPECT_NE(result.message.find("'rear'"), std::string::npos) << result.message;
+}
+
+// The vehicle's errors cancel in the relative transform and leave what the two units do not
+// share: each LMS 291 may be off its preset's range correction by 10 mm and 5e-4 (1σ,
+// range_model_sigma). Such an offset moves a scanner's position by about as much along its
+// view of the wall, so the relative transform's σ is that size, and it says where it comes from.
+TEST(MultiScannerTest, RelativeSigmaCarriesWhatTheUnitsDoNotShare) {
+  const pipeline::SeveralScannersResult result = Calibrate(TextSession());
+  ASSERT_EQ(result.outcome, pipeline::SeveralOutcome::kAll) << result.message;
+  const pipeline::RelativeMountResult& relative = result.relative.front();
+  const Eigen::Matrix3d& units = relative.range_model_covariance;
+  const Eigen::Matrix3d data = relative.mount.covariance - units;
+  EXPECT_LT(std::sqrt(data(0, 0)), 0.5e-3);
+  EXPECT_LT(std::sqrt(data(1, 1)), 0.5e-3);
+  const double units_xy_m = std::sqrt(std::max(units(0, 0), units(1, 1)));
+  EXPECT_GT(units_xy_m, 5e-3);
+  EXPECT_LT(units_xy_m, 20e-3);
+  EXPECT_GT(units(2, 2), data(2, 2));
+  // Each mount carries its own unit's share.
+  for (const pipeline::ScannerRun& run : result.scanners) {
+    ASSERT_TRUE(run.joint) << run.spec.id;
+    EXPECT_GT(run.joint->range_model_covariance(0, 0) + run.joint->range_model_covariance(1, 1),
+              1e-6)
+        << run.spec.id;
+  }
+
+  // offsets.yaml's σ budget, and the verdict's reason says what brings the σ down.
+  const fs::path dir = SessionAs("text", "units_budget");
+  const testing_support::ProgramRun run = RunCalibrate(dir, {"--output", (dir / "o.yaml").string()});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const YAML::Node budget =
+      YAML::LoadFile((dir / "o.yaml").string())["relative_mounts"][0]["sigma_budget"];
+  ASSERT_TRUE(budget.IsDefined());
+  EXPECT_NEAR(budget["unit_range_models"]["x"].as<double>(), std::sqrt(units(0, 0)), 2e-6);
+  EXPECT_LT(budget["data"]["x"].as<double>(), 0.5e-3);
+  EXPECT_NE(run.out.find("of which the units' range offsets and scales"), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("characterise each unit"), std::string::npos) << run.out;
 }
 
 }  // namespace
