@@ -98,6 +98,17 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
                         (folder / ("scans_" + config.scanners[k].id + ".clf")).string());
     }
   }
+  // Each unit's range errors resolved once (drawn ones included), for its run and truth.yaml.
+  sim::SimulationConfig truth = config;
+  for (size_t k = 0; k < runs.size(); ++k) {
+    runs[k].first = UnitRangeErrors(runs[k].first, preset, seed);
+    double& scale_error =
+        truth.scanners.empty() ? truth.range_scale_error : truth.scanners[k].range_scale_error;
+    double& offset_error_m = truth.scanners.empty() ? truth.range_offset_error_m
+                                                    : truth.scanners[k].range_offset_error_m;
+    scale_error = runs[k].first.range_scale_error;
+    offset_error_m = runs[k].first.range_offset_error_m;
+  }
   std::vector<std::string> written;  // temporary scan logs, renamed at the end
   const auto remove_written = [&written] {
     std::error_code ignored;
@@ -203,7 +214,7 @@ SimulateSummary WriteSimulatedSession(const sim::SimulationConfig& input_config,
     if (own_attitude_log) io::WriteFileAtomically(spec.attitude_log, attitude_text);
     io::WriteFileAtomically(spec.survey_points, rover ? io::FormatRoverSurveyCsv(sim.survey)
                                                            : io::FormatSurveyCsv(sim.survey));
-    io::WriteFileAtomically((folder / "truth.yaml").string(), sim::FormatTruthYaml(config, seed));
+    io::WriteFileAtomically((folder / "truth.yaml").string(), sim::FormatTruthYaml(truth, seed));
     for (size_t k = 0; k < runs.size(); ++k) fs::rename(written[k], runs[k].second);
     // session.yaml last: a folder with a session.yaml is a complete session.
     io::WriteFileAtomically(spec.file, io::FormatSessionYaml(spec));

@@ -20,7 +20,9 @@ struct SimulatedSession;
 // A simulated attitude stream (SimulatedSession::attitudes, when not empty) is written as
 // $PASHR lines (config.attitude_sentence "avr": $PTNL,AVR) in heading.nmea, in time order with
 // the HDT lines, or with config.attitude_own_log in attitude.nmea; session.yaml then names it
-// under `attitude:`.
+// under `attitude:`. truth.yaml records each scanner unit's range errors as applied (given or
+// drawn, UnitRangeErrors): simulation.range_scale_error and range_offset_error_m for one
+// scanner, the same keys on each entry of simulation.scanners for several; none when none.
 struct SimulateSummary {
   int64_t scans_written = 0, scans_lost = 0, fixes = 0, headings = 0, survey_points = 0;
   int64_t ground_returns = 0;  // beams that returned from the ground (a 3-D site), all scanners

@@ -14,15 +14,16 @@ namespace {
 using namespace io::option_checks;  // NOLINT: the checks every Validate() makes
 
 // The keys a scenario carries beside VisitSimulationConfig's, and their checks: the per-stream
-// delays, the car-like drives, more scanners, the scanner's true range model (NaN: the
-// preset's), the 3-D site (NaN: not set) and the attitude stream, which truth.yaml writes only
-// when set (FormatTruthYaml).
+// delays and scan jitter, the car-like drives, more scanners, the scanner's true range model
+// (NaN: the preset's) and the unit's errors off it, the 3-D site (NaN: not set) and the
+// attitude stream, which truth.yaml writes only when set (FormatTruthYaml).
 template <class V>
 void VisitOptionalKeys(V& v, SimulationConfig& c) {
   v.Number("gnss_latency_s", c.gnss_latency_s, io::InRange(0.0, 10.0));
   v.Number("gnss_jitter_s", c.gnss_jitter_s, io::InRange(0.0, 1.0));
   v.Number("heading_latency_s", c.heading_latency_s, io::InRange(0.0, 10.0));
   v.Number("scanner_latency_s", c.scanner_latency_s, io::InRange(0.0, 10.0));
+  v.Number("scanner_jitter_s", c.scanner_jitter_s, io::InRange(0.0, 1.0));
   v.Number("station_distance_far_m", c.station_distance_far_m, io::NonNegative());
   v.Number("drive_reverse_m", c.drive_reverse_m, io::InRange(0.0, 100.0));
   v.Scaled("weave_turn_deg", c.weave_turn_rad, kRadToDeg, io::InRange(0.0, 90.0));
@@ -50,6 +51,9 @@ void VisitOptionalKeys(V& v, SimulationConfig& c) {
     Fail("simulation.survey_mode", "total_station or rover", survey_mode);
   }
   v.Number("rover_sigma_m", c.rover_sigma_m, io::InRange(1e-4, 1.0));
+  v.Number("range_scale_error", c.range_scale_error, io::InRange(-0.5, 0.5).OrUnset());
+  v.Number("range_offset_error_m", c.range_offset_error_m, io::InRange(-1.0, 1.0).OrUnset());
+  v.Boolean("draw_unit_range_models", c.draw_unit_range_models);
   v.Section("scanner_truth", [&c](auto& truth) {
     truth.Number("n", c.truth_scale_n, io::InRange(0.5, 1.5).OrUnset());
     truth.Number("c_m", c.truth_offset_c_m, io::InRange(-1.0, 1.0).OrUnset());
@@ -109,6 +113,17 @@ void SimulationConfig::Validate() const {
       }
     }
   }
+  // Several scanners: each unit's errors stand on its own entry, as its mount does.
+  if (!scanners.empty()) {
+    for (const auto& [key, value] :
+         {std::pair<const char*, double>{"range_scale_error", range_scale_error},
+          {"range_offset_error_m", range_offset_error_m}}) {
+      if (!std::isnan(value)) {
+        Fail(std::string("simulation.") + key,
+             "unset with scanners: (give it on each scanner's entry)", Number(value));
+      }
+    }
+  }
   for (size_t i = 0; i < scanners.size(); ++i) {
     for (size_t j = 0; j < i; ++j) {
       if (scanners[j].id == scanners[i].id) {
@@ -146,6 +161,8 @@ SimulationConfig ForScanner(const SimulationConfig& config, size_t index) {
   one.scanner_roll_rad = std::isnan(scanner.roll_rad) ? 0.0 : scanner.roll_rad;
   one.scanner_time_offset_s = scanner.scanner_time_offset_s;
   one.scanner_latency_s = scanner.scanner_latency_s;
+  one.range_scale_error = scanner.range_scale_error;
+  one.range_offset_error_m = scanner.range_offset_error_m;
   one.scanner_noise_stream = static_cast<uint32_t>(index);
   one.scanners.clear();
   // The site is the vehicle's, not the scanner's: every scanner's run sees the same one.
@@ -216,7 +233,8 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
        {std::pair<const char*, double>{"gnss_latency_s", config.gnss_latency_s},
         {"gnss_jitter_s", config.gnss_jitter_s},
         {"heading_latency_s", config.heading_latency_s},
-        {"scanner_latency_s", config.scanner_latency_s}}) {
+        {"scanner_latency_s", config.scanner_latency_s},
+        {"scanner_jitter_s", config.scanner_jitter_s}}) {
     if (value != 0.0) out += std::string("  ") + key + ": " + io::ShortestNumber(value) + "\n";
   }
   if (config.station_distance_far_m != 0.0) {
@@ -270,6 +288,16 @@ std::string FormatTruthYaml(const SimulationConfig& config, uint64_t seed) {
   if (config.survey_mode == SurveyMode::kRover) {
     out += "  survey_mode: rover\n";
     out += "  rover_sigma_m: " + io::ShortestNumber(config.rover_sigma_m) + "\n";
+  }
+  // The unit's range model off the preset's correction: the errors applied (drawn ones as the
+  // session writer resolved them), each only when set; the draw switch only when on.
+  if (config.draw_unit_range_models) out += "  draw_unit_range_models: true\n";
+  for (const auto& [key, value] :
+       {std::pair<const char*, double>{"range_scale_error", config.range_scale_error},
+        {"range_offset_error_m", config.range_offset_error_m}}) {
+    if (!std::isnan(value)) {
+      out += std::string("  ") + key + ": " + io::ShortestNumber(value) + "\n";
+    }
   }
   if (config.HasScannerTruth()) {
     std::string truth;

@@ -72,6 +72,10 @@ struct SimScanner {
   double z_m = kNaN;
   double pitch_rad = kNaN;
   double roll_rad = kNaN;
+  // This unit's range model off the preset's correction (SimulationConfig range_scale_error,
+  // range_offset_error_m); NaN: not set (none, or drawn with draw_unit_range_models).
+  double range_scale_error = kNaN;
+  double range_offset_error_m = kNaN;
 };
 
 // How the simulated crew surveys the walls (SimulationConfig::survey_mode).
@@ -188,6 +192,10 @@ struct SimulationConfig {
   double gnss_jitter_s = 0.0;
   double heading_latency_s = 0.0;
   double scanner_latency_s = 0.0;
+  // > 0: each written scan's stamp is a further U(0, scanner_jitter_s) late (the logger stamps
+  // on arrival, as gnss_jitter_s), drawn per scanner on a stream of its own. Written to
+  // truth.yaml only when set.
+  double scanner_jitter_s = 0.0;
   // ---- Characterisation (characterise): the scanner's true range model and the stations'
   // distances. Not written to truth.yaml unless set, so older scenarios simulate unchanged.
   // scanner_truth: {n:, c_m:, sigma_m:, resolution_m:, max_incidence_deg:, drift: {amplitude_m:,
@@ -202,6 +210,19 @@ struct SimulationConfig {
   double truth_max_incidence_rad = kNaN;
   double truth_drift_amplitude_m = 0.0;
   double truth_drift_time_constant_s = 0.0;  // 0 with amplitude != 0: a step at t = 0
+  // ---- The unit's own range model: how far this scanner unit is off the preset's correction
+  // (corrected = k·raw + b). range_scale_error e_k (relative) and range_offset_error_m e_b
+  // make the true model n' = n·(1 + e_k), c' = c + e_b / k (n, c after scanner_truth; k the
+  // preset's range_scale_k), so that the tool's corrected range is off by e_k·k·n·y + e_b for
+  // a true range y (k·n ≈ 1: a relative e_k). NaN: not set; with draw_unit_range_models, each
+  // unit whose value is not set draws it: e_k ~ N(0, range_scale_sigma), e_b ~ N(0,
+  // range_offset_sigma_m) of the preset (UnitRangeErrors, sim/simulator.h), on a stream of its
+  // own per scanner, so that every other draw of the session stays as it was. With `scanners:`
+  // each scanner carries its own (SimScanner), these two are not used. truth.yaml records the
+  // values applied, drawn ones included, and draw_unit_range_models only when true.
+  double range_scale_error = kNaN;
+  double range_offset_error_m = kNaN;
+  bool draw_unit_range_models = false;
   // > 0: the stations' antenna distances spread from station_distance_m to this (metres), in a
   // shuffled order so that distance and heading are not tied; 0: all at station_distance_m.
   double station_distance_far_m = 0.0;
@@ -214,7 +235,8 @@ struct SimulationConfig {
   // then lists them under `scanners:` with one scan log (or topic) each, and the single
   // scanner's mount_* and delays above are not used. Empty: one scanner, as above.
   std::vector<SimScanner> scanners;
-  // Which scanner's noise streams (range noise, mixed pixels, lost scans) a run draws from:
+  // Which scanner's noise streams (range noise, mixed pixels, lost scans, the unit's range
+  // model, stamp jitter) a run draws from:
   // 0 for the first (and only) scanner, k for the k-th of `scanners`, so that two scanners'
   // range noise is independent while the GNSS, heading and survey draws are shared. Set by the
   // session writer, not a key.
@@ -241,7 +263,8 @@ struct SimulationConfig {
 // io/config/options_map.h. The per-stream delays, the car-like drives, more scanners, the
 // scanner's true range model and the 3-D site are read beside them (ReadSimulationConfig) and
 // written only when set; so are a wall's lean_deg and survey_heights_m and a scanner's z_m,
-// pitch_deg and roll_deg (unset, they are left out of its flow map).
+// pitch_deg, roll_deg, range_scale_error and range_offset_error_m (unset, they are left out of
+// its flow map).
 template <class V>
 void VisitSimWall(V& v, SimWall& w) {
   v.Text("id", w.id, io::NonEmpty());
@@ -274,6 +297,8 @@ void VisitSimScanner(V& v, SimScanner& s) {
   v.Number("z_m", s.z_m, io::InRange(-10.0, 10.0).OrUnset());
   v.Scaled("pitch_deg", s.pitch_rad, kRadToDeg, io::InRange(-45.0, 45.0).OrUnset());
   v.Scaled("roll_deg", s.roll_rad, kRadToDeg, io::InRange(-45.0, 45.0).OrUnset());
+  v.Number("range_scale_error", s.range_scale_error, io::InRange(-0.5, 0.5).OrUnset());
+  v.Number("range_offset_error_m", s.range_offset_error_m, io::InRange(-1.0, 1.0).OrUnset());
 }
 
 template <class V>
@@ -326,8 +351,9 @@ SimulationConfig ReadSimulationConfig(const std::string& file);
 
 // The one-scanner configuration of config.scanners[index]: its mount (height and tilt
 // included) and clock in the single scanner's fields, its own noise streams
-// (scanner_noise_stream = index), no list; a 3-D site stays 3-D (the antenna's height is set
-// when only another scanner's keys made it so).
+// (scanner_noise_stream = index), its own range_scale_error and range_offset_error_m (NaN
+// when it has none), no list; a 3-D site stays 3-D (the antenna's height is set when only
+// another scanner's keys made it so).
 SimulationConfig ForScanner(const SimulationConfig& config, size_t index);
 
 // truth.yaml as written by FormatTruthYaml: the settings under `simulation:`, the exact mount

@@ -236,7 +236,36 @@ io::ScannerPreset TrueScannerPreset(const sim::SimulationConfig& config,
   if (!std::isnan(config.truth_max_incidence_rad)) {
     truth.max_incidence_rad = config.truth_max_incidence_rad;
   }
+  // The unit's own errors on top: the tool's corrected range k·z + b moves by e_k·k·n·y + e_b.
+  if (!std::isnan(config.range_scale_error)) {
+    truth.sim_scale_n *= 1.0 + config.range_scale_error;
+  }
+  if (!std::isnan(config.range_offset_error_m)) {
+    truth.sim_offset_c_m += config.range_offset_error_m / preset.range_scale_k;
+  }
   return truth;
+}
+
+namespace {
+
+// The seed of one scanner's own draws: the k-th scanner of a multi-scanner session draws from
+// streams of its own (k = 0 leaves the seed as it is: a one-scanner session is unchanged).
+uint64_t ScannerSeed(const sim::SimulationConfig& config, uint64_t seed) {
+  return seed ^ (static_cast<uint64_t>(config.scanner_noise_stream) * 0x9E3779B97F4A7C15ull);
+}
+
+}  // namespace
+
+sim::SimulationConfig UnitRangeErrors(const sim::SimulationConfig& config,
+                                      const io::ScannerPreset& preset, uint64_t seed) {
+  if (!config.draw_unit_range_models) return config;
+  sim::SimulationConfig resolved = config;
+  Noise noise(ScannerSeed(config, seed), Stream::kUnitRangeModel);
+  const double scale_error = std::clamp(noise.Normal(preset.range_scale_sigma), -0.5, 0.5);
+  const double offset_error_m = std::clamp(noise.Normal(preset.range_offset_sigma_m), -1.0, 1.0);
+  if (std::isnan(resolved.range_scale_error)) resolved.range_scale_error = scale_error;
+  if (std::isnan(resolved.range_offset_error_m)) resolved.range_offset_error_m = offset_error_m;
+  return resolved;
 }
 
 double RangeDriftM(const sim::SimulationConfig& config, double t_s) {
@@ -480,16 +509,17 @@ SimulatedSession Simulate(const sim::SimulationConfig& config, const io::Scanner
     }
   }
 
-  // Scans: k/rate true time; the logger stamps them scanner_time_offset_s early. The scanner
-  // measures with the scenario's scanner_truth where it overrides the preset.
-  const io::ScannerPreset true_preset = TrueScannerPreset(config, preset);
-  // The scanner's own draws: the k-th scanner of a multi-scanner session draws from streams of
-  // its own (k = 0 leaves the seed as it is: a one-scanner session is unchanged).
-  const uint64_t scanner_seed =
-      seed ^ (static_cast<uint64_t>(config.scanner_noise_stream) * 0x9E3779B97F4A7C15ull);
+  // Scans: k/rate true time; the logger stamps them scanner_time_offset_s early,
+  // scanner_latency_s late and, with scanner_jitter_s, a further U(0, jitter) late. The
+  // scanner measures with the scenario's scanner_truth where it overrides the preset and with
+  // its unit's own errors (drawn here when asked for and not given).
+  const io::ScannerPreset true_preset =
+      TrueScannerPreset(UnitRangeErrors(config, preset, seed), preset);
+  const uint64_t scanner_seed = ScannerSeed(config, seed);
   ScannerModel scanner(config, true_preset, scanner_seed);
   const ScannerMount mount = MountOf(config);
   Noise lost_noise(scanner_seed, Stream::kLostScan);
+  Noise jitter_noise(scanner_seed, Stream::kScanJitter);  // its own stream: other draws unchanged
   const int64_t log_every = std::max<int64_t>(1, std::llround(config.log_every_n));
   const int64_t scan_count =
       static_cast<int64_t>(std::floor(duration_s * preset.rate_hz + 1e-9)) + 1;
@@ -506,9 +536,11 @@ SimulatedSession Simulate(const sim::SimulationConfig& config, const io::Scanner
     // ≤ 13 mm during a sweep. At the stations that is exact; in continuous mode it leaves out
     // the sweep's motion skew (the tool treats scans as instantaneous too).
     scanner.set_drift_m(RangeDriftM(config, t_s));
-    const io::ScanRecord scan = scanner.Scan(
-        ScannerPoseAt(mount, TruthAt(config, site, trajectory, t_s)),
-        config.start_time_s + t_s - config.scanner_time_offset_s + config.scanner_latency_s);
+    double stamp_s =
+        config.start_time_s + t_s - config.scanner_time_offset_s + config.scanner_latency_s;
+    if (config.scanner_jitter_s > 0.0) stamp_s += config.scanner_jitter_s * jitter_noise.Uniform();
+    const io::ScanRecord scan =
+        scanner.Scan(ScannerPoseAt(mount, TruthAt(config, site, trajectory, t_s)), stamp_s);
     ++session.scans_written;
     if (sink) sink(scan);
   }

@@ -146,9 +146,20 @@ std::vector<Eigen::Vector2d> SurveyStationsAlong(const SimWall& wall);
 std::vector<double> SurveyHeightsM(const SimWall& wall, SurveyMode mode);
 
 // The scanner the simulation measures with: `preset` with the scenario's scanner_truth
-// overrides (SimulationConfig's characterisation block) applied.
+// overrides (SimulationConfig's characterisation block) applied, then the unit's own errors
+// off the correction where set (range_scale_error e_k, range_offset_error_m e_b):
+// sim_scale_n × (1 + e_k), sim_offset_c_m + e_b / range_scale_k. Simulate passes it the
+// config with drawn errors resolved (UnitRangeErrors); this function draws nothing.
 io::ScannerPreset TrueScannerPreset(const sim::SimulationConfig& config,
                                     const io::ScannerPreset& preset);
+// `config` with its unit's range errors resolved: with draw_unit_range_models, each of
+// range_scale_error and range_offset_error_m that is not set (NaN) drawn from N(0,
+// preset.range_scale_sigma) and N(0, preset.range_offset_sigma_m) (clipped to the keys'
+// ranges, ±0.5 and ±1 m), on the scanner's own stream (seed and scanner_noise_stream): the same
+// for a seed, another for each scanner of a session. Both are drawn whichever is given, so
+// giving one leaves the other's draw as it was. Without the switch: `config` unchanged.
+sim::SimulationConfig UnitRangeErrors(const sim::SimulationConfig& config,
+                                      const io::ScannerPreset& preset, uint64_t seed);
 // The scenario's warm-up range drift at true time t_s after the start (m, added to every range).
 double RangeDriftM(const sim::SimulationConfig& config, double t_s);
 

@@ -40,6 +40,8 @@ enum class Stream : uint32_t {
   kGnssVerticalBias = 11,   // drawn only in a 3-D site
   kGnssVerticalWhite = 12,  // drawn only in a 3-D site
   kAttitude = 13,
+  kUnitRangeModel = 14,  // a scanner unit's own range scale and offset errors
+  kScanJitter = 15,      // the logger's arrival jitter on scan stamps
 };
 
 class Noise {

@@ -74,6 +74,19 @@ obstacles:
       {"scanner_model: \"\"\n", "simulation.scanner_model must be non-empty"},
       {"scanners:\n  - {id: a}\n  - {id: a}\n",
        "bad.yaml:3: simulation.scanners[1].id must be unique, got 'a' twice"},
+      {"scanner_jitter_s: -1\n",
+       "bad.yaml:1: simulation.scanner_jitter_s must be in [0, 1], got -1"},
+      {"scanner_jitter_s: 2\n", "simulation.scanner_jitter_s must be in [0, 1], got 2"},
+      {"range_scale_error: 0.6\n",
+       "bad.yaml:1: simulation.range_scale_error must be in [-0.5, 0.5], got 0.6"},
+      {"range_offset_error_m: -1.5\n",
+       "simulation.range_offset_error_m must be in [-1, 1], got -1.5"},
+      {"scanners:\n  - {id: a, range_offset_error_m: 2}\n",
+       "bad.yaml:2: simulation.scanners[0].range_offset_error_m must be in [-1, 1], got 2"},
+      {"range_scale_error: 0.001\nscanners:\n  - {id: a}\n",
+       "bad.yaml:1: simulation.range_scale_error must be unset with scanners: (give it on each "
+       "scanner's entry), got 0.001"},
+      {"draw_unit_range_models: sometimes\n", "draw_unit_range_models"},
   };
   testing_support::ExpectEachThrows<InputError>(kBad, [&dir](const char* yaml) {
     ReadSimulationConfig(WriteFile(dir + "/bad.yaml", yaml));
@@ -116,6 +129,64 @@ TEST(SimulationConfigTest, TruthYamlRoundTrips) {
   EXPECT_DOUBLE_EQ(read.walls[1].y1_m, 8.0);
   ASSERT_EQ(read.obstacles.size(), 1u);
   EXPECT_DOUBLE_EQ(read.obstacles[0].radius_m, 0.3);
+}
+
+TEST(SimulationConfigTest, TruthYamlRoundTripsTheUnitsRangeModelsAndScanJitter) {
+  SimulationConfig one;
+  one.range_scale_error = -3.0e-4;
+  one.range_offset_error_m = 0.0123456789;
+  one.draw_unit_range_models = true;
+  one.scanner_jitter_s = 0.0005;
+  const std::string one_text = FormatTruthYaml(one, 5);
+  testing_support::ExpectContains(
+      one_text, {"  range_scale_error: -3.0e-04\n", "  range_offset_error_m: 0.0123456789\n",
+                 "  draw_unit_range_models: true\n", "  scanner_jitter_s: 5.0e-04\n"});
+  const SimulationConfig one_read =
+      ReadTruthYaml(WriteFile(ScratchFolder("truth_units") + "/one.yaml", one_text));
+  EXPECT_EQ(one_read.range_scale_error, one.range_scale_error);
+  EXPECT_EQ(one_read.range_offset_error_m, one.range_offset_error_m);
+  EXPECT_TRUE(one_read.draw_unit_range_models);
+  EXPECT_EQ(one_read.scanner_jitter_s, one.scanner_jitter_s);
+  EXPECT_EQ(FormatTruthYaml(one_read, 5), one_text);
+
+  // Several scanners: each entry carries its own; an entry without them stays unset.
+  SimulationConfig two;
+  two.scanners.resize(3);
+  two.scanners[0].id = "left";
+  two.scanners[0].range_scale_error = 0.000123;
+  two.scanners[0].range_offset_error_m = -0.0042;
+  two.scanners[1].id = "right";
+  two.scanners[1].range_offset_error_m = 0.0;
+  two.scanners[2].id = "rear";
+  const std::string two_text = FormatTruthYaml(two, 5);
+  testing_support::ExpectContains(
+      two_text, {"{id: left, mount_x_m: 0, mount_y_m: 0, mount_yaw_deg: 0, "
+                 "scanner_time_offset_s: 0, scanner_latency_s: 0, range_scale_error: 0.000123, "
+                 "range_offset_error_m: -0.0042}",
+                 "{id: right, mount_x_m: 0, mount_y_m: 0, mount_yaw_deg: 0, "
+                 "scanner_time_offset_s: 0, scanner_latency_s: 0, range_offset_error_m: 0}",
+                 "{id: rear, mount_x_m: 0, mount_y_m: 0, mount_yaw_deg: 0, "
+                 "scanner_time_offset_s: 0, scanner_latency_s: 0}"});
+  const SimulationConfig two_read =
+      ReadTruthYaml(WriteFile(ScratchFolder("truth_units") + "/two.yaml", two_text));
+  ASSERT_EQ(two_read.scanners.size(), 3u);
+  EXPECT_EQ(two_read.scanners[0].range_scale_error, 0.000123);
+  EXPECT_EQ(two_read.scanners[0].range_offset_error_m, -0.0042);
+  EXPECT_TRUE(std::isnan(two_read.scanners[1].range_scale_error));
+  EXPECT_EQ(two_read.scanners[1].range_offset_error_m, 0.0);
+  EXPECT_TRUE(std::isnan(two_read.scanners[2].range_scale_error));
+  EXPECT_TRUE(std::isnan(two_read.scanners[2].range_offset_error_m));
+  EXPECT_FALSE(two_read.draw_unit_range_models);
+  EXPECT_EQ(two_read.scanner_jitter_s, 0.0);
+  // ForScanner carries each entry's errors onto its run.
+  EXPECT_EQ(ForScanner(two_read, 0).range_scale_error, 0.000123);
+  EXPECT_EQ(ForScanner(two_read, 0).range_offset_error_m, -0.0042);
+  EXPECT_TRUE(std::isnan(ForScanner(two_read, 2).range_offset_error_m));
+
+  // None set: none written.
+  testing_support::ExpectLacks(
+      FormatTruthYaml(SimulationConfig(), 5),
+      {"range_scale_error", "range_offset_error_m", "draw_unit_range_models", "scanner_jitter_s"});
 }
 
 }  // namespace
