@@ -46,7 +46,6 @@ namespace wallcal::bench {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr bool kDrawUnitsPending = false;
 
 struct Scenario {
   std::string name, label, sim_file, options_file;
@@ -55,9 +54,10 @@ struct Scenario {
 std::vector<Scenario> Scenarios() {
   const std::string src = WALLCAL_SOURCE_DIR;
   const std::string sim = src + "/configs/simulate/bench_two_scanners_";
-  // The two-scanner sessions are simulated without stamp jitter: the matched model has none.
-  const std::string matched = src + "/bench/calibrate_matched_no_jitter.yaml";
-  const std::string moving = src + "/bench/calibrate_matched_moving_no_jitter.yaml";
+  // The two-scanner sessions jitter their scan stamps by U(0, 0.5 ms) and nothing else: the
+  // matched model's moving timing noise is that jitter's σ.
+  const std::string matched = src + "/bench/calibrate_matched_scan_jitter.yaml";
+  const std::string moving = src + "/bench/calibrate_matched_moving_scan_jitter.yaml";
   return {{"stopgo", "LMS 291 stop-and-go", sim + "stopgo.yaml", matched},
           {"continuous", "LMS 291 continuous driving", sim + "continuous.yaml", moving},
           {"urg04lx", "URG-04LX", sim + "urg04lx.yaml", matched},
@@ -194,7 +194,7 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
   delays.gnss_delay_prior_sigma_s = 0.05;
   delays.heading_delay_prior_sigma_s = 0.05;
   // Each unit's own range model, when the simulation draws one per scanner.
-  const unsigned sources = kAllSources | (kDrawUnitsPending ? kUnitRange : 0u);
+  const unsigned sources = kAllSources | (config.draw_unit_range_models ? kUnitRange : 0u);
   const CrbResult crb = ComputeJointCrb(own, preset, all_obs, sources, delays, args.max_all_obs);
   if (!crb.ok) {
     std::fprintf(stderr, "%s: joint CRB: %s\n", scenario.name.c_str(), crb.message.c_str());

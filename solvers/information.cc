@@ -13,50 +13,32 @@
 
 namespace wallcal::solvers {
 
-namespace {
-
-// The free columns of the problem: the kept blocks first, then every other non-constant block.
-// k receives the kept blocks' tangent size; false when a kept block is not in the problem.
-bool FreeColumns(MountProblem& mp, const std::vector<double*>& kept, std::vector<double*>* columns,
-                 int* k) {
-  *k = 0;
+Eigen::MatrixXd MarginalInformation(MountProblem& mp, const std::vector<double*>& kept,
+                                    int threads) {
+  int k = 0;
   for (double* block : kept) {
-    if (!mp.problem.HasParameterBlock(block)) return false;
-    *k += mp.problem.ParameterBlockTangentSize(block);  // a held coordinate has no column
+    if (!mp.problem.HasParameterBlock(block)) return Eigen::MatrixXd();
+    k += mp.problem.ParameterBlockTangentSize(block);  // a held coordinate has no column
   }
   std::vector<double*> blocks;
   mp.problem.GetParameterBlocks(&blocks);
-  *columns = kept;
+  std::vector<double*> columns = kept;
   for (double* block : blocks) {
     if (std::find(kept.begin(), kept.end(), block) != kept.end() ||
         mp.problem.IsParameterBlockConstant(block)) {
       continue;
     }
-    columns->push_back(block);
+    columns.push_back(block);
   }
-  return true;
+  Eigen::SparseMatrix<double> h;
+  if (!ProblemNormalMatrix(mp.problem, columns, threads, &h)) return Eigen::MatrixXd();
+  return SchurComplement(h, k);
 }
 
-bool Gradient(MountProblem& mp, const std::vector<double*>& columns, int threads,
-              Eigen::VectorXd* gradient) {
-  ceres::Problem::EvaluateOptions options;
-  options.parameter_blocks = columns;
-  options.num_threads = std::max(1, threads);
-  std::vector<double> g;
-  double cost = 0.0;
-  if (!mp.problem.Evaluate(options, &cost, nullptr, &g, nullptr)) return false;
-  *gradient = Eigen::Map<const Eigen::VectorXd>(g.data(), static_cast<Eigen::Index>(g.size()));
-  return gradient->allFinite();
-}
-
-// The Schur complement of the trailing block of h, and rhs reduced by it (rhs may have no
-// columns).
-Eigen::MatrixXd Reduce(const Eigen::SparseMatrix<double>& h, int k, const Eigen::MatrixXd& rhs,
-                       Eigen::MatrixXd* reduced) {
+Eigen::MatrixXd SchurComplement(const Eigen::SparseMatrix<double>& h, int k) {
   const int n = static_cast<int>(h.rows()) - k;
   if (n < 0 || h.cols() != h.rows()) return Eigen::MatrixXd();
   Eigen::MatrixXd information = Eigen::MatrixXd(h.topLeftCorner(k, k));
-  if (reduced != nullptr) *reduced = rhs.topRows(k);
   if (n > 0) {
     // Schur complement: the nuisance block has priors on every coordinate, so it is positive
     // definite. It is sparse (a GNSS-error slice touches its neighbours in the Gauss–Markov
@@ -78,58 +60,8 @@ Eigen::MatrixXd Reduce(const Eigen::SparseMatrix<double>& h, int k, const Eigen:
     if (ldlt.info() != Eigen::Success) return Eigen::MatrixXd();
     const Eigen::MatrixXd hnk = scale.asDiagonal() * Eigen::MatrixXd(h.bottomLeftCorner(n, k));
     information -= hnk.transpose() * ldlt.solve(hnk);
-    if (reduced != nullptr && rhs.cols() > 0) {
-      const Eigen::MatrixXd rn = scale.asDiagonal() * rhs.bottomRows(n);
-      *reduced -= hnk.transpose() * ldlt.solve(rn);
-    }
   }
   return 0.5 * (information + information.transpose());
-}
-
-}  // namespace
-
-Eigen::MatrixXd MarginalInformation(MountProblem& mp, const std::vector<double*>& kept,
-                                    int threads) {
-  std::vector<double*> columns;
-  int k = 0;
-  if (!FreeColumns(mp, kept, &columns, &k)) return Eigen::MatrixXd();
-  Eigen::SparseMatrix<double> h;
-  if (!ProblemNormalMatrix(mp.problem, columns, threads, &h)) return Eigen::MatrixXd();
-  return SchurComplement(h, k);
-}
-
-Eigen::MatrixXd MarginalInformation(MountProblem& mp, const std::vector<double*>& kept,
-                                    int threads, int moves,
-                                    const std::function<void(int move, int sign)>& move,
-                                    Eigen::MatrixXd* reduced_moves) {
-  std::vector<double*> columns;
-  int k = 0;
-  if (!FreeColumns(mp, kept, &columns, &k)) return Eigen::MatrixXd();
-  Eigen::SparseMatrix<double> h;
-  if (!ProblemNormalMatrix(mp.problem, columns, threads, &h)) return Eigen::MatrixXd();
-  Eigen::MatrixXd changes(h.rows(), moves);
-  for (int j = 0; j < moves; ++j) {
-    Eigen::VectorXd up, down;
-    move(j, +1);
-    const bool up_ok = Gradient(mp, columns, threads, &up);
-    move(j, -1);
-    const bool down_ok = Gradient(mp, columns, threads, &down);
-    move(j, 0);
-    if (!up_ok || !down_ok || up.size() != h.rows() || down.size() != h.rows()) {
-      return Eigen::MatrixXd();
-    }
-    changes.col(j) = 0.5 * (up - down);
-  }
-  return Reduce(h, k, changes, reduced_moves);
-}
-
-Eigen::MatrixXd SchurComplement(const Eigen::SparseMatrix<double>& h, int k) {
-  return Reduce(h, k, Eigen::MatrixXd(), nullptr);
-}
-
-Eigen::MatrixXd SchurComplement(const Eigen::SparseMatrix<double>& h, int k,
-                                const Eigen::MatrixXd& rhs, Eigen::MatrixXd* reduced) {
-  return Reduce(h, k, rhs, reduced);
 }
 
 Eigen::Matrix3d MountInformation(MountProblem& mp, int threads) {

@@ -5,7 +5,6 @@
 // it from the Gauss–Newton normal matrix JᵀJ of the problem at its current values (robust loss
 // applied), with the nuisance parameters marginalised by a Schur complement.
 
-#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -22,28 +21,10 @@ namespace wallcal::solvers {
 Eigen::MatrixXd MarginalInformation(MountProblem& problem, const std::vector<double*>& kept,
                                     int threads = 1);
 
-// As above, and the kept blocks' first-order response to `moves` moves of the measurements the
-// problem's costs read: move(j, +1) and move(j, −1) move them by one step of move j either way,
-// move(j, 0) puts them back. Per move, *reduced_moves gets the column
-//   Δg_k − H_kn H_nn⁻¹ Δg_n      (units of the gradient per step)
-// with Δg the change of the problem's gradient Jᵀr per step (central difference, the robust
-// loss applied as the solver applies it), k the kept and n the other free coordinates, H the
-// normal matrix. The kept blocks' estimate moves by −S⁻¹ times that column per step (S the
-// information returned), the other blocks re-estimated: Gauss–Newton about the solution.
-// Empty information (and no columns) on failure.
-Eigen::MatrixXd MarginalInformation(MountProblem& problem, const std::vector<double*>& kept,
-                                    int threads, int moves,
-                                    const std::function<void(int move, int sign)>& move,
-                                    Eigen::MatrixXd* reduced_moves);
-
 // The information of the first k coordinates of a symmetric normal matrix (both triangles
 // stored), the others marginalised (a Schur complement, the rest factored as a Jacobi-scaled
 // sparse LDLᵀ). Empty when the rest cannot be factored.
 Eigen::MatrixXd SchurComplement(const Eigen::SparseMatrix<double>& normal, int k);
-// The same, and rhs (rows as the normal matrix's) reduced to its first k rows the same way:
-// *reduced = rhs_k − H_kn H_nn⁻¹ rhs_n.
-Eigen::MatrixXd SchurComplement(const Eigen::SparseMatrix<double>& normal, int k,
-                                const Eigen::MatrixXd& rhs, Eigen::MatrixXd* reduced);
 
 // The mount's own information (x, y, yaw), everything else marginalised (clock offset and drift
 // included). Singular when a mount direction is not determined at all; zero on failure.

@@ -29,7 +29,7 @@
 #include "solvers/mount_problem.h"
 #include "solvers/prior_cost.h"
 #include "solvers/wall_slice_cost.h"
-#include "solvers/wall_line_cost.h"
+#include "solvers/unit_range_cost.h"
 
 namespace wallcal::solvers {
 namespace {
@@ -46,6 +46,8 @@ struct JointProblem {
   std::vector<std::unique_ptr<MountProblem>> parts;
   std::vector<std::array<double, 3>> mounts;
   std::vector<std::array<double, 2>> times;
+  // Each unit's range model [δb_m, δk] (solvers/unit_range_cost.h); used by a scanner with a σ.
+  std::vector<std::array<double, 2>> units;
   std::vector<std::array<double, 2>> walls;
   std::map<int, std::array<double, 2>> biases;     // by GNSS slice id
   std::map<int, std::array<double, 1>> headings;   // by station id
@@ -229,6 +231,20 @@ std::set<int> AddObservations(size_t s, const ScannerObservations& scanner,
         jp->headings[part.heading_station_ids[k]].data();
   }
   const double scans_per_fix = MovingScansPerGnssFix(observations);
+  // With its unit's range model estimated, every scan is a residual block of its own: the
+  // model moves each scan's line by its own gain.
+  const bool unit = scanner.range_offset_sigma_m > 0.0 || scanner.range_scale_sigma > 0.0;
+  const size_t scans_per_block = unit ? 1 : kScansPerResidualBlock;
+  const auto add = [&](ceres::CostFunction* cost, std::vector<double*> blocks, size_t i) {
+    if (unit) {
+      const WallLineMeasurement& m = part.measurements[i];
+      cost = new UnitRangeCost(std::unique_ptr<ceres::CostFunction>(cost), m.sign,
+                               observations[i].drho_drange_offset,
+                               observations[i].dtheta_drange_offset_per_m, m.rho_m);
+      blocks.push_back(jp->units[s].data());
+    }
+    jp->joint.problem.AddResidualBlock(cost, nullptr, blocks);
+  };
   std::set<int> walls_used;
   std::map<std::array<const double*, 3>, size_t> open_group;
   std::vector<std::vector<int>> groups;
@@ -241,7 +257,7 @@ std::set<int> AddObservations(size_t s, const ScannerObservations& scanner,
       const std::array<const double*, 3> key = {part.wall_block[i], part.bias_block[i],
                                                 part.heading_block[i]};
       auto found = open_group.find(key);
-      if (found == open_group.end() || groups[found->second].size() >= kScansPerResidualBlock) {
+      if (found == open_group.end() || groups[found->second].size() >= scans_per_block) {
         found = open_group.insert_or_assign(key, groups.size()).first;
         groups.emplace_back();
       }
@@ -280,16 +296,15 @@ std::set<int> AddObservations(size_t s, const ScannerObservations& scanner,
     }
     auto scan = std::make_unique<WallSliceCost>(
         part.measurements, std::vector<int>{static_cast<int>(i)}, options.huber_scale);
-    jp->joint.problem.AddResidualBlock(
-        new EpochNoiseCost(std::move(scan), fix_weights, sample_weights), nullptr, blocks);
+    add(new EpochNoiseCost(std::move(scan), fix_weights, sample_weights), blocks, i);
   }
   for (std::vector<int>& group : groups) {
     const int first = group.front();
-    jp->joint.problem.AddResidualBlock(
-        new WallSliceCost(part.measurements, std::move(group), options.huber_scale), nullptr,
-        jp->mounts[s].data(), joint_block.at(part.wall_block[first]),
-        joint_block.at(part.bias_block[first]), jp->times[s].data(),
-        joint_block.at(part.heading_block[first]), jp->drift.data());
+    std::vector<double*> blocks = {jp->mounts[s].data(), joint_block.at(part.wall_block[first]),
+                                   joint_block.at(part.bias_block[first]), jp->times[s].data(),
+                                   joint_block.at(part.heading_block[first]), jp->drift.data()};
+    add(new WallSliceCost(part.measurements, std::move(group), options.huber_scale),
+        std::move(blocks), static_cast<size_t>(first));
   }
   return walls_used;
 }
@@ -356,61 +371,22 @@ int AddTimeBlock(size_t s, const ScannerObservations& scanner, const SolverOptio
   return delay_holder;
 }
 
-// The moves of each unit's range model: per scanner with a σ, its offset (every line fit moved
-// by its range-offset gain) and its scale (every rho by rho·δk), one step each way.
-class UnitRangeMoves {
- public:
-  UnitRangeMoves(const std::vector<ScannerObservations>& scanners, JointProblem* jp) : jp_(jp) {
-    for (size_t s = 0; s < scanners.size(); ++s) {
-      const std::vector<WallLineMeasurement>& measurements = jp->parts[s]->measurements;
-      const std::vector<calib::WallObservation>& observations = *scanners[s].observations;
-      const auto add = [&](bool scale, double sigma) {
-        if (!(sigma > 0.0)) return;
-        UnitMove move;
-        move.scanner = s;
-        move.step = scale ? kScaleStep : kOffsetStepM;
-        move.variance = sigma * sigma;
-        for (size_t i = 0; i < measurements.size() && i < observations.size(); ++i) {
-          const WallLineMeasurement& m = measurements[i];
-          move.base_rho_m.push_back(m.rho_m);
-          move.base_theta_rad.push_back(m.theta_rad);
-          move.drho_m.push_back(scale ? m.rho_m * kScaleStep
-                                      : observations[i].drho_drange_offset * kOffsetStepM);
-          move.dtheta_rad.push_back(
-              scale ? 0.0 : observations[i].dtheta_drange_offset_per_m * kOffsetStepM);
-        }
-        moves_.push_back(std::move(move));
-      };
-      add(false, scanners[s].range_offset_sigma_m);
-      add(true, scanners[s].range_scale_sigma);
-    }
+// Each unit's range model: a zero-mean prior of its preset's σ on the offset and the scale; a
+// term with σ 0 held at 0 (both: the block is not in the problem).
+void AddUnitPriors(const std::vector<ScannerObservations>& scanners, JointProblem* jp) {
+  ceres::Problem& problem = jp->joint.problem;
+  for (size_t s = 0; s < scanners.size(); ++s) {
+    double* block = jp->units[s].data();
+    if (!problem.HasParameterBlock(block)) continue;
+    const bool offset = scanners[s].range_offset_sigma_m > 0.0;
+    const bool scale = scanners[s].range_scale_sigma > 0.0;
+    problem.AddResidualBlock(
+        GaussianPriorCost::Create(Eigen::Vector2d(offset ? scanners[s].range_offset_sigma_m : 1.0,
+                                                  scale ? scanners[s].range_scale_sigma : 1.0)),
+        nullptr, block);
+    if (!offset || !scale) problem.SetManifold(block, new ceres::SubsetManifold(2, {offset ? 1 : 0}));
   }
-  int count() const { return static_cast<int>(moves_.size()); }
-  double step(int j) const { return moves_[j].step; }
-  double variance(int j) const { return moves_[j].variance; }
-  // Moves scanner j's measurements one step up (+1), down (−1) or back (0).
-  void Move(int j, int sign) {
-    const UnitMove& move = moves_[j];
-    std::vector<WallLineMeasurement>& measurements = jp_->parts[move.scanner]->measurements;
-    for (size_t i = 0; i < move.base_rho_m.size(); ++i) {
-      measurements[i].rho_m = move.base_rho_m[i] + sign * move.drho_m[i];
-      measurements[i].theta_rad = move.base_theta_rad[i] + sign * move.dtheta_rad[i];
-    }
-  }
-
- private:
-  // Steps small enough to stay linear, large enough for the central difference's round-off:
-  // a millimetre, and 1e-4 of every range (0.1–1 mm at 1–10 m).
-  static constexpr double kOffsetStepM = 1e-3;
-  static constexpr double kScaleStep = 1e-4;
-  struct UnitMove {
-    size_t scanner = 0;
-    double step = 0.0, variance = 0.0;
-    std::vector<double> base_rho_m, base_theta_rad, drho_m, dtheta_rad;
-  };
-  JointProblem* jp_;
-  std::vector<UnitMove> moves_;
-};
+}
 
 }  // namespace
 
@@ -422,6 +398,7 @@ JointMountEstimate SolveJointMounts(const std::vector<ScannerObservations>& scan
   auto jp = std::make_unique<JointProblem>();
   jp->mounts.resize(n);
   jp->times.assign(n, {0.0, 0.0});
+  jp->units.assign(n, {0.0, 0.0});
   jp->walls.assign(walls.size(), {0.0, 0.0});
   // The drift's reference time: the earliest observation of any scanner (each part counts its
   // drift times from its own earliest; they are moved onto the joint reference below).
@@ -473,6 +450,7 @@ JointMountEstimate SolveJointMounts(const std::vector<ScannerObservations>& scan
   AddWallPrior(walls, walls_used, jp.get());
   AddBiasChain(options, jp.get());
   AddEpochNoisePriors(options, jp.get());
+  AddUnitPriors(scanners, jp.get());
   // Heading offsets: one prior per dwell, σ as the first scanner that saw the dwell has it.
   std::set<int> stated;
   for (const auto& part : jp->parts) {
@@ -520,24 +498,52 @@ JointMountEstimate SolveJointMounts(const std::vector<ScannerObservations>& scan
 
   std::vector<double*> kept;
   for (auto& mount : jp->mounts) kept.push_back(mount.data());
-  UnitRangeMoves units(scanners, jp.get());
-  Eigen::MatrixXd reduced;
-  const Eigen::MatrixXd information =
-      MarginalInformation(jp->joint, kept, options.num_threads, units.count(),
-                          [&units](int j, int sign) { units.Move(j, sign); }, &reduced);
+  const Eigen::MatrixXd information = MarginalInformation(jp->joint, kept, options.num_threads);
   Eigen::MatrixXd covariance;
   if (information.rows() != static_cast<int>(3 * n) || !CovarianceOfKept(information, &covariance)) {
     estimate.message = "the joint covariance of the mounts could not be computed (a mount "
                        "direction the data do not determine)";
     return estimate;
   }
+  estimate.covariance = covariance;
+  // The units' share: the covariance with their models held where the adjustment put them
+  // (the data's alone) taken from the one that estimates them.
   estimate.range_model_covariance = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  for (int j = 0; j < units.count(); ++j) {
-    // The mounts' change per unit of the error (m or rad per m of offset, per unit of scale).
-    const Eigen::VectorXd response = -(covariance * reduced.col(j)) / units.step(j);
-    estimate.range_model_covariance += units.variance(j) * response * response.transpose();
+  std::vector<double*> units;
+  for (auto& unit : jp->units) {
+    if (problem.HasParameterBlock(unit.data())) units.push_back(unit.data());
   }
-  estimate.covariance = covariance + estimate.range_model_covariance;
+  if (!units.empty()) {
+    for (double* unit : units) problem.SetParameterBlockConstant(unit);
+    const Eigen::MatrixXd held = MarginalInformation(jp->joint, kept, options.num_threads);
+    for (double* unit : units) problem.SetParameterBlockVariable(unit);
+    Eigen::MatrixXd data;
+    if (held.rows() == static_cast<int>(3 * n) && CovarianceOfKept(held, &data)) {
+      estimate.range_model_covariance = covariance - data;
+    }
+  }
+  estimate.unit_ranges.assign(n, JointMountEstimate::UnitRange());
+  for (size_t s = 0; s < n; ++s) {
+    double* unit = jp->units[s].data();
+    if (!problem.HasParameterBlock(unit)) continue;
+    JointMountEstimate::UnitRange& range = estimate.unit_ranges[s];
+    range.estimated = true;
+    range.offset_m = jp->units[s][0];
+    range.scale = jp->units[s][1];
+    // Its own covariance, everything else marginalised (a held term has no column).
+    Eigen::MatrixXd unit_covariance;
+    if (!CovarianceOfKept(MarginalInformation(jp->joint, {unit}, options.num_threads),
+                          &unit_covariance)) {
+      continue;
+    }
+    const bool offset = scanners[s].range_offset_sigma_m > 0.0;
+    const bool scale = scanners[s].range_scale_sigma > 0.0;
+    if (offset) range.sigma_offset_m = std::sqrt(unit_covariance(0, 0));
+    const int scale_row = offset ? 1 : 0;
+    if (scale && scale_row < unit_covariance.rows()) {
+      range.sigma_scale = std::sqrt(unit_covariance(scale_row, scale_row));
+    }
+  }
   for (size_t s = 0; s < n; ++s) {
     Mount mount;
     mount.x_m = jp->mounts[s][0];

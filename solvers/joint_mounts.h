@@ -9,11 +9,11 @@
 // and cancel in the relative transform between two scanners (RelativeMount).
 //
 // What the scanners do not share is each unit's range model: an offset δb on every range of a
-// unit and a relative scale error δk (io::ScannerPreset range_model_sigma), which the
-// adjustment takes as known. They are carried in the covariance, not estimated: the mounts'
-// first-order response to each (the problem re-linearised with that unit's line fits moved by
-// calib::WallObservation's range-offset gains, or by rho·δk) times its σ, added to the data's
-// covariance. The estimate does not change; its σ covers what a unit's model may be off.
+// unit and a relative scale error δk off its preset's correction (io::ScannerPreset
+// range_model_sigma). A scanner whose preset gives them a σ has them as a parameter block with
+// a zero-mean prior of that σ (solvers/unit_range_cost.h): the data tell the units apart as far
+// as they can (the relative transform of two units is then known to the extent their offsets
+// are), and the covariance carries what they cannot.
 
 #include <memory>
 #include <string>
@@ -35,7 +35,7 @@ struct ScannerObservations {
   Mount initial;                                 // its own estimate
   std::shared_ptr<const WarmStart> warm;         // its own solution state (may be null)
   // How far this unit's range model may be off the one its ranges were corrected with (1σ):
-  // relative scale and offset (m). 0: taken as exact.
+  // relative scale and offset (m), the prior of its estimate. 0: taken as exact.
   double range_scale_sigma = 0.0;
   double range_offset_sigma_m = 0.0;
 };
@@ -47,9 +47,18 @@ struct JointMountEstimate {
   // The joint covariance of [x_0, y_0, yaw_0, x_1, y_1, yaw_1, ...] (m, rad), every nuisance
   // parameter (time blocks included) marginalised, the units' range models included.
   Eigen::MatrixXd covariance;
-  // The units' range models' share of `covariance` (same order; zero when every σ is 0): the
-  // data's alone is covariance − range_model_covariance.
+  // The units' range models' share of `covariance` (same order; zero when every σ is 0):
+  // covariance − range_model_covariance is the covariance with each unit's model held at its
+  // estimate.
   Eigen::MatrixXd range_model_covariance;
+  // Per scanner: its unit's range offset (m) and relative scale error as estimated, and their
+  // σ (0 and 0 when its preset gives them no σ).
+  struct UnitRange {
+    bool estimated = false;
+    double offset_m = 0.0, scale = 0.0;
+    double sigma_offset_m = 0.0, sigma_scale = 0.0;
+  };
+  std::vector<UnitRange> unit_ranges;
   // Per scanner: the clock offset (s, total: what its poses carry plus what the joint time
   // block adds) and whether the joint problem estimated it.
   std::vector<double> time_offset_s;
