@@ -86,6 +86,14 @@ std::string FormatSeveralOffsetsYaml(const pipeline::SeveralScannersResult& seve
     out += "    child_frame: " + YamlText(run.spec.frame) + "\n";
     out += MountKeys("    ", joint.mount, joint.covariance);
     out += BudgetKeys("    ", joint.covariance, joint.range_model_covariance);
+    if (joint.unit_range.estimated) {
+      const solvers::JointMountEstimate::UnitRange& u = joint.unit_range;
+      out += "    range_model: {offset_m: " + YamlNumber("%.5f", u.offset_m) +
+             ", offset_sigma_m: " + YamlNumber("%.5f", u.sigma_offset_m) +
+             ", scale: " + YamlNumber("%.6f", u.scale) +
+             ", scale_sigma: " + YamlNumber("%.6f", u.sigma_scale) +
+             "}  # this unit's ranges off its preset's correction, as estimated\n";
+    }
     out += "    time_offset_s: " + YamlNumber("%.4f", joint.time_offset_s) + "\n";
     // Its σ and status as the one-scanner offsets.yaml has them: its own run's (the joint
     // covariance holds the mounts only).
@@ -238,6 +246,12 @@ std::string FormatSeveralSummary(const pipeline::SeveralScannersResult& several)
            Format(", %d observations, %lld scans used", own.solve.estimate.observations_used,
                   static_cast<long long>(own.finish.coverage.scans_used)) +
            "\n";
+    if (run.joint && run.joint->unit_range.estimated) {
+      const solvers::JointMountEstimate::UnitRange& u = run.joint->unit_range;
+      out += Format("    its ranges: offset %+.1f ± %.1f mm, scale %+.5f ± %.5f off its preset's "
+                    "correction\n",
+                    u.offset_m * 1e3, u.sigma_offset_m * 1e3, u.scale, u.sigma_scale);
+    }
     reasons(decision);
     if (change) out += "    change " + ChangeText(*change) + "\n";
   }

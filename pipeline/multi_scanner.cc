@@ -168,6 +168,7 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
     joint.mount = several.joint.mounts[k];
     joint.covariance = several.joint.covariance.block<3, 3>(3 * k, 3 * k);
     joint.range_model_covariance = several.joint.range_model_covariance.block<3, 3>(3 * k, 3 * k);
+    joint.unit_range = several.joint.unit_ranges[k];
     joint.time_offset_s = several.joint.time_offset_s[k];
     // Its page shows the joint numbers: its panels and site map are drawn with them too.
     joint.report = ReportAround(run.own, joint.mount, "joint estimate of all scanners");

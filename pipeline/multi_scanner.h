@@ -36,6 +36,8 @@ struct JointScannerResult {
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // x, y, yaw (m, m, rad)
   // The units' range models' share of it (solvers::JointMountEstimate::range_model_covariance).
   Eigen::Matrix3d range_model_covariance = Eigen::Matrix3d::Zero();
+  // Its unit's range offset and scale as the joint adjustment estimated them.
+  solvers::JointMountEstimate::UnitRange unit_range;
   // The clock offset (s): what its own run's poses carry plus what the joint time block adds.
   double time_offset_s = 0.0;
   std::optional<Change> change;  // since the --compare file's entry of this scanner

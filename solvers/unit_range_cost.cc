@@ -28,8 +28,8 @@ bool UnitRangeCost::Evaluate(double const* const* parameters, double* residuals,
   const double g_rho_m = drho_db_ * unit[0] + rho_m_ * unit[1];
   const double g_theta_rad = dtheta_db_ * unit[0];
   const double mount[3] = {parameters[kMount][0], parameters[kMount][1],
-                           parameters[kMount][2] + g_theta_rad};
-  const double wall[2] = {parameters[kWall][0] - sign_ * g_rho_m, parameters[kWall][1]};
+                           parameters[kMount][2] - g_theta_rad};
+  const double wall[2] = {parameters[kWall][0] + sign_ * g_rho_m, parameters[kWall][1]};
   std::vector<const double*> inner(parameters, parameters + blocks);
   inner[kMount] = mount;
   inner[kWall] = wall;
@@ -56,8 +56,8 @@ bool UnitRangeCost::Evaluate(double const* const* parameters, double* residuals,
   for (int r = 0; r < rows; ++r) {
     const double d_yaw = d_mount[3 * r + 2];
     const double d_shift = d_wall[2 * r + 0];
-    unit_jacobian[2 * r + 0] = d_yaw * dtheta_db_ - d_shift * sign_ * drho_db_;
-    unit_jacobian[2 * r + 1] = -d_shift * sign_ * rho_m_;
+    unit_jacobian[2 * r + 0] = d_shift * sign_ * drho_db_ - d_yaw * dtheta_db_;
+    unit_jacobian[2 * r + 1] = d_shift * sign_ * rho_m_;
   }
   return true;
 }

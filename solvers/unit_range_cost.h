@@ -7,11 +7,11 @@
 //   rho:   G_ρ = drho_db·δb + rho·δk      (m; drho_db from calib::WallObservation)
 //   theta: G_θ = dtheta_db·δb             (rad; a scale error does not turn the line)
 // so the measured line is the true one plus (G_ρ, G_θ). Wraps the cost of that one scan
-// (a WallSliceCost of one scan, or an EpochNoiseCost around one) and evaluates it with the
-// measurement moved by that much, through the two blocks it enters linearly and alone
+// (a WallSliceCost of one scan, or an EpochNoiseCost around one) and evaluates it with its
+// prediction moved by that much, through the two blocks the prediction meets linearly and alone
 // (wall_line_cost.h): the wall's shift δd (rho_pred gains sign·δd, and nothing else does) and
 // the mount's yaw (theta_pred loses yaw, and rho_pred does not depend on it):
-//   δd' = δd − sign·G_ρ,   yaw' = yaw + G_θ.
+//   δd' = δd + sign·G_ρ,   yaw' = yaw − G_θ.
 // The residuals, their loss and units are the wrapped cost's; the Jacobian of u follows from
 // the wrapped cost's Jacobians of δd and yaw by the chain rule.
 //
