@@ -490,7 +490,8 @@ CrbResult ComputeJointCrb(const std::vector<sim::SimulationConfig>& scanner_conf
     for (int a = 0; a < n; ++a) r.segment<2>(2 * a) = rows[a].residual;
     // r ≈ J δm + ε, J = ∂(rho, theta)/∂m as above (the delays' priors are centred on the
     // truth, so they add nothing to the right-hand side).
-    result.oracle_error = (bound * (J.transpose() * llt.solve(r))).head<3>();  // scanner 0
+    result.oracle_joint_error = (bound * (J.transpose() * llt.solve(r))).head(m);
+    result.oracle_error = result.oracle_joint_error.head<3>();  // scanner 0
     result.has_oracle = true;
   }
   return result;

@@ -88,6 +88,7 @@ struct CrbResult {
   // match the bound if C describes the simulation: a check of the bound itself.
   bool has_oracle = false;
   Eigen::Vector3d oracle_error = Eigen::Vector3d::Zero();
+  Eigen::VectorXd oracle_joint_error;  // every scanner's, [x_0, y_0, yaw_0, x_1, ...]
   // When the scanner offset and the heading delay are both unknowns: the bound (1σ, s) on the
   // timing calibrate reports, relative to the GNSS epochs: the position's time shift (calibrate's
   // scanner clock offset dt = offset − GNSS delay), the heading's delay after the positions

@@ -215,6 +215,7 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
   std::vector<AxisStats> mount_stats(3 * scanners);
   AxisStats relative_stats[3];
   AxisStats oracle_stats[3];
+  AxisStats oracle_relative_stats[3];
   int failures = 0;
   double seconds = 0.0;
   const fs::path root = fs::temp_directory_path() /
@@ -250,6 +251,19 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
                           delays, args.max_all_obs);
       if (at_truth.has_oracle) {
         for (int axis = 0; axis < 3; ++axis) oracle_stats[axis].Add(at_truth.oracle_error[axis], 1.0);
+        // The relative transform of the oracle's two mounts.
+        const Eigen::VectorXd& e = at_truth.oracle_joint_error;
+        const auto moved = [&e](const solvers::Mount& m, int k) {
+          return solvers::Mount{m.x_m + e[3 * k], m.y_m + e[3 * k + 1], m.yaw_rad + e[3 * k + 2]};
+        };
+        const solvers::Mount oracle_relative =
+            solvers::RelativeMountOf(moved(truth[0], 0), moved(truth[1], 1),
+                                     Eigen::Matrix<double, 6, 6>::Zero())
+                .from_T_to;
+        for (int axis = 0; axis < 3; ++axis) {
+          oracle_relative_stats[axis].Add(
+              Axis(oracle_relative, axis) - Axis(relative_truth.from_T_to, axis), 1.0);
+        }
       }
     }
     for (size_t k = 0; k < scanners; ++k) {
@@ -341,6 +355,15 @@ void RunScenario(const Scenario& scenario, const Args& args, std::FILE* csv) {
                 oracle_stats[0].Rms() / std::sqrt(crb.joint_crb(0, 0)),
                 oracle_stats[1].Rms() / std::sqrt(crb.joint_crb(1, 1)),
                 oracle_stats[2].Rms() / std::sqrt(crb.joint_crb(2, 2)));
+  }
+  if (oracle_relative_stats[0].n > 0) {
+    std::printf("relative transform's oracle: RMS x %.3f mm, y %.3f mm, yaw %.3f mdeg; calibrate "
+                "RMS / oracle RMS: x %.2f, y %.2f, yaw %.2f\n",
+                Show(0, oracle_relative_stats[0].Rms()), Show(1, oracle_relative_stats[1].Rms()),
+                1000.0 * Show(2, oracle_relative_stats[2].Rms()),
+                relative_stats[0].Rms() / oracle_relative_stats[0].Rms(),
+                relative_stats[1].Rms() / oracle_relative_stats[1].Rms(),
+                relative_stats[2].Rms() / oracle_relative_stats[2].Rms());
   }
   std::printf("\nmean run time (both scanners and the joint adjustment): %.2f s\n",
               runs ? seconds / runs : 0.0);
