@@ -79,6 +79,9 @@ TEST(CharacteriseTest, RecoversAnLms291LikeScannerInCmMode) {
   EXPECT_EQ(r.preset.name, "sick_lms291_measured");
   EXPECT_DOUBLE_EQ(r.preset.range_scale_k, r.model.k.value);
   EXPECT_DOUBLE_EQ(r.preset.range_resolution_m, 0.01);
+  // ... and how well it knows this unit, in place of the family's spread (10 mm, 5e-4).
+  EXPECT_DOUBLE_EQ(r.preset.range_scale_sigma, r.model.k.sigma / r.model.k.value);
+  EXPECT_DOUBLE_EQ(r.preset.range_offset_sigma_m, r.model.b_m.sigma);
   testing_support::ExpectContains(r.preset.source, {"measured", "characterise-lms291"});
   EXPECT_NE(Summary(r).find("k = "), std::string::npos);
   EXPECT_NE(Summary(r).find("the correction k*z + b is known to"), std::string::npos);
@@ -300,6 +303,11 @@ TEST(CharacteriseProgramTest, ExitCodes) {
   const io::ScannerPreset preset = io::ReadScannerPreset(out);
   EXPECT_EQ(preset.name, "preset");
   EXPECT_NEAR(preset.range_scale_k, 1.0 / 0.9899, 0.01);
+  // The written preset carries the unit's σ (the URG family's is 10 mm and 0.005).
+  EXPECT_GT(preset.range_offset_sigma_m, 0.0);
+  EXPECT_LT(preset.range_offset_sigma_m, 0.005);
+  EXPECT_GT(preset.range_scale_sigma, 0.0);
+  EXPECT_LT(preset.range_scale_sigma, 0.005);
   EXPECT_TRUE(fs::exists(dir / "plots" / "range_error_vs_range.svg"));
   // Never over an input.
   EXPECT_EQ(RunProgram(program + " " + request.session_path + " --config " + request.config_path +

@@ -318,6 +318,8 @@ TEST(SessionReaderTest, LoadsTheShippedScannerPresets) {
   EXPECT_DOUBLE_EQ(lms291.range_resolution_m, 0.01);
   EXPECT_DOUBLE_EQ(lms291.range_sigma_m, 0.010);
   EXPECT_TRUE(lms291.max_range_is_no_return);
+  EXPECT_DOUBLE_EQ(lms291.range_scale_sigma, 0.0005);
+  EXPECT_DOUBLE_EQ(lms291.range_offset_sigma_m, 0.010);
 
   const ScannerPreset lms200 = LoadScannerPreset("sick_lms200", kPresetDirs);
   EXPECT_EQ(lms200.num_beams, 181);
@@ -360,6 +362,27 @@ TEST(SessionReaderTest, FirstSearchDirWins) {
             "num_beams: 361\nstart_angle_deg: -90\nangular_step_deg: 0.5\nmax_range_m: 30\n"
             "range_correction: {k: 1.0, b: 0.0}\n");
   EXPECT_THROW(ReadScannerPreset(dir + "/bad.yaml"), InputError);  // b_m, not b
+
+  // A unit's range model σ: absent, the model is taken as exact; out of range, refused by key.
+  EXPECT_DOUBLE_EQ(preset.range_scale_sigma, 0.0);
+  EXPECT_DOUBLE_EQ(preset.range_offset_sigma_m, 0.0);
+  const std::string geometry =
+      "num_beams: 361\nstart_angle_deg: -90\nangular_step_deg: 0.5\nmax_range_m: 30\n";
+  WriteFile(dir + "/unit.yaml", geometry + "range_model_sigma: {k: 0.0002, b_m: 0.003}\n");
+  const ScannerPreset unit = ReadScannerPreset(dir + "/unit.yaml");
+  EXPECT_DOUBLE_EQ(unit.range_scale_sigma, 0.0002);
+  EXPECT_DOUBLE_EQ(unit.range_offset_sigma_m, 0.003);
+  for (const char* bad : {"range_model_sigma: {k: -0.001, b_m: 0.003}\n",
+                          "range_model_sigma: {k: 0.001, b_m: 2.0}\n",
+                          "range_model_sigma: {k: 0.001, b: 0.003}\n"}) {
+    WriteFile(dir + "/bad_unit.yaml", geometry + bad);
+    try {
+      ReadScannerPreset(dir + "/bad_unit.yaml");
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("range_model_sigma"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace
