@@ -89,12 +89,13 @@ inline fs::path SessionAs(const std::string& format, const std::string& name = "
   return Simulate(format, name.empty() ? format : name);
 }
 
-// The session's units characterised: each scanner names a preset of its own in the session's
-// scanners/ folder, the family's with the σ a characterised unit has (0.5 mm, 2e-5).
-inline void CharacteriseUnits(const fs::path& dir) {
+// Each scanner of the session at `dir` names a preset of its own in the session's scanners/
+// folder: the family's, with its unit's range model known to offset_sigma_m and scale_sigma
+// (0 and 0: taken as exact).
+inline void OwnUnitPresets(const fs::path& dir, double offset_sigma_m, double scale_sigma) {
   io::ScannerPreset preset = testing_support::ShippedPreset("sick_lms291");
-  preset.range_offset_sigma_m = 0.0005;
-  preset.range_scale_sigma = 2e-5;
+  preset.range_offset_sigma_m = offset_sigma_m;
+  preset.range_scale_sigma = scale_sigma;
   fs::create_directories(dir / "scanners");
   std::string session = ReadText(dir / "session.yaml");
   for (const std::string id : {"front_left", "front_right"}) {
@@ -108,6 +109,9 @@ inline void CharacteriseUnits(const fs::path& dir) {
   }
   std::ofstream(dir / "session.yaml", std::ios::trunc) << session;
 }
+
+// The session's units characterised: the σ a characterised unit has (0.5 mm, 2e-5).
+inline void CharacteriseUnits(const fs::path& dir) { OwnUnitPresets(dir, 0.0005, 2e-5); }
 
 inline pipeline::SeveralScannersResult Calibrate(const fs::path& dir, bool allow_partial = false,
                                           bool collect_report_data = false) {
