@@ -429,7 +429,10 @@ CrbResult ComputeJointCrb(const std::vector<sim::SimulationConfig>& scanner_conf
   }
   // The units' terms as an estimator that ignores them meets them: the bound without them plus
   // the linear response S = F⁻¹ Jᵀ C⁻¹ A to each unit's offset and scale (A: the gains).
-  if (units_cov.size() > 0) {
+  // Not for an oracle's call (rows with residuals): it reads joint_crb only.
+  const bool oracle_call =
+      std::all_of(rows.begin(), rows.end(), [](const Row& r) { return r.has_residual; });
+  if (units_cov.size() > 0 && !oracle_call) {
     const Eigen::LLT<Eigen::MatrixXd> llt0(C);
     if (llt0.info() == Eigen::Success) {
       Eigen::MatrixXd fisher0 = J.transpose() * llt0.solve(J);
@@ -451,8 +454,8 @@ CrbResult ComputeJointCrb(const std::vector<sim::SimulationConfig>& scanner_conf
             (bound0 + S * variance.asDiagonal() * S.transpose()).topLeftCorner(m, m);
       }
     }
-    C += units_cov;
   }
+  if (units_cov.size() > 0) C += units_cov;
   const Eigen::LLT<Eigen::MatrixXd> llt(C);
   if (llt.info() != Eigen::Success) {
     result.message = "the observation covariance is not positive definite";

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "solvers/unit_range_cost.h"
 
+#include <algorithm>
+#include <array>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -9,6 +12,8 @@ namespace {
 
 constexpr int kMount = 0;  // the wrapped cost's mount block [x, y, yaw]
 constexpr int kWall = 1;   // and its wall block [δd, δα]
+// The wrapped cost's blocks at most (an EpochNoiseCost has 14).
+constexpr size_t kMaxBlocks = 16;
 
 }  // namespace
 
@@ -19,6 +24,9 @@ UnitRangeCost::UnitRangeCost(std::unique_ptr<ceres::CostFunction> scan, double s
   std::vector<int32_t>* sizes = mutable_parameter_block_sizes();
   *sizes = scan_->parameter_block_sizes();
   sizes->push_back(2);
+  if (scan_->parameter_block_sizes().size() > kMaxBlocks) {
+    throw std::logic_error("UnitRangeCost: the wrapped cost has more blocks than it holds");
+  }
 }
 
 bool UnitRangeCost::Evaluate(double const* const* parameters, double* residuals,
@@ -30,7 +38,9 @@ bool UnitRangeCost::Evaluate(double const* const* parameters, double* residuals,
   const double mount[3] = {parameters[kMount][0], parameters[kMount][1],
                            parameters[kMount][2] - g_theta_rad};
   const double wall[2] = {parameters[kWall][0] + sign_ * g_rho_m, parameters[kWall][1]};
-  std::vector<const double*> inner(parameters, parameters + blocks);
+  // Evaluated for every scan at every iteration: no allocation but the rare scratch below.
+  std::array<const double*, kMaxBlocks> inner{};
+  std::copy(parameters, parameters + blocks, inner.begin());
   inner[kMount] = mount;
   inner[kWall] = wall;
   if (jacobians == nullptr) return scan_->Evaluate(inner.data(), residuals, nullptr);
@@ -38,9 +48,10 @@ bool UnitRangeCost::Evaluate(double const* const* parameters, double* residuals,
   const int rows = num_residuals();
   double* unit_jacobian = jacobians[blocks];
   // The mount's and wall's Jacobians are needed for u's as well: the caller's when it asks
-  // for them, else scratch.
+  // for them (the solver does whenever both are free), else scratch.
   std::vector<double> mount_scratch, wall_scratch;
-  std::vector<double*> inner_jacobians(jacobians, jacobians + blocks);
+  std::array<double*, kMaxBlocks> inner_jacobians{};
+  std::copy(jacobians, jacobians + blocks, inner_jacobians.begin());
   if (unit_jacobian != nullptr && inner_jacobians[kMount] == nullptr) {
     mount_scratch.resize(static_cast<size_t>(rows) * 3);
     inner_jacobians[kMount] = mount_scratch.data();
