@@ -124,8 +124,8 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
   // With the units' models estimated, the aligned poses let the joint problem take each GNSS
   // fix's white noise as one for both units' lines of an instant, and the units' weakly
   // determined scales follow it: the URG-04LX benchmark's relative transform is 1.40, 1.45 × its
-  // σ aligned and 0.79, 0.89 × at the stamps, where the mounts stay at their bound
-  // (docs/several-scanners.md).
+  // σ aligned and 0.89, 0.94 × at the stamps, where the mounts' σ is 2–4 % below their bound
+  // instead (docs/several-scanners.md).
   bool align = true;
   for (const ScannerRun& run : several.scanners) {
     const io::ScannerPreset& preset = run.own.loaded.preset;
