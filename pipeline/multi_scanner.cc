@@ -120,19 +120,6 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
     several.scanners.push_back(std::move(run));
   }
 
-  // The poses move to each run's own clock offset only when no unit's range model is estimated.
-  // With the units' models estimated, the aligned poses let the joint problem take each GNSS
-  // fix's white noise as one for both units' lines of an instant, and the units' weakly
-  // determined scales follow it: the URG-04LX benchmark's relative transform is 1.40, 1.45 × its
-  // σ aligned and 0.89, 0.94 × at the stamps, where the mounts' σ is 2–4 % below their bound
-  // instead (docs/several-scanners.md).
-  bool align = true;
-  for (const ScannerRun& run : several.scanners) {
-    const io::ScannerPreset& preset = run.own.loaded.preset;
-    if (!run.refused() && (preset.range_scale_sigma > 0.0 || preset.range_offset_sigma_m > 0.0)) {
-      align = false;
-    }
-  }
   std::vector<solvers::ScannerObservations> parts;
   std::vector<size_t> in_joint;  // the scanners of the parts, in order
   // The re-interpolated observations the parts point at (one slot per scanner: never resized).
@@ -147,7 +134,7 @@ SeveralScannersResult RunSeveralScanners(const CalibrateRequest& request, bool a
     part.warm = run.own.solve.estimate.solution_state;
     part.range_scale_sigma = run.own.loaded.preset.range_scale_sigma;
     part.range_offset_sigma_m = run.own.loaded.preset.range_offset_sigma_m;
-    if (align) AtOwnScanTime(run.own, &part, &at_scan_time[s]);
+    AtOwnScanTime(run.own, &part, &at_scan_time[s]);
     InJointSlices(run.own, &part, &at_scan_time[s]);
     parts.push_back(part);
     in_joint.push_back(s);

@@ -30,6 +30,7 @@
 #include "solvers/prior_cost.h"
 #include "solvers/wall_slice_cost.h"
 #include "solvers/unit_range_cost.h"
+#include "solvers/unit_scale_reference.h"
 
 namespace wallcal::solvers {
 namespace {
@@ -38,6 +39,10 @@ namespace {
 // block holds at most this many scans.
 constexpr double kMaxSegmentCorrelation = 0.99999;
 constexpr size_t kScansPerResidualBlock = 32;
+// A moving scan's reference rho for its unit's scale averages the scans within this of its
+// stamp (solvers/unit_scale_reference.h): the RTK error wanders σ_b √(2Δ/τ) over it, 1.9 mm at
+// σ_b 15 mm and τ 60 s, which a δk of 0.005 turns into 0.01 mm.
+constexpr double kScaleReferenceWindowS = 0.5;
 
 // Everything the joint problem points into. Destroyed in reverse order: the joint problem
 // (which owns only the costs it made) first, the scanners' own problems (whose measurement
@@ -235,12 +240,15 @@ std::set<int> AddObservations(size_t s, const ScannerObservations& scanner,
   // model moves each scan's line by its own gain.
   const bool unit = scanner.range_offset_sigma_m > 0.0 || scanner.range_scale_sigma > 0.0;
   const size_t scans_per_block = unit ? 1 : kScansPerResidualBlock;
+  const std::vector<double> scale_rho =
+      unit ? UnitScaleReferences(observations, part.measurements, scanner.initial,
+                                 kScaleReferenceWindowS)
+           : std::vector<double>();
   const auto add = [&](ceres::CostFunction* cost, std::vector<double*> blocks, size_t i) {
     if (unit) {
-      const WallLineMeasurement& m = part.measurements[i];
-      cost = new UnitRangeCost(std::unique_ptr<ceres::CostFunction>(cost), m.sign,
-                               observations[i].drho_drange_offset,
-                               observations[i].dtheta_drange_offset_per_m, m.rho_m);
+      cost = new UnitRangeCost(std::unique_ptr<ceres::CostFunction>(cost),
+                               part.measurements[i].sign, observations[i].drho_drange_offset,
+                               observations[i].dtheta_drange_offset_per_m, scale_rho[i]);
       blocks.push_back(jp->units[s].data());
     }
     jp->joint.problem.AddResidualBlock(cost, nullptr, blocks);

@@ -4,7 +4,8 @@
 // joint adjustment (solvers/joint_mounts.cc): u = [δb_m, δk], the unit's range offset (m) and
 // relative scale error off the preset's correction. Its ranges then read δb + δk·r too, which
 // moves the scan's line fit by
-//   rho:   G_ρ = drho_db·δb + rho·δk      (m; drho_db from calib::WallObservation)
+//   rho:   G_ρ = drho_db·δb + rho·δk      (m; drho_db from calib::WallObservation, rho the
+//                                          scan's reference, solvers/unit_scale_reference.h)
 //   theta: G_θ = dtheta_db·δb             (rad; a scale error does not turn the line)
 // so the measured line is the true one plus (G_ρ, G_θ). Wraps the cost of that one scan
 // (a WallSliceCost of one scan, or an EpochNoiseCost around one) and evaluates it with its
@@ -26,7 +27,8 @@ namespace wallcal::solvers {
 class UnitRangeCost : public ceres::CostFunction {
  public:
   // sign: the observation's side of the wall (WallLineMeasurement::sign, ±1); drho_db (m/m),
-  // dtheta_db (rad/m): the line fit's range-offset gain; rho_m: the observed rho.
+  // dtheta_db (rad/m): the line fit's range-offset gain; rho_m: the rho the scale error
+  // multiplies (UnitScaleReferences: not the scan's measured one).
   UnitRangeCost(std::unique_ptr<ceres::CostFunction> scan, double sign, double drho_db,
                 double dtheta_db, double rho_m);
 
