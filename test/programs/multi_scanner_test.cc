@@ -25,7 +25,6 @@
 
 #include "calib/detection_pass.h"
 #include "common/angles.h"
-#include "io/config/config_writer.h"
 #include "io/config/session_reader.h"
 #include "pipeline/multi_scanner.h"
 #include "preflight/inspect.h"
@@ -34,7 +33,6 @@
 #include "test/support/program_runner.h"
 #include "test/support/scratch_dir.h"
 #include "test/programs/multi_scanner_session.h"
-#include "test/support/shipped_presets.h"
 
 namespace wallcal {
 namespace {
