@@ -241,7 +241,7 @@ std::set<int> AddObservations(size_t s, const ScannerObservations& scanner,
   const bool unit = scanner.range_offset_sigma_m > 0.0 || scanner.range_scale_sigma > 0.0;
   const size_t scans_per_block = unit ? 1 : kScansPerResidualBlock;
   const std::vector<double> scale_rho =
-      unit ? UnitScaleReferences(observations, part.measurements, scanner.initial,
+      unit ? UnitScaleReferences(observations, part.measurements, walls, scanner.initial,
                                  kScaleReferenceWindowS)
            : std::vector<double>();
   const auto add = [&](ceres::CostFunction* cost, std::vector<double*> blocks, size_t i) {

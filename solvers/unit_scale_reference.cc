@@ -2,42 +2,26 @@
 #include "solvers/unit_scale_reference.h"
 
 #include <algorithm>
-#include <cmath>
 #include <map>
 #include <utility>
 
+#include "calib/wall_geometry.h"
 #include "solvers/mount_problem.h"
 
 namespace wallcal::solvers {
-namespace {
-
-// A group's sum without one member: the mean of the others, or the member's own value alone.
-double MeanOfOthers(double sum, int count, double own, double fallback) {
-  return count > 1 ? (sum - own) / (count - 1) : fallback;
-}
-
-}  // namespace
-
-double PredictedRho(const WallLineMeasurement& measurement, const calib::Mount& mount) {
-  const Eigen::Vector2d normal = measurement.sign * measurement.wall_normal_local;
-  const double c = std::cos(measurement.vehicle_yaw_rad);
-  const double s = std::sin(measurement.vehicle_yaw_rad);
-  const Eigen::Vector2d scanner =
-      measurement.antenna_local_m +
-      Eigen::Vector2d(c * mount.x_m - s * mount.y_m, s * mount.x_m + c * mount.y_m);
-  return normal.dot(measurement.wall_centre_local_m - scanner);
-}
 
 std::vector<double> UnitScaleReferences(const std::vector<calib::WallObservation>& observations,
                                         const std::vector<WallLineMeasurement>& measurements,
+                                        const std::vector<calib::WallGeometry>& walls,
                                         const calib::Mount& mount, double window_s) {
   const size_t n = std::min(observations.size(), measurements.size());
   std::vector<double> reference(n);
+  // Each scan's reference is the mean of the others in its group; alone, its own measured rho.
   // Standing: one group per (dwell, wall).
   std::map<std::pair<int, int>, std::pair<double, int>> dwells;  // sum of rho (m), count
   // Moving: per wall, the scans in time order with measured − predicted rho (m).
   std::map<int, std::vector<std::pair<double, size_t>>> moving;  // (stamp s, index)
-  std::vector<double> difference(n, 0.0);
+  std::vector<double> predicted(n, 0.0), difference(n, 0.0);
   for (size_t i = 0; i < n; ++i) {
     const calib::WallObservation& o = observations[i];
     reference[i] = measurements[i].rho_m;
@@ -46,16 +30,18 @@ std::vector<double> UnitScaleReferences(const std::vector<calib::WallObservation
       group.first += measurements[i].rho_m;
       group.second += 1;
     } else {
-      difference[i] = measurements[i].rho_m - PredictedRho(measurements[i], mount);
+      predicted[i] = calib::PredictRho(o, walls.at(o.wall_index), mount);
+      difference[i] = measurements[i].rho_m - predicted[i];
       moving[o.wall_index].emplace_back(o.pose.stamp_s, i);
     }
   }
   for (size_t i = 0; i < n; ++i) {
     const calib::WallObservation& o = observations[i];
     if (!UsesDwellHeading(o)) continue;
-    const auto& group = dwells.at({o.pose.segment, o.wall_index});
-    reference[i] =
-        MeanOfOthers(group.first, group.second, measurements[i].rho_m, measurements[i].rho_m);
+    const std::pair<double, int>& group = dwells.at({o.pose.segment, o.wall_index});
+    if (group.second > 1) {
+      reference[i] = (group.first - measurements[i].rho_m) / (group.second - 1);
+    }
   }
   // A window sliding over each wall's moving scans: [first, last) holds those within window_s.
   for (auto& [wall, scans] : moving) {
@@ -74,8 +60,7 @@ std::vector<double> UnitScaleReferences(const std::vector<calib::WallObservation
       }
       const int count = static_cast<int>(last - first);
       if (count > 1) {
-        reference[i] =
-            PredictedRho(measurements[i], mount) + MeanOfOthers(sum, count, difference[i], 0.0);
+        reference[i] = predicted[i] + (sum - difference[i]) / (count - 1);
       }
     }
   }

@@ -25,13 +25,11 @@
 
 namespace wallcal::solvers {
 
-// The line's rho (m) predicted from the measurement's pose and surveyed wall with the mount's
-// x and y (every adjusted delta at zero).
-double PredictedRho(const WallLineMeasurement& measurement, const calib::Mount& mount);
-
-// One reference rho (m) per observation; observations[i] and measurements[i] are the same scan.
+// One reference rho (m) per observation; observations[i] and measurements[i] are the same scan,
+// `walls` the session's (a moving scan's prediction is calib::PredictRho with `mount`).
 std::vector<double> UnitScaleReferences(const std::vector<calib::WallObservation>& observations,
                                         const std::vector<WallLineMeasurement>& measurements,
+                                        const std::vector<calib::WallGeometry>& walls,
                                         const calib::Mount& mount, double window_s);
 
 }  // namespace wallcal::solvers
