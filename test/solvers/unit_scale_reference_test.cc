@@ -11,19 +11,10 @@
 
 #include "calib/wall_geometry.h"
 #include "common/angles.h"
+#include "test/support/synthetic_fixtures.h"
 
 namespace wallcal::solvers {
 namespace {
-
-// A wall along the local x axis at y = 10 m, seen from below (its normal +y).
-calib::WallGeometry Wall() {
-  calib::WallGeometry wall;
-  wall.normal_local = Eigen::Vector2d(0.0, 1.0);
-  wall.offset_m = 10.0;
-  wall.end_a_local = Eigen::Vector2d(-5.0, 10.0);
-  wall.end_b_local = Eigen::Vector2d(5.0, 10.0);
-  return wall;
-}
 
 // A scan from the antenna at (1, y), the vehicle's x axis towards the wall.
 calib::WallObservation At(double stamp_s, bool standing, int dwell, int wall = 0,
@@ -45,7 +36,9 @@ WallLineMeasurement Line(double rho_m) {
 }
 
 const calib::Mount kMount{0.5, 0.2, 0.0};
-const std::vector<calib::WallGeometry> kWalls = {Wall(), Wall()};
+// The wall y = 10 m, twice (walls 0 and 1).
+const std::vector<calib::WallGeometry> kWalls = {testing_support::NorthWall(),
+                                                 testing_support::NorthWall()};
 
 TEST(UnitScaleReferenceTest, StandingScanTakesTheMeanOfTheOtherScansOfItsDwellOnItsWall) {
   const std::vector<WallLineMeasurement> lines = {Line(7.0), Line(7.1), Line(7.3), Line(6.0),
